@@ -1,0 +1,1 @@
+#include "adjoint/derivative_check.hpp"

@@ -1,0 +1,42 @@
+# tailor's dependencies, found the idiomatic way for Debian 12 packages. Used by the build
+# and, installed beside tailorConfig.cmake, by projects that call find_package(tailor).
+include_guard(GLOBAL)
+include(CMakeFindDependencyMacro)
+find_package(PkgConfig REQUIRED)
+
+# BLAS: follow the system alternative (OpenBLAS when libopenblas0-pthread is installed).
+# Plain FindBLAS prefers ATLAS on Debian, which makes CHOLMOD 2.5x slower.
+set(BLA_VENDOR Generic)
+find_dependency(BLAS)
+find_dependency(LAPACK)
+find_dependency(Threads)
+find_dependency(OpenMP)
+
+find_dependency(Eigen3 3.4 CONFIG)
+find_dependency(nlohmann_json 3.10 CONFIG)
+find_dependency(NLopt CONFIG)
+
+# Ceres: Debian's exported target hard-links ATLAS (libf77blas, libatlas), which would bind
+# every dgemm_ in the process -- CHOLMOD's included -- to ATLAS. Drop them; BLAS comes from the
+# system alternative above.
+find_dependency(Ceres CONFIG)
+if(TARGET Ceres::ceres)
+  get_target_property(_tailor_ceres_libs Ceres::ceres INTERFACE_LINK_LIBRARIES)
+  list(FILTER _tailor_ceres_libs EXCLUDE REGEX "libf77blas|libatlas")
+  set_target_properties(Ceres::ceres PROPERTIES INTERFACE_LINK_LIBRARIES "${_tailor_ceres_libs}")
+endif()
+
+# SuiteSparse 5.x ships neither a CMake config nor a .pc file.
+find_path(TAILOR_CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(TAILOR_CHOLMOD_LIBRARY cholmod REQUIRED)
+find_library(TAILOR_SUITESPARSECONFIG_LIBRARY suitesparseconfig REQUIRED)
+if(NOT TARGET tailor_dep_cholmod)
+  add_library(tailor_dep_cholmod INTERFACE IMPORTED)
+  set_target_properties(tailor_dep_cholmod PROPERTIES
+    INTERFACE_INCLUDE_DIRECTORIES "${TAILOR_CHOLMOD_INCLUDE_DIR}"
+    INTERFACE_LINK_LIBRARIES "${TAILOR_CHOLMOD_LIBRARY};${TAILOR_SUITESPARSECONFIG_LIBRARY};BLAS::BLAS;LAPACK::LAPACK")
+endif()
+
+# Ipopt 3.11 (MUMPS) and ARPACK-NG 3.8: pkg-config is what Debian ships for both.
+pkg_check_modules(IPOPT REQUIRED IMPORTED_TARGET GLOBAL ipopt)
+pkg_check_modules(ARPACK REQUIRED IMPORTED_TARGET GLOBAL arpack)

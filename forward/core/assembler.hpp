@@ -1,0 +1,39 @@
+#pragma once
+// ReducedAssembler: evaluates a Model in the free unknowns y of its elimination
+// (x = x0 + S y): energy, reduced gradient S^T g and the reduced Hessian S^T H S.
+//
+// The Hessian is stored as the upper triangle of a compressed column matrix whose pattern is
+// computed once from the terms' hessian_pattern(); every evaluation only scatters element
+// values into it through a precomputed slot -> entry map (no triplet sorting per iteration).
+#include "forward/core/model.hpp"
+
+namespace tailor {
+
+class ReducedAssembler {
+ public:
+  explicit ReducedAssembler(const Model& model);
+
+  int num_free() const { return model_.elimination().num_free(); }
+  const Model& model() const { return model_; }
+
+  // Any of energy / reduced gradient / reduced upper-triangular Hessian at y. The Hessian
+  // pointer must be a matrix previously obtained from hessian_pattern_matrix() (or null).
+  void evaluate(const Vector& y, const Vector& p, double* energy, Vector* gradient_y,
+                SparseMatrix* hessian_y, HessianMode mode = HessianMode::exact);
+
+  // A zero-valued upper-triangular matrix with the reduced Hessian's pattern.
+  SparseMatrix hessian_pattern_matrix() const { return pattern_; }
+
+ private:
+  const Model& model_;
+  std::vector<std::size_t> term_slot_begin_;  // per term: first slot in buffer_
+  std::vector<double> buffer_;                // per-slot values written by the terms
+  // slot k scatters to pattern_.valuePtr()[target_[t]] * weight_[t] for t in [begin_[k], begin_[k+1])
+  std::vector<std::int64_t> slot_target_begin_;
+  std::vector<int> target_;
+  std::vector<double> weight_;
+  bool unit_weights_ = true;
+  SparseMatrix pattern_;
+};
+
+}  // namespace tailor

@@ -1,0 +1,37 @@
+#include "forward/core/energy_term.hpp"
+
+namespace tailor {
+
+double EnergyTerm::value(const Vector& x, const Vector& p) const {
+  double e = 0.0;
+  EnergyRequest request;
+  request.value = &e;
+  evaluate(x, p, request);
+  return e;
+}
+
+void EnergyTerm::add_gradient(const Vector& x, const Vector& p, Vector& gradient) const {
+  EnergyRequest request;
+  request.gradient = &gradient;
+  evaluate(x, p, request);
+}
+
+SparseMatrix EnergyTerm::hessian(const Vector& x, const Vector& p, HessianMode mode) const {
+  HessianPattern pattern;
+  hessian_pattern(pattern);
+  std::vector<double> values(pattern.size(), 0.0);
+  EnergyRequest request;
+  request.hessian_values = values.data();
+  request.hessian_mode = mode;
+  if (!values.empty()) evaluate(x, p, request);
+  Triplets triplets;
+  triplets.reserve(pattern.size());
+  for (std::size_t k = 0; k < pattern.size(); ++k)
+    triplets.emplace_back(pattern[k].row, pattern[k].col, values[k]);
+  const auto n = static_cast<int>(x.size());
+  SparseMatrix h(n, n);
+  h.setFromTriplets(triplets.begin(), triplets.end());
+  return h;
+}
+
+}  // namespace tailor

@@ -1,0 +1,61 @@
+#pragma once
+// EnergyTerm: one differentiable potential E(x, p) with first and second derivatives in the
+// state x and the parameters p. A Model is a sum of such terms (see model.hpp).
+//
+// Second derivatives in x are delivered against a fixed sparsity pattern: a term announces
+// its (row, col) slots once (hessian_pattern) and then, on every evaluation, writes one value
+// per slot in the same order. The Model maps slots to the assembled matrix once, so Newton
+// never rebuilds a sparse matrix from triplets.
+#include <string>
+
+#include "forward/core/types.hpp"
+
+namespace tailor {
+
+// What to evaluate and where to put it. Null pointers are not requested.
+struct EnergyRequest {
+  double* value = nullptr;          // += E
+  Vector* gradient = nullptr;       // += dE/dx, size = number of DOFs
+  double* hessian_values = nullptr; // = d2E/dx2 at the slots of hessian_pattern() (overwritten)
+  HessianMode hessian_mode = HessianMode::exact;
+};
+
+class EnergyTerm {
+ public:
+  virtual ~EnergyTerm() = default;
+
+  // A short name for reports and derivative-check tables ("elastic", "gravity", ...).
+  virtual std::string name() const = 0;
+
+  // Evaluate any of value / gradient / Hessian values at (x, p) in one pass.
+  virtual void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const = 0;
+
+  // The Hessian slots written by evaluate(), in order. Both (i, j) and (j, i) appear for
+  // off-diagonal couplings; duplicates are allowed (they are summed). Empty for terms that
+  // are linear in x.
+  virtual void hessian_pattern(HessianPattern& pattern) const { (void)pattern; }
+
+  // += dE/dp (size of p). Default: the term does not depend on p.
+  virtual void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const {
+    (void)x, (void)p, (void)gradient_p;
+  }
+  // Mixed second derivatives d2E/(dx dp) as triplets (row: DOF, col: parameter index).
+  virtual void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const {
+    (void)x, (void)p, (void)mixed;
+  }
+
+  // Largest admissible fraction in (0, 1] of the step x -> x + dx (e.g. from continuous
+  // collision detection or to keep elements from inverting). Default: no restriction.
+  virtual double max_step(const Vector& x, const Vector& dx) const {
+    (void)x, (void)dx;
+    return 1.0;
+  }
+
+  // Convenience wrappers around evaluate().
+  double value(const Vector& x, const Vector& p) const;
+  void add_gradient(const Vector& x, const Vector& p, Vector& gradient) const;
+  // The term's Hessian assembled as a full (both triangles) sparse matrix of size n x n.
+  SparseMatrix hessian(const Vector& x, const Vector& p, HessianMode mode) const;
+};
+
+}  // namespace tailor

@@ -1,0 +1,68 @@
+#include "forward/core/model.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace tailor {
+
+int ParameterLayout::add(const std::string& name, int size) {
+  if (contains(name)) throw std::invalid_argument("ParameterLayout: block '" + name + "' exists already");
+  if (size < 0) throw std::invalid_argument("ParameterLayout: negative size for '" + name + "'");
+  blocks_.push_back({name, size_, size});
+  size_ += size;
+  return blocks_.back().offset;
+}
+
+const ParameterLayout::Block& ParameterLayout::at(const std::string& name) const {
+  for (const auto& b : blocks_)
+    if (b.name == name) return b;
+  throw std::out_of_range("ParameterLayout: no parameter block named '" + name + "'");
+}
+
+bool ParameterLayout::contains(const std::string& name) const {
+  return std::any_of(blocks_.begin(), blocks_.end(), [&](const Block& b) { return b.name == name; });
+}
+
+Model::Model(int num_dofs) : num_dofs_(num_dofs), elimination_(Elimination::identity(num_dofs)) {}
+
+void Model::set_elimination(Elimination elimination) {
+  if (elimination.num_dofs() != num_dofs_)
+    throw std::invalid_argument("Model::set_elimination: constraint has " +
+                                std::to_string(elimination.num_dofs()) + " DOFs, model has " +
+                                std::to_string(num_dofs_));
+  elimination_ = std::move(elimination);
+}
+
+double Model::energy(const Vector& x, const Vector& p) const {
+  double e = 0.0;
+  for (const auto& t : terms_) e += t->value(x, p);
+  return e;
+}
+
+Vector Model::gradient(const Vector& x, const Vector& p) const {
+  Vector g = Vector::Zero(num_dofs_);
+  for (const auto& t : terms_) t->add_gradient(x, p, g);
+  return g;
+}
+
+Vector Model::param_gradient(const Vector& x, const Vector& p) const {
+  Vector gp = Vector::Zero(p.size());
+  for (const auto& t : terms_) t->add_param_gradient(x, p, gp);
+  return gp;
+}
+
+SparseMatrix Model::mixed(const Vector& x, const Vector& p) const {
+  Triplets triplets;
+  for (const auto& t : terms_) t->add_mixed(x, p, triplets);
+  SparseMatrix m(num_dofs_, p.size());
+  m.setFromTriplets(triplets.begin(), triplets.end());
+  return m;
+}
+
+double Model::max_step(const Vector& x, const Vector& dx) const {
+  double alpha = 1.0;
+  for (const auto& t : terms_) alpha = std::min(alpha, t->max_step(x, dx));
+  return alpha;
+}
+
+}  // namespace tailor

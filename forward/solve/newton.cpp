@@ -1,0 +1,186 @@
+#include "forward/solve/newton.hpp"
+
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <ostream>
+#include <sstream>
+
+namespace tailor {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+std::string to_string(NewtonStatus status) {
+  switch (status) {
+    case NewtonStatus::converged: return "converged";
+    case NewtonStatus::max_iterations: return "max_iterations";
+    case NewtonStatus::line_search_failed: return "line_search_failed";
+    case NewtonStatus::non_finite: return "non_finite";
+    case NewtonStatus::singular_matrix: return "singular_matrix";
+  }
+  return "unknown";
+}
+
+std::string NewtonResult::report() const {
+  std::ostringstream s;
+  s << "Newton: " << to_string(status) << " after " << iterations << " iterations (" << message << ")\n"
+    << std::scientific << std::setprecision(3) << "  residual " << initial_residual << " -> " << final_residual
+    << ", energy " << final_energy << "\n";
+  double assembly = 0, factor = 0, solve = 0, line = 0;
+  for (const auto& it : history) {
+    assembly += it.assembly_seconds;
+    factor += it.factorization_seconds;
+    solve += it.solve_seconds;
+    line += it.line_search_seconds;
+  }
+  s << std::fixed << std::setprecision(4) << "  time " << total_seconds << " s: analysis " << analysis_seconds
+    << ", assembly " << assembly << ", factorization " << factor << ", solve " << solve << ", line search " << line
+    << "\n";
+  return s.str();
+}
+
+NewtonSolver::NewtonSolver(const Model& model, NewtonOptions options)
+    : model_(model), options_(options), assembler_(model), hessian_(assembler_.hessian_pattern_matrix()) {}
+
+FactorizationResult NewtonSolver::factorize_hessian(const Vector& p, const Vector& y, HessianMode mode) {
+  assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, mode);
+  if (!analyzed_) {
+    cholesky_.analyze(hessian_);
+    analyzed_ = true;
+  }
+  factorized_mode_ = mode;
+  return cholesky_.factorize(hessian_);
+}
+
+NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
+  const auto t_start = Clock::now();
+  NewtonResult result;
+  const Elimination& elim = model_.elimination();
+  if (y.size() != elim.num_free()) {
+    result.status = NewtonStatus::non_finite;
+    result.message = "initial guess has " + std::to_string(y.size()) + " unknowns, the model " +
+                     std::to_string(elim.num_free());
+    return result;
+  }
+  if (!analyzed_) {
+    const auto t0 = Clock::now();
+    cholesky_.analyze(hessian_);
+    analyzed_ = true;
+    result.analysis_seconds = seconds_since(t0);
+  }
+
+  auto finish = [&](NewtonStatus status, std::string message) {
+    result.status = status;
+    result.message = std::move(message);
+    result.total_seconds = seconds_since(t_start);
+    return result;
+  };
+
+  double energy = 0.0;
+  Vector gradient;
+  for (int k = 0;; ++k) {
+    NewtonIteration it;
+    it.iteration = k;
+    auto t0 = Clock::now();
+    assembler_.evaluate(y, p, &energy, &gradient, &hessian_, options_.hessian_mode);
+    it.assembly_seconds = seconds_since(t0);
+    factorized_mode_ = options_.hessian_mode;
+    const double residual = gradient.norm();
+    it.energy = energy;
+    it.residual = residual;
+    if (k == 0) result.initial_residual = residual;
+    result.final_residual = residual;
+    result.final_energy = energy;
+    result.iterations = k;
+    if (!std::isfinite(energy) || !std::isfinite(residual))
+      return finish(NewtonStatus::non_finite, "energy or gradient is not finite at iteration " + std::to_string(k));
+
+    const double target = std::max(options_.relative_tolerance * result.initial_residual, options_.absolute_tolerance);
+    if (residual <= target) return finish(NewtonStatus::converged, "residual below tolerance");
+    if (k > 0) {
+      const auto& last = result.history.back();
+      const double x_scale = 1.0 + elim.expand(y).lpNorm<Eigen::Infinity>();
+      if (last.step_length == 1.0 && last.step_norm <= options_.step_tolerance * x_scale &&
+          residual <= std::sqrt(options_.relative_tolerance) * result.initial_residual)
+        return finish(NewtonStatus::converged, "step at round-off level");
+    }
+    if (k == options_.max_iterations)
+      return finish(NewtonStatus::max_iterations, "iteration limit " + std::to_string(k) + " reached");
+
+    // Newton direction: H dy = -g; shift the diagonal when the direction is not descent.
+    t0 = Clock::now();
+    FactorizationResult fact = cholesky_.factorize(hessian_);
+    it.factorization_seconds = seconds_since(t0);
+    Vector dy;
+    double shift = 0.0;
+    for (int attempt = 0;; ++attempt) {
+      if (fact.success) {
+        t0 = Clock::now();
+        dy = cholesky_.solve(Vector(-gradient));
+        it.solve_seconds += seconds_since(t0);
+        if (dy.allFinite() && dy.dot(gradient) < 0.0) break;
+      }
+      if (attempt == 30)
+        return finish(NewtonStatus::singular_matrix,
+                      "no descent direction at iteration " + std::to_string(k) + ": " + fact.message);
+      // Levenberg-style diagonal shift, relative to the largest diagonal entry.
+      double max_diag = 0.0;
+      for (int j = 0; j < hessian_.outerSize(); ++j) max_diag = std::max(max_diag, std::abs(hessian_.coeff(j, j)));
+      const double next = shift == 0.0 ? 1e-8 * std::max(max_diag, 1e-300) : 10.0 * shift;
+      for (int j = 0; j < hessian_.outerSize(); ++j) hessian_.coeffRef(j, j) += next - shift;
+      shift = next;
+      t0 = Clock::now();
+      fact = cholesky_.factorize(hessian_);
+      it.factorization_seconds += seconds_since(t0);
+    }
+    it.used_ldlt = cholesky_.is_ldlt();
+
+    // Backtracking line search on E, starting from the largest admissible step.
+    t0 = Clock::now();
+    const Vector dx = elim.expand_direction(dy);
+    double alpha = std::min(1.0, model_.max_step(elim.expand(y), dx));
+    const double slope = gradient.dot(dy);
+    const double round_off = 64.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(energy), 1e-300);
+    bool accepted = false;
+    for (int ls = 0; ls <= options_.max_line_search_steps; ++ls, alpha *= 0.5) {
+      it.line_search_steps = ls;
+      const Vector trial = y + alpha * dy;
+      double trial_energy = 0.0;
+      assembler_.evaluate(trial, p, &trial_energy, nullptr, nullptr);
+      if (!std::isfinite(trial_energy)) continue;
+      if (trial_energy <= energy + options_.armijo * alpha * slope) {
+        accepted = true;
+      } else if (std::abs(trial_energy - energy) <= round_off) {
+        // Energy differences are at round-off: judge the step by the residual instead.
+        Vector trial_gradient;
+        assembler_.evaluate(trial, p, nullptr, &trial_gradient, nullptr);
+        accepted = trial_gradient.norm() < residual;
+      }
+      if (accepted) {
+        y = trial;
+        break;
+      }
+    }
+    it.line_search_seconds = seconds_since(t0);
+    if (!accepted) {
+      result.history.push_back(it);
+      return finish(NewtonStatus::line_search_failed,
+                    "line search found no decrease at iteration " + std::to_string(k) + " after " +
+                        std::to_string(options_.max_line_search_steps) + " halvings");
+    }
+    it.step_length = alpha;
+    it.step_norm = alpha * dx.lpNorm<Eigen::Infinity>();
+    result.history.push_back(it);
+    if (options_.progress) {
+      *options_.progress << std::scientific << std::setprecision(3) << "  newton " << std::setw(3) << k << "  E "
+                         << std::setw(11) << energy << "  |g| " << residual << "  alpha " << std::defaultfloat
+                         << alpha << (it.used_ldlt ? "  (LDL^T)" : "") << "\n";
+    }
+  }
+}
+
+}  // namespace tailor

@@ -1,0 +1,97 @@
+#pragma once
+// Newton's method with a backtracking line search on the total potential, for
+//   y* = argmin_y E(x0 + S y, p),   i.e.  S^T dE/dx = 0.
+//
+// Convergence criterion (all norms are Euclidean norms of the reduced gradient S^T dE/dx,
+// i.e. of the out-of-balance force in force units):
+//   ||g_k|| <= relative_tolerance * ||g_0||      (relative to the initial residual), or
+//   ||g_k|| <= absolute_tolerance                 (an absolute floor, default 0 = off), or
+//   the last step was a full Newton step with ||dx||_inf <= step_tolerance * (1 + ||x||_inf)
+//   and ||g_k|| <= sqrt(relative_tolerance) * ||g_0||: the iterate no longer changes in
+//   floating point, so the residual has reached its round-off floor (which scales with the
+//   stiffness times the coordinates and cannot be predicted by a fixed absolute number).
+// A start that is already in equilibrium (||g_0|| = 0) converges at once.
+#include <chrono>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "forward/core/assembler.hpp"
+#include "forward/solve/sparse_cholesky.hpp"
+
+namespace tailor {
+
+struct NewtonOptions {
+  int max_iterations = 100;
+  double relative_tolerance = 1e-9;
+  double absolute_tolerance = 0.0;
+  double step_tolerance = 1e-13;
+  // Newton uses element-wise PSD-projected Hessians by default so that every step is a
+  // descent direction; `exact` gives quadratic convergence near a stable equilibrium.
+  HessianMode hessian_mode = HessianMode::projected;
+  double armijo = 1e-4;         // sufficient-decrease constant
+  int max_line_search_steps = 40;  // halvings before the line search is declared stalled
+  std::ostream* progress = nullptr;  // one line per iteration when set
+};
+
+enum class NewtonStatus { converged, max_iterations, line_search_failed, non_finite, singular_matrix };
+std::string to_string(NewtonStatus status);
+
+struct NewtonIteration {
+  int iteration = 0;
+  double energy = 0.0;
+  double residual = 0.0;     // ||S^T dE/dx|| before the step
+  double step_norm = 0.0;    // ||dx||_inf of the accepted step
+  double step_length = 0.0;  // line-search factor alpha
+  int line_search_steps = 0;
+  bool used_ldlt = false;
+  double assembly_seconds = 0.0;       // energy, gradient and Hessian assembly
+  double factorization_seconds = 0.0;  // numeric factorization (analysis only once)
+  double solve_seconds = 0.0;          // triangular solves
+  double line_search_seconds = 0.0;    // energy evaluations of the line search
+};
+
+struct NewtonResult {
+  NewtonStatus status = NewtonStatus::max_iterations;
+  std::string message;
+  int iterations = 0;
+  double initial_residual = 0.0;
+  double final_residual = 0.0;
+  double final_energy = 0.0;
+  double analysis_seconds = 0.0;
+  double total_seconds = 0.0;
+  std::vector<NewtonIteration> history;
+  bool converged() const { return status == NewtonStatus::converged; }
+  // A human-readable summary in the spirit of Ceres' FullReport().
+  std::string report() const;
+};
+
+class NewtonSolver {
+ public:
+  explicit NewtonSolver(const Model& model, NewtonOptions options = {});
+
+  // Solves from y (in: the initial guess, out: the last iterate). Never throws for numerical
+  // failures: they are returned as a status with a message.
+  NewtonResult solve(const Vector& p, Vector& y);
+
+  NewtonOptions& options() { return options_; }
+  ReducedAssembler& assembler() { return assembler_; }
+  // The matrix and factorization of the last Hessian assembled (by solve() or
+  // factorize_hessian()); `factorized_mode()` says whether it was exact or projected.
+  const SparseMatrix& hessian() const { return hessian_; }
+  SparseCholesky& factorization() { return cholesky_; }
+  HessianMode factorized_mode() const { return factorized_mode_; }
+  // Assemble and factorize the Hessian at y in the given mode (the adjoint uses exact).
+  FactorizationResult factorize_hessian(const Vector& p, const Vector& y, HessianMode mode);
+
+ private:
+  const Model& model_;
+  NewtonOptions options_;
+  ReducedAssembler assembler_;
+  SparseMatrix hessian_;
+  SparseCholesky cholesky_;
+  HessianMode factorized_mode_ = HessianMode::projected;
+  bool analyzed_ = false;
+};
+
+}  // namespace tailor

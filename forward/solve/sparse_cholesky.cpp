@@ -134,7 +134,7 @@ FactorizationResult SparseCholesky::factorize(const SparseMatrix& upper) {
 bool SparseCholesky::has_factor() const { return impl_->active != nullptr; }
 bool SparseCholesky::is_ldlt() const { return impl_->active == impl_->ldlt.get() && impl_->active; }
 
-Matrix SparseCholesky::solve(const Matrix& b) const {
+Matrix SparseCholesky::solve_columns(const Matrix& b) const {
   if (!impl_->active) throw std::logic_error("SparseCholesky::solve: no successful factorization");
   if (b.rows() != rows_) throw std::invalid_argument("SparseCholesky::solve: right-hand side has the wrong size");
   Factor& f = *impl_->active;
@@ -147,7 +147,7 @@ Matrix SparseCholesky::solve(const Matrix& b) const {
 }
 
 Vector SparseCholesky::solve(const Vector& b) const {
-  const Matrix m = solve(Matrix(b));
+  const Matrix m = solve_columns(Matrix(b));
   return m.col(0);
 }
 

@@ -34,7 +34,7 @@ class SparseCholesky {
   FactorizationResult factorize(const SparseMatrix& upper);
   // Solves A x = b with the last successful factorization; throws std::logic_error otherwise.
   Vector solve(const Vector& b) const;
-  Matrix solve(const Matrix& b) const;
+  Matrix solve_columns(const Matrix& b) const;  // several right-hand sides
 
   bool has_factor() const;
   bool is_ldlt() const;

@@ -1,6 +1,7 @@
 #include "forward/core/assembler.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 namespace tailor {
@@ -23,46 +24,55 @@ ReducedAssembler::ReducedAssembler(const Model& model) : model_(model) {
   buffer_.assign(slots.size(), 0.0);
 
   // 2. Their images (a, b, w) in y, upper triangle only (a <= b): S^T H S summed entrywise.
-  slot_target_begin_.assign(slots.size() + 1, 0);
-  std::vector<std::pair<int, int>> images;
-  images.reserve(slots.size());
-  weight_.clear();
+  struct Image {
+    int row, col, slot;
+    double weight;
+  };
+  std::vector<Image> images;
+  images.reserve(slots.size() / 2 + m);
   for (std::size_t k = 0; k < slots.size(); ++k) {
     const int i = slots[k].row, j = slots[k].col;
     if (i < 0 || j < 0 || i >= model.num_dofs() || j >= model.num_dofs())
       throw std::out_of_range("ReducedAssembler: a Hessian slot lies outside the DOF range");
     for (int s = rb[i]; s < rb[i + 1]; ++s)
       for (int t = rb[j]; t < rb[j + 1]; ++t)
-        if (rf[s] <= rf[t]) {
-          images.emplace_back(rf[s], rf[t]);
-          weight_.push_back(rw[s] * rw[t]);
-        }
-    slot_target_begin_[k + 1] = static_cast<std::int64_t>(images.size());
+        if (rf[s] <= rf[t]) images.push_back({rf[s], rf[t], static_cast<int>(k), rw[s] * rw[t]});
   }
-  unit_weights_ = std::all_of(weight_.begin(), weight_.end(), [](double w) { return w == 1.0; });
+  if (slots.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw std::length_error("ReducedAssembler: more Hessian slots than an int can index");
+  unit_weights_ = std::all_of(images.begin(), images.end(), [](const Image& im) { return im.weight == 1.0; });
 
   // 3. The upper-triangular pattern; the diagonal is always present so that a
   //    regularisation shift can be added without changing the pattern.
   Triplets triplets;
   triplets.reserve(images.size() + m);
-  for (auto [a, b] : images) triplets.emplace_back(a, b, 0.0);
+  for (const auto& im : images) triplets.emplace_back(im.row, im.col, 0.0);
   for (int a = 0; a < m; ++a) triplets.emplace_back(a, a, 0.0);
   pattern_.resize(m, m);
   pattern_.setFromTriplets(triplets.begin(), triplets.end());
   pattern_.makeCompressed();
   pattern_.coeffs().setZero();
 
-  // 4. Entry index of each image.
-  target_.resize(images.size());
+  // 4. Group the images by matrix entry (counting sort): entry -> contributing slots.
   const int* outer = pattern_.outerIndexPtr();
   const int* inner = pattern_.innerIndexPtr();
+  std::vector<int> entry_of(images.size());
+  entry_begin_.assign(pattern_.nonZeros() + 1, 0);
   for (std::size_t t = 0; t < images.size(); ++t) {
-    const auto [a, b] = images[t];
-    const int* first = inner + outer[b];
-    const int* last = inner + outer[b + 1];
-    target_[t] = static_cast<int>(std::lower_bound(first, last, a) - inner);
+    const int* first = inner + outer[images[t].col];
+    const int* last = inner + outer[images[t].col + 1];
+    entry_of[t] = static_cast<int>(std::lower_bound(first, last, images[t].row) - inner);
+    ++entry_begin_[entry_of[t] + 1];
   }
-  if (unit_weights_) weight_.clear();
+  for (std::size_t e = 0; e + 1 < entry_begin_.size(); ++e) entry_begin_[e + 1] += entry_begin_[e];
+  entry_slot_.resize(images.size());
+  weight_.assign(unit_weights_ ? 0 : images.size(), 0.0);
+  std::vector<std::int64_t> fill(entry_begin_.begin(), entry_begin_.end() - 1);
+  for (std::size_t t = 0; t < images.size(); ++t) {
+    const auto position = fill[entry_of[t]]++;
+    entry_slot_[position] = images[t].slot;
+    if (!unit_weights_) weight_[position] = images[t].weight;
+  }
 }
 
 void ReducedAssembler::evaluate(const Vector& y, const Vector& p, double* energy,
@@ -91,15 +101,22 @@ void ReducedAssembler::evaluate(const Vector& y, const Vector& p, double* energy
     if (hessian_y->nonZeros() != pattern_.nonZeros() || hessian_y->rows() != pattern_.rows())
       *hessian_y = pattern_;
     double* values = hessian_y->valuePtr();
-    std::fill(values, values + hessian_y->nonZeros(), 0.0);
-    const std::size_t num_slots = buffer_.size();
+    const auto num_entries = static_cast<std::ptrdiff_t>(hessian_y->nonZeros());
+    const double* slot_values = buffer_.data();
     if (unit_weights_) {
-      for (std::size_t s = 0; s < num_slots; ++s)
-        for (auto t = slot_target_begin_[s]; t < slot_target_begin_[s + 1]; ++t) values[target_[t]] += buffer_[s];
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t e = 0; e < num_entries; ++e) {
+        double sum = 0.0;
+        for (auto t = entry_begin_[e]; t < entry_begin_[e + 1]; ++t) sum += slot_values[entry_slot_[t]];
+        values[e] = sum;
+      }
     } else {
-      for (std::size_t s = 0; s < num_slots; ++s)
-        for (auto t = slot_target_begin_[s]; t < slot_target_begin_[s + 1]; ++t)
-          values[target_[t]] += weight_[t] * buffer_[s];
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t e = 0; e < num_entries; ++e) {
+        double sum = 0.0;
+        for (auto t = entry_begin_[e]; t < entry_begin_[e + 1]; ++t) sum += weight_[t] * slot_values[entry_slot_[t]];
+        values[e] = sum;
+      }
     }
   }
 }

@@ -3,8 +3,9 @@
 // (x = x0 + S y): energy, reduced gradient S^T g and the reduced Hessian S^T H S.
 //
 // The Hessian is stored as the upper triangle of a compressed column matrix whose pattern is
-// computed once from the terms' hessian_pattern(); every evaluation only scatters element
-// values into it through a precomputed slot -> entry map (no triplet sorting per iteration).
+// computed once from the terms' hessian_pattern(); every evaluation only gathers element
+// values into it through a precomputed entry -> slots map (no triplet sorting per iteration;
+// the gather runs in parallel because every matrix entry is written by one thread).
 #include "forward/core/model.hpp"
 
 namespace tailor {
@@ -28,9 +29,10 @@ class ReducedAssembler {
   const Model& model_;
   std::vector<std::size_t> term_slot_begin_;  // per term: first slot in buffer_
   std::vector<double> buffer_;                // per-slot values written by the terms
-  // slot k scatters to pattern_.valuePtr()[target_[t]] * weight_[t] for t in [begin_[k], begin_[k+1])
-  std::vector<std::int64_t> slot_target_begin_;
-  std::vector<int> target_;
+  // Matrix entry e of pattern_ = sum over t in [entry_begin_[e], entry_begin_[e+1]) of
+  // weight_[t] * buffer_[entry_slot_[t]] (weights omitted when all are 1).
+  std::vector<std::int64_t> entry_begin_;
+  std::vector<int> entry_slot_;
   std::vector<double> weight_;
   bool unit_weights_ = true;
   SparseMatrix pattern_;

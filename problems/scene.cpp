@@ -1,1 +1,302 @@
-// placeholder
+#include "problems/scene.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "problems/scene_node.hpp"
+
+namespace tailor {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string resolve(const std::string& directory, const std::string& path) {
+  const fs::path p(path);
+  if (p.is_absolute() || directory.empty()) return p.lexically_normal().string();
+  return (fs::path(directory) / p).lexically_normal().string();
+}
+
+// Non-empty, non-comment ('#') lines of a small data file, split into whitespace-separated
+// tokens, with their 1-based line numbers.
+struct DataLine {
+  int line;
+  std::vector<std::string> tokens;
+};
+
+std::vector<DataLine> read_data_file(const SceneNode& node, const std::string& path) {
+  std::ifstream in(path);
+  if (!in) node.fail("cannot open file '" + path + "'");
+  std::vector<DataLine> lines;
+  std::string text;
+  for (int number = 1; std::getline(in, text); ++number) {
+    if (const auto hash = text.find('#'); hash != std::string::npos) text.erase(hash);
+    std::istringstream words(text);
+    DataLine line{number, {}};
+    for (std::string w; words >> w;) line.tokens.push_back(w);
+    if (!line.tokens.empty()) lines.push_back(std::move(line));
+  }
+  return lines;
+}
+
+std::optional<double> parse_number(const std::string& token) {
+  char* end = nullptr;
+  const double v = std::strtod(token.c_str(), &end);
+  if (end != token.c_str() + token.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+std::optional<int> parse_vertex_id(const std::string& token) {
+  const auto v = parse_number(token);
+  if (!v || *v < 0 || *v != std::floor(*v) || *v > std::numeric_limits<int>::max()) return std::nullopt;
+  return static_cast<int>(*v);
+}
+
+void parse_bounds(const SceneNode& node, int size, Eigen::VectorXd& min, Eigen::VectorXd& max) {
+  min = node.at("min").vector(size);
+  max = node.at("max").vector(static_cast<int>(min.size()));
+  for (Eigen::Index k = 0; k < min.size(); ++k)
+    if (!(max[k] >= min[k])) node.at("max").fail("every entry must be >= the matching entry of min");
+}
+
+ElementSelector parse_element_selector(const SceneNode& node) {
+  ElementSelector s;
+  s.key = node.path();
+  if (node.is_string()) {
+    node.choice({"all"});
+    s.kind = ElementSelector::Kind::all;
+    return s;
+  }
+  if (node.only_key({"region", "box"}) == "region") {
+    s.kind = ElementSelector::Kind::region;
+    s.region = node.at("region").integer(0);
+  } else {
+    s.kind = ElementSelector::Kind::box;
+    const SceneNode box = node.at("box");
+    box.expect_keys({"min", "max"});
+    parse_bounds(box, -1, s.min, s.max);
+  }
+  return s;
+}
+
+VertexSelector parse_vertex_selector(const SceneNode& node, const std::string& directory) {
+  VertexSelector s;
+  s.key = node.path();
+  const std::string kind = node.only_key({"plane", "box", "list", "file"});
+  const SceneNode body = node.at(kind.c_str());
+  if (kind == "plane") {
+    body.expect_keys({"axis", "value", "tolerance"});
+    s.kind = VertexSelector::Kind::plane;
+    const std::string axis = body.at("axis").choice({"x", "y", "z"});
+    s.axis = axis[0] - 'x';
+    s.value = body.at("value").number();
+    if (auto t = body.find("tolerance")) s.tolerance = t->positive();
+  } else if (kind == "box") {
+    body.expect_keys({"min", "max", "tolerance"});
+    s.kind = VertexSelector::Kind::box;
+    parse_bounds(body, -1, s.min, s.max);
+    if (auto t = body.find("tolerance")) s.tolerance = t->positive();
+  } else if (kind == "list") {
+    s.ids = body.integers(0);
+    if (s.ids.empty()) body.fail("selects no vertices (the list is empty)");
+  } else {
+    const std::string path = resolve(directory, body.string());
+    for (const DataLine& line : read_data_file(body, path))
+      for (const std::string& token : line.tokens) {
+        const auto id = parse_vertex_id(token);
+        if (!id)
+          body.fail("'" + path + "' line " + std::to_string(line.line) +
+                    ": expected a vertex id (integer >= 0), got '" + token + "'");
+        s.ids.push_back(*id);
+      }
+    if (s.ids.empty()) body.fail("selects no vertices ('" + path + "' lists none)");
+  }
+  return s;
+}
+
+MeshSpec parse_mesh(const SceneNode& node, const std::string& directory) {
+  MeshSpec m;
+  const std::string kind = node.only_key({"file", "box", "rectangle"});
+  if (kind == "file") {
+    m.kind = MeshSpec::Kind::file;
+    m.file = resolve(directory, node.at("file").string());
+    return m;
+  }
+  const int dim = kind == "box" ? 3 : 2;
+  m.kind = kind == "box" ? MeshSpec::Kind::box : MeshSpec::Kind::rectangle;
+  const SceneNode body = node.at(kind.c_str());
+  body.expect_keys({"min", "max", "cells"});
+  parse_bounds(body, dim, m.min, m.max);
+  for (int k = 0; k < dim; ++k)
+    if (!(m.max[k] > m.min[k])) body.at("max").fail("every entry must be > the matching entry of min");
+  const SceneNode cells = body.at("cells");
+  const std::vector<int> counts = cells.integers(1);
+  if (static_cast<int>(counts.size()) != dim)
+    cells.fail("expected " + std::to_string(dim) + " cell counts, got " + std::to_string(counts.size()));
+  m.cells = Eigen::Map<const Eigen::VectorXi>(counts.data(), dim);
+  return m;
+}
+
+MaterialSpec parse_material(const SceneNode& node, const std::string& directory) {
+  node.expect_keys(
+      {"elements", "model", "youngs_modulus", "youngs_modulus_file", "poisson_ratio", "density"});
+  MaterialSpec m;
+  m.key = node.path();
+  m.elements = parse_element_selector(node.at("elements"));
+  m.model = parse_material_kind(node.at("model").choice({"linear", "corotated", "stvk", "neo_hookean"}));
+  if (node.has("youngs_modulus") == node.has("youngs_modulus_file"))
+    node.fail(
+        "give exactly one of \"youngs_modulus\" (a number) and \"youngs_modulus_file\" (one value per "
+        "element)");
+  if (auto e = node.find("youngs_modulus")) {
+    m.youngs_modulus = e->positive();
+  } else {
+    const SceneNode file = node.at("youngs_modulus_file");
+    const std::string path = resolve(directory, file.string());
+    for (const DataLine& line : read_data_file(file, path))
+      for (const std::string& token : line.tokens) {
+        const auto v = parse_number(token);
+        if (!v || !(*v > 0.0))
+          file.fail("'" + path + "' line " + std::to_string(line.line) + ": expected a number > 0, got '" +
+                    token + "'");
+        m.youngs_modulus_values.push_back(*v);
+      }
+    if (m.youngs_modulus_values.empty()) file.fail("'" + path + "' holds no values");
+  }
+  m.poisson_ratio = node.at("poisson_ratio").open_interval(-1.0, 0.5);
+  if (auto d = node.find("density")) m.density = d->non_negative();
+  return m;
+}
+
+DirichletSpec parse_dirichlet(const SceneNode& node, const std::string& directory) {
+  node.expect_keys({"vertices", "displacement", "components"});
+  DirichletSpec d;
+  d.key = node.path();
+  d.vertices = parse_vertex_selector(node.at("vertices"), directory);
+  if (auto u = node.find("displacement")) d.displacement = u->vector();
+  if (auto c = node.find("components")) {
+    d.components = c->integers(0);
+    if (d.components.empty()) c->fail("expected at least one component");
+    for (std::size_t i = 0; i < d.components.size(); ++i) {
+      if (d.components[i] > 2)
+        c->items()[i].fail("expected a component 0, 1 or 2, got " + std::to_string(d.components[i]));
+      for (std::size_t j = 0; j < i; ++j)
+        if (d.components[j] == d.components[i]) c->items()[i].fail("component listed twice");
+    }
+  }
+  return d;
+}
+
+NodalForceFile parse_nodal_file(const SceneNode& node, const std::string& directory) {
+  NodalForceFile f;
+  f.key = node.path();
+  const std::string path = resolve(directory, node.string());
+  const std::vector<DataLine> lines = read_data_file(node, path);
+  if (lines.empty()) node.fail("'" + path + "' holds no forces");
+  const std::size_t columns = lines.front().tokens.size();
+  f.forces.resize(static_cast<Eigen::Index>(lines.size()), static_cast<Eigen::Index>(columns) - 1);
+  for (std::size_t r = 0; r < lines.size(); ++r) {
+    const DataLine& line = lines[r];
+    const std::string where = "'" + path + "' line " + std::to_string(line.line) + ": ";
+    if ((columns != 3 && columns != 4) || line.tokens.size() != columns)
+      node.fail(where + "expected 'vertex fx fy' or 'vertex fx fy fz' on every line, got " +
+                std::to_string(line.tokens.size()) + " values");
+    const auto id = parse_vertex_id(line.tokens[0]);
+    if (!id) node.fail(where + "expected a vertex id (integer >= 0), got '" + line.tokens[0] + "'");
+    f.vertices.push_back(*id);
+    for (std::size_t k = 1; k < columns; ++k) {
+      const auto v = parse_number(line.tokens[k]);
+      if (!v) node.fail(where + "expected a number, got '" + line.tokens[k] + "'");
+      f.forces(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k) - 1) = *v;
+    }
+  }
+  return f;
+}
+
+LoadSpec parse_loads(const SceneNode& node, const std::string& directory) {
+  node.expect_keys({"gravity", "tractions", "nodal", "nodal_file"});
+  LoadSpec loads;
+  if (auto g = node.find("gravity")) {
+    loads.gravity = g->vector();
+    loads.gravity_key = g->path();
+  }
+  if (auto list = node.find("tractions"))
+    for (const SceneNode& item : list->items()) {
+      item.expect_keys({"faces", "traction"});
+      loads.tractions.push_back(
+          {parse_vertex_selector(item.at("faces"), directory), item.at("traction").vector(), item.path()});
+    }
+  if (auto list = node.find("nodal"))
+    for (const SceneNode& item : list->items()) {
+      item.expect_keys({"vertices", "force"});
+      loads.nodal.push_back(
+          {parse_vertex_selector(item.at("vertices"), directory), item.at("force").vector(), item.path()});
+    }
+  if (auto file = node.find("nodal_file")) loads.nodal_file = parse_nodal_file(*file, directory);
+  return loads;
+}
+
+SolverSpec parse_solver(const SceneNode& node) {
+  node.expect_keys({"max_iterations", "relative_tolerance", "absolute_tolerance", "hessian", "load_steps"});
+  SolverSpec s;
+  if (auto v = node.find("max_iterations")) s.newton.max_iterations = v->integer(1);
+  if (auto v = node.find("relative_tolerance")) s.newton.relative_tolerance = v->open_interval(0.0, 1.0);
+  if (auto v = node.find("absolute_tolerance")) s.newton.absolute_tolerance = v->non_negative();
+  if (auto v = node.find("hessian"))
+    s.newton.hessian_mode =
+        v->choice({"projected", "exact"}) == "exact" ? HessianMode::exact : HessianMode::projected;
+  if (auto v = node.find("load_steps")) s.load_steps = v->integer(1);
+  return s;
+}
+
+}  // namespace
+
+std::string axis_name(int axis) { return std::string(1, static_cast<char>('x' + axis)); }
+
+Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& directory) {
+  nlohmann::json document;
+  try {
+    document = nlohmann::json::parse(json_text);
+  } catch (const nlohmann::json::parse_error& e) {
+    // e.what() reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
+    std::string what = e.what();
+    if (const auto bracket = what.find("] "); what.rfind("[json.", 0) == 0 && bracket != std::string::npos)
+      what.erase(0, bracket + 2);
+    throw SceneError(source + ": invalid JSON (byte " + std::to_string(e.byte) + "): " + what);
+  }
+  Scene scene;
+  scene.source = source;
+  scene.directory = directory;
+  const SceneNode root(document, scene.source, "");
+  root.expect_keys({"name", "description", "mesh", "materials", "dirichlet", "loads", "solver"});
+  if (auto n = root.find("name")) {
+    scene.name = n->string();
+    if (scene.name.empty()) n->fail("expected a non-empty string");
+  }
+  if (auto d = root.find("description")) d->string();
+  scene.mesh = parse_mesh(root.at("mesh"), directory);
+  const SceneNode materials = root.at("materials");
+  for (const SceneNode& item : materials.items()) scene.materials.push_back(parse_material(item, directory));
+  if (scene.materials.empty()) materials.fail("expected at least one material");
+  if (auto list = root.find("dirichlet"))
+    for (const SceneNode& item : list->items()) scene.dirichlet.push_back(parse_dirichlet(item, directory));
+  if (auto loads = root.find("loads")) scene.loads = parse_loads(*loads, directory);
+  if (auto solver = root.find("solver")) scene.solver = parse_solver(*solver);
+  return scene;
+}
+
+Scene read_scene(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw SceneError(path + ": cannot open the scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const fs::path file(path);
+  Scene scene = parse_scene(text.str(), path, file.parent_path().string());
+  if (scene.name.empty()) scene.name = file.stem().string();
+  return scene;
+}
+
+}  // namespace tailor

@@ -1,2 +1,135 @@
+// The `tailor` command line: argument parsing and exit codes only; the work is in
+// problems/commands.hpp.
+//
+// Exit codes: 0 success; 1 the solve or a derivative check failed (or an output could not be
+// written); 2 bad input (scene or mesh errors) or bad usage.
+#include <cstdlib>
 #include <iostream>
-int main() { std::cout << "tailor\n"; return 0; }
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "forward/mesh/mesh.hpp"
+#include "problems/builtin_scenes.hpp"
+#include "problems/commands.hpp"
+#include "tailor_version.hpp"
+
+namespace {
+
+constexpr int kSuccess = 0;
+constexpr int kFailure = 1;
+constexpr int kBadInput = 2;
+
+const char* const kUsage =
+    "usage: tailor <verb> [arguments]\n"
+    "\n"
+    "verbs:\n"
+    "  simulate [scene.json] [--out DIR]\n"
+    "      Solve a static scene for equilibrium; write DIR/report.json and DIR/result.vtu\n"
+    "      (DIR defaults to out/<scene name>). Without a scene, run a built-in cantilever.\n"
+    "  check [scene.json] [--seed N]\n"
+    "      Check the derivatives of every energy term of the scene's model against finite\n"
+    "      differences at a randomly perturbed state (seed N, default 1).\n"
+    "\n"
+    "options:\n"
+    "  -h, --help     show this message\n"
+    "  --version      print the version\n"
+    "\n"
+    "exit codes: 0 success, 1 solve or check failed, 2 bad input or usage.\n"
+    "The scene format is described in docs/scene-format.md.\n";
+
+int usage_error(const std::string& what) {
+  std::cerr << "tailor: " << what << "\n\n" << kUsage;
+  return kBadInput;
+}
+
+struct Arguments {
+  std::optional<std::string> scene;
+  std::optional<std::string> out_dir;
+  unsigned seed = 1;
+  bool help = false;
+};
+
+// Parses the arguments after the verb; returns an error message on bad usage.
+std::optional<std::string> parse_arguments(const std::string& verb, const std::vector<std::string>& args,
+                                           Arguments& out) {
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    const bool has_value = i + 1 < args.size();
+    if (a == "-h" || a == "--help") {
+      out.help = true;
+    } else if (a == "--out" && verb == "simulate") {
+      if (!has_value) return "--out needs a folder";
+      out.out_dir = args[++i];
+    } else if (a == "--seed" && verb == "check") {
+      if (!has_value) return "--seed needs a number";
+      const std::string& value = args[++i];
+      char* end = nullptr;
+      const unsigned long seed = std::strtoul(value.c_str(), &end, 10);
+      if (value.empty() || *end != '\0') return "--seed needs a non-negative integer, got '" + value + "'";
+      out.seed = static_cast<unsigned>(seed);
+    } else if (!a.empty() && a[0] == '-') {
+      return "unknown option '" + a + "' for '" + verb + "'";
+    } else if (out.scene) {
+      return "more than one scene given ('" + *out.scene + "', '" + a + "')";
+    } else {
+      out.scene = a;
+    }
+  }
+  return std::nullopt;
+}
+
+tailor::Scene load_scene(const Arguments& args) {
+  if (args.scene) return tailor::read_scene(*args.scene);
+  std::cout
+      << "no scene given: using the built-in cantilever (10 x 1 x 1 Neo-Hookean beam, clamped at x = 0, "
+         "end traction downwards)\n";
+  return tailor::builtin_cantilever();
+}
+
+int run_verb(const std::string& verb, const Arguments& args) {
+  const tailor::Scene scene = load_scene(args);
+  if (verb == "simulate") {
+    const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
+    const tailor::SimulateRun run = tailor::simulate_scene(scene, out_dir, &std::cout);
+    return run.solution.converged ? kSuccess : kFailure;
+  }
+  return tailor::check_scene(scene, args.seed, std::cout) ? kSuccess : kFailure;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> all(argv + 1, argv + argc);
+  if (all.empty()) return usage_error("no verb given");
+  const std::string& verb = all[0];
+  if (verb == "-h" || verb == "--help") {
+    std::cout << kUsage;
+    return kSuccess;
+  }
+  if (verb == "--version") {
+    std::cout << "tailor " << tailor::version_string << "\n";
+    return kSuccess;
+  }
+  if (verb != "simulate" && verb != "check") return usage_error("unknown verb '" + verb + "'");
+
+  Arguments args;
+  if (const auto error = parse_arguments(verb, {all.begin() + 1, all.end()}, args))
+    return usage_error(*error);
+  if (args.help) {
+    std::cout << kUsage;
+    return kSuccess;
+  }
+  try {
+    return run_verb(verb, args);
+  } catch (const tailor::SceneError& e) {
+    std::cerr << "tailor: error: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const tailor::MeshError& e) {
+    std::cerr << "tailor: error: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "tailor: error: " << e.what() << "\n";
+    return kFailure;
+  }
+}

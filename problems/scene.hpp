@@ -1,0 +1,127 @@
+#pragma once
+// A static scene as typed data: the mesh, the materials over element subsets, Dirichlet
+// conditions, loads and solver settings. JSON is parsed and validated once, here, at the edge
+// (see docs/scene-format.md for the format); everything downstream works on these structs.
+//
+// Checks that need the mesh (selectors that select nothing, element coverage, vector lengths
+// against a mesh read from a file) happen when the scene is built (static_scene.hpp); each
+// spec therefore keeps the JSON key path it came from, so those errors name it too.
+#include <Eigen/Core>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "forward/fem/material.hpp"
+#include "forward/solve/newton.hpp"
+
+namespace tailor {
+
+// Any problem with a scene: the message names the scene file and the JSON key path,
+// e.g. "beam.json: materials[1].poisson_ratio: expected a number in (-1, 0.5), got 0.5".
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct MeshSpec {
+  enum class Kind { file, box, rectangle };
+  Kind kind = Kind::box;
+  std::string file;          // kind == file: path resolved against the scene's folder
+  Eigen::VectorXd min, max;  // box (3) / rectangle (2) corners
+  Eigen::VectorXi cells;     // cells per axis, each >= 1
+};
+
+// Which elements a material covers.
+struct ElementSelector {
+  enum class Kind { all, region, box };
+  Kind kind = Kind::all;
+  int region = 0;            // kind == region: element_regions value
+  Eigen::VectorXd min, max;  // kind == box: element centroid inside, bounds included
+  std::string key;           // JSON key path, for errors found against the mesh
+};
+
+// Which vertices a condition or load acts on. A "file" selector is read at parse time and
+// becomes a list.
+struct VertexSelector {
+  enum class Kind { plane, box, list };
+  Kind kind = Kind::list;
+  int axis = 0;              // plane: 0, 1, 2 for x, y, z
+  double value = 0.0;        // plane: coordinate value
+  double tolerance = -1.0;   // plane and box: distance tolerance; < 0 = 1e-9 * bounding-box diagonal
+  Eigen::VectorXd min, max;  // box: bounds (included)
+  std::vector<int> ids;      // list: vertex ids (>= 0; range checked against the mesh)
+  std::string key;
+};
+
+struct MaterialSpec {
+  ElementSelector elements;
+  MaterialKind model = MaterialKind::linear;
+  double youngs_modulus = 0.0;                // used when youngs_modulus_values is empty
+  std::vector<double> youngs_modulus_values;  // from youngs_modulus_file: one per mesh element
+  double poisson_ratio = 0.0;
+  double density = 0.0;  // mass per unit volume (per unit thickness in 2D)
+  std::string key;       // "materials[i]"
+};
+
+struct DirichletSpec {
+  VertexSelector vertices;
+  Eigen::VectorXd displacement;  // prescribed displacement; empty = zero
+  std::vector<int> components;   // constrained components; empty = all
+  std::string key;
+};
+
+struct TractionSpec {
+  VertexSelector faces;      // boundary facets whose vertices are all selected
+  Eigen::VectorXd traction;  // force per unit area (per unit length in 2D)
+  std::string key;
+};
+
+struct NodalForceSpec {
+  VertexSelector vertices;
+  Eigen::VectorXd force;  // applied to each selected vertex
+  std::string key;
+};
+
+// Nodal forces read from a text file with lines "vertex fx fy [fz]".
+struct NodalForceFile {
+  std::vector<int> vertices;
+  Eigen::MatrixXd forces;  // one row per line, 2 or 3 columns
+  std::string key;
+};
+
+struct LoadSpec {
+  std::optional<Eigen::VectorXd> gravity;  // acceleration; needs material densities
+  std::string gravity_key = "loads.gravity";
+  std::vector<TractionSpec> tractions;
+  std::vector<NodalForceSpec> nodal;
+  std::optional<NodalForceFile> nodal_file;
+  bool any() const { return gravity || !tractions.empty() || !nodal.empty() || nodal_file; }
+};
+
+struct SolverSpec {
+  NewtonOptions newton;  // max_iterations, tolerances, hessian mode (progress is set by the caller)
+  int load_steps = 1;    // loads and prescribed displacements ramp linearly over this many solves
+};
+
+struct Scene {
+  std::string name;       // defaults to the file's stem
+  std::string source;     // how error messages name the scene (the file path as given)
+  std::string directory;  // folder relative paths are resolved against
+  MeshSpec mesh;
+  std::vector<MaterialSpec> materials;
+  std::vector<DirichletSpec> dirichlet;
+  LoadSpec loads;
+  SolverSpec solver;
+};
+
+// Parses scene JSON text. `source` names the scene in messages, `directory` resolves relative
+// paths (mesh and data files are read here, except the mesh itself). Throws SceneError.
+Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& directory);
+// Reads and parses a scene file; the default name is the file's stem. Throws SceneError.
+Scene read_scene(const std::string& path);
+
+// 0, 1, 2 for "x", "y", "z".
+std::string axis_name(int axis);
+
+}  // namespace tailor

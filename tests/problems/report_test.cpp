@@ -1,0 +1,168 @@
+// report.json carries every documented key, consistent with the solution; the CLI maps
+// outcomes to exit codes and error messages.
+#include "problems/report.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "problems/commands.hpp"
+#include "scene_text.hpp"
+
+namespace tailor {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh folder per test, removed afterwards.
+class TempFolder {
+ public:
+  explicit TempFolder(const std::string& tag)
+      : path_(fs::temp_directory_path() / ("tailor_problems_" + tag + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempFolder() { fs::remove_all(path_); }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+  std::string str() const { return path_.string(); }
+
+ private:
+  fs::path path_;
+};
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_file(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+TEST(Report, HasEveryDocumentedKey) {
+  TempFolder folder("report");
+  const Scene scene = parse_scene(testing::with("\"load_steps\": 1", "\"load_steps\": 2"), "box.json", "");
+  const SimulateRun run = simulate_scene(scene, folder / "out");
+  ASSERT_TRUE(run.solution.converged);
+  ASSERT_TRUE(fs::exists(folder / "out/result.vtu"));
+  const auto report = nlohmann::json::parse(read_file(folder / "out/report.json"));
+
+  for (const char* key :
+       {"tailor_version", "report_format", "scene", "status", "message", "converged", "iterations",
+        "load_steps", "residual_history", "energy_history", "timings", "mesh", "dofs", "results"})
+    EXPECT_TRUE(report.contains(key)) << key;
+  for (const char* key :
+       {"total", "setup", "analysis", "assembly", "factorization", "solve", "line_search", "output"})
+    EXPECT_TRUE(report["timings"][key].is_number()) << key;
+  for (const char* key : {"max_displacement", "max_displacement_vertex", "energy", "reaction_force_total",
+                          "applied_force_total"})
+    EXPECT_TRUE(report["results"].contains(key)) << key;
+  for (const char* key : {"load_factor", "status", "message", "iterations", "initial_residual",
+                          "final_residual", "energy", "seconds"})
+    EXPECT_TRUE(report["load_steps"][0].contains(key)) << key;
+
+  EXPECT_EQ(report["scene"]["name"], "box");
+  EXPECT_EQ(report["scene"]["source"], "box.json");
+  EXPECT_EQ(report["status"], "converged");
+  EXPECT_EQ(report["converged"], true);
+  EXPECT_EQ(report["load_steps"].size(), 2u);
+  EXPECT_EQ(report["mesh"]["dim"], 3);
+  EXPECT_EQ(report["mesh"]["vertices"], run.setup.mesh.num_vertices());
+  EXPECT_EQ(report["mesh"]["elements"], run.setup.mesh.num_elements());
+  EXPECT_EQ(report["dofs"]["total"], run.setup.num_dofs());
+  EXPECT_EQ(report["dofs"]["free"].get<int>() + report["dofs"]["fixed"].get<int>(), run.setup.num_dofs());
+  // One residual per iterate: iterations + 1 per load step.
+  const int iterations = report["iterations"];
+  EXPECT_EQ(report["residual_history"].size(), static_cast<std::size_t>(iterations + 2));
+  EXPECT_EQ(report["energy_history"].size(), report["residual_history"].size());
+  EXPECT_DOUBLE_EQ(report["results"]["max_displacement"].get<double>(), run.solution.max_displacement);
+  EXPECT_EQ(report["results"]["reaction_force_total"].size(), 3u);
+  EXPECT_NEAR(report["results"]["applied_force_total"][0].get<double>(), 1.0, 1e-12);
+}
+
+TEST(Report, FailedSolveStillWritesTheReport) {
+  TempFolder folder("failed");
+  // One iteration cannot converge a large Neo-Hookean stretch.
+  std::string json = testing::with("\"model\": \"linear\"", "\"model\": \"neo_hookean\"");
+  json = testing::with("\"traction\": [1, 0, 0]", "\"traction\": [300, 0, 0]", json);
+  json = testing::with("\"load_steps\": 1", "\"load_steps\": 1, \"max_iterations\": 1", json);
+  const SimulateRun run = simulate_scene(parse_scene(json, "box.json", ""), folder.str());
+  EXPECT_FALSE(run.solution.converged);
+  const auto report = nlohmann::json::parse(read_file(folder / "report.json"));
+  EXPECT_EQ(report["status"], "max_iterations");
+  EXPECT_EQ(report["converged"], false);
+  EXPECT_FALSE(report["message"].get<std::string>().empty());
+}
+
+// Runs the tailor executable; returns its exit code, with stdout and stderr in `output`.
+int run_cli(const std::string& arguments, const std::string& log, std::string& output) {
+  const std::string command =
+      std::string(TAILOR_BINARY_DIR) + "/bin/tailor " + arguments + " > " + log + " 2>&1";
+  const int status = std::system(command.c_str());
+  output = read_file(log);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(Cli, BadSceneExitsWithTwoAndNamesTheKey) {
+  TempFolder folder("cli_bad");
+  write_file(folder / "beam.json", testing::with("\"poisson_ratio\": 0.3", "\"poisson_ratio\": 0.5"));
+  std::string output;
+  EXPECT_EQ(
+      run_cli("simulate " + (folder / "beam.json") + " --out " + (folder / "out"), folder / "log", output),
+      2);
+  EXPECT_NE(output.find("beam.json: materials[0].poisson_ratio: expected a number in (-1, 0.5), got 0.5"),
+            std::string::npos)
+      << output;
+  EXPECT_FALSE(fs::exists(folder / "out/report.json"));
+}
+
+TEST(Cli, DefaultJobConverges) {
+  TempFolder folder("cli_default");
+  std::string output;
+  ASSERT_EQ(run_cli("simulate --out " + (folder / "out"), folder / "log", output), 0) << output;
+  EXPECT_NE(output.find("built-in cantilever"), std::string::npos) << output;
+  EXPECT_NE(output.find("newton"), std::string::npos) << output;
+  const auto report = nlohmann::json::parse(read_file(folder / "out/report.json"));
+  EXPECT_EQ(report["converged"], true);
+  EXPECT_EQ(report["scene"]["name"], "cantilever");
+  // The tip bends down by a visible fraction of the length.
+  EXPECT_GT(report["results"]["max_displacement"].get<double>(), 0.1);
+  EXPECT_TRUE(fs::exists(folder / "out/result.vtu"));
+}
+
+TEST(Cli, SceneFileRunsAndChecks) {
+  TempFolder folder("cli_scene");
+  write_file(folder / "box.json", testing::small_box_scene());
+  std::string output;
+  EXPECT_EQ(
+      run_cli("simulate " + (folder / "box.json") + " --out " + (folder / "out"), folder / "log", output), 0)
+      << output;
+  EXPECT_TRUE(fs::exists(folder / "out/report.json"));
+  EXPECT_EQ(run_cli("check " + (folder / "box.json") + " --seed 7", folder / "log", output), 0) << output;
+  EXPECT_NE(output.find("derivative check of 'elastic(linear)'"), std::string::npos) << output;
+}
+
+TEST(Cli, UsageVersionAndUnknownInput) {
+  TempFolder folder("cli_usage");
+  std::string output;
+  EXPECT_EQ(run_cli("--version", folder / "log", output), 0);
+  EXPECT_EQ(output.rfind("tailor ", 0), 0u) << output;
+  EXPECT_EQ(run_cli("--help", folder / "log", output), 0);
+  EXPECT_NE(output.find("usage: tailor"), std::string::npos);
+  EXPECT_EQ(run_cli("", folder / "log", output), 2);
+  EXPECT_EQ(run_cli("frobnicate", folder / "log", output), 2);
+  EXPECT_NE(output.find("unknown verb 'frobnicate'"), std::string::npos) << output;
+  EXPECT_EQ(run_cli("simulate --fast", folder / "log", output), 2);
+  EXPECT_NE(output.find("unknown option '--fast'"), std::string::npos) << output;
+  EXPECT_EQ(run_cli("simulate " + (folder / "missing.json"), folder / "log", output), 2);
+  EXPECT_NE(output.find("cannot open the scene file"), std::string::npos) << output;
+}
+
+}  // namespace
+}  // namespace tailor

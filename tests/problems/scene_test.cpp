@@ -1,0 +1,211 @@
+// Scene parsing and validation: the example scenes parse, and every kind of bad input is one
+// SceneError that names the scene and the JSON key path.
+#include "problems/scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "problems/builtin_scenes.hpp"
+#include "problems/static_scene.hpp"
+#include "scene_text.hpp"
+
+namespace tailor {
+namespace {
+
+const std::string kScenes = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes";
+
+// The SceneError message of parsing and setting up `json`, or "" when it is valid.
+std::string scene_error(const std::string& json) {
+  try {
+    const Scene scene = parse_scene(json, "test.json", "");
+    setup_static_scene(scene);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scene, ParsesTheCantileverExample) {
+  const Scene scene = read_scene(kScenes + "/cantilever.json");
+  EXPECT_EQ(scene.name, "cantilever");
+  EXPECT_EQ(scene.mesh.kind, MeshSpec::Kind::box);
+  EXPECT_EQ(scene.mesh.cells, Eigen::Vector3i(30, 3, 3));
+  ASSERT_EQ(scene.materials.size(), 1u);
+  EXPECT_EQ(scene.materials[0].model, MaterialKind::neo_hookean);
+  EXPECT_EQ(scene.materials[0].elements.kind, ElementSelector::Kind::all);
+  ASSERT_EQ(scene.dirichlet.size(), 1u);
+  EXPECT_EQ(scene.dirichlet[0].vertices.kind, VertexSelector::Kind::plane);
+  ASSERT_EQ(scene.loads.tractions.size(), 1u);
+  EXPECT_EQ(scene.loads.tractions[0].traction, Eigen::Vector3d(0, 0, -300));
+  EXPECT_EQ(scene.solver.newton.max_iterations, 50);
+
+  // The built-in default job is the same scene.
+  const Scene builtin = builtin_cantilever();
+  EXPECT_EQ(builtin.mesh.cells, scene.mesh.cells);
+  EXPECT_EQ(builtin.mesh.max, scene.mesh.max);
+  EXPECT_EQ(builtin.materials[0].youngs_modulus, scene.materials[0].youngs_modulus);
+  EXPECT_EQ(builtin.loads.tractions[0].traction, scene.loads.tractions[0].traction);
+  EXPECT_EQ(builtin.solver.newton.hessian_mode, scene.solver.newton.hessian_mode);
+  EXPECT_EQ(builtin.solver.newton.max_iterations, scene.solver.newton.max_iterations);
+}
+
+TEST(Scene, ParsesThePlateExample) {
+  const Scene scene = read_scene(kScenes + "/plate_2d.json");
+  EXPECT_EQ(scene.mesh.kind, MeshSpec::Kind::rectangle);
+  ASSERT_EQ(scene.materials.size(), 2u);
+  EXPECT_EQ(scene.materials[1].elements.kind, ElementSelector::Kind::box);
+  ASSERT_TRUE(scene.loads.gravity.has_value());
+  EXPECT_EQ(*scene.loads.gravity, Eigen::Vector2d(0, -9.81));
+  EXPECT_EQ(scene.solver.load_steps, 2);
+  const StaticSetup setup = setup_static_scene(scene);
+  EXPECT_EQ(setup.dim(), 2);
+  EXPECT_LT(setup.nodal_forces.sum(), 0.0);  // weight points down
+}
+
+TEST(Scene, EveryExampleSceneSetsUp) {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(kScenes)) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const Scene scene = read_scene(entry.path().string());
+    EXPECT_FALSE(scene.name.empty());
+    const StaticSetup setup = setup_static_scene(scene);
+    EXPECT_GT(setup.mesh.num_elements(), 0);
+    EXPECT_FALSE(setup.fixed_dofs.empty());
+    ++count;
+  }
+  EXPECT_GE(count, 2);
+}
+
+TEST(Scene, DefaultsComeFromNewtonOptions) {
+  const Scene scene = parse_scene(testing::small_box_scene(), "test.json", "");
+  const NewtonOptions defaults;
+  EXPECT_EQ(scene.solver.newton.max_iterations, defaults.max_iterations);
+  EXPECT_EQ(scene.solver.newton.relative_tolerance, defaults.relative_tolerance);
+  EXPECT_EQ(scene.solver.newton.hessian_mode, defaults.hessian_mode);
+  EXPECT_EQ(scene.solver.load_steps, 1);
+  EXPECT_EQ(scene.materials[0].density, 0.0);
+  EXPECT_EQ(scene_error(testing::small_box_scene()), "");
+}
+
+struct BadScene {
+  const char* what;
+  std::string json;
+  std::string expected;  // substring of the message
+};
+
+// Test names show the case, not the bytes of the struct.
+void PrintTo(const BadScene& bad, std::ostream* os) { *os << bad.what; }
+
+class SceneValidation : public ::testing::TestWithParam<BadScene> {};
+
+TEST_P(SceneValidation, NamesTheKeyPath) {
+  const std::string message = scene_error(GetParam().json);
+  EXPECT_NE(message.find(GetParam().expected), std::string::npos) << "message: " << message;
+  EXPECT_EQ(message.rfind("test.json: ", 0), 0u) << "message: " << message;
+}
+
+using testing::small_box_scene;
+using testing::with;
+
+INSTANTIATE_TEST_SUITE_P(
+    BadInput, SceneValidation,
+    ::testing::Values(
+        BadScene{"unknown_key", with("\"poisson_ratio\": 0.3", "\"poisson_ratio\": 0.3, \"colour\": \"red\""),
+                 "materials[0].colour: unknown key"},
+        BadScene{"unknown_top_key", with("\"name\": \"box\"", "\"name\": \"box\", \"meshes\": {}"),
+                 "meshes: unknown key"},
+        BadScene{"wrong_type", with("\"youngs_modulus\": 1000", "\"youngs_modulus\": \"1000\""),
+                 "materials[0].youngs_modulus: expected a number > 0, got a string \"1000\""},
+        BadScene{"nu_half", with("\"poisson_ratio\": 0.3", "\"poisson_ratio\": 0.5"),
+                 "materials[0].poisson_ratio: expected a number in (-1, 0.5), got 0.5"},
+        BadScene{"negative_E", with("\"youngs_modulus\": 1000", "\"youngs_modulus\": -1"),
+                 "materials[0].youngs_modulus: expected a number > 0, got -1"},
+        BadScene{"negative_density",
+                 with("\"poisson_ratio\": 0.3", "\"poisson_ratio\": 0.3, \"density\": -2"),
+                 "materials[0].density: expected a number >= 0, got -2"},
+        BadScene{"missing_model", with("\"model\": \"linear\", ", ""),
+                 "materials[0]: missing required key \"model\""},
+        BadScene{"bad_model", with("\"model\": \"linear\"", "\"model\": \"rubber\""),
+                 "materials[0].model: expected one of linear, corotated, stvk, neo_hookean, got \"rubber\""},
+        BadScene{
+            "missing_mesh",
+            with("\"mesh\": {\"box\": {\"min\": [0, 0, 0], \"max\": [2, 1, 1], \"cells\": [4, 2, 2]}},", ""),
+            "(top level): missing required key \"mesh\""},
+        BadScene{"cells_length", with("\"cells\": [4, 2, 2]", "\"cells\": [4, 2]"),
+                 "mesh.box.cells: expected 3 cell counts"},
+        BadScene{"cells_zero", with("\"cells\": [4, 2, 2]", "\"cells\": [4, 0, 2]"),
+                 "mesh.box.cells[1]: expected an integer >= 1, got 0"},
+        BadScene{"box_corners", with("\"max\": [2, 1, 1]", "\"max\": [2, -1, 1]"),
+                 "mesh.box.max: every entry must be"},
+        BadScene{"gravity_length", with("\"tractions\"", "\"gravity\": [0, -9.81], \"tractions\""),
+                 "loads.gravity: expected 3 components (the mesh is 3D), got 2"},
+        BadScene{"traction_length", with("\"traction\": [1, 0, 0]", "\"traction\": [1, 0, 0, 0]"),
+                 "loads.tractions[0].traction: expected an array of 2 or 3 numbers, got an array of 4"},
+        BadScene{"empty_plane", with("\"axis\": \"x\", \"value\": 0}", "\"axis\": \"x\", \"value\": 5}"),
+                 "dirichlet[0].vertices: selects no vertices"},
+        BadScene{"empty_faces", with("\"value\": 2}", "\"value\": 2.5}"),
+                 "loads.tractions[0].faces: selects no vertices"},
+        BadScene{"empty_list", with("{\"plane\": {\"axis\": \"x\", \"value\": 0}}", "{\"list\": []}"),
+                 "dirichlet[0].vertices.list: selects no vertices"},
+        BadScene{"vertex_out_of_range",
+                 with("{\"plane\": {\"axis\": \"x\", \"value\": 0}}", "{\"list\": [0, 4000]}"),
+                 "dirichlet[0].vertices: vertex 4000 does not exist"},
+        BadScene{
+            "two_selectors",
+            with("{\"plane\": {\"axis\": \"x\", \"value\": 0}}", "{\"list\": [0], \"box\": {}}"),
+            "dirichlet[0].vertices: expected an object with exactly one of the keys plane, box, list, file"},
+        BadScene{"bad_axis", with("\"axis\": \"x\", \"value\": 0}", "\"axis\": \"w\", \"value\": 0}"),
+                 "dirichlet[0].vertices.plane.axis: expected one of x, y, z, got \"w\""},
+        BadScene{"bad_component", with("\"components\": [0]", "\"components\": [3]"),
+                 "dirichlet[0].components[0]: expected a component 0, 1 or 2, got 3"},
+        BadScene{"uncovered",
+                 with("\"elements\": \"all\"",
+                      "\"elements\": {\"box\": {\"min\": [0, 0, 0], \"max\": [1, 1, 1]}}"),
+                 ": materials: element "},
+        BadScene{"covered_twice",
+                 with("\"materials\": [",
+                      "\"materials\": [{\"elements\": \"all\", \"model\": \"stvk\", "
+                      "\"youngs_modulus\": 5, \"poisson_ratio\": 0.1}, "),
+                 "materials[1].elements: element 0 is covered by materials[0] already"},
+        BadScene{"missing_region", with("\"elements\": \"all\"", "\"elements\": {\"region\": 7}"),
+                 "materials[0].elements: selects no elements (no element has region 7"},
+        BadScene{"bad_hessian", with("\"load_steps\": 1", "\"load_steps\": 1, \"hessian\": \"full\""),
+                 "solver.hessian: expected one of projected, exact, got \"full\""},
+        BadScene{"bad_load_steps", with("\"load_steps\": 1", "\"load_steps\": 0"),
+                 "solver.load_steps: expected an integer >= 1, got 0"},
+        BadScene{"bad_tolerance", with("\"load_steps\": 1", "\"load_steps\": 1, \"relative_tolerance\": 0"),
+                 "solver.relative_tolerance: expected a number in (0, 1), got 0"},
+        BadScene{"invalid_json", with("\"name\": \"box\",", "\"name\": \"box\""), "invalid JSON"},
+        BadScene{"not_an_object", "[1, 2]", "(top level): expected an object, got an array of 2"}),
+    [](const ::testing::TestParamInfo<BadScene>& param_info) { return std::string(param_info.param.what); });
+
+TEST(Scene, UncoveredElementIsNamed) {
+  const std::string message = scene_error(
+      with("\"elements\": \"all\"", "\"elements\": {\"box\": {\"min\": [0, 0, 0], \"max\": [1, 1, 1]}}"));
+  EXPECT_NE(message.find("is covered by no material"), std::string::npos) << message;
+}
+
+TEST(Scene, MissingSceneFileIsASceneError) {
+  try {
+    read_scene("/nonexistent/beam.json");
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/beam.json: cannot open"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Scene, MissingMeshFileIsAMeshError) {
+  const Scene scene =
+      parse_scene(with("{\"box\": {\"min\": [0, 0, 0], \"max\": [2, 1, 1], \"cells\": [4, 2, 2]}}",
+                       "{\"file\": \"nope.msh\"}"),
+                  "test.json", "/nonexistent");
+  EXPECT_EQ(scene.mesh.file, "/nonexistent/nope.msh");  // relative to the scene's folder
+  EXPECT_THROW(setup_static_scene(scene), MeshError);
+}
+
+}  // namespace
+}  // namespace tailor

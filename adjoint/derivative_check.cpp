@@ -62,6 +62,7 @@ DerivativeCheck check_directional_derivative(const std::string& quantity, const 
   if (check.analytic_norm <= vanishing) {
     if (largest_difference <= vanishing) {
       check.passed = false;
+      check.vanishing = true;
       check.message = "vanishing: both the analytic derivative and the differences are zero along this direction";
     } else {
       check.passed = false;
@@ -69,7 +70,13 @@ DerivativeCheck check_directional_derivative(const std::string& quantity, const 
     }
     return check;
   }
-  check.passed = std::isfinite(best) && best <= options.tolerance;
+  // Pass when the differences agree to the tolerance, or when their error visibly falls at
+  // second order (>= 3 informative rows with median rate in [1.8, 2.2]) and is already below
+  // sqrt(tolerance): near a singularity (nu -> 0.5) truncation dominates every affordable step,
+  // but a wrong derivative leaves an error that does not fall (order 0).
+  const int informative = static_cast<int>(rates.size());
+  const bool second_order = informative >= 3 && check.observed_order >= 1.8 && check.observed_order <= 2.2;
+  check.passed = std::isfinite(best) && (best <= options.tolerance || (second_order && best <= std::sqrt(options.tolerance)));
   std::ostringstream msg;
   msg << (check.passed ? "ok" : "FAILED") << ": best relative error " << std::scientific << std::setprecision(2) << best;
   if (std::isnan(check.observed_order))

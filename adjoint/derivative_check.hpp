@@ -8,7 +8,8 @@
 //   hessian         H d                vs (g(x+hd) - g(x-hd)) / 2h
 //   param_gradient  dE/dp . q          vs (E(p+hq) - E(p-hq)) / 2h
 //   mixed           (d2E/dxdp) q       vs (g(p+hq) - g(p-hq)) / 2h
-// A check passes when the best relative error is below `tolerance`. It fails, with a message,
+// A check passes when the best relative error is below `tolerance`, or when the error falls
+// at second order over at least three step halvings and is below sqrt(tolerance). It fails, with a message,
 // when the analytic quantity vanishes while the differences do not, and it is reported as
 // "vanishing" (not passed) when both vanish: a check must not pass by accident.
 #include <functional>
@@ -45,6 +46,9 @@ struct DerivativeCheck {
   double best_error = 0;     // smallest relative error over the steps
   double observed_order = 0; // median rate over rows above the round-off floor (NaN if none)
   bool passed = false;
+  // Both the analytic derivative and the differences vanish along the direction: nothing was
+  // tested (e.g. the Hessian of a term linear in x). Never counted as passed.
+  bool vanishing = false;
   std::string message;
   std::vector<StepError> steps;
 };

@@ -46,9 +46,6 @@ Scene builtin_cantilever() {
   tip.traction << 0.0, 0.0, -300.0;
   scene.loads.tractions.push_back(tip);
 
-  // Exact Hessians converge quadratically here (7 iterations); element-wise projected ones
-  // converge only linearly near this bent equilibrium.
-  scene.solver.newton.hessian_mode = HessianMode::exact;
   scene.solver.newton.max_iterations = 50;
   return scene;
 }

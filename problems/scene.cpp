@@ -245,9 +245,12 @@ SolverSpec parse_solver(const SceneNode& node) {
   if (auto v = node.find("max_iterations")) s.newton.max_iterations = v->integer(1);
   if (auto v = node.find("relative_tolerance")) s.newton.relative_tolerance = v->open_interval(0.0, 1.0);
   if (auto v = node.find("absolute_tolerance")) s.newton.absolute_tolerance = v->non_negative();
-  if (auto v = node.find("hessian"))
-    s.newton.hessian_mode =
-        v->choice({"projected", "exact"}) == "exact" ? HessianMode::exact : HessianMode::projected;
+  if (auto v = node.find("hessian")) {
+    const std::string choice = v->choice({"adaptive", "exact", "projected"});
+    s.newton.hessian = choice == "exact"       ? NewtonHessian::exact
+                       : choice == "projected" ? NewtonHessian::projected
+                                               : NewtonHessian::adaptive;
+  }
   if (auto v = node.find("load_steps")) s.load_steps = v->integer(1);
   return s;
 }

@@ -104,14 +104,14 @@ void ReducedAssembler::evaluate(const Vector& y, const Vector& p, double* energy
     const auto num_entries = static_cast<std::ptrdiff_t>(hessian_y->nonZeros());
     const double* slot_values = buffer_.data();
     if (unit_weights_) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (num_entries > 16384)
       for (std::ptrdiff_t e = 0; e < num_entries; ++e) {
         double sum = 0.0;
         for (auto t = entry_begin_[e]; t < entry_begin_[e + 1]; ++t) sum += slot_values[entry_slot_[t]];
         values[e] = sum;
       }
     } else {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (num_entries > 16384)
       for (std::ptrdiff_t e = 0; e < num_entries; ++e) {
         double sum = 0.0;
         for (auto t = entry_begin_[e]; t < entry_begin_[e + 1]; ++t) sum += weight_[t] * slot_values[entry_slot_[t]];

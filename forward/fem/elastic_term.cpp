@@ -81,7 +81,7 @@ void ElasticTerm<Dim>::evaluate(const Vector& x, const Vector& p, const EnergyRe
   double energy = 0.0;
   constexpr int kSlots = kLocal * kLocal;
 
-#pragma omp parallel for schedule(static) reduction(+ : energy)
+#pragma omp parallel for schedule(static) reduction(+ : energy) if (num > 256)
   for (std::ptrdiff_t k = 0; k < num; ++k) {
     const auto F = deformation_gradient(x, static_cast<int>(k));
     MaterialEvaluation<Dim> m;

@@ -1,5 +1,6 @@
 #include "forward/fem/loads.hpp"
 
+#include <Eigen/Geometry>
 #include <stdexcept>
 
 namespace tailor {

@@ -25,6 +25,15 @@ std::string to_string(NewtonStatus status) {
   return "unknown";
 }
 
+std::string to_string(NewtonHessian hessian) {
+  switch (hessian) {
+    case NewtonHessian::adaptive: return "adaptive";
+    case NewtonHessian::exact: return "exact";
+    case NewtonHessian::projected: return "projected";
+  }
+  return "unknown";
+}
+
 std::string NewtonResult::report() const {
   std::ostringstream s;
   s << "Newton: " << to_string(status) << " after " << iterations << " iterations (" << message << ")\n"
@@ -82,13 +91,17 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
 
   double energy = 0.0;
   Vector gradient;
+  int projected_left = 0;  // adaptive mode: iterations still to run with the projected Hessian
   for (int k = 0;; ++k) {
     NewtonIteration it;
     it.iteration = k;
+    // Which Hessian to assemble: see NewtonHessian.
+    HessianMode mode = options_.hessian == NewtonHessian::exact ? HessianMode::exact : HessianMode::projected;
+    if (options_.hessian == NewtonHessian::adaptive) mode = projected_left > 0 ? HessianMode::projected : HessianMode::exact;
     auto t0 = Clock::now();
-    assembler_.evaluate(y, p, &energy, &gradient, &hessian_, options_.hessian_mode);
+    assembler_.evaluate(y, p, &energy, &gradient, &hessian_, mode);
     it.assembly_seconds = seconds_since(t0);
-    factorized_mode_ = options_.hessian_mode;
+    factorized_mode_ = mode;
     const double residual = gradient.norm();
     it.energy = energy;
     it.residual = residual;
@@ -115,6 +128,19 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     t0 = Clock::now();
     FactorizationResult fact = cholesky_.factorize(hessian_);
     it.factorization_seconds = seconds_since(t0);
+    if (projected_left > 0) --projected_left;
+    if (options_.hessian == NewtonHessian::adaptive && mode == HessianMode::exact && !fact.positive_definite) {
+      // Indefinite exact Hessian: use the projected one now and in the next iteration.
+      t0 = Clock::now();
+      assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, HessianMode::projected);
+      it.assembly_seconds += seconds_since(t0);
+      mode = factorized_mode_ = HessianMode::projected;
+      projected_left = 1;
+      t0 = Clock::now();
+      fact = cholesky_.factorize(hessian_);
+      it.factorization_seconds += seconds_since(t0);
+    }
+    it.used_projected = mode == HessianMode::projected;
     Vector dy;
     double shift = 0.0;
     for (int attempt = 0;; ++attempt) {
@@ -178,7 +204,7 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     if (options_.progress) {
       *options_.progress << std::scientific << std::setprecision(3) << "  newton " << std::setw(3) << k << "  E "
                          << std::setw(11) << energy << "  |g| " << residual << "  alpha " << std::defaultfloat
-                         << alpha << (it.used_ldlt ? "  (LDL^T)" : "") << "\n";
+                         << alpha << (it.used_projected ? "  projected" : "") << (it.used_ldlt ? "  (LDL^T)" : "") << "\n";
     }
   }
 }

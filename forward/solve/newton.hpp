@@ -21,14 +21,22 @@
 
 namespace tailor {
 
+enum class NewtonHessian { adaptive, exact, projected };
+std::string to_string(NewtonHessian hessian);
+
 struct NewtonOptions {
   int max_iterations = 100;
   double relative_tolerance = 1e-9;
   double absolute_tolerance = 0.0;
   double step_tolerance = 1e-13;
-  // Newton uses element-wise PSD-projected Hessians by default so that every step is a
-  // descent direction; `exact` gives quadratic convergence near a stable equilibrium.
-  HessianMode hessian_mode = HessianMode::projected;
+  // Which Hessian Newton factorizes:
+  //  adaptive  (default) the exact Hessian whenever its Cholesky factorization succeeds
+  //            (quadratic convergence near a stable equilibrium); when it is indefinite,
+  //            the element-wise PSD-projected Hessian for that iteration and the next one.
+  //  projected always projected: every step a descent direction, but only linear
+  //            convergence where the exact Hessian differs (large rotations, compression).
+  //  exact     always exact; an indefinite matrix is shifted until it is positive definite.
+  NewtonHessian hessian = NewtonHessian::adaptive;
   double armijo = 1e-4;         // sufficient-decrease constant
   int max_line_search_steps = 40;  // halvings before the line search is declared stalled
   std::ostream* progress = nullptr;  // one line per iteration when set
@@ -45,6 +53,7 @@ struct NewtonIteration {
   double step_length = 0.0;  // line-search factor alpha
   int line_search_steps = 0;
   bool used_ldlt = false;
+  bool used_projected = false;  // the factorized Hessian was the PSD-projected one
   double assembly_seconds = 0.0;       // energy, gradient and Hessian assembly
   double factorization_seconds = 0.0;  // numeric factorization (analysis only once)
   double solve_seconds = 0.0;          // triangular solves

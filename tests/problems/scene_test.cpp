@@ -47,7 +47,7 @@ TEST(Scene, ParsesTheCantileverExample) {
   EXPECT_EQ(builtin.mesh.max, scene.mesh.max);
   EXPECT_EQ(builtin.materials[0].youngs_modulus, scene.materials[0].youngs_modulus);
   EXPECT_EQ(builtin.loads.tractions[0].traction, scene.loads.tractions[0].traction);
-  EXPECT_EQ(builtin.solver.newton.hessian_mode, scene.solver.newton.hessian_mode);
+  EXPECT_EQ(builtin.solver.newton.hessian, scene.solver.newton.hessian);
   EXPECT_EQ(builtin.solver.newton.max_iterations, scene.solver.newton.max_iterations);
 }
 
@@ -84,7 +84,7 @@ TEST(Scene, DefaultsComeFromNewtonOptions) {
   const NewtonOptions defaults;
   EXPECT_EQ(scene.solver.newton.max_iterations, defaults.max_iterations);
   EXPECT_EQ(scene.solver.newton.relative_tolerance, defaults.relative_tolerance);
-  EXPECT_EQ(scene.solver.newton.hessian_mode, defaults.hessian_mode);
+  EXPECT_EQ(scene.solver.newton.hessian, defaults.hessian);
   EXPECT_EQ(scene.solver.load_steps, 1);
   EXPECT_EQ(scene.materials[0].density, 0.0);
   EXPECT_EQ(scene_error(testing::small_box_scene()), "");
@@ -173,7 +173,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"missing_region", with("\"elements\": \"all\"", "\"elements\": {\"region\": 7}"),
                  "materials[0].elements: selects no elements (no element has region 7"},
         BadScene{"bad_hessian", with("\"load_steps\": 1", "\"load_steps\": 1, \"hessian\": \"full\""),
-                 "solver.hessian: expected one of projected, exact, got \"full\""},
+                 "solver.hessian: expected one of adaptive, exact, projected, got \"full\""},
         BadScene{"bad_load_steps", with("\"load_steps\": 1", "\"load_steps\": 0"),
                  "solver.load_steps: expected an integer >= 1, got 0"},
         BadScene{"bad_tolerance", with("\"load_steps\": 1", "\"load_steps\": 1, \"relative_tolerance\": 0"),

@@ -37,7 +37,7 @@ TEST(Newton, CubicConvergesWithDirichletAndReportsHistory) {
   values[0] = 0.1;
   model.set_elimination(Elimination::dirichlet({0, 7}, values));
   NewtonOptions options;
-  options.hessian_mode = HessianMode::exact;
+  options.hessian = NewtonHessian::exact;
   NewtonSolver solver(model, options);
   Vector y = Vector::Zero(model.elimination().num_free());
   Vector p(1);

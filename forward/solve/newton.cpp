@@ -91,7 +91,8 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
 
   double energy = 0.0;
   Vector gradient;
-  int projected_left = 0;  // adaptive mode: iterations still to run with the projected Hessian
+  int projected_left = 0;     // adaptive mode: iterations still to run with the projected Hessian
+  int projected_backoff = 1;  // ... and how many to run after the next failed exact attempt
   for (int k = 0;; ++k) {
     NewtonIteration it;
     it.iteration = k;
@@ -129,13 +130,17 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     FactorizationResult fact = cholesky_.factorize(hessian_);
     it.factorization_seconds = seconds_since(t0);
     if (projected_left > 0) --projected_left;
+    if (mode == HessianMode::exact && fact.positive_definite) projected_backoff = 1;
     if (options_.hessian == NewtonHessian::adaptive && mode == HessianMode::exact && !fact.positive_definite) {
       // Indefinite exact Hessian: use the projected one now and in the next iteration.
       t0 = Clock::now();
       assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, HessianMode::projected);
       it.assembly_seconds += seconds_since(t0);
       mode = factorized_mode_ = HessianMode::projected;
-      projected_left = 1;
+      // Back off exponentially: a failed exact attempt costs one factorization, so after
+      // consecutive failures wait 1, 2, 4, ... iterations before trying again.
+      projected_left = projected_backoff;
+      projected_backoff = std::min(2 * projected_backoff, 16);
       t0 = Clock::now();
       fact = cholesky_.factorize(hessian_);
       it.factorization_seconds += seconds_since(t0);

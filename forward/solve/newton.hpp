@@ -32,7 +32,8 @@ struct NewtonOptions {
   // Which Hessian Newton factorizes:
   //  adaptive  (default) the exact Hessian whenever its Cholesky factorization succeeds
   //            (quadratic convergence near a stable equilibrium); when it is indefinite,
-  //            the element-wise PSD-projected Hessian for that iteration and the next one.
+  //            the element-wise PSD-projected Hessian for that iteration and the next 1, 2,
+  //            4, ... (up to 16) after consecutive failures, then exact is tried again.
   //  projected always projected: every step a descent direction, but only linear
   //            convergence where the exact Hessian differs (large rotations, compression).
   //  exact     always exact; an indefinite matrix is shifted until it is positive definite.

@@ -1,1 +1,1 @@
-// placeholder
+#include "objectives/objective.hpp"

@@ -1,0 +1,86 @@
+#pragma once
+// One interface over every optimizer back-end:
+//   OptimizerResult r = minimize(functional, z0, bounds, constraints, options);
+// Options are plain structs with documented defaults; the result is a status with a reason,
+// the final (best) point, and the per-iteration history (Ceres-style summary in report()).
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "adjoint/reduced_functional.hpp"
+
+namespace tailor {
+
+enum class OptimizerBackend {
+  ipopt,               // interior point; bounds + general constraints; L-BFGS or exact Hessian
+  nlopt_lbfgs,         // NLopt LD_LBFGS (bounds)
+  nlopt_mma,           // NLopt LD_MMA (bounds, inequality constraints)
+  nlopt_slsqp,         // NLopt LD_SLSQP (bounds, equality and inequality constraints)
+  ceres_lbfgs,         // Ceres GradientProblemSolver, L-BFGS (no bounds)
+  ceres_least_squares, // Ceres trust-region Levenberg-Marquardt on the residual form (bounds)
+  gradient_descent,    // projected gradient descent with a halving line search (bounds)
+};
+std::string to_string(OptimizerBackend backend);
+OptimizerBackend parse_optimizer_backend(const std::string& name);  // throws std::invalid_argument
+
+// Box bounds; empty vectors mean unbounded. Use +-infinity for one-sided bounds.
+struct Bounds {
+  Vector lower, upper;
+};
+
+// c(z) <= 0 (inequality) or c(z) = 0 (equality); evaluate fills the gradient when non-null.
+struct Constraint {
+  std::string name;
+  bool equality = false;
+  std::function<double(const Vector& z, Vector* gradient)> evaluate;
+};
+
+struct OptimizerOptions {
+  OptimizerBackend backend = OptimizerBackend::nlopt_lbfgs;
+  int max_iterations = 200;
+  // Stop when the (projected) gradient's infinity norm is below this (absolute).
+  double gradient_tolerance = 1e-8;
+  // Stop when the objective changes by less than this (absolute) between iterations.
+  double objective_tolerance = 0.0;
+  // Stop when the step's infinity norm is below this (absolute); 0 = off.
+  double step_tolerance = 0.0;
+  double time_limit_seconds = 0.0;  // 0 = none
+  // Ipopt only: use Hessian-vector products to assemble the exact Hessian (small problems),
+  // otherwise limited-memory BFGS.
+  bool exact_hessian = false;
+  std::ostream* progress = nullptr;  // one line per iteration when set
+};
+
+enum class OptimizerStatus { converged, max_iterations, time_limit, interrupted, failed };
+std::string to_string(OptimizerStatus status);
+
+struct OptimizerIteration {
+  int iteration = 0;
+  double objective = 0.0;
+  double gradient_norm = 0.0;  // infinity norm of the (projected) gradient
+  double step_norm = 0.0;      // infinity norm of z_k - z_{k-1}
+  double seconds = 0.0;        // cumulative wall time
+  int forward_solves = 0;      // cumulative
+  int adjoint_solves = 0;      // cumulative
+};
+
+struct OptimizerResult {
+  OptimizerStatus status = OptimizerStatus::failed;
+  std::string message;  // readable reason, including the back-end's own status
+  Vector z;             // best point found
+  double objective = 0.0;
+  std::vector<OptimizerIteration> history;
+  int evaluations = 0;
+  double seconds = 0.0;
+  bool converged() const { return status == OptimizerStatus::converged; }
+  std::string report() const;
+};
+
+// Runs the chosen back-end. Never throws for numerical trouble: a failing back-end returns
+// status failed with its message and the best point seen. SIGINT (Ctrl-C) during the run and
+// the time limit stop it cleanly with the best point so far.
+OptimizerResult minimize(ReducedFunctional& functional, const Vector& z0, const Bounds& bounds,
+                         const std::vector<Constraint>& constraints, const OptimizerOptions& options);
+
+}  // namespace tailor

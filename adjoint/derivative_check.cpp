@@ -139,6 +139,20 @@ EnergyTermCheck check_energy_term(const EnergyTerm& term, const Vector& x, const
     const Vector mq = mixed * q;
     out.checks.push_back(check_directional_derivative(
         "mixed", [&](double t) { return gradient_at(x, p + t * q); }, mq, options));
+
+    // The adjoint's product (d2E/dxdp)^T w, along q: d/dt w . g(x, p + t q).
+    const Vector w = random_unit_box(n, rng);
+    Vector mtw = Vector::Zero(p.size());
+    term.add_mixed_transpose_times(x, p, w, mtw);
+    analytic[0] = mtw.dot(q);
+    out.checks.push_back(check_directional_derivative(
+        "mixed_transpose",
+        [&](double t) {
+          Vector v(1);
+          v[0] = w.dot(gradient_at(x, p + t * q));
+          return v;
+        },
+        analytic, options));
   }
   return out;
 }

@@ -8,6 +8,7 @@
 //   hessian         H d                vs (g(x+hd) - g(x-hd)) / 2h
 //   param_gradient  dE/dp . q          vs (E(p+hq) - E(p-hq)) / 2h
 //   mixed           (d2E/dxdp) q       vs (g(p+hq) - g(p-hq)) / 2h
+//   mixed_transpose ((d2E/dxdp)^T w).q vs (w.g(p+hq) - w.g(p-hq)) / 2h
 // A check passes when the best relative error is below `tolerance`, or when the error falls
 // at second order over at least three step halvings and is below sqrt(tolerance). It fails, with a message,
 // when the analytic quantity vanishes while the differences do not, and it is reported as

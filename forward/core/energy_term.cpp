@@ -16,6 +16,13 @@ void EnergyTerm::add_gradient(const Vector& x, const Vector& p, Vector& gradient
   evaluate(x, p, request);
 }
 
+void EnergyTerm::add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
+                                           Vector& gradient_p) const {
+  Triplets mixed;
+  add_mixed(x, p, mixed);
+  for (const auto& t : mixed) gradient_p[t.col()] += t.value() * w[t.row()];
+}
+
 SparseMatrix EnergyTerm::hessian(const Vector& x, const Vector& p, HessianMode mode) const {
   HessianPattern pattern;
   hessian_pattern(pattern);

@@ -44,6 +44,10 @@ class EnergyTerm {
     (void)x, (void)p, (void)mixed;
   }
 
+  // gradient_p += (d2E/dxdp)^T w, for one adjoint vector w (size of x). The default goes
+  // through add_mixed(); terms with many parameters override it to avoid the triplets.
+  virtual void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w, Vector& gradient_p) const;
+
   // Largest admissible fraction in (0, 1] of the step x -> x + dx (e.g. from continuous
   // collision detection or to keep elements from inverting). Default: no restriction.
   virtual double max_step(const Vector& x, const Vector& dx) const {

@@ -59,6 +59,12 @@ SparseMatrix Model::mixed(const Vector& x, const Vector& p) const {
   return m;
 }
 
+Vector Model::mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w) const {
+  Vector out = Vector::Zero(p.size());
+  for (const auto& t : terms_) t->add_mixed_transpose_times(x, p, w, out);
+  return out;
+}
+
 double Model::max_step(const Vector& x, const Vector& dx) const {
   double alpha = 1.0;
   for (const auto& t : terms_) alpha = std::min(alpha, t->max_step(x, dx));

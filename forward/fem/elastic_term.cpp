@@ -1,6 +1,7 @@
 #include "forward/fem/elastic_term.hpp"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -34,6 +35,13 @@ ElasticTerm<Dim>::ElasticTerm(const Mesh& mesh, std::shared_ptr<const Material<D
   if (elements_.empty()) {
     elements_.resize(mesh.num_elements());
     for (int e = 0; e < mesh.num_elements(); ++e) elements_[e] = e;
+  }
+  {
+    std::vector<int> sorted = elements_;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+      throw std::invalid_argument("ElasticTerm: element " + std::to_string(*std::adjacent_find(sorted.begin(), sorted.end())) +
+                                  " is listed twice");
   }
   vertices_.resize(elements_.size());
   gradients_.resize(elements_.size());
@@ -148,6 +156,29 @@ void ElasticTerm<Dim>::add_mixed(const Vector& x, const Vector& p, Triplets& mix
       mixed.emplace_back(dof, youngs_offset_ + e, local(r, 0));
       mixed.emplace_back(dof, poisson_offset_ + e, local(r, 1));
     }
+  }
+}
+
+template <int Dim>
+void ElasticTerm<Dim>::add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
+                                                 Vector& gradient_p) const {
+  // Each element writes only its own two parameters, so the loop is race-free as long as no
+  // element is covered twice (the constructor's element list has no duplicates by contract).
+  const auto num = static_cast<std::ptrdiff_t>(elements_.size());
+#pragma omp parallel for schedule(static) if (num > 256)
+  for (std::ptrdiff_t k = 0; k < num; ++k) {
+    const int e = elements_[k];
+    MaterialLameDerivatives<Dim> d;
+    material_->lame_derivatives(deformation_gradient(x, static_cast<int>(k)), lame(p, e), d);
+    // w restricted to the element, contracted with dvec(F)/dx: dF = sum_a w_a grad N_a^T.
+    Eigen::Matrix<double, Dim, Dim> W = Eigen::Matrix<double, Dim, Dim>::Zero();
+    for (int a = 0; a < kNodes; ++a)
+      W.noalias() += w.template segment<Dim>(Dim * vertices_[k][a]) * gradients_[k].row(a);
+    const Eigen::Map<const Eigen::Matrix<double, Dim * Dim, 1>> w_vec(W.data());
+    const Eigen::RowVector2d dlame = volumes_[k] * (w_vec.transpose() * d.stress);
+    const Eigen::RowVector2d dyoung_poisson = dlame * lame_jacobian(p[youngs_offset_ + e], p[poisson_offset_ + e]);
+    gradient_p[youngs_offset_ + e] += dyoung_poisson[0];
+    gradient_p[poisson_offset_ + e] += dyoung_poisson[1];
   }
 }
 

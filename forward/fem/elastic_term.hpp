@@ -30,6 +30,7 @@ class ElasticTerm final : public EnergyTerm {
   void hessian_pattern(HessianPattern& pattern) const override;
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override;
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override;
+  void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w, Vector& gradient_p) const override;
 
   // Deformation gradient of covered element k (index into elements()) at state x.
   Eigen::Matrix<double, Dim, Dim> deformation_gradient(const Vector& x, int k) const;

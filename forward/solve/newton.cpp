@@ -57,12 +57,15 @@ NewtonSolver::NewtonSolver(const Model& model, NewtonOptions options)
 
 FactorizationResult NewtonSolver::factorize_hessian(const Vector& p, const Vector& y, HessianMode mode) {
   assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, mode);
+  assembled_mode_ = mode;
   if (!analyzed_) {
     cholesky_.analyze(hessian_);
     analyzed_ = true;
   }
-  factorized_mode_ = mode;
-  return cholesky_.factorize(hessian_);
+  const FactorizationResult result = cholesky_.factorize(hessian_);
+  factor_is_exact_ = mode == HessianMode::exact && result.success;
+  factor_matches_hessian_ = result.success;
+  return result;
 }
 
 NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
@@ -102,7 +105,8 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     auto t0 = Clock::now();
     assembler_.evaluate(y, p, &energy, &gradient, &hessian_, mode);
     it.assembly_seconds = seconds_since(t0);
-    factorized_mode_ = mode;
+    assembled_mode_ = mode;
+    factor_matches_hessian_ = false;
     const double residual = gradient.norm();
     it.energy = energy;
     it.residual = residual;
@@ -136,7 +140,7 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       t0 = Clock::now();
       assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, HessianMode::projected);
       it.assembly_seconds += seconds_since(t0);
-      mode = factorized_mode_ = HessianMode::projected;
+      mode = assembled_mode_ = HessianMode::projected;
       // Back off exponentially: a failed exact attempt costs one factorization, so after
       // consecutive failures wait 1, 2, 4, ... iterations before trying again.
       projected_left = projected_backoff;
@@ -169,6 +173,8 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       it.factorization_seconds += seconds_since(t0);
     }
     it.used_ldlt = cholesky_.is_ldlt();
+    factor_is_exact_ = mode == HessianMode::exact && shift == 0.0;
+    factor_matches_hessian_ = true;
 
     // Backtracking line search on E, starting from the largest admissible step.
     t0 = Clock::now();

@@ -86,11 +86,16 @@ class NewtonSolver {
 
   NewtonOptions& options() { return options_; }
   ReducedAssembler& assembler() { return assembler_; }
-  // The matrix and factorization of the last Hessian assembled (by solve() or
-  // factorize_hessian()); `factorized_mode()` says whether it was exact or projected.
+  // The last reduced Hessian assembled (upper triangle). After a converged solve() it is the
+  // Hessian at the returned iterate, in assembled_mode().
   const SparseMatrix& hessian() const { return hessian_; }
+  HessianMode assembled_mode() const { return assembled_mode_; }
+  // The last factorization. After a converged solve() it belongs to the previous iterate (the
+  // last Newton step), not to hessian(): factorization_matches_hessian() is false then.
+  // factorization_is_exact(): it factors an exact, unshifted Hessian (possibly by LDL^T).
   SparseCholesky& factorization() { return cholesky_; }
-  HessianMode factorized_mode() const { return factorized_mode_; }
+  bool factorization_is_exact() const { return factor_is_exact_; }
+  bool factorization_matches_hessian() const { return factor_matches_hessian_; }
   // Assemble and factorize the Hessian at y in the given mode (the adjoint uses exact).
   FactorizationResult factorize_hessian(const Vector& p, const Vector& y, HessianMode mode);
 
@@ -100,7 +105,9 @@ class NewtonSolver {
   ReducedAssembler assembler_;
   SparseMatrix hessian_;
   SparseCholesky cholesky_;
-  HessianMode factorized_mode_ = HessianMode::projected;
+  HessianMode assembled_mode_ = HessianMode::projected;
+  bool factor_is_exact_ = false;
+  bool factor_matches_hessian_ = false;
   bool analyzed_ = false;
 };
 

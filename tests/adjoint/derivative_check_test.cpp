@@ -58,7 +58,7 @@ TEST(DerivativeCheck, CorrectTermPassesWithSecondOrderConvergence) {
   Fixture f;
   const EnergyTermCheck c = check_energy_term(f.term, f.x, f.p);
   EXPECT_TRUE(c.passed()) << c.table();
-  ASSERT_EQ(c.checks.size(), 4u);
+  ASSERT_EQ(c.checks.size(), 5u);
   // The cubic term makes truncation errors visible: central differences converge as h^2.
   EXPECT_NEAR(find(c, "gradient").observed_order, 2.0, 0.2) << c.table();
 }

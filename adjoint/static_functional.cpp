@@ -1,0 +1,173 @@
+#include "adjoint/static_functional.hpp"
+
+#include <chrono>
+#include <cmath>
+
+namespace tailor {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+std::string to_string(HessianSolve method) {
+  switch (method) {
+    case HessianSolve::reused_factorization: return "reused_factorization";
+    case HessianSolve::preconditioned_cg: return "preconditioned_cg";
+    case HessianSolve::fresh_factorization: return "fresh_factorization";
+  }
+  return "unknown";
+}
+
+StaticFunctional::StaticFunctional(const Model& model, ParameterizationPtr parameterization, ObjectivePtr objective,
+                                   Vector rest_y, StaticFunctionalOptions options)
+    : model_(model),
+      parameterization_(std::move(parameterization)),
+      objective_(std::move(objective)),
+      options_(options),
+      newton_(model, options.newton),
+      rest_y_(std::move(rest_y)) {
+  if (!parameterization_ || !objective_) throw std::invalid_argument("StaticFunctional: parameterization and objective are required");
+  if (parameterization_->num_params() != model.parameter_layout().size())
+    throw std::invalid_argument("StaticFunctional: the parameterization produces " +
+                                std::to_string(parameterization_->num_params()) + " parameters, the model has " +
+                                std::to_string(model.parameter_layout().size()));
+  if (rest_y_.size() != model.elimination().num_free())
+    throw std::invalid_argument("StaticFunctional: the initial state has the wrong number of unknowns");
+}
+
+void StaticFunctional::forward(const Vector& z) {
+  if (z.size() != size())
+    throw std::invalid_argument("StaticFunctional: z has " + std::to_string(z.size()) + " entries, expected " +
+                                std::to_string(size()));
+  if (have_state_ && z == z_) return;
+  const auto t0 = Clock::now();
+  p_ = parameterization_->apply(z);
+  Vector y = (options_.warm_start && have_state_) ? y_ : rest_y_;
+  have_state_ = false;
+  newton_result_ = newton_.solve(p_, y);
+  ++counters_.forward_solves;
+  if (!newton_result_.converged() && options_.warm_start) {
+    y = rest_y_;  // a warm start can sit in another basin; retry from rest once
+    newton_result_ = newton_.solve(p_, y);
+    ++counters_.forward_solves;
+  }
+  counters_.forward_seconds += seconds_since(t0);
+  if (!newton_result_.converged())
+    throw EvaluationError("forward solve failed: " + to_string(newton_result_.status) + " (" + newton_result_.message + ")");
+  y_ = y;
+  x_ = model_.elimination().expand(y_);
+  z_ = z;
+  objective_value_ = objective_->value(x_, p_);
+  have_state_ = true;
+  ++counters_.evaluations;
+}
+
+double StaticFunctional::value(const Vector& z) {
+  forward(z);
+  return objective_value_;
+}
+
+Vector StaticFunctional::solve_hessian(const Vector& rhs) {
+  const auto t0 = Clock::now();
+  ++counters_.adjoint_solves;
+  SparseCholesky& factor = newton_.factorization();
+  const bool exact_matrix = newton_.assembled_mode() == HessianMode::exact;
+  if (exact_matrix && newton_.factorization_matches_hessian() && newton_.factorization_is_exact()) {
+    last_solve_ = HessianSolve::reused_factorization;
+    last_cg_iterations_ = 0;
+    Vector v = factor.solve(rhs);
+    counters_.adjoint_seconds += seconds_since(t0);
+    return v;
+  }
+  if (exact_matrix && newton_.factorization_is_exact() && factor.has_factor() && !factor.is_ldlt()) {
+    // Preconditioned CG on H (upper triangle stored), preconditioned by the factorization of
+    // the previous Newton iterate's exact Hessian, which differs from H by O(|dx|).
+    const auto H = newton_.hessian().selfadjointView<Eigen::Upper>();
+    const double rhs_norm = rhs.norm();
+    Vector v = factor.solve(rhs);
+    Vector r = rhs - H * v;
+    Vector s = factor.solve(r);
+    Vector d = s;
+    double rs = r.dot(s);
+    bool converged = r.norm() <= options_.linear_relative_tolerance * rhs_norm;
+    int it = 0;
+    for (; !converged && it < options_.max_cg_iterations; ++it) {
+      const Vector Hd = H * d;
+      const double curvature = d.dot(Hd);
+      if (!(curvature > 0.0)) break;  // indefinite: leave it to LDL^T
+      const double alpha = rs / curvature;
+      v += alpha * d;
+      r -= alpha * Hd;
+      converged = r.norm() <= options_.linear_relative_tolerance * rhs_norm;
+      if (converged) break;
+      s = factor.solve(r);
+      const double rs_next = r.dot(s);
+      d = s + (rs_next / rs) * d;
+      rs = rs_next;
+    }
+    if (converged) {
+      last_solve_ = HessianSolve::preconditioned_cg;
+      last_cg_iterations_ = it + 1;
+      counters_.adjoint_seconds += seconds_since(t0);
+      return v;
+    }
+  }
+  // Factorize the exact Hessian at the equilibrium; later solves at this state reuse it.
+  const FactorizationResult f = newton_.factorize_hessian(p_, y_, HessianMode::exact);
+  if (!f.success) throw EvaluationError("adjoint: the Hessian at the equilibrium is singular (" + f.message + ")");
+  last_solve_ = HessianSolve::fresh_factorization;
+  last_cg_iterations_ = 0;
+  Vector v = factor.solve(rhs);
+  counters_.adjoint_seconds += seconds_since(t0);
+  return v;
+}
+
+double StaticFunctional::value_and_gradient(const Vector& z, Vector& gradient) {
+  forward(z);
+  const Elimination& elim = model_.elimination();
+  Vector jx = Vector::Zero(x_.size());
+  objective_->add_gradient_x(x_, p_, jx);
+  Vector jp = Vector::Zero(p_.size());
+  objective_->add_gradient_p(x_, p_, jp);
+  const Vector lambda = solve_hessian(elim.reduce(jx));
+  jp -= model_.mixed_transpose_times(x_, p_, elim.expand_direction(lambda));
+  gradient = parameterization_->jacobian_transpose_times(z, jp);
+  return objective_value_;
+}
+
+Matrix StaticFunctional::state_sensitivity(const Vector& z) {
+  forward(z);
+  const Elimination& elim = model_.elimination();
+  const SparseMatrix mixed = model_.mixed(x_, p_);
+  Matrix dx(x_.size(), size());
+  Vector unit = Vector::Zero(size());
+  for (int j = 0; j < size(); ++j) {
+    unit[j] = 1.0;
+    const Vector dp = parameterization_->jacobian_times(z, unit);
+    unit[j] = 0.0;
+    const Vector dy = solve_hessian(-elim.reduce(mixed * dp));
+    dx.col(j) = elim.expand_direction(dy);
+  }
+  return dx;
+}
+
+void StaticFunctional::residuals(const Vector& z, Vector& r, Matrix* jacobian) {
+  if (!objective_->is_least_squares()) throw std::logic_error("StaticFunctional: the objective has no residual form");
+  forward(z);
+  SparseMatrix dr_dx, dr_dp;
+  objective_->residuals(x_, p_, r, jacobian ? &dr_dx : nullptr, jacobian ? &dr_dp : nullptr);
+  if (!jacobian) return;
+  const Matrix dx = state_sensitivity(z);
+  Matrix dp(p_.size(), size());
+  Vector unit = Vector::Zero(size());
+  for (int j = 0; j < size(); ++j) {
+    unit[j] = 1.0;
+    dp.col(j) = parameterization_->jacobian_times(z, unit);
+    unit[j] = 0.0;
+  }
+  *jacobian = dr_dx * dx + dr_dp * dp;
+}
+
+}  // namespace tailor

@@ -1,0 +1,80 @@
+#pragma once
+// StaticFunctional: the reduced functional of a static inverse problem,
+//   J(z) = T(x*(p), p),  p = phi(z),  x*(p) = argmin_x E(x, p)  (with x = x0 + S y),
+// with its gradient by the adjoint method (METHODS.md section 2):
+//   H lambda = S^T dT/dx,   dJ/dp = dT/dp - (d2E/dxdp)^T (S lambda),   dJ/dz = phi'(z)^T dJ/dp,
+// where H = S^T (d2E/dx2) S is the exact Hessian at x*. The residual form (for least-squares
+// objectives) differentiates x* in direct mode: dy/dp = -H^-1 S^T (d2E/dxdp).
+//
+// Linear solves with H reuse Newton's work: the Hessian at x* is already assembled by the
+// converged Newton iteration, and the factorization of the previous iterate's exact Hessian
+// preconditions a conjugate-gradient solve that needs a few iterations; only if that fails
+// (projected or shifted factorization, indefinite H, slow convergence) is H factorized afresh
+// (LDL^T when indefinite).
+#include <memory>
+
+#include "adjoint/parameterization.hpp"
+#include "adjoint/reduced_functional.hpp"
+#include "forward/solve/newton.hpp"
+#include "objectives/objective.hpp"
+
+namespace tailor {
+
+struct StaticFunctionalOptions {
+  NewtonOptions newton = [] {
+    NewtonOptions o;
+    o.relative_tolerance = 1e-11;  // gradients are only as accurate as the equilibrium
+    return o;
+  }();
+  bool warm_start = true;            // start Newton from the previous equilibrium
+  double linear_relative_tolerance = 1e-12;  // of the preconditioned CG solves
+  int max_cg_iterations = 25;
+};
+
+// How the last linear solve with the Hessian was done.
+enum class HessianSolve { reused_factorization, preconditioned_cg, fresh_factorization };
+std::string to_string(HessianSolve method);
+
+class StaticFunctional final : public ReducedFunctional {
+ public:
+  // `model` must outlive the functional; `rest_y` is the start of the first Newton solve (and
+  // of any retry after a failed warm start).
+  StaticFunctional(const Model& model, ParameterizationPtr parameterization, ObjectivePtr objective,
+                   Vector rest_y, StaticFunctionalOptions options = {});
+
+  int size() const override { return parameterization_->num_design(); }
+  double value(const Vector& z) override;
+  double value_and_gradient(const Vector& z, Vector& gradient) override;
+
+  bool has_residuals() const override { return objective_->is_least_squares(); }
+  int num_residuals() const override { return objective_->num_residuals(); }
+  void residuals(const Vector& z, Vector& r, Matrix* jacobian) override;
+
+  // Direct mode: dx*/dz, one column per design variable (for few design variables).
+  Matrix state_sensitivity(const Vector& z);
+
+  // The equilibrium of the last forward solve and its parameters.
+  const Vector& state() const { return x_; }
+  const Vector& parameters() const { return p_; }
+  const NewtonResult& last_newton() const { return newton_result_; }
+  HessianSolve last_hessian_solve() const { return last_solve_; }
+  int last_cg_iterations() const { return last_cg_iterations_; }
+
+ private:
+  void forward(const Vector& z);             // solves unless z is the cached point
+  Vector solve_hessian(const Vector& rhs);   // H v = rhs at the current equilibrium
+
+  const Model& model_;
+  ParameterizationPtr parameterization_;
+  ObjectivePtr objective_;
+  StaticFunctionalOptions options_;
+  NewtonSolver newton_;
+  Vector rest_y_, y_, x_, p_, z_;
+  bool have_state_ = false;
+  double objective_value_ = 0.0;
+  NewtonResult newton_result_;
+  HessianSolve last_solve_ = HessianSolve::fresh_factorization;
+  int last_cg_iterations_ = 0;
+};
+
+}  // namespace tailor

@@ -1,0 +1,186 @@
+// The static adjoint: Taylor tests of whole reduced functionals (rate >= 1.9) on linear and
+// large-deformation Neo-Hookean scenes, direct mode against the adjoint, the residual form's
+// Jacobian against differences, and the Taylor test's own ability to fail.
+#include "adjoint/static_functional.hpp"
+
+#include <gtest/gtest.h>
+
+#include "../support/fem_fixtures.hpp"
+#include "../support/inverse_fixtures.hpp"
+#include "adjoint/taylor_test.hpp"
+#include "forward/fem/loads.hpp"
+
+namespace tailor {
+namespace {
+
+using namespace tailor::testing;
+
+// A clamped 3D bar (4 x 1 x 1) bent by an end traction; design: per-element log E.
+struct BarProblem {
+  Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 1, 1), 4, 1, 1);
+  std::unique_ptr<Model> model;
+  Vector rest, p0;
+  std::vector<int> tip_dofs;
+
+  BarProblem(MaterialKind kind, double load) {
+    const int m = mesh.num_elements();
+    model = std::make_unique<Model>(3 * mesh.num_vertices());
+    model->parameter_layout().add("youngs_modulus", m);
+    model->parameter_layout().add("poisson_ratio", m);
+    model->add(elastic_term<3>(mesh, kind));
+    const Eigen::MatrixXi facets = boundary_facets(mesh);
+    std::vector<int> end;
+    for (int k = 0; k < facets.rows(); ++k)
+      if (mesh.rest_positions(facets(k, 0), 0) > 4 - 1e-9 && mesh.rest_positions(facets(k, 1), 0) > 4 - 1e-9 &&
+          mesh.rest_positions(facets(k, 2), 0) > 4 - 1e-9)
+        end.push_back(k);
+    Eigen::MatrixXi end_facets(end.size(), 3);
+    for (std::size_t k = 0; k < end.size(); ++k) end_facets.row(k) = facets.row(end[k]);
+    model->add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, end_facets, Eigen::Vector3d(0, 0.3 * load, -load))));
+    rest = rest_state(mesh);
+    std::vector<int> fixed;
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (mesh.rest_positions(v, 0) < 1e-9)
+        for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
+      if (mesh.rest_positions(v, 0) > 4 - 1e-9)
+        for (int k = 0; k < 3; ++k) tip_dofs.push_back(3 * v + k);
+    }
+    model->set_elimination(Elimination::dirichlet(fixed, rest));
+    p0 = heterogeneous_parameters(mesh, 1000.0, 0.3);
+  }
+
+  StaticFunctional functional(double c = 0.0) {
+    const int m = mesh.num_elements();
+    Vector target(tip_dofs.size());
+    for (std::size_t k = 0; k < tip_dofs.size(); ++k) target[k] = rest[tip_dofs[k]] + (k % 3 == 2 ? -0.3 : 0.05);
+    auto map = std::make_shared<LogModuliMap>(p0, m);
+    auto objective = std::make_shared<DofTargetObjective>(tip_dofs, target, c, m);
+    return StaticFunctional(*model, map, objective, model->elimination().restrict_state(rest));
+  }
+  Vector z0() const { return p0.head(mesh.num_elements()).array().log().matrix(); }
+};
+
+TEST(StaticFunctional, TaylorTestLinearMaterial) {
+  BarProblem bar(MaterialKind::linear, 20.0);
+  StaticFunctional f = bar.functional(1e-6);
+  const TaylorTestResult t = taylor_test(f, bar.z0());
+  EXPECT_TRUE(t.passed()) << t.table();
+  EXPECT_GE(t.rate1, 1.9) << t.table();
+  EXPECT_NEAR(t.rate0, 1.0, 0.2) << t.table();
+}
+
+TEST(StaticFunctional, TaylorTestNeoHookeanLargeDeformation) {
+  BarProblem bar(MaterialKind::neo_hookean, 60.0);
+  StaticFunctional f = bar.functional(1e-6);
+  Vector g;
+  f.value_and_gradient(bar.z0(), g);
+  // Large deformation: the tip moves by a sizeable fraction of the bar length.
+  double tip = 0.0;
+  for (int d : bar.tip_dofs) tip = std::max(tip, std::abs(f.state()[d] - bar.rest[d]));
+  EXPECT_GT(tip, 0.5);
+  const TaylorTestResult t = taylor_test(f, bar.z0());
+  EXPECT_TRUE(t.passed()) << t.table();
+}
+
+TEST(StaticFunctional, AdjointSolveReusesNewtonWork) {
+  BarProblem bar(MaterialKind::neo_hookean, 30.0);
+  StaticFunctional f = bar.functional();
+  Vector g;
+  f.value_and_gradient(bar.z0(), g);
+  EXPECT_EQ(f.last_hessian_solve(), HessianSolve::preconditioned_cg) << to_string(f.last_hessian_solve());
+  EXPECT_LE(f.last_cg_iterations(), 10);
+  EXPECT_EQ(f.counters().forward_solves, 1);
+  EXPECT_EQ(f.counters().adjoint_solves, 1);
+  // The same z is served from the cache.
+  f.value(bar.z0());
+  EXPECT_EQ(f.counters().forward_solves, 1);
+}
+
+TEST(StaticFunctional, DirectModeAgreesWithAdjoint) {
+  BarProblem bar(MaterialKind::stvk, 20.0);
+  StaticFunctional f = bar.functional(1e-3);
+  const Vector z = bar.z0();
+  Vector g;
+  f.value_and_gradient(z, g);
+  // Chain rule through dx/dz: dJ/dz = J_x dx/dz + J_p dp/dz.
+  const Matrix dx = f.state_sensitivity(z);
+  Vector r;
+  Matrix jac;
+  f.residuals(z, r, &jac);
+  const Vector g_direct = jac.transpose() * r;
+  EXPECT_LT((g - g_direct).norm(), 1e-8 * g.norm());
+  EXPECT_EQ(dx.cols(), f.size());
+  // The residual Jacobian against central differences along a direction.
+  const Vector dz = Vector::LinSpaced(f.size(), -1.0, 1.0);
+  const double h = 1e-6;
+  Vector rp, rm;
+  f.residuals(z + h * dz, rp, nullptr);
+  f.residuals(z - h * dz, rm, nullptr);
+  EXPECT_LT(((rp - rm) / (2 * h) - jac * dz).norm(), 1e-6 * (jac * dz).norm());
+}
+
+// A functional with a corrupted gradient: the Taylor test must fail on it.
+class CorruptedGradient final : public ReducedFunctional {
+ public:
+  explicit CorruptedGradient(ReducedFunctional& inner) : inner_(inner) {}
+  int size() const override { return inner_.size(); }
+  double value(const Vector& z) override { return inner_.value(z); }
+  double value_and_gradient(const Vector& z, Vector& g) override {
+    const double j = inner_.value_and_gradient(z, g);
+    g *= 1.2;  // a 20% error, e.g. a missing factor in one term
+    return j;
+  }
+
+ private:
+  ReducedFunctional& inner_;
+};
+
+TEST(TaylorTest, DetectsAWrongGradient) {
+  BarProblem bar(MaterialKind::linear, 20.0);
+  StaticFunctional f = bar.functional();
+  CorruptedGradient bad(f);
+  const TaylorTestResult t = taylor_test(bad, bar.z0());
+  EXPECT_EQ(t.status, TaylorStatus::failed) << t.table();
+  EXPECT_LT(t.rate1, 1.5) << t.table();
+}
+
+// J(z) = 1/2 |z|^2 analytically, to check the test's own bookkeeping.
+class Quadratic final : public ReducedFunctional {
+ public:
+  int size() const override { return 3; }
+  double value(const Vector& z) override { return 0.5 * z.squaredNorm() + offset; }
+  double value_and_gradient(const Vector& z, Vector& g) override {
+    g = z;
+    return value(z);
+  }
+  double offset = 0.0;
+};
+
+TEST(TaylorTest, VanishingDerivativeIsNotAPass) {
+  Quadratic q;
+  const TaylorTestResult t = taylor_test(q, Vector::Zero(3));  // gradient zero at the minimum
+  EXPECT_EQ(t.status, TaylorStatus::vanishing) << t.table();
+}
+
+TEST(TaylorTest, RoundOffIsNotAPass) {
+  // A large constant offset puts every second-order remainder below the noise floor of J
+  // while the first-order change stays visible.
+  Quadratic q;
+  q.offset = 1e8;
+  TaylorTestOptions options;
+  options.initial_step = 1e-3;
+  const TaylorTestResult t = taylor_test(q, Vector::Constant(3, 1.0), options);
+  EXPECT_EQ(t.status, TaylorStatus::round_off) << t.table();
+  EXPECT_FALSE(t.passed());
+}
+
+TEST(TaylorTest, ExactQuadraticPassesAndWritesJson) {
+  Quadratic q;
+  const TaylorTestResult t = taylor_test(q, Vector::Constant(3, 1.0));
+  EXPECT_TRUE(t.passed()) << t.table();
+  EXPECT_NEAR(t.rate1, 2.0, 0.05);
+  EXPECT_NE(t.json().find("\"status\": \"passed\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tailor

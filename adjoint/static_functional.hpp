@@ -46,6 +46,14 @@ class StaticFunctional final : public ReducedFunctional {
   double value(const Vector& z) override;
   double value_and_gradient(const Vector& z, Vector& gradient) override;
 
+  // Second-order adjoint (one tangent and one second-order adjoint solve with H). The third
+  // derivatives of E it needs, contracted with the adjoint (d/de of (d2E/dx2) lambda and of
+  // (d2E/dxdp)^T lambda along (dx, dp)), are central differences of the exact second
+  // derivatives with a relative step of 1e-5 (truncation error ~1e-10 relative); everything
+  // else is exact. Available when the objective has second derivatives.
+  bool has_hessian_vector() const override { return objective_->has_second_derivatives(); }
+  Vector hessian_vector(const Vector& z, const Vector& v) override;
+
   bool has_residuals() const override { return objective_->is_least_squares(); }
   int num_residuals() const override { return objective_->num_residuals(); }
   void residuals(const Vector& z, Vector& r, Matrix* jacobian) override;

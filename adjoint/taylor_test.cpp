@@ -1,6 +1,8 @@
 #include "adjoint/taylor_test.hpp"
 
 #include <algorithm>
+#include <array>
+#include <functional>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -36,21 +38,73 @@ std::string to_string(TaylorStatus status) {
   return "unknown";
 }
 
-TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z, const TaylorTestOptions& options) {
-  TaylorTestResult result;
+namespace {
+
+Vector random_direction(const Vector& z, const TaylorTestOptions& options) {
+  if (options.direction.size() > 0) {
+    if (options.direction.size() != z.size()) throw std::invalid_argument("taylor_test: direction has the wrong size");
+    return options.direction;
+  }
+  std::mt19937 rng(options.seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Vector dz(z.size());
+  for (Eigen::Index i = 0; i < z.size(); ++i) dz[i] = u(rng) * std::max(std::abs(z[i]), options.direction_floor);
+  return dz;
+}
+
+// Fills rows, rates and status from remainders(h) -> (value, r0, r1); `first_order_size` is
+// |first-order term| at h0 and `noise` the evaluation noise floor of the remainders.
+void tabulate(TaylorTestResult& result, const TaylorTestOptions& options, double first_order_size, double noise,
+              const std::function<std::array<double, 3>(double)>& remainders) {
   const int halvings = std::max(options.halvings, 4);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  try {
-    if (options.direction.size() > 0) {
-      if (options.direction.size() != z.size()) throw std::invalid_argument("taylor_test: direction has the wrong size");
-      result.direction = options.direction;
-    } else {
-      std::mt19937 rng(options.seed);
-      std::uniform_real_distribution<double> u(-1.0, 1.0);
-      result.direction.resize(z.size());
-      for (Eigen::Index i = 0; i < z.size(); ++i)
-        result.direction[i] = u(rng) * std::max(std::abs(z[i]), options.direction_floor);
+  double h = options.initial_step;
+  std::vector<double> rates0, rates1;
+  for (int k = 0; k <= halvings; ++k, h *= 0.5) {
+    const auto [value, r0, r1] = remainders(h);
+    TaylorRow row{h, value, r0, r1, nan, nan, r1 <= 10.0 * noise};
+    if (!result.rows.empty()) {
+      const TaylorRow& prev = result.rows.back();
+      if (row.remainder0 > 10.0 * noise && prev.remainder0 > 10.0 * noise) {
+        row.rate0 = std::log2(prev.remainder0 / row.remainder0);
+        rates0.push_back(row.rate0);
+      }
+      if (!row.round_off && !prev.round_off) {
+        row.rate1 = std::log2(prev.remainder1 / row.remainder1);
+        rates1.push_back(row.rate1);
+      }
     }
+    result.rows.push_back(row);
+  }
+  result.rate0 = median(rates0);
+  result.rate1 = median(rates1);
+
+  std::ostringstream msg;
+  if (first_order_size <= 10.0 * noise) {
+    result.status = TaylorStatus::vanishing;
+    msg << "the directional derivative vanishes (first-order term " << first_order_size
+        << " at h0 is at the noise floor): nothing was tested; choose another point or direction";
+  } else if (rates1.size() < 3) {
+    result.status = TaylorStatus::round_off;
+    msg << "only " << rates1.size() << " rates above the noise floor " << noise
+        << ": the second-order remainder is at round-off; increase initial_step or tighten the forward solve";
+  } else if (result.rate1 >= options.min_rate) {
+    result.status = TaylorStatus::passed;
+    msg << "second-order remainder converges at rate " << std::fixed << std::setprecision(2) << result.rate1;
+  } else {
+    result.status = TaylorStatus::failed;
+    msg << "second-order remainder converges at rate " << std::fixed << std::setprecision(2) << result.rate1 << " < "
+        << options.min_rate << ": the derivative is wrong (or the functional is not smooth here)";
+  }
+  result.message = msg.str();
+}
+
+}  // namespace
+
+TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z, const TaylorTestOptions& options) {
+  TaylorTestResult result;
+  try {
+    result.direction = random_direction(z, options);
     const Vector& dz = result.direction;
     Vector gradient;
     result.value = functional.value_and_gradient(z, gradient);
@@ -58,52 +112,36 @@ TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z, con
     const double noise = options.noise_floor > 0.0
                              ? options.noise_floor
                              : 1e3 * std::numeric_limits<double>::epsilon() * std::max(std::abs(result.value), 1e-300);
+    tabulate(result, options, std::abs(result.directional_derivative) * options.initial_step, noise, [&](double h) {
+      const double value = functional.value(z + h * dz);
+      return std::array<double, 3>{value, std::abs(value - result.value),
+                                   std::abs(value - result.value - h * result.directional_derivative)};
+    });
+  } catch (const std::exception& e) {
+    result.status = TaylorStatus::evaluation_failed;
+    result.message = std::string("evaluation failed: ") + e.what();
+  }
+  return result;
+}
 
-    double h = options.initial_step;
-    std::vector<double> rates0, rates1;
-    for (int k = 0; k <= halvings; ++k, h *= 0.5) {
-      TaylorRow row{};
-      row.step = h;
-      row.value = functional.value(z + h * dz);
-      row.remainder0 = std::abs(row.value - result.value);
-      row.remainder1 = std::abs(row.value - result.value - h * result.directional_derivative);
-      row.round_off = row.remainder1 <= 10.0 * noise;
-      row.rate0 = row.rate1 = nan;
-      if (!result.rows.empty()) {
-        const TaylorRow& prev = result.rows.back();
-        if (row.remainder0 > 10.0 * noise && prev.remainder0 > 10.0 * noise) {
-          row.rate0 = std::log2(prev.remainder0 / row.remainder0);
-          rates0.push_back(row.rate0);
-        }
-        if (!row.round_off && !prev.round_off) {
-          row.rate1 = std::log2(prev.remainder1 / row.remainder1);
-          rates1.push_back(row.rate1);
-        }
-      }
-      result.rows.push_back(row);
-    }
-    result.rate0 = median(rates0);
-    result.rate1 = median(rates1);
-
-    std::ostringstream msg;
-    const double first_order_size = std::abs(result.directional_derivative) * options.initial_step;
-    if (first_order_size <= 10.0 * noise) {
-      result.status = TaylorStatus::vanishing;
-      msg << "the directional derivative vanishes (|dJ.dz| h0 = " << first_order_size
-          << " is at the noise floor): nothing was tested; choose another point or direction";
-    } else if (rates1.size() < 3) {
-      result.status = TaylorStatus::round_off;
-      msg << "only " << rates1.size() << " rows above the noise floor " << noise
-          << ": the second-order remainder is at round-off; increase initial_step or tighten the forward solve";
-    } else if (result.rate1 >= options.min_rate) {
-      result.status = TaylorStatus::passed;
-      msg << "second-order remainder converges at rate " << std::fixed << std::setprecision(2) << result.rate1;
-    } else {
-      result.status = TaylorStatus::failed;
-      msg << "second-order remainder converges at rate " << std::fixed << std::setprecision(2) << result.rate1
-          << " < " << options.min_rate << ": the gradient is wrong (or the functional is not smooth here)";
-    }
-    result.message = msg.str();
+TaylorTestResult taylor_test_hessian(ReducedFunctional& functional, const Vector& z, const TaylorTestOptions& options) {
+  TaylorTestResult result;
+  try {
+    if (!functional.has_hessian_vector()) throw std::logic_error("the functional offers no Hessian-vector products");
+    result.direction = random_direction(z, options);
+    const Vector& dz = result.direction;
+    Vector gradient;
+    result.value = functional.value_and_gradient(z, gradient);
+    const Vector hv = functional.hessian_vector(z, dz);
+    result.directional_derivative = hv.norm();
+    const double noise = options.noise_floor > 0.0
+                             ? options.noise_floor
+                             : 1e3 * std::numeric_limits<double>::epsilon() * std::max(gradient.norm(), 1e-300);
+    tabulate(result, options, hv.norm() * options.initial_step, noise, [&](double h) {
+      Vector g;
+      const double value = functional.value_and_gradient(z + h * dz, g);
+      return std::array<double, 3>{value, (g - gradient).norm(), (g - gradient - h * hv).norm()};
+    });
   } catch (const std::exception& e) {
     result.status = TaylorStatus::evaluation_failed;
     result.message = std::string("evaluation failed: ") + e.what();

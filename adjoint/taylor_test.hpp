@@ -53,4 +53,10 @@ struct TaylorTestResult {
 
 TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z, const TaylorTestOptions& options = {});
 
+// The same test one order up, for Hessian-vector products: with g the gradient,
+//   r0(h) = ||g(z + h dz) - g(z)||,   r1(h) = ||g(z + h dz) - g(z) - h H dz||   (rate ~2).
+// directional_derivative holds ||H dz||.
+TaylorTestResult taylor_test_hessian(ReducedFunctional& functional, const Vector& z,
+                                     const TaylorTestOptions& options = {});
+
 }  // namespace tailor

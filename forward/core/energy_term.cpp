@@ -16,6 +16,19 @@ void EnergyTerm::add_gradient(const Vector& x, const Vector& p, Vector& gradient
   evaluate(x, p, request);
 }
 
+void EnergyTerm::add_hessian_times(const Vector& x, const Vector& p, const Vector& w, Vector& out,
+                                   HessianMode mode) const {
+  HessianPattern pattern;
+  hessian_pattern(pattern);
+  if (pattern.empty()) return;
+  std::vector<double> values(pattern.size(), 0.0);
+  EnergyRequest request;
+  request.hessian_values = values.data();
+  request.hessian_mode = mode;
+  evaluate(x, p, request);
+  for (std::size_t k = 0; k < pattern.size(); ++k) out[pattern[k].row] += values[k] * w[pattern[k].col];
+}
+
 void EnergyTerm::add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
                                            Vector& gradient_p) const {
   Triplets mixed;

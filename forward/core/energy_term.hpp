@@ -44,6 +44,11 @@ class EnergyTerm {
     (void)x, (void)p, (void)mixed;
   }
 
+  // out += (d2E/dx2) w in full DOF space (the default evaluates the Hessian values on the
+  // pattern and multiplies slot by slot, without assembling a matrix).
+  virtual void add_hessian_times(const Vector& x, const Vector& p, const Vector& w, Vector& out,
+                                 HessianMode mode = HessianMode::exact) const;
+
   // gradient_p += (d2E/dxdp)^T w, for one adjoint vector w (size of x). The default goes
   // through add_mixed(); terms with many parameters override it to avoid the triplets.
   virtual void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w, Vector& gradient_p) const;

@@ -59,6 +59,12 @@ SparseMatrix Model::mixed(const Vector& x, const Vector& p) const {
   return m;
 }
 
+Vector Model::hessian_times(const Vector& x, const Vector& p, const Vector& w) const {
+  Vector out = Vector::Zero(num_dofs_);
+  for (const auto& t : terms_) t->add_hessian_times(x, p, w, out);
+  return out;
+}
+
 Vector Model::mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w) const {
   Vector out = Vector::Zero(p.size());
   for (const auto& t : terms_) t->add_mixed_transpose_times(x, p, w, out);

@@ -58,6 +58,7 @@ class Model {
   Vector gradient(const Vector& x, const Vector& p) const;
   Vector param_gradient(const Vector& x, const Vector& p) const;
   SparseMatrix mixed(const Vector& x, const Vector& p) const;  // n x |p|
+  Vector hessian_times(const Vector& x, const Vector& p, const Vector& w) const;  // exact (d2E/dx2) w
   Vector mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w) const;  // (d2E/dxdp)^T w
   double max_step(const Vector& x, const Vector& dx) const;
 

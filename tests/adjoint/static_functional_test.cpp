@@ -188,3 +188,22 @@ TEST(TaylorTest, ExactQuadraticPassesAndWritesJson) {
 
 }  // namespace
 }  // namespace tailor
+
+namespace tailor {
+namespace {
+
+// A test-local objective with second derivatives: the DOF target objective is quadratic in x
+// and p, so J_xx = I on the DOFs, J_pp = c I on the head.
+TEST(StaticFunctional, HessianVectorProductPassesTaylorTestOnTheGradient) {
+  for (MaterialKind kind : {MaterialKind::linear, MaterialKind::neo_hookean}) {
+    BarProblem bar(kind, kind == MaterialKind::linear ? 20.0 : 40.0);
+    StaticFunctional f = bar.functional(1e-4);
+    ASSERT_TRUE(f.has_hessian_vector());
+    const TaylorTestResult t = taylor_test_hessian(f, bar.z0());
+    std::printf("Hessian-vector Taylor test (%s):\n%s", to_string(kind).c_str(), t.table().c_str());
+    EXPECT_TRUE(t.passed()) << t.table();
+  }
+}
+
+}  // namespace
+}  // namespace tailor

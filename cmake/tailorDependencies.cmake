@@ -4,22 +4,34 @@ include_guard(GLOBAL)
 include(CMakeFindDependencyMacro)
 find_package(PkgConfig REQUIRED)
 
+# From find_package(tailor), a missing dependency makes tailor "not found" with the reason
+# (find_dependency's contract; tailorConfig.cmake stops there). In tailor's own build there is
+# no enclosing find_package, so find_dependency would only warn and carry on to confusing
+# "target not found" errors: require the dependency instead.
+macro(tailor_find_dependency)
+  if(CMAKE_FIND_PACKAGE_NAME STREQUAL "tailor")
+    find_dependency(${ARGN})
+  else()
+    find_package(${ARGN} REQUIRED)
+  endif()
+endmacro()
+
 # BLAS: follow the system alternative (OpenBLAS when libopenblas0-pthread is installed).
 # Plain FindBLAS prefers ATLAS on Debian, which makes CHOLMOD 2.5x slower.
 set(BLA_VENDOR Generic)
-find_dependency(BLAS)
-find_dependency(LAPACK)
-find_dependency(Threads)
-find_dependency(OpenMP)
+tailor_find_dependency(BLAS)
+tailor_find_dependency(LAPACK)
+tailor_find_dependency(Threads)
+tailor_find_dependency(OpenMP)
 
-find_dependency(Eigen3 3.4 CONFIG)
-find_dependency(nlohmann_json 3.10 CONFIG)
-find_dependency(NLopt CONFIG)
+tailor_find_dependency(Eigen3 3.4 CONFIG)
+tailor_find_dependency(nlohmann_json 3.10 CONFIG)
+tailor_find_dependency(NLopt CONFIG)
 
 # Ceres: Debian's exported target hard-links ATLAS (libf77blas, libatlas), which would bind
 # every dgemm_ in the process -- CHOLMOD's included -- to ATLAS. Drop them; BLAS comes from the
 # system alternative above.
-find_dependency(Ceres CONFIG)
+tailor_find_dependency(Ceres CONFIG)
 if(TARGET Ceres::ceres)
   get_target_property(_tailor_ceres_libs Ceres::ceres INTERFACE_LINK_LIBRARIES)
   list(FILTER _tailor_ceres_libs EXCLUDE REGEX "libf77blas|libatlas")

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs what tailor needs to build and test on Debian 12. Safe to re-run: it asks apt only
+# for missing packages (and refreshes the package lists only then), so once everything is in
+# place it needs neither root nor the network.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libnlopt-cxx-dev libarpack2-dev libceres-dev
+  nlohmann-json3-dev libgtest-dev libgmock-dev
+  # CHOLMOD's speed is BLAS's speed: OpenBLAS must provide libblas.so.3 (see below).
+  libopenblas0-pthread libopenblas-pthread-dev
+)
+
+as_root() {
+  if [[ ${EUID} -eq 0 ]]; then "$@"; else sudo "$@"; fi
+}
+
+missing=()
+for package in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${db:Status-Status}' "${package}" 2>/dev/null || true)
+  [[ ${status} == installed ]] || missing+=("${package}")
+done
+
+if ((${#missing[@]})); then
+  echo "install-deps: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  as_root apt-get update
+  as_root apt-get install -y --no-install-recommends "${missing[@]}"
+fi
+
+# libceres-dev pulls in ATLAS, which also registers itself for libblas.so.3/liblapack.so.3.
+# OpenBLAS has the higher priority and wins in auto mode, but a manual selection would
+# survive: pin OpenBLAS explicitly whenever something else is active.
+for library in libblas.so.3 liblapack.so.3; do
+  while read -r name _ current; do
+    [[ ${current} == */openblas-pthread/* ]] && continue
+    openblas=$(update-alternatives --list "${name}" | grep /openblas-pthread/)
+    echo "install-deps: ${name} pointed to ${current}; selecting ${openblas}"
+    as_root update-alternatives --set "${name}" "${openblas}"
+  done < <(update-alternatives --get-selections | grep "^${library//./\\.}-")
+done

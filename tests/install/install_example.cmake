@@ -1,0 +1,36 @@
+# cmake -DBUILD_DIR=... -DEXAMPLES_DIR=... -DWORK_DIR=... -DCONFIG=... -DGENERATOR=...
+#       -DCXX_COMPILER=... -DEXPECTED_VERSION=... -P install_example.cmake
+cmake_minimum_required(VERSION 3.22)
+
+set(prefix ${WORK_DIR}/prefix)
+set(example_build ${WORK_DIR}/examples-build)
+# Start clean: a stale prefix could hide a file the install no longer provides.
+file(REMOVE_RECURSE ${WORK_DIR})
+
+function(run)
+  message(STATUS "+ ${ARGN}")
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE result OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  message("${out}")
+  if(NOT result EQUAL 0)
+    message(FATAL_ERROR "failed (${result}): ${ARGN}")
+  endif()
+  set(last_output "${out}" PARENT_SCOPE)
+endfunction()
+
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix} --config ${CONFIG})
+# CMAKE_FIND_USE_PACKAGE_REGISTRY=OFF: only the scratch prefix may provide tailor.
+run(${CMAKE_COMMAND} -S ${EXAMPLES_DIR} -B ${example_build} -G ${GENERATOR}
+    -DCMAKE_BUILD_TYPE=${CONFIG} -DCMAKE_CXX_COMPILER=${CXX_COMPILER}
+    -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+
+file(STRINGS ${example_build}/CMakeCache.txt tailor_dir REGEX "^tailor_DIR:")
+if(NOT tailor_dir STREQUAL "tailor_DIR:PATH=${prefix}/lib/cmake/tailor")
+  message(FATAL_ERROR "examples/ found tailor outside the install prefix: ${tailor_dir}")
+endif()
+
+run(${CMAKE_COMMAND} --build ${example_build} --config ${CONFIG})
+run(${example_build}/minimal)
+string(FIND "${last_output}" "tailor ${EXPECTED_VERSION}" found)
+if(found EQUAL -1)
+  message(FATAL_ERROR "minimal did not report tailor ${EXPECTED_VERSION}")
+endif()

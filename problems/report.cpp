@@ -90,9 +90,10 @@ void write_report_json(const std::string& path, const Scene& scene, const Static
   if (!out) throw std::runtime_error("error while writing '" + path + "'");
 }
 
-void write_result_vtu(const std::string& path, const StaticSetup& setup, const StaticSolution& solution) {
+void write_result_vtu(const std::string& path, const StaticSetup& setup, const StaticSolution& solution,
+                      const VtkFields& extra) {
   const Mesh& mesh = setup.mesh;
-  VtkFields fields;
+  VtkFields fields = extra;
   fields.point["displacement"] = solution.displacement;
   fields.cell["youngs_modulus"] = setup.youngs_modulus;
   fields.cell["poisson_ratio"] = setup.poisson_ratio;

@@ -4,6 +4,7 @@
 // DIR/result.vtu (the deformed mesh with per-vertex and per-element fields, for ParaView).
 #include <string>
 
+#include "forward/mesh/mesh_io.hpp"
 #include "problems/scene.hpp"
 #include "problems/static_scene.hpp"
 
@@ -30,7 +31,9 @@ void write_report_json(const std::string& path, const Scene& scene, const Static
 
 // The deformed mesh with point field "displacement" and cell fields "youngs_modulus",
 // "poisson_ratio", "density", "stress" (first Piola-Kirchhoff, row-major), "region" (added by write_vtu) and
-// "material" (index of the scene's material entry).
-void write_result_vtu(const std::string& path, const StaticSetup& setup, const StaticSolution& solution);
+// "material" (index of the scene's material entry), plus `extra` fields (e.g. the inverse
+// verbs' initial and true Young's moduli).
+void write_result_vtu(const std::string& path, const StaticSetup& setup, const StaticSolution& solution,
+                      const VtkFields& extra = {});
 
 }  // namespace tailor

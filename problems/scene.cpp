@@ -7,25 +7,27 @@
 #include <limits>
 #include <sstream>
 
-#include "problems/scene_node.hpp"
+#include "problems/scene_parsing.hpp"
 
 namespace tailor {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string resolve(const std::string& directory, const std::string& path) {
+void parse_bounds(const SceneNode& node, int size, Eigen::VectorXd& min, Eigen::VectorXd& max) {
+  min = node.at("min").vector(size);
+  max = node.at("max").vector(static_cast<int>(min.size()));
+  for (Eigen::Index k = 0; k < min.size(); ++k)
+    if (!(max[k] >= min[k])) node.at("max").fail("every entry must be >= the matching entry of min");
+}
+
+}  // namespace
+
+std::string resolve_scene_path(const std::string& directory, const std::string& path) {
   const fs::path p(path);
   if (p.is_absolute() || directory.empty()) return p.lexically_normal().string();
   return (fs::path(directory) / p).lexically_normal().string();
 }
-
-// Non-empty, non-comment ('#') lines of a small data file, split into whitespace-separated
-// tokens, with their 1-based line numbers.
-struct DataLine {
-  int line;
-  std::vector<std::string> tokens;
-};
 
 std::vector<DataLine> read_data_file(const SceneNode& node, const std::string& path) {
   std::ifstream in(path);
@@ -55,31 +57,19 @@ std::optional<int> parse_vertex_id(const std::string& token) {
   return static_cast<int>(*v);
 }
 
-void parse_bounds(const SceneNode& node, int size, Eigen::VectorXd& min, Eigen::VectorXd& max) {
-  min = node.at("min").vector(size);
-  max = node.at("max").vector(static_cast<int>(min.size()));
-  for (Eigen::Index k = 0; k < min.size(); ++k)
-    if (!(max[k] >= min[k])) node.at("max").fail("every entry must be >= the matching entry of min");
-}
-
-ElementSelector parse_element_selector(const SceneNode& node) {
-  ElementSelector s;
-  s.key = node.path();
-  if (node.is_string()) {
-    node.choice({"all"});
-    s.kind = ElementSelector::Kind::all;
-    return s;
-  }
-  if (node.only_key({"region", "box"}) == "region") {
-    s.kind = ElementSelector::Kind::region;
-    s.region = node.at("region").integer(0);
-  } else {
-    s.kind = ElementSelector::Kind::box;
-    const SceneNode box = node.at("box");
-    box.expect_keys({"min", "max"});
-    parse_bounds(box, -1, s.min, s.max);
-  }
-  return s;
+std::vector<double> read_positive_values(const SceneNode& node, const std::string& directory) {
+  const std::string path = resolve_scene_path(directory, node.string());
+  std::vector<double> values;
+  for (const DataLine& line : read_data_file(node, path))
+    for (const std::string& token : line.tokens) {
+      const auto v = parse_number(token);
+      if (!v || !(*v > 0.0))
+        node.fail("'" + path + "' line " + std::to_string(line.line) + ": expected a number > 0, got '" +
+                  token + "'");
+      values.push_back(*v);
+    }
+  if (values.empty()) node.fail("'" + path + "' holds no values");
+  return values;
 }
 
 VertexSelector parse_vertex_selector(const SceneNode& node, const std::string& directory) {
@@ -103,7 +93,7 @@ VertexSelector parse_vertex_selector(const SceneNode& node, const std::string& d
     s.ids = body.integers(0);
     if (s.ids.empty()) body.fail("selects no vertices (the list is empty)");
   } else {
-    const std::string path = resolve(directory, body.string());
+    const std::string path = resolve_scene_path(directory, body.string());
     for (const DataLine& line : read_data_file(body, path))
       for (const std::string& token : line.tokens) {
         const auto id = parse_vertex_id(token);
@@ -117,12 +107,34 @@ VertexSelector parse_vertex_selector(const SceneNode& node, const std::string& d
   return s;
 }
 
+namespace {
+
+ElementSelector parse_element_selector(const SceneNode& node) {
+  ElementSelector s;
+  s.key = node.path();
+  if (node.is_string()) {
+    node.choice({"all"});
+    s.kind = ElementSelector::Kind::all;
+    return s;
+  }
+  if (node.only_key({"region", "box"}) == "region") {
+    s.kind = ElementSelector::Kind::region;
+    s.region = node.at("region").integer(0);
+  } else {
+    s.kind = ElementSelector::Kind::box;
+    const SceneNode box = node.at("box");
+    box.expect_keys({"min", "max"});
+    parse_bounds(box, -1, s.min, s.max);
+  }
+  return s;
+}
+
 MeshSpec parse_mesh(const SceneNode& node, const std::string& directory) {
   MeshSpec m;
   const std::string kind = node.only_key({"file", "box", "rectangle"});
   if (kind == "file") {
     m.kind = MeshSpec::Kind::file;
-    m.file = resolve(directory, node.at("file").string());
+    m.file = resolve_scene_path(directory, node.at("file").string());
     return m;
   }
   const int dim = kind == "box" ? 3 : 2;
@@ -154,17 +166,7 @@ MaterialSpec parse_material(const SceneNode& node, const std::string& directory)
   if (auto e = node.find("youngs_modulus")) {
     m.youngs_modulus = e->positive();
   } else {
-    const SceneNode file = node.at("youngs_modulus_file");
-    const std::string path = resolve(directory, file.string());
-    for (const DataLine& line : read_data_file(file, path))
-      for (const std::string& token : line.tokens) {
-        const auto v = parse_number(token);
-        if (!v || !(*v > 0.0))
-          file.fail("'" + path + "' line " + std::to_string(line.line) + ": expected a number > 0, got '" +
-                    token + "'");
-        m.youngs_modulus_values.push_back(*v);
-      }
-    if (m.youngs_modulus_values.empty()) file.fail("'" + path + "' holds no values");
+    m.youngs_modulus_values = read_positive_values(node.at("youngs_modulus_file"), directory);
   }
   m.poisson_ratio = node.at("poisson_ratio").open_interval(-1.0, 0.5);
   if (auto d = node.find("density")) m.density = d->non_negative();
@@ -193,7 +195,7 @@ DirichletSpec parse_dirichlet(const SceneNode& node, const std::string& director
 NodalForceFile parse_nodal_file(const SceneNode& node, const std::string& directory) {
   NodalForceFile f;
   f.key = node.path();
-  const std::string path = resolve(directory, node.string());
+  const std::string path = resolve_scene_path(directory, node.string());
   const std::vector<DataLine> lines = read_data_file(node, path);
   if (lines.empty()) node.fail("'" + path + "' holds no forces");
   const std::size_t columns = lines.front().tokens.size();
@@ -274,7 +276,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
   scene.source = source;
   scene.directory = directory;
   const SceneNode root(document, scene.source, "");
-  root.expect_keys({"name", "description", "mesh", "materials", "dirichlet", "loads", "solver"});
+  root.expect_keys({"name", "description", "mesh", "materials", "dirichlet", "loads", "solver", "inverse"});
   if (auto n = root.find("name")) {
     scene.name = n->string();
     if (scene.name.empty()) n->fail("expected a non-empty string");
@@ -288,6 +290,8 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
     for (const SceneNode& item : list->items()) scene.dirichlet.push_back(parse_dirichlet(item, directory));
   if (auto loads = root.find("loads")) scene.loads = parse_loads(*loads, directory);
   if (auto solver = root.find("solver")) scene.solver = parse_solver(*solver);
+  if (auto inverse = root.find("inverse"))
+    scene.inverse = std::make_shared<const InverseSpec>(parse_inverse_section(*inverse, directory));
   return scene;
 }
 

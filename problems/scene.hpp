@@ -7,6 +7,7 @@
 // against a mesh read from a file) happen when the scene is built (static_scene.hpp); each
 // spec therefore keeps the JSON key path it came from, so those errors name it too.
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -104,6 +105,8 @@ struct SolverSpec {
   int load_steps = 1;    // loads and prescribed displacements ramp linearly over this many solves
 };
 
+struct InverseSpec;  // problems/inverse_scene.hpp
+
 struct Scene {
   std::string name;       // defaults to the file's stem
   std::string source;     // how error messages name the scene (the file path as given)
@@ -113,6 +116,9 @@ struct Scene {
   std::vector<DirichletSpec> dirichlet;
   LoadSpec loads;
   SolverSpec solver;
+  // The optional "inverse" section (what to design, the objective, the optimizer), used by
+  // `tailor run` and `tailor gradcheck`; shared because it is immutable once parsed.
+  std::shared_ptr<const InverseSpec> inverse;
 };
 
 // Parses scene JSON text. `source` names the scene in messages, `directory` resolves relative

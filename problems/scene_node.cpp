@@ -125,6 +125,11 @@ std::string SceneNode::choice(std::initializer_list<const char*> choices) const 
   return s;
 }
 
+bool SceneNode::boolean() const {
+  if (!value_->is_boolean()) fail("expected true or false, got " + describe_json(*value_));
+  return value_->get<bool>();
+}
+
 double SceneNode::number() const {
   if (!value_->is_number()) fail("expected a number, got " + describe_json(*value_));
   const double v = value_->get<double>();

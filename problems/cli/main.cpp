@@ -1,8 +1,9 @@
 // The `tailor` command line: argument parsing and exit codes only; the work is in
 // problems/commands.hpp.
 //
-// Exit codes: 0 success; 1 the solve or a derivative check failed (or an output could not be
-// written); 2 bad input (scene or mesh errors) or bad usage.
+// Exit codes: 0 success; 1 the solve, a derivative check, the gradient check or the
+// optimization failed (or an output could not be written); 2 bad input (scene or mesh errors)
+// or bad usage.
 #include <cstdlib>
 #include <iostream>
 #include <optional>
@@ -12,6 +13,7 @@
 #include "forward/mesh/mesh.hpp"
 #include "problems/builtin_scenes.hpp"
 #include "problems/commands.hpp"
+#include "problems/inverse_commands.hpp"
 #include "tailor_version.hpp"
 
 namespace {
@@ -30,12 +32,19 @@ const char* const kUsage =
     "  check [scene.json] [--seed N]\n"
     "      Check the derivatives of every energy term of the scene's model against finite\n"
     "      differences at a randomly perturbed state (seed N, default 1).\n"
+    "  gradcheck scene.json [--out DIR] [--seed N] [--hessian]\n"
+    "      Taylor test of the gradient (and with --hessian of the Hessian-vector products)\n"
+    "      of the scene's inverse problem at its initial design; write DIR/gradcheck.json.\n"
+    "  run scene.json [--out DIR] [--quiet]\n"
+    "      Optimize the design of the scene's inverse problem; print one line per iteration\n"
+    "      (none with --quiet); write DIR/report.json and DIR/result.vtu at the best design.\n"
     "\n"
     "options:\n"
     "  -h, --help     show this message\n"
     "  --version      print the version\n"
     "\n"
-    "exit codes: 0 success, 1 solve or check failed, 2 bad input or usage.\n"
+    "exit codes: 0 success, 1 solve, check or optimization failed (or did not converge),\n"
+    "2 bad input or usage.\n"
     "The scene format is described in docs/scene-format.md.\n";
 
 int usage_error(const std::string& what) {
@@ -46,7 +55,9 @@ int usage_error(const std::string& what) {
 struct Arguments {
   std::optional<std::string> scene;
   std::optional<std::string> out_dir;
-  unsigned seed = 1;
+  std::optional<unsigned> seed;
+  bool hessian = false;
+  bool quiet = false;
   bool help = false;
 };
 
@@ -58,10 +69,14 @@ std::optional<std::string> parse_arguments(const std::string& verb, const std::v
     const bool has_value = i + 1 < args.size();
     if (a == "-h" || a == "--help") {
       out.help = true;
-    } else if (a == "--out" && verb == "simulate") {
+    } else if (a == "--out" && verb != "check") {
       if (!has_value) return "--out needs a folder";
       out.out_dir = args[++i];
-    } else if (a == "--seed" && verb == "check") {
+    } else if (a == "--hessian" && verb == "gradcheck") {
+      out.hessian = true;
+    } else if (a == "--quiet" && verb == "run") {
+      out.quiet = true;
+    } else if (a == "--seed" && (verb == "check" || verb == "gradcheck")) {
       if (!has_value) return "--seed needs a number";
       const std::string& value = args[++i];
       char* end = nullptr;
@@ -79,6 +94,8 @@ std::optional<std::string> parse_arguments(const std::string& verb, const std::v
   return std::nullopt;
 }
 
+bool is_inverse_verb(const std::string& verb) { return verb == "gradcheck" || verb == "run"; }
+
 tailor::Scene load_scene(const Arguments& args) {
   if (args.scene) return tailor::read_scene(*args.scene);
   std::cout
@@ -89,12 +106,27 @@ tailor::Scene load_scene(const Arguments& args) {
 
 int run_verb(const std::string& verb, const Arguments& args) {
   const tailor::Scene scene = load_scene(args);
+  const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
   if (verb == "simulate") {
-    const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
     const tailor::SimulateRun run = tailor::simulate_scene(scene, out_dir, &std::cout);
     return run.solution.converged ? kSuccess : kFailure;
   }
-  return tailor::check_scene(scene, args.seed, std::cout) ? kSuccess : kFailure;
+  if (verb == "gradcheck") {
+    const tailor::GradcheckRun run =
+        tailor::gradcheck_scene(scene, out_dir, {args.seed, args.hessian}, &std::cout);
+    if (!run.passed()) {
+      const tailor::TaylorTestResult& failed = run.gradient.passed() ? *run.hessian : run.gradient;
+      std::cout << (run.gradient.passed() ? "Hessian" : "gradient") << " check "
+                << tailor::to_string(failed.status) << ": " << failed.message << "\n";
+    }
+    return run.passed() ? kSuccess : kFailure;
+  }
+  if (verb == "run") {
+    const tailor::InverseRun run =
+        tailor::run_inverse_scene(scene, out_dir, &std::cout, args.quiet ? nullptr : &std::cout);
+    return run.result.converged() ? kSuccess : kFailure;
+  }
+  return tailor::check_scene(scene, args.seed.value_or(1), std::cout) ? kSuccess : kFailure;
 }
 
 }  // namespace
@@ -111,7 +143,8 @@ int main(int argc, char** argv) {
     std::cout << "tailor " << tailor::version_string << "\n";
     return kSuccess;
   }
-  if (verb != "simulate" && verb != "check") return usage_error("unknown verb '" + verb + "'");
+  if (verb != "simulate" && verb != "check" && !is_inverse_verb(verb))
+    return usage_error("unknown verb '" + verb + "'");
 
   Arguments args;
   if (const auto error = parse_arguments(verb, {all.begin() + 1, all.end()}, args))
@@ -120,6 +153,8 @@ int main(int argc, char** argv) {
     std::cout << kUsage;
     return kSuccess;
   }
+  if (is_inverse_verb(verb) && !args.scene)
+    return usage_error("'" + verb + "' needs a scene file with an \"inverse\" section");
   try {
     return run_verb(verb, args);
   } catch (const tailor::SceneError& e) {

@@ -1,0 +1,135 @@
+#include "problems/inverse_commands.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <ostream>
+
+namespace tailor {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string output_path(const std::string& out_dir, const char* name) {
+  std::error_code error;
+  std::filesystem::create_directories(out_dir, error);
+  if (error)
+    throw std::runtime_error("cannot create the output folder '" + out_dir + "': " + error.message());
+  return (std::filesystem::path(out_dir) / name).string();
+}
+
+void print_problem(std::ostream& log, const InverseProblem& problem) {
+  const DesignSpec& d = problem.spec.design;
+  const Mesh& mesh = problem.setup.mesh;
+  log << "scene '" << problem.scene_name << "' (" << problem.scene_source << "): " << mesh.dim() << "D mesh, "
+      << mesh.num_vertices() << " vertices, " << mesh.num_elements() << " elements; design: " << d.parameter
+      << " " << to_string(d.granularity) << " (" << problem.num_design() << " variable"
+      << (problem.num_design() == 1 ? "" : "s") << "), " << (d.map == DesignMap::log ? "z = log E" : "z = E")
+      << "\n";
+  log << "objective:";
+  for (const ObjectiveTermInfo& t : problem.terms)
+    log << (&t == &problem.terms.front() ? " " : " + ") << std::defaultfloat << std::setprecision(4)
+        << t.coefficient << " * " << t.type;
+  log << "\n";
+}
+
+// Design values one per line for small designs (per region or material), a summary otherwise.
+void print_design(std::ostream& log, const InverseRun& run) {
+  const InverseProblem& problem = *run.problem;
+  log << std::scientific << std::setprecision(8);
+  if (problem.spec.design.granularity != DesignGranularity::per_element) {
+    const Eigen::VectorXd initial = problem.design_values(problem.z0);
+    for (int k = 0; k < problem.num_design(); ++k)
+      log << "  " << problem.design_labels[k] << ": E = " << run.design_values[k] << " (initial "
+          << initial[k] << ")\n";
+  } else {
+    log << "  E per element: min " << run.youngs_modulus.minCoeff() << ", max "
+        << run.youngs_modulus.maxCoeff() << "\n";
+  }
+  if (run.error)
+    log << "  error against the ground truth (" << problem.truth_key << "): relative L2 "
+        << std::setprecision(3) << run.error->relative_l2 << ", max relative " << run.error->max_relative
+        << " (initially " << run.initial_error->relative_l2 << ")\n";
+  log << std::defaultfloat;
+}
+
+}  // namespace
+
+GradcheckRun gradcheck_scene(const Scene& scene, const std::string& out_dir,
+                             const GradcheckSettings& settings, std::ostream* log) {
+  const std::unique_ptr<InverseProblem> problem = build_inverse_problem(scene);
+  TaylorTestOptions options = problem->spec.gradcheck;
+  if (settings.seed) options.seed = *settings.seed;
+  GradcheckRun run;
+  run.scene_name = problem->scene_name;
+  run.scene_source = problem->scene_source;
+  run.design_size = problem->num_design();
+  run.seed = options.seed;
+  if (log) {
+    print_problem(*log, *problem);
+    *log << "gradient check at the initial design, seed " << options.seed << "\n";
+  }
+  run.gradient = taylor_test(*problem->functional, problem->z0, options);
+  if (log) *log << run.gradient.table();
+  if (settings.hessian) {
+    if (log) *log << "Hessian-vector check at the initial design\n";
+    run.hessian = taylor_test_hessian(*problem->functional, problem->z0, options);
+    if (log) *log << run.hessian->table();
+  }
+  run.report_path = output_path(out_dir, "gradcheck.json");
+  write_gradcheck_json(run.report_path, run);
+  if (log) *log << (run.passed() ? "passed" : "FAILED") << "; wrote " << run.report_path << "\n";
+  return run;
+}
+
+InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std::ostream* log,
+                             std::ostream* progress) {
+  const auto t_start = Clock::now();
+  InverseRun run;
+  run.problem = build_inverse_problem(scene);
+  InverseProblem& problem = *run.problem;
+  run.timings.setup = problem.setup_seconds;
+  if (log) print_problem(*log, problem);
+
+  OptimizerOptions options = problem.spec.optimizer;
+  options.progress = progress;
+  run.result = minimize(*problem.functional, problem.z0, problem.bounds, {}, options);
+  run.timings.optimization = run.result.seconds;
+  run.timings.forward = problem.functional->counters().forward_seconds;
+  run.timings.adjoint = problem.functional->counters().adjoint_seconds;
+
+  // The equilibrium at the best design, solved like `tailor simulate` would (with the scene's
+  // load steps), for result.vtu and the per-term objective values.
+  const auto t_output = Clock::now();
+  run.design_values = problem.design_values(run.result.z);
+  run.youngs_modulus = problem.youngs_modulus(run.result.z);
+  StaticSetup best = problem.setup;
+  best.youngs_modulus = run.youngs_modulus;
+  run.solution = solve_static(best);
+  if (run.solution.converged) {
+    const Vector p = problem.parameterization->apply(run.result.z);
+    for (const ObjectiveTermInfo& t : problem.terms)
+      run.term_values.push_back(t.coefficient * t.term->value(run.solution.positions, p));
+  }
+  if (problem.truth.size() > 0) {
+    run.error = field_error(best.mesh, run.youngs_modulus, problem.truth);
+    run.initial_error = field_error(best.mesh, problem.youngs_modulus(problem.z0), problem.truth);
+  }
+  run.result_path = output_path(out_dir, "result.vtu");
+  run.report_path = output_path(out_dir, "report.json");
+  write_inverse_result_vtu(run.result_path, run);
+  run.timings.output = seconds_since(t_output);
+  run.timings.total = seconds_since(t_start);
+  write_inverse_report_json(run.report_path, run);
+  if (log) {
+    *log << run.result.report();
+    print_design(*log, run);
+    *log << "wrote " << run.report_path << " and " << run.result_path << "\n";
+  }
+  return run;
+}
+
+}  // namespace tailor

@@ -1,0 +1,33 @@
+#pragma once
+// The work behind `tailor gradcheck` and `tailor run`, callable from C++ (the executable only
+// parses arguments and maps outcomes to exit codes). Both need a scene with an "inverse"
+// section and throw SceneError / MeshError for bad input, std::runtime_error when an output
+// cannot be written; a failed check or optimization is not an exception.
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+#include "problems/inverse_report.hpp"
+#include "problems/scene.hpp"
+
+namespace tailor {
+
+struct GradcheckSettings {
+  std::optional<unsigned> seed;  // overrides inverse.gradcheck.seed
+  bool hessian = false;          // also check Hessian-vector products
+};
+
+// Taylor test of the scene's reduced functional at the initial design z0 (and of its
+// Hessian-vector products when asked); prints the tables to `log` when set and writes
+// out_dir/gradcheck.json (creating out_dir).
+GradcheckRun gradcheck_scene(const Scene& scene, const std::string& out_dir,
+                             const GradcheckSettings& settings, std::ostream* log = nullptr);
+
+// Minimizes the scene's objective over its design from z0 with the scene's back-end; writes
+// out_dir/report.json and out_dir/result.vtu at the best design found, also when the
+// optimizer stops early (iteration or time limit, Ctrl-C, failure). One progress line per
+// iteration goes to `progress`, a summary to `log`, each when set.
+InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std::ostream* log = nullptr,
+                             std::ostream* progress = nullptr);
+
+}  // namespace tailor

@@ -1,0 +1,305 @@
+#include "problems/inverse_problem.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "objectives/material_smoothness.hpp"
+#include "objectives/target_positions.hpp"
+#include "objectives/tikhonov.hpp"
+#include "objectives/weighted_sum.hpp"
+#include "problems/scene_selection.hpp"
+
+namespace tailor {
+namespace {
+
+std::string format_number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// The per-element values of a field given in the scene.
+Eigen::VectorXd expand_field(const Scene& scene, const StaticSetup& setup, const ModulusField& field) {
+  const int ne = setup.mesh.num_elements();
+  if (!field.per_material.empty()) {
+    if (field.per_material.size() != scene.materials.size())
+      throw_scene_error(scene, field.key + ".materials",
+                        "expected one value per materials[] entry (" +
+                            std::to_string(scene.materials.size()) + "), got " +
+                            std::to_string(field.per_material.size()));
+    Eigen::VectorXd out(ne);
+    for (int e = 0; e < ne; ++e) out[e] = field.per_material[setup.element_material[e]];
+    return out;
+  }
+  if (field.values.empty()) return Eigen::VectorXd::Constant(ne, field.value);
+  if (static_cast<int>(field.values.size()) != ne)
+    throw_scene_error(scene, field.key + ".file",
+                      "expected one value per mesh element (" + std::to_string(ne) + "), got " +
+                          std::to_string(field.values.size()));
+  return Eigen::Map<const Eigen::VectorXd>(field.values.data(), ne);
+}
+
+// Records `truth` as the problem's ground truth; a second source must agree with the first.
+void set_truth(const Scene& scene, InverseProblem& problem, const Eigen::VectorXd& truth,
+               const std::string& key) {
+  if (problem.truth.size() == 0) {
+    problem.truth = truth;
+    problem.truth_key = key;
+  } else if ((problem.truth - truth).cwiseAbs().maxCoeff() > 1e-12 * problem.truth.cwiseAbs().maxCoeff()) {
+    throw_scene_error(scene, key, "differs from the true Young's modulus given by " + problem.truth_key);
+  }
+}
+
+// Which design variable each element belongs to, and the variables' names.
+void assign_design_groups(const Scene& scene, InverseProblem& problem) {
+  const Mesh& mesh = problem.setup.mesh;
+  const int ne = mesh.num_elements();
+  problem.design_of_element.resize(ne);
+  switch (problem.spec.design.granularity) {
+    case DesignGranularity::per_element:
+      for (int e = 0; e < ne; ++e) {
+        problem.design_of_element[e] = e;
+        problem.design_labels.push_back("element " + std::to_string(e));
+      }
+      break;
+    case DesignGranularity::per_region: {
+      std::map<int, int> index;  // region id -> design variable, in increasing region order
+      for (int e = 0; e < ne; ++e)
+        index.emplace(mesh.element_regions.size() == ne ? mesh.element_regions[e] : 0, 0);
+      for (auto& [region, k] : index) {
+        k = static_cast<int>(problem.design_labels.size());
+        problem.design_labels.push_back("region " + std::to_string(region));
+      }
+      for (int e = 0; e < ne; ++e)
+        problem.design_of_element[e] =
+            index.at(mesh.element_regions.size() == ne ? mesh.element_regions[e] : 0);
+      break;
+    }
+    case DesignGranularity::per_material:
+      problem.design_of_element = problem.setup.element_material;
+      for (const MaterialSpec& m : scene.materials) problem.design_labels.push_back(m.key);
+      break;
+  }
+}
+
+double to_design(DesignMap map, double value) { return map == DesignMap::log ? std::log(value) : value; }
+
+// z0 (the given initial value, or per design variable the mean of z over its elements: the log
+// of the geometric mean of E for the log map) and the bounds in z-space.
+void initial_design(const Scene& scene, InverseProblem& problem) {
+  const DesignSpec& design = problem.spec.design;
+  const int n = static_cast<int>(problem.design_labels.size());
+  Vector sum = Vector::Zero(n), count = Vector::Zero(n);
+  for (int e = 0; e < problem.setup.mesh.num_elements(); ++e) {
+    const double value = design.initial ? *design.initial : problem.setup.youngs_modulus[e];
+    sum[problem.design_of_element[e]] += to_design(design.map, value);
+    count[problem.design_of_element[e]] += 1.0;
+  }
+  problem.z0 = sum.cwiseQuotient(count.cwiseMax(1.0));
+  const double inf = std::numeric_limits<double>::infinity();
+  if (design.min || design.max) {
+    problem.bounds.lower = Vector::Constant(n, design.min ? to_design(design.map, *design.min) : -inf);
+    problem.bounds.upper = Vector::Constant(n, design.max ? to_design(design.map, *design.max) : inf);
+  }
+  const Eigen::VectorXd values = problem.design_values(problem.z0);
+  for (int k = 0; k < n; ++k)
+    if ((design.min && values[k] < *design.min) || (design.max && values[k] > *design.max))
+      throw_scene_error(
+          scene, "inverse.design",
+          "the initial Young's modulus " + format_number(values[k]) + " of " + problem.design_labels[k] +
+              " (from the scene's materials) lies outside the bounds [" +
+              (design.min ? format_number(*design.min) : "-inf") + ", " +
+              (design.max ? format_number(*design.max) : "inf") + "]; give \"initial\" or widen the bounds");
+}
+
+ParameterizationPtr design_map(const InverseProblem& problem) {
+  const int n = problem.num_design();
+  const int ne = problem.setup.mesh.num_elements();
+  ParameterizationPtr values = problem.spec.design.map == DesignMap::log ? exp_map(n) : identity_map(n);
+  ParameterizationPtr per_element = values;
+  if (problem.spec.design.granularity != DesignGranularity::per_element) {
+    std::vector<int> group(problem.design_of_element.data(), problem.design_of_element.data() + ne);
+    per_element = compose(region_scatter_map(std::move(group), n), values);
+  }
+  return embed_blocks(problem.setup.parameters(), {{problem.youngs_offset, per_element}});
+}
+
+// Relative misfit of displacements: coefficient weight / |u*|^2 (see the header).
+ObjectiveTermInfo data_term(const InverseProblem& problem, const ObjectiveTermSpec& spec,
+                            std::vector<int> vertices, const Eigen::MatrixXd& displacements) {
+  const Mesh& mesh = problem.setup.mesh;
+  double norm2 = displacements.squaredNorm();
+  if (!(norm2 > 0.0)) {
+    const double diagonal =
+        (mesh.rest_positions.colwise().maxCoeff() - mesh.rest_positions.colwise().minCoeff()).norm();
+    norm2 = static_cast<double>(vertices.size()) * diagonal * diagonal;
+  }
+  auto term = std::make_shared<TargetPositions>(
+      TargetPositions::displacements(mesh, std::move(vertices), displacements));
+  return {spec.key, spec.type(), spec.weight, spec.weight / norm2, term};
+}
+
+// Observations of the selected vertices at the equilibrium with the true field, with noise.
+ObjectiveTermInfo synthetic_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
+                                 const SyntheticObservationsTerm& t) {
+  const Mesh& mesh = problem.setup.mesh;
+  const std::vector<int> vertices = select_vertices(scene, mesh, t.vertices);
+  const Eigen::VectorXd truth = expand_field(scene, problem.setup, t.youngs_modulus);
+  set_truth(scene, problem, truth, t.youngs_modulus.key);
+  StaticSetup true_setup = problem.setup;
+  true_setup.youngs_modulus = truth;
+  const StaticSolution solution = solve_static(true_setup);
+  if (!solution.converged)
+    throw_scene_error(scene, t.youngs_modulus.key,
+                      "the forward solve with this Young's modulus failed (" + solution.status + ": " +
+                          solution.message + ")");
+  Eigen::MatrixXd observed(static_cast<Eigen::Index>(vertices.size()), mesh.dim());
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    observed.row(static_cast<Eigen::Index>(i)) = solution.displacement.row(vertices[i]);
+  if (t.noise > 0.0) {
+    const double sigma = t.noise * observed.rowwise().norm().maxCoeff();
+    std::mt19937 rng(t.seed);
+    std::normal_distribution<double> normal(0.0, sigma);
+    for (Eigen::Index k = 0; k < observed.size(); ++k) observed.data()[k] += normal(rng);
+  }
+  return data_term(problem, spec, vertices, observed);
+}
+
+ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec) {
+  const Mesh& mesh = problem.setup.mesh;
+  const int ne = mesh.num_elements();
+  if (const auto* t = std::get_if<TargetDisplacementsTerm>(&spec.term)) {
+    check_dimension(scene, mesh, t->displacement, spec.key + ".displacement");
+    const std::vector<int> vertices = select_vertices(scene, mesh, t->vertices);
+    const Eigen::MatrixXd targets =
+        t->displacement.transpose().replicate(static_cast<Eigen::Index>(vertices.size()), 1);
+    return data_term(problem, spec, vertices, targets);
+  }
+  if (const auto* t = std::get_if<ObservationsTerm>(&spec.term)) {
+    const std::string key = spec.key + ".file";
+    if (t->displacements.cols() != mesh.dim())
+      throw_scene_error(scene, key,
+                        "'" + t->file + "': expected " + std::to_string(mesh.dim()) +
+                            " displacement components per line (the mesh is " + std::to_string(mesh.dim()) +
+                            "D), got " + std::to_string(t->displacements.cols()));
+    for (int v : t->vertices)
+      if (v >= mesh.num_vertices())
+        throw_scene_error(scene, key,
+                          "'" + t->file + "': vertex " + std::to_string(v) +
+                              " does not exist (the mesh has " + std::to_string(mesh.num_vertices()) +
+                              " vertices)");
+    return data_term(problem, spec, t->vertices, t->displacements);
+  }
+  if (const auto* t = std::get_if<SyntheticObservationsTerm>(&spec.term))
+    return synthetic_term(scene, problem, spec, *t);
+  if (const auto* t = std::get_if<SmoothnessTerm>(&spec.term)) {
+    try {
+      auto term = std::make_shared<MaterialSmoothness>(
+          mesh, problem.youngs_offset, 1.0, MaterialSmoothnessOptions{t->weighting, t->logarithmic});
+      return {spec.key, spec.type(), spec.weight, spec.weight, term};
+    } catch (const std::invalid_argument& e) {
+      throw_scene_error(scene, spec.key, e.what());
+    }
+  }
+  // Tikhonov relative to the prior: weights 1 / prior make each entry's misfit a ratio.
+  const double prior = std::get<TikhonovTerm>(spec.term).prior;
+  auto term = std::make_shared<Tikhonov>(problem.youngs_offset, ne, 1.0, Vector::Constant(ne, prior),
+                                         Vector::Constant(ne, 1.0 / prior));
+  return {spec.key, spec.type(), spec.weight, spec.weight, term};
+}
+
+// The reduced functional. Its first Newton solve starts from rest, unless the scene ramps its
+// loads: then from the ramped equilibrium at the initial design (later solves warm-start from
+// the last one).
+std::unique_ptr<StaticFunctional> make_functional(const InverseProblem& problem) {
+  const Elimination& elimination = problem.model->elimination();
+  const Vector rest = elimination.restrict_state(problem.setup.rest_state());
+  Vector start = rest;
+  if (problem.setup.solver.load_steps > 1) {
+    const StaticSolution ramped = solve_static(problem.setup);
+    if (ramped.converged) start = elimination.restrict_state(ramped.positions);
+  }
+  StaticFunctionalOptions options;  // keeps its tighter tolerance: gradients need it
+  const NewtonOptions& scene_newton = problem.setup.solver.newton;
+  options.newton.max_iterations = scene_newton.max_iterations;
+  options.newton.hessian = scene_newton.hessian;
+  options.newton.relative_tolerance =
+      std::min(options.newton.relative_tolerance, scene_newton.relative_tolerance);
+  // Newton's relative tolerance is relative to the residual at its start, which a warm start
+  // near equilibrium makes tiny and the tolerance unreachable; the absolute floor asks every
+  // solve for what a solve from rest at the initial design has to reach.
+  const double rest_residual =
+      elimination.reduce(problem.model->gradient(elimination.expand(rest), problem.setup.parameters()))
+          .norm();
+  options.newton.absolute_tolerance =
+      std::max(scene_newton.absolute_tolerance, options.newton.relative_tolerance * rest_residual);
+  return std::make_unique<StaticFunctional>(*problem.model, problem.parameterization, problem.objective,
+                                            start, options);
+}
+
+}  // namespace
+
+Eigen::VectorXd InverseProblem::design_values(const Vector& z) const {
+  return spec.design.map == DesignMap::log ? Eigen::VectorXd(z.array().exp()) : Eigen::VectorXd(z);
+}
+
+Eigen::VectorXd InverseProblem::youngs_modulus(const Vector& z) const {
+  const Eigen::VectorXd values = design_values(z);
+  Eigen::VectorXd out(design_of_element.size());
+  for (Eigen::Index e = 0; e < out.size(); ++e) out[e] = values[design_of_element[e]];
+  return out;
+}
+
+std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene) {
+  if (!scene.inverse)
+    throw SceneError(
+        scene.source +
+        ": (top level): the scene has no \"inverse\" section (tailor run and tailor gradcheck need "
+        "one; see docs/scene-format.md)");
+  const auto t0 = std::chrono::steady_clock::now();
+  auto problem = std::make_unique<InverseProblem>();
+  problem->scene_name = scene.name;
+  problem->scene_source = scene.source;
+  problem->spec = *scene.inverse;
+  problem->setup = setup_static_scene(scene);
+
+  if (problem->spec.ground_truth)
+    set_truth(scene, *problem, expand_field(scene, problem->setup, *problem->spec.ground_truth),
+              problem->spec.ground_truth->key);
+  assign_design_groups(scene, *problem);
+  initial_design(scene, *problem);
+  problem->setup.youngs_modulus = problem->youngs_modulus(problem->z0);
+
+  problem->model = build_static_model(problem->setup, 1.0);
+  problem->youngs_offset = problem->model->parameter_layout().at("youngs_modulus").offset;
+  problem->parameterization = design_map(*problem);
+
+  std::vector<ObjectivePtr> parts;
+  std::vector<double> coefficients;
+  for (const ObjectiveTermSpec& spec : problem->spec.objective) {
+    problem->terms.push_back(build_term(scene, *problem, spec));
+    parts.push_back(problem->terms.back().term);
+    coefficients.push_back(problem->terms.back().coefficient);
+  }
+  problem->objective = std::make_shared<WeightedSum>(std::move(parts), std::move(coefficients));
+
+  problem->functional = make_functional(*problem);
+  problem->setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return problem;
+}
+
+FieldError field_error(const Mesh& mesh, const Eigen::VectorXd& field, const Eigen::VectorXd& truth) {
+  const Eigen::ArrayXd volumes = element_volumes(mesh).cwiseAbs().array();
+  const Eigen::ArrayXd difference = field.array() - truth.array();
+  FieldError error;
+  error.relative_l2 =
+      std::sqrt((volumes * difference.square()).sum() / (volumes * truth.array().square()).sum());
+  error.max_relative = (difference.abs() / truth.array().abs()).maxCoeff();
+  return error;
+}
+
+}  // namespace tailor

@@ -1,0 +1,68 @@
+#pragma once
+// The inverse problem of a scene with an "inverse" section, built and checked against the
+// mesh: the static setup at the initial design, the full-load model, the design map
+// z -> p (Young's moduli per element, region or material, as log E or E, embedded into the
+// full parameter vector with Poisson's ratios fixed), the objective (a WeightedSum of the
+// scene's terms) and the reduced functional J(z) with its adjoint gradient.
+//
+// Data terms are relative misfits, 1/2 |u - u*|^2 / |u*|^2 over their vertices (u the
+// displacements at equilibrium, u* the wanted or observed ones; |u*|^2 is replaced by
+// n L^2, L the mesh's bounding-box diagonal, when every u* is zero), so a weight of 1 means the
+// same in every scene and the optimizer's absolute tolerances carry over between scenes.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "adjoint/static_functional.hpp"
+#include "optimizers/optimizer.hpp"
+#include "problems/inverse_scene.hpp"
+#include "problems/static_scene.hpp"
+
+namespace tailor {
+
+// One term of the objective: the objective adds coefficient * term.
+struct ObjectiveTermInfo {
+  std::string key;   // "inverse.objective[i]"
+  std::string type;  // its "type"
+  double weight = 1.0;
+  double coefficient = 1.0;  // weight, divided by |u*|^2 for data terms
+  ObjectivePtr term;
+};
+
+struct InverseProblem {
+  std::string scene_name, scene_source;
+  InverseSpec spec;
+  StaticSetup setup;                       // youngs_modulus holds the initial design
+  std::unique_ptr<Model> model;            // at full load
+  int youngs_offset = 0;                   // of the "youngs_modulus" block in p
+  Eigen::VectorXi design_of_element;       // per element: its design variable
+  std::vector<std::string> design_labels;  // per design variable: "element e", "region r", "materials[m]"
+  ParameterizationPtr parameterization;
+  std::vector<ObjectiveTermInfo> terms;
+  ObjectivePtr objective;
+  std::unique_ptr<StaticFunctional> functional;
+  Vector z0;                   // initial design
+  Bounds bounds;               // in z-space; empty when the design has no min/max
+  Eigen::VectorXd truth;       // per element true E; empty when unknown
+  std::string truth_key;       // the key it came from
+  double setup_seconds = 0.0;  // building all this, including the synthetic forward solves
+
+  int num_design() const { return static_cast<int>(z0.size()); }
+  Eigen::VectorXd design_values(const Vector& z) const;   // E per design variable
+  Eigen::VectorXd youngs_modulus(const Vector& z) const;  // E per element
+};
+
+// Throws SceneError (no inverse section, selectors that select nothing, sizes that do not fit
+// the mesh, an initial design outside the bounds, a synthetic forward solve that fails, ...)
+// and MeshError.
+std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene);
+
+// Errors of a per-element field against the truth: the volume-weighted relative L2 error
+// sqrt(sum_e V_e (E_e - T_e)^2 / sum_e V_e T_e^2) and the largest |E_e - T_e| / T_e.
+struct FieldError {
+  double relative_l2 = 0.0;
+  double max_relative = 0.0;
+};
+FieldError field_error(const Mesh& mesh, const Eigen::VectorXd& field, const Eigen::VectorXd& truth);
+
+}  // namespace tailor

@@ -1,0 +1,146 @@
+#include "problems/inverse_report.hpp"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "problems/report.hpp"
+#include "tailor_version.hpp"
+
+namespace tailor {
+namespace {
+
+using Json = nlohmann::ordered_json;  // keeps the documented key order in the file
+
+void write_json(const std::string& path, const Json& document) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  out << document.dump(2) << "\n";
+  if (!out) throw std::runtime_error("error while writing '" + path + "'");
+}
+
+Json to_json(const Eigen::VectorXd& v) {
+  Json out = Json::array();
+  for (Eigen::Index k = 0; k < v.size(); ++k) out.push_back(v[k]);
+  return out;
+}
+
+// min / max / volume-weighted mean of a per-element field.
+Json summary(const Mesh& mesh, const Eigen::VectorXd& field) {
+  const Eigen::VectorXd volumes = element_volumes(mesh).cwiseAbs();
+  return {{"min", field.minCoeff()}, {"max", field.maxCoeff()}, {"mean", volumes.dot(field) / volumes.sum()}};
+}
+
+Json error_json(const FieldError& e) {
+  return {{"relative_l2_error", e.relative_l2}, {"max_relative_error", e.max_relative}};
+}
+
+// A Taylor test result as JSON: its own layout, parsed back so it can be extended.
+Json taylor_json(const TaylorTestResult& result) {
+  try {
+    return Json::parse(result.json());
+  } catch (const nlohmann::json::exception&) {  // e.g. a control character in the message
+    return {{"status", to_string(result.status)}, {"message", result.message}};
+  }
+}
+
+}  // namespace
+
+void write_gradcheck_json(const std::string& path, const GradcheckRun& run) {
+  // The Taylor test's own fields stay at the top level.
+  Json document = taylor_json(run.gradient);
+  document["passed"] = run.passed();
+  document["scene"] = {{"name", run.scene_name}, {"source", run.scene_source}};
+  document["design_size"] = run.design_size;
+  document["seed"] = run.seed;
+  if (run.hessian) document["hessian"] = taylor_json(*run.hessian);
+  document["tailor_version"] = version_string;
+  write_json(path, document);
+}
+
+void write_inverse_report_json(const std::string& path, const InverseRun& run) {
+  const InverseProblem& problem = *run.problem;
+  const OptimizerResult& result = run.result;
+  const Mesh& mesh = problem.setup.mesh;
+  Json report;
+  report["tailor_version"] = version_string;
+  report["report_format"] = kReportFormatVersion;
+  report["kind"] = "inverse";
+  report["scene"] = {{"name", problem.scene_name}, {"source", problem.scene_source}};
+  report["status"] = to_string(result.status);
+  report["message"] = result.message;
+  report["converged"] = result.converged();
+  report["backend"] = to_string(problem.spec.optimizer.backend);
+  report["iterations"] = result.history.empty() ? 0 : result.history.back().iteration;
+  report["evaluations"] = result.evaluations;
+
+  Json history = Json::array();
+  for (const OptimizerIteration& it : result.history)
+    history.push_back({{"iteration", it.iteration},
+                       {"objective", it.objective},
+                       {"gradient_norm", it.gradient_norm},
+                       {"step", it.step_norm},
+                       {"seconds", it.seconds},
+                       {"forward_solves", it.forward_solves},
+                       {"adjoint_solves", it.adjoint_solves}});
+  report["history"] = history;
+
+  Json terms = Json::array();
+  for (std::size_t k = 0; k < problem.terms.size(); ++k) {
+    const ObjectiveTermInfo& t = problem.terms[k];
+    terms.push_back({{"key", t.key},
+                     {"type", t.type},
+                     {"weight", t.weight},
+                     {"coefficient", t.coefficient},
+                     {"value", k < run.term_values.size() ? Json(run.term_values[k]) : Json(nullptr)}});
+  }
+  report["objective"] = {
+      {"initial", result.history.empty() ? Json(nullptr) : Json(result.history.front().objective)},
+      {"final", result.objective},
+      {"terms", terms}};
+  const FunctionalCounters& counters = problem.functional->counters();
+  report["solves"] = {{"forward", counters.forward_solves}, {"adjoint", counters.adjoint_solves}};
+
+  const DesignSpec& d = problem.spec.design;
+  Json design = {{"parameter", d.parameter},
+                 {"granularity", to_string(d.granularity)},
+                 {"map", to_string(d.map)},
+                 {"size", problem.num_design()},
+                 {"min", d.min ? Json(*d.min) : Json(nullptr)},
+                 {"max", d.max ? Json(*d.max) : Json(nullptr)},
+                 {"initial", summary(mesh, problem.youngs_modulus(problem.z0))},
+                 {"final", summary(mesh, run.youngs_modulus)}};
+  if (d.granularity != DesignGranularity::per_element) {
+    design["labels"] = problem.design_labels;
+    design["values"] = to_json(run.design_values);
+  }
+  report["design"] = design;
+  if (run.error) {
+    Json truth = {{"source", problem.truth_key}};
+    truth.update(error_json(*run.error));
+    if (run.initial_error) truth["initial"] = error_json(*run.initial_error);
+    report["ground_truth"] = truth;
+  }
+  const InverseTimings& t = run.timings;
+  report["timings"] = {{"total", t.total},     {"setup", t.setup},     {"optimization", t.optimization},
+                       {"forward", t.forward}, {"adjoint", t.adjoint}, {"output", t.output}};
+  report["mesh"] = {
+      {"dim", mesh.dim()}, {"vertices", mesh.num_vertices()}, {"elements", mesh.num_elements()}};
+  write_json(path, report);
+}
+
+void write_inverse_result_vtu(const std::string& path, const InverseRun& run) {
+  const InverseProblem& problem = *run.problem;
+  StaticSetup setup = problem.setup;
+  setup.youngs_modulus = run.youngs_modulus;
+  VtkFields extra;
+  extra.cell["youngs_modulus_initial"] = problem.youngs_modulus(problem.z0);
+  if (problem.truth.size() > 0) {
+    extra.cell["youngs_modulus_true"] = problem.truth;
+    extra.cell["youngs_modulus_relative_error"] =
+        run.youngs_modulus.cwiseQuotient(problem.truth).array() - 1.0;
+  }
+  write_result_vtu(path, setup, run.solution, extra);
+}
+
+}  // namespace tailor

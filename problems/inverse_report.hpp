@@ -1,0 +1,57 @@
+#pragma once
+// Outputs of the inverse verbs: what `tailor gradcheck` and `tailor run` found, and the files
+// they write: DIR/gradcheck.json, and DIR/report.json (inverse layout, documented field by
+// field in docs/scene-format.md) with DIR/result.vtu.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "adjoint/taylor_test.hpp"
+#include "optimizers/optimizer.hpp"
+#include "problems/inverse_problem.hpp"
+
+namespace tailor {
+
+struct GradcheckRun {
+  std::string scene_name, scene_source;
+  int design_size = 0;
+  unsigned seed = 1;
+  TaylorTestResult gradient;                // taylor_test at z0
+  std::optional<TaylorTestResult> hessian;  // taylor_test_hessian, when asked for
+  std::string report_path;                  // out_dir/gradcheck.json
+  bool passed() const { return gradient.passed() && (!hessian || hessian->passed()); }
+};
+
+// Wall-clock seconds of the parts of an inverse run.
+struct InverseTimings {
+  double total = 0.0;         // up to (not including) writing report.json
+  double setup = 0.0;         // scene, model, objective (including synthetic forward solves)
+  double optimization = 0.0;  // minimize()
+  double forward = 0.0;       // Newton solves inside the functional
+  double adjoint = 0.0;       // adjoint solves inside the functional
+  double output = 0.0;        // the final equilibrium and result.vtu
+};
+
+struct InverseRun {
+  std::unique_ptr<InverseProblem> problem;
+  OptimizerResult result;           // result.z: the best design found
+  Eigen::VectorXd design_values;    // E per design variable at result.z
+  Eigen::VectorXd youngs_modulus;   // E per element at result.z
+  std::vector<double> term_values;  // coefficient * term at result.z, per objective term
+  std::optional<FieldError> error;  // against the ground truth, when known
+  std::optional<FieldError> initial_error;
+  StaticSolution solution;  // the equilibrium at result.z (with the scene's load steps)
+  InverseTimings timings;
+  std::string report_path;  // out_dir/report.json
+  std::string result_path;  // out_dir/result.vtu
+};
+
+// Throw std::runtime_error when a file cannot be written.
+void write_gradcheck_json(const std::string& path, const GradcheckRun& run);
+void write_inverse_report_json(const std::string& path, const InverseRun& run);
+// result.vtu of the static verbs at the best design, plus cell fields "youngs_modulus_initial"
+// and, with a ground truth, "youngs_modulus_true" and "youngs_modulus_relative_error" (E/T - 1).
+void write_inverse_result_vtu(const std::string& path, const InverseRun& run);
+
+}  // namespace tailor

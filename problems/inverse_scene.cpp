@@ -1,0 +1,248 @@
+#include "problems/inverse_scene.hpp"
+
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "problems/scene_parsing.hpp"
+
+namespace tailor {
+
+std::string to_string(DesignGranularity granularity) {
+  switch (granularity) {
+    case DesignGranularity::per_element:
+      return "per_element";
+    case DesignGranularity::per_region:
+      return "per_region";
+    case DesignGranularity::per_material:
+      return "per_material";
+  }
+  return "unknown";
+}
+
+std::string to_string(DesignMap map) { return map == DesignMap::log ? "log" : "identity"; }
+
+std::string ObjectiveTermSpec::type() const {
+  static const char* const names[] = {"target_displacements", "observations", "synthetic_observations",
+                                      "smoothness", "tikhonov"};
+  return names[term.index()];
+}
+
+bool ObjectiveTermSpec::is_data() const {
+  return std::holds_alternative<TargetDisplacementsTerm>(term) ||
+         std::holds_alternative<ObservationsTerm>(term) ||
+         std::holds_alternative<SyntheticObservationsTerm>(term);
+}
+
+namespace {
+
+std::string format_number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// A number > 0, {"materials": [...]} with one value > 0 per materials[] entry, or
+// {"file": path} with one value > 0 per mesh element.
+ModulusField parse_modulus_field(const SceneNode& node, const std::string& directory) {
+  ModulusField field;
+  field.key = node.path();
+  if (node.json().is_number()) {
+    field.value = node.positive();
+    return field;
+  }
+  if (!node.json().is_object())
+    node.fail(
+        "expected a number > 0, {\"materials\": [one value per material]} or {\"file\": path} (one "
+        "value per element), got " +
+        describe_json(node.json()));
+  if (node.only_key({"materials", "file"}) == "file") {
+    field.values = read_positive_values(node.at("file"), directory);
+  } else {
+    for (const SceneNode& item : node.at("materials").items()) field.per_material.push_back(item.positive());
+    if (field.per_material.empty())
+      node.at("materials").fail("expected one value per materials[] entry, got none");
+  }
+  return field;
+}
+
+DesignSpec parse_design(const SceneNode& node) {
+  node.expect_keys({"parameter", "granularity", "map", "min", "max", "initial"});
+  DesignSpec d;
+  const SceneNode parameter = node.at("parameter");
+  d.parameter = parameter.string();
+  if (d.parameter != "youngs_modulus")
+    parameter.fail("only \"youngs_modulus\" can be designed (for now), got \"" + d.parameter + "\"");
+  const std::string granularity =
+      node.at("granularity").choice({"per_element", "per_region", "per_material"});
+  d.granularity = granularity == "per_element"  ? DesignGranularity::per_element
+                  : granularity == "per_region" ? DesignGranularity::per_region
+                                                : DesignGranularity::per_material;
+  if (auto m = node.find("map"))
+    d.map = m->choice({"log", "identity"}) == "log" ? DesignMap::log : DesignMap::identity;
+
+  // Bounds on E become bounds on z: their logarithms for the log map, which therefore needs
+  // them > 0. Moduli are never negative, whatever the map.
+  const auto bound = [&](const char* key) -> std::optional<double> {
+    auto b = node.find(key);
+    if (!b) return std::nullopt;
+    const double v = b->number();
+    if (d.map == DesignMap::log && !(v > 0.0))
+      b->fail("with the log map (z = log E) the bound must be > 0, got " + format_number(v));
+    if (v < 0.0) b->fail("expected a number >= 0 (Young's modulus), got " + format_number(v));
+    return v;
+  };
+  d.min = bound("min");
+  d.max = bound("max");
+  if (d.min && d.max && !(*d.max > *d.min))
+    node.at("max").fail("must be > min (" + format_number(*d.min) + "), got " + format_number(*d.max));
+  if (auto i = node.find("initial")) {
+    d.initial = i->positive();
+    if ((d.min && *d.initial < *d.min) || (d.max && *d.initial > *d.max))
+      i->fail("lies outside the bounds [" + (d.min ? format_number(*d.min) : "-inf") + ", " +
+              (d.max ? format_number(*d.max) : "inf") + "]");
+  }
+  return d;
+}
+
+ObservationsTerm parse_observation_file(const SceneNode& node, const std::string& directory) {
+  ObservationsTerm t;
+  t.file = resolve_scene_path(directory, node.string());
+  const std::vector<DataLine> lines = read_data_file(node, t.file);
+  if (lines.empty()) node.fail("'" + t.file + "' holds no observations");
+  const std::size_t columns = lines.front().tokens.size();
+  t.displacements.resize(static_cast<Eigen::Index>(lines.size()), static_cast<Eigen::Index>(columns) - 1);
+  std::map<int, int> first_line;  // vertex id -> the line it was first observed on
+  for (std::size_t r = 0; r < lines.size(); ++r) {
+    const DataLine& line = lines[r];
+    const std::string where = "'" + t.file + "' line " + std::to_string(line.line) + ": ";
+    if ((columns != 3 && columns != 4) || line.tokens.size() != columns)
+      node.fail(where + "expected 'vertex ux uy' or 'vertex ux uy uz' on every line, got " +
+                std::to_string(line.tokens.size()) + " values");
+    const auto id = parse_vertex_id(line.tokens[0]);
+    if (!id) node.fail(where + "expected a vertex id (integer >= 0), got '" + line.tokens[0] + "'");
+    if (const auto [it, fresh] = first_line.emplace(*id, line.line); !fresh)
+      node.fail(where + "vertex " + std::to_string(*id) + " is observed twice (also on line " +
+                std::to_string(it->second) + ")");
+    t.vertices.push_back(*id);
+    for (std::size_t k = 1; k < columns; ++k) {
+      const auto v = parse_number(line.tokens[k]);
+      if (!v) node.fail(where + "expected a number, got '" + line.tokens[k] + "'");
+      t.displacements(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k) - 1) = *v;
+    }
+  }
+  return t;
+}
+
+ObjectiveTermSpec parse_term(const SceneNode& node, const std::string& directory) {
+  ObjectiveTermSpec spec;
+  spec.key = node.path();
+  const std::string type = node.at("type").choice(
+      {"target_displacements", "observations", "synthetic_observations", "smoothness", "tikhonov"});
+  if (type == "target_displacements") {
+    node.expect_keys({"type", "weight", "vertices", "displacement"});
+    spec.term = TargetDisplacementsTerm{parse_vertex_selector(node.at("vertices"), directory),
+                                        node.at("displacement").vector()};
+  } else if (type == "observations") {
+    node.expect_keys({"type", "weight", "file"});
+    spec.term = parse_observation_file(node.at("file"), directory);
+  } else if (type == "synthetic_observations") {
+    node.expect_keys({"type", "weight", "vertices", "youngs_modulus", "noise", "seed"});
+    SyntheticObservationsTerm t;
+    t.vertices = parse_vertex_selector(node.at("vertices"), directory);
+    t.youngs_modulus = parse_modulus_field(node.at("youngs_modulus"), directory);
+    if (auto n = node.find("noise")) t.noise = n->non_negative();
+    if (auto s = node.find("seed")) t.seed = static_cast<unsigned>(s->integer(0));
+    spec.term = std::move(t);
+  } else if (type == "smoothness") {
+    node.expect_keys({"type", "weight", "on", "weighting"});
+    SmoothnessTerm t;
+    if (auto on = node.find("on")) t.logarithmic = on->choice({"log", "value"}) == "log";
+    if (auto w = node.find("weighting"))
+      t.weighting = w->choice({"unit", "facet"}) == "unit" ? AdjacencyWeighting::unit
+                                                           : AdjacencyWeighting::facet_over_distance;
+    spec.term = t;
+  } else {
+    node.expect_keys({"type", "weight", "prior"});
+    spec.term = TikhonovTerm{node.at("prior").positive()};
+  }
+  if (auto w = node.find("weight")) spec.weight = w->non_negative();
+  return spec;
+}
+
+OptimizerOptions parse_optimizer(const SceneNode& node) {
+  node.expect_keys({"backend", "max_iterations", "gradient_tolerance", "objective_tolerance",
+                    "step_tolerance", "time_limit", "exact_hessian"});
+  OptimizerOptions o;
+  if (auto b = node.find("backend")) {
+    try {
+      o.backend = parse_optimizer_backend(b->string());
+    } catch (const std::invalid_argument& e) {
+      b->fail(e.what());
+    }
+  }
+  if (auto v = node.find("max_iterations")) o.max_iterations = v->integer(1);
+  if (auto v = node.find("gradient_tolerance")) o.gradient_tolerance = v->non_negative();
+  if (auto v = node.find("objective_tolerance")) o.objective_tolerance = v->non_negative();
+  if (auto v = node.find("step_tolerance")) o.step_tolerance = v->non_negative();
+  if (auto v = node.find("time_limit")) o.time_limit_seconds = v->non_negative();
+  if (auto v = node.find("exact_hessian")) {
+    o.exact_hessian = v->boolean();
+    if (o.exact_hessian && o.backend != OptimizerBackend::ipopt)
+      v->fail("only the ipopt back-end uses exact Hessians (the back-end is " + to_string(o.backend) + ")");
+  }
+  return o;
+}
+
+TaylorTestOptions parse_gradcheck(const SceneNode& node) {
+  node.expect_keys({"seed", "initial_step", "halvings"});
+  TaylorTestOptions t;
+  if (auto v = node.find("seed")) t.seed = static_cast<unsigned>(v->integer(0));
+  if (auto v = node.find("initial_step")) t.initial_step = v->positive();
+  if (auto v = node.find("halvings")) t.halvings = v->integer(4);
+  return t;
+}
+
+}  // namespace
+
+InverseSpec parse_inverse_section(const SceneNode& node, const std::string& directory) {
+  node.expect_keys({"design", "objective", "ground_truth", "optimizer", "gradcheck"});
+  InverseSpec spec;
+  spec.design = parse_design(node.at("design"));
+  const SceneNode objective = node.at("objective");
+  bool has_data = false;
+  for (const SceneNode& item : objective.items()) {
+    spec.objective.push_back(parse_term(item, directory));
+    has_data = has_data || spec.objective.back().is_data();
+  }
+  if (!has_data)
+    objective.fail(
+        "needs at least one data term (target_displacements, observations or synthetic_observations); "
+        "regularization alone has nothing to fit");
+  // log E needs E > 0, which only the log map or a positive lower bound guarantees.
+  const bool positive = spec.design.map == DesignMap::log || (spec.design.min && *spec.design.min > 0.0);
+  for (std::size_t k = 0; k < spec.objective.size(); ++k) {
+    const auto* smoothness = std::get_if<SmoothnessTerm>(&spec.objective[k].term);
+    if (smoothness && smoothness->logarithmic && !positive)
+      objective.items()[k].fail(
+          "smoothness on log E needs E > 0: with the identity map give inverse.design.min > 0, use \"on\": "
+          "\"value\", or the log map");
+  }
+  if (auto truth = node.find("ground_truth")) {
+    truth->expect_keys({"youngs_modulus"});
+    spec.ground_truth = parse_modulus_field(truth->at("youngs_modulus"), directory);
+  }
+  if (auto o = node.find("optimizer")) spec.optimizer = parse_optimizer(*o);
+  const bool bounded = spec.design.min || spec.design.max;
+  if (bounded && spec.optimizer.backend == OptimizerBackend::ceres_lbfgs)
+    node.at("optimizer")
+        .at("backend")
+        .fail(
+            "ceres_lbfgs does not support bounds, but inverse.design has min/max (remove them or choose "
+            "another "
+            "back-end)");
+  if (auto g = node.find("gradcheck")) spec.gradcheck = parse_gradcheck(*g);
+  return spec;
+}
+
+}  // namespace tailor

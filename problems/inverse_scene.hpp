@@ -1,0 +1,86 @@
+#pragma once
+// The optional "inverse" section of a scene as typed data: which parameter is designed and
+// how it maps to design variables, the objective terms, the ground truth for error reports,
+// and the optimizer and gradient-check settings (see docs/scene-format.md). Parsed and
+// validated with the rest of the scene (parse_scene); checks that need the mesh happen when
+// the inverse problem is built (inverse_problem.hpp), naming the key path kept here.
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "adjoint/taylor_test.hpp"
+#include "objectives/material_smoothness.hpp"
+#include "optimizers/optimizer.hpp"
+#include "problems/scene.hpp"
+
+namespace tailor {
+
+// A per-element Young's modulus field: one value everywhere, one per materials[] entry (for
+// its elements), or one per mesh element from a file (whitespace-separated, element order).
+struct ModulusField {
+  double value = 0.0;                // used when both lists are empty
+  std::vector<double> per_material;  // from {"materials": [...]}
+  std::vector<double> values;        // from {"file": path}
+  std::string key;                   // JSON key path
+};
+
+enum class DesignGranularity { per_element, per_region, per_material };
+enum class DesignMap { log, identity };  // z = log E, or z = E
+std::string to_string(DesignGranularity granularity);
+std::string to_string(DesignMap map);
+
+struct DesignSpec {
+  std::string parameter = "youngs_modulus";  // the only designable parameter for now
+  DesignGranularity granularity = DesignGranularity::per_element;
+  DesignMap map = DesignMap::log;
+  std::optional<double> min, max;  // bounds on E (not on z)
+  std::optional<double> initial;   // E everywhere at the start; default: the scene's materials
+};
+
+// Data terms compare displacements u of some vertices with wanted ones u*; the term is the
+// relative misfit 1/2 |u - u*|^2 / |u*|^2 (see inverse_problem.hpp).
+struct TargetDisplacementsTerm {
+  VertexSelector vertices;
+  Eigen::VectorXd displacement;  // the same target for every selected vertex
+};
+struct ObservationsTerm {
+  std::string file;               // resolved path, for messages
+  std::vector<int> vertices;      // one per line, distinct
+  Eigen::MatrixXd displacements;  // one row per line, 2 or 3 columns
+};
+struct SyntheticObservationsTerm {
+  VertexSelector vertices;
+  ModulusField youngs_modulus;  // the truth the observations are simulated from
+  double noise = 0.0;           // relative: std. deviation = noise * largest observed |u|
+  unsigned seed = 1;
+};
+// Regularization of the designed per-element field E.
+struct SmoothnessTerm {
+  bool logarithmic = true;  // penalize jumps of log E (ratios) rather than of E
+  AdjacencyWeighting weighting = AdjacencyWeighting::unit;
+};
+struct TikhonovTerm {
+  double prior = 1.0;  // J = 1/2 sum_e ((E_e - prior) / prior)^2
+};
+
+struct ObjectiveTermSpec {
+  std::variant<TargetDisplacementsTerm, ObservationsTerm, SyntheticObservationsTerm, SmoothnessTerm,
+               TikhonovTerm>
+      term;
+  double weight = 1.0;
+  std::string key;           // "inverse.objective[i]"
+  std::string type() const;  // the JSON "type"
+  bool is_data() const;      // compares displacements (not a regularization)
+};
+
+struct InverseSpec {
+  DesignSpec design;
+  std::vector<ObjectiveTermSpec> objective;  // at least one data term
+  std::optional<ModulusField> ground_truth;
+  OptimizerOptions optimizer;   // progress is set by the caller
+  TaylorTestOptions gradcheck;  // seed, initial_step, halvings
+};
+
+}  // namespace tailor

@@ -1,0 +1,125 @@
+// The `tailor gradcheck` and `tailor run` verbs of the executable: exit codes, outputs, and
+// the progress table that --quiet suppresses.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kScenes = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes";
+const std::string kBar = kScenes + "/two_material_bar_inverse.json";
+
+class TempFolder {
+ public:
+  explicit TempFolder(const std::string& tag)
+      : path_(fs::temp_directory_path() / ("tailor_inverse_cli_" + tag + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempFolder() { fs::remove_all(path_); }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  fs::path path_;
+};
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs the tailor executable; returns its exit code, with stdout and stderr in `output`.
+int run_cli(const std::string& arguments, const std::string& log, std::string& output) {
+  const std::string command =
+      std::string(TAILOR_BINARY_DIR) + "/bin/tailor " + arguments + " > " + log + " 2>&1";
+  const int status = std::system(command.c_str());
+  output = read_file(log);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Lines of the optimizer's progress table: the header and one row per iteration.
+int progress_lines(const std::string& output) {
+  static const std::regex row(R"(^\s*\d+\s+[-+0-9.e]+\s+[-+0-9.e]+\s+[-+0-9.e]+\s+[0-9.]+\s+\d+\s+\d+$)");
+  int count = 0;
+  std::istringstream lines(output);
+  for (std::string line; std::getline(lines, line);)
+    if (std::regex_match(line, row) || line.find("|proj g|") != std::string::npos) ++count;
+  return count;
+}
+
+TEST(InverseCli, GradcheckPassesOnTheExampleAndWritesJson) {
+  TempFolder folder("gradcheck");
+  std::string output;
+  EXPECT_EQ(run_cli("gradcheck " + kBar + " --out " + (folder / "out") + " --seed 3 --hessian",
+                    folder / "log", output),
+            0)
+      << output;
+  EXPECT_NE(output.find("Taylor test"), std::string::npos) << output;
+  EXPECT_NE(output.find("passed"), std::string::npos) << output;
+  const std::string json = read_file(folder / "out/gradcheck.json");
+  EXPECT_NE(json.find("\"seed\": 3"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"hessian\""), std::string::npos) << json;
+}
+
+TEST(InverseCli, BadInputExitsWithTwo) {
+  TempFolder folder("bad");
+  std::string scene = read_file(kBar);
+  scene.replace(scene.find("\"granularity\": \"per_material\""), 29, "\"granularity\": \"per_part\"");
+  std::ofstream(folder / "bad.json") << scene;
+  std::string output;
+  EXPECT_EQ(
+      run_cli("gradcheck " + (folder / "bad.json") + " --out " + (folder / "out"), folder / "log", output),
+      2);
+  EXPECT_NE(output.find("bad.json: inverse.design.granularity: expected one of per_element, per_region, "
+                        "per_material, got \"per_part\""),
+            std::string::npos)
+      << output;
+  EXPECT_FALSE(fs::exists(folder / "out/gradcheck.json"));
+
+  // A scene without an inverse section, no scene at all, and options of other verbs.
+  EXPECT_EQ(run_cli("run " + kScenes + "/cantilever.json --out " + (folder / "out"), folder / "log", output),
+            2);
+  EXPECT_NE(output.find("no \"inverse\" section"), std::string::npos) << output;
+  EXPECT_EQ(run_cli("gradcheck", folder / "log", output), 2);
+  EXPECT_NE(output.find("'gradcheck' needs a scene file"), std::string::npos) << output;
+  EXPECT_EQ(run_cli("run " + kBar + " --hessian", folder / "log", output), 2);
+  EXPECT_NE(output.find("unknown option '--hessian' for 'run'"), std::string::npos) << output;
+}
+
+TEST(InverseCli, RunPrintsProgressUnlessQuiet) {
+  TempFolder folder("run");
+  std::string output;
+  ASSERT_EQ(run_cli("run " + kBar + " --out " + (folder / "loud"), folder / "log", output), 0) << output;
+  EXPECT_GT(progress_lines(output), 5) << output;
+  EXPECT_NE(output.find("materials[1]: E = "), std::string::npos) << output;
+  EXPECT_TRUE(fs::exists(folder / "loud/report.json"));
+
+  ASSERT_EQ(run_cli("run " + kBar + " --quiet --out " + (folder / "quiet"), folder / "log", output), 0)
+      << output;
+  EXPECT_EQ(progress_lines(output), 0) << output;
+  EXPECT_NE(output.find("converged"), std::string::npos) << output;  // the summary stays
+  EXPECT_TRUE(fs::exists(folder / "quiet/report.json"));
+  EXPECT_TRUE(fs::exists(folder / "quiet/result.vtu"));
+}
+
+TEST(InverseCli, UsageListsTheInverseVerbs) {
+  TempFolder folder("usage");
+  std::string output;
+  EXPECT_EQ(run_cli("--help", folder / "log", output), 0);
+  EXPECT_NE(output.find("gradcheck scene.json [--out DIR] [--seed N] [--hessian]"), std::string::npos)
+      << output;
+  EXPECT_NE(output.find("run scene.json [--out DIR] [--quiet]"), std::string::npos) << output;
+}
+
+}  // namespace

@@ -57,7 +57,7 @@ void StaticFunctional::forward(const Vector& z) {
   if (!newton_result_.converged())
     throw EvaluationError("forward solve failed: " + to_string(newton_result_.status) + " (" + newton_result_.message + ")");
   y_ = y;
-  x_ = model_.elimination().expand(y_);
+  x_ = model_.state(y_, p_);
   z_ = z;
   objective_value_ = objective_->value(x_, p_);
   have_state_ = true;
@@ -131,8 +131,13 @@ double StaticFunctional::value_and_gradient(const Vector& z, Vector& gradient) {
   objective_->add_gradient_x(x_, p_, jx);
   Vector jp = Vector::Zero(p_.size());
   objective_->add_gradient_p(x_, p_, jp);
-  const Vector lambda = solve_hessian(elim.reduce(jx));
-  jp -= model_.mixed_transpose_times(x_, p_, elim.expand_direction(lambda));
+  const Vector lambda = elim.expand_direction(solve_hessian(elim.reduce(jx)));
+  jp -= model_.mixed_transpose_times(x_, p_, lambda);
+  if (model_.has_prescribed_parameters()) {
+    // x depends on p directly through D: dJ/dp += D^T (J_x - E_xx S lambda).
+    const SparseMatrix& D = model_.prescribed_parameters();
+    jp += D.transpose() * (jx - model_.hessian_times(x_, p_, lambda));
+  }
   gradient = parameterization_->jacobian_transpose_times(z, jp);
   return objective_value_;
 }
@@ -150,10 +155,16 @@ Vector StaticFunctional::hessian_vector(const Vector& z, const Vector& v) {
   objective_->add_gradient_p(x_, p_, gp);
   const Vector lambda = elim.expand_direction(solve_hessian(elim.reduce(jx)));
   gp -= model_.mixed_transpose_times(x_, p_, lambda);
+  const bool prescribed = model_.has_prescribed_parameters();
+  const SparseMatrix& D = model_.prescribed_parameters();
+  if (prescribed) gp += D.transpose() * (jx - model_.hessian_times(x_, p_, lambda));
 
-  // Tangent: dp = phi' v, dx = -S H^-1 S^T E_xp dp.
+  // Tangent: dp = phi' v, dx = D dp + S dy with H dy = -S^T (E_xp dp + E_xx D dp).
   const Vector dp = parameterization_->jacobian_times(z, v);
-  const Vector dx = elim.expand_direction(solve_hessian(-elim.reduce(model_.mixed(x_, p_) * dp)));
+  const Vector direct = prescribed ? Vector(D * dp) : Vector::Zero(x_.size());
+  Vector forcing = model_.mixed(x_, p_) * dp;
+  if (prescribed) forcing += model_.hessian_times(x_, p_, direct);
+  const Vector dx = direct + elim.expand_direction(solve_hessian(-elim.reduce(forcing)));
 
   // Third-derivative contractions along (dx, dp) by central differences (see header).
   double relative = 0.0;
@@ -173,7 +184,8 @@ Vector StaticFunctional::hessian_vector(const Vector& z, const Vector& v) {
   Vector ox = Vector::Zero(x_.size()), op = Vector::Zero(p_.size());
   objective_->add_hessian_times(x_, p_, dx, dp, ox, op);
   const Vector mu = elim.expand_direction(solve_hessian(elim.reduce(ox - d_hessian_lambda)));
-  const Vector hp = op - d_mixed_lambda - model_.mixed_transpose_times(x_, p_, mu);
+  Vector hp = op - d_mixed_lambda - model_.mixed_transpose_times(x_, p_, mu);
+  if (prescribed) hp += D.transpose() * (ox - d_hessian_lambda - model_.hessian_times(x_, p_, mu));
   return parameterization_->jacobian_transpose_times(z, hp) + parameterization_->second_derivative_times(z, gp, v);
 }
 
@@ -187,8 +199,12 @@ Matrix StaticFunctional::state_sensitivity(const Vector& z) {
     unit[j] = 1.0;
     const Vector dp = parameterization_->jacobian_times(z, unit);
     unit[j] = 0.0;
-    const Vector dy = solve_hessian(-elim.reduce(mixed * dp));
-    dx.col(j) = elim.expand_direction(dy);
+    const Vector direct = model_.has_prescribed_parameters() ? Vector(model_.prescribed_parameters() * dp)
+                                                              : Vector::Zero(x_.size());
+    Vector forcing = mixed * dp;
+    if (model_.has_prescribed_parameters()) forcing += model_.hessian_times(x_, p_, direct);
+    const Vector dy = solve_hessian(-elim.reduce(forcing));
+    dx.col(j) = direct + elim.expand_direction(dy);
   }
   return dx;
 }

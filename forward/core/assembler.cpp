@@ -80,7 +80,7 @@ void ReducedAssembler::evaluate(const Vector& y, const Vector& p, double* energy
   const Elimination& elim = model_.elimination();
   if (y.size() != elim.num_free())
     throw std::invalid_argument("ReducedAssembler::evaluate: y has the wrong size");
-  const Vector x = elim.expand(y);
+  const Vector x = model_.state(y, p);
   Vector gx;
   if (gradient_y) gx = Vector::Zero(model_.num_dofs());
   if (energy) *energy = 0.0;

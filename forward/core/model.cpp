@@ -33,6 +33,49 @@ void Model::set_elimination(Elimination elimination) {
   elimination_ = std::move(elimination);
 }
 
+void Model::set_prescribed_parameters(SparseMatrix prescribed) {
+  if (prescribed.rows() != num_dofs_ || prescribed.cols() != parameters_.size())
+    throw std::invalid_argument("Model::set_prescribed_parameters: expected a " + std::to_string(num_dofs_) + " x " +
+                                std::to_string(parameters_.size()) + " matrix");
+  const auto& rb = elimination_.row_begin();
+  for (int c = 0; c < prescribed.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(prescribed, c); it; ++it)
+      if (rb[it.row() + 1] > rb[it.row()])
+        throw std::invalid_argument("Model::set_prescribed_parameters: DOF " + std::to_string(it.row()) +
+                                    " is free; only constrained DOFs can be prescribed by parameters");
+  prescribed.makeCompressed();
+  prescribed_ = std::move(prescribed);
+}
+
+int Model::add_prescribed_displacements(const std::string& name, const std::vector<int>& dofs) {
+  // Validate before touching the layout, so a rejected call leaves the model unchanged.
+  const auto& rb = elimination_.row_begin();
+  for (int d : dofs) {
+    if (d < 0 || d >= num_dofs_)
+      throw std::invalid_argument("Model::add_prescribed_displacements: DOF " + std::to_string(d) + " out of range");
+    if (rb[d + 1] > rb[d])
+      throw std::invalid_argument("Model::add_prescribed_displacements: DOF " + std::to_string(d) +
+                                  " is free; only constrained DOFs can be prescribed by parameters");
+  }
+  const int offset = parameters_.add(name, static_cast<int>(dofs.size()));
+  for (std::size_t k = 0; k < dofs.size(); ++k) prescribed_triplets_.emplace_back(dofs[k], offset + static_cast<int>(k), 1.0);
+  SparseMatrix d(num_dofs_, parameters_.size());
+  d.setFromTriplets(prescribed_triplets_.begin(), prescribed_triplets_.end());
+  set_prescribed_parameters(std::move(d));
+  return offset;
+}
+
+Vector Model::state(const Vector& y, const Vector& p) const {
+  Vector x = elimination_.expand(y);
+  if (has_prescribed_parameters()) {
+    if (p.size() != prescribed_.cols())
+      throw std::invalid_argument("Model::state: the parameter vector has " + std::to_string(p.size()) +
+                                  " entries, the prescribed map expects " + std::to_string(prescribed_.cols()));
+    x += prescribed_ * p;
+  }
+  return x;
+}
+
 double Model::energy(const Vector& x, const Vector& p) const {
   double e = 0.0;
   for (const auto& t : terms_) e += t->value(x, p);

@@ -50,6 +50,19 @@ class Model {
   const ParameterLayout& parameter_layout() const { return parameters_; }
 
   void set_elimination(Elimination elimination);
+
+  // Parameters that prescribe constrained DOFs (handles moved by the design):
+  //   x = x0 + D p + S y,
+  // D (num_dofs x |p|) with entries only in rows the elimination fixes. Set after the
+  // elimination and the parameter layout. Throws std::invalid_argument otherwise.
+  void set_prescribed_parameters(SparseMatrix prescribed);
+  // Convenience: a new parameter block `name` of |dofs| entries, each the displacement of one
+  // fixed DOF (D(dofs[k], offset + k) = 1); returns the block's offset.
+  int add_prescribed_displacements(const std::string& name, const std::vector<int>& dofs);
+  bool has_prescribed_parameters() const { return prescribed_.nonZeros() > 0; }
+  const SparseMatrix& prescribed_parameters() const { return prescribed_; }
+  // The full state x = x0 + D p + S y.
+  Vector state(const Vector& y, const Vector& p) const;
   const Elimination& elimination() const { return elimination_; }
   Elimination& elimination() { return elimination_; }
 
@@ -67,6 +80,8 @@ class Model {
   std::vector<std::unique_ptr<EnergyTerm>> terms_;
   ParameterLayout parameters_;
   Elimination elimination_;
+  SparseMatrix prescribed_;
+  std::vector<Triplet> prescribed_triplets_;  // accumulated by add_prescribed_displacements
 };
 
 }  // namespace tailor

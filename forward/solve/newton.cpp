@@ -121,7 +121,7 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     if (residual <= target) return finish(NewtonStatus::converged, "residual below tolerance");
     if (k > 0) {
       const auto& last = result.history.back();
-      const double x_scale = 1.0 + elim.expand(y).lpNorm<Eigen::Infinity>();
+      const double x_scale = 1.0 + model_.state(y, p).lpNorm<Eigen::Infinity>();
       if (last.step_length == 1.0 && last.step_norm <= options_.step_tolerance * x_scale &&
           residual <= std::sqrt(options_.relative_tolerance) * result.initial_residual)
         return finish(NewtonStatus::converged, "step at round-off level");
@@ -179,7 +179,7 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     // Backtracking line search on E, starting from the largest admissible step.
     t0 = Clock::now();
     const Vector dx = elim.expand_direction(dy);
-    double alpha = std::min(1.0, model_.max_step(elim.expand(y), dx));
+    double alpha = std::min(1.0, model_.max_step(model_.state(y, p), dx));
     const double slope = gradient.dot(dy);
     const double round_off = 64.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(energy), 1e-300);
     bool accepted = false;

@@ -207,3 +207,67 @@ TEST(StaticFunctional, HessianVectorProductPassesTaylorTestOnTheGradient) {
 
 }  // namespace
 }  // namespace tailor
+
+#include "objectives/target_positions.hpp"
+#include "objectives/target_reaction_forces.hpp"
+#include "objectives/weighted_sum.hpp"
+
+namespace tailor {
+namespace {
+
+// Handle displacements as design variables: the tip of a clamped Neo-Hookean bar is a handle
+// whose prescribed displacement (x = x0 + D p + S y) is designed together with log E, to
+// reach a target reaction force at the handle and target positions along the bar.
+TEST(StaticFunctional, PrescribedHandleDisplacementsAsParameters) {
+  const Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 1, 1), 4, 1, 1);
+  const int m = mesh.num_elements();
+  Model model(3 * mesh.num_vertices());
+  model.parameter_layout().add("youngs_modulus", m);
+  model.parameter_layout().add("poisson_ratio", m);
+  model.add(elastic_term<3>(mesh, MaterialKind::neo_hookean));
+  const Vector rest = rest_state(mesh);
+  std::vector<int> fixed, handle_dofs, middle;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const double x = mesh.rest_positions(v, 0);
+    if (x < 1e-9 || x > 4 - 1e-9)
+      for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
+    if (x > 4 - 1e-9)
+      for (int k = 0; k < 3; ++k) handle_dofs.push_back(3 * v + k);
+    if (std::abs(x - 2) < 1e-9) middle.push_back(v);
+  }
+  model.set_elimination(Elimination::dirichlet(fixed, rest));
+  const int handle = model.add_prescribed_displacements("handle_displacement", handle_dofs);
+  ASSERT_EQ(handle, 2 * m);
+  EXPECT_THROW(model.add_prescribed_displacements("free", {3 * middle[0]}), std::invalid_argument);
+
+  Vector base = heterogeneous_parameters(mesh, 1000.0, 0.3);
+  base.conservativeResize(model.parameter_layout().size());
+  base.tail(handle_dofs.size()).setZero();
+  const auto map = embed_blocks(base, {{0, exp_map(m)}, {handle, identity_map(static_cast<int>(handle_dofs.size()))}});
+  Matrix u(middle.size(), 3);
+  u.rowwise() = Eigen::RowVector3d(0.02, 0.05, -0.3);
+  auto positions = std::make_shared<TargetPositions>(TargetPositions::displacements(mesh, middle, u));
+  auto force = std::make_shared<TargetReactionForces>(*model.terms()[0], model.num_dofs(), 3, handle_dofs,
+                                                      TargetReactionForces::Aggregation::total, Eigen::Vector3d(5, 10, -40));
+  auto objective = std::make_shared<WeightedSum>(std::vector<ObjectivePtr>{positions, force}, std::vector<double>{1.0, 1e-3});
+  StaticFunctional f(model, map, objective, model.elimination().restrict_state(rest));
+
+  Vector z(m + handle_dofs.size());
+  z.head(m) = base.head(m).array().log().matrix();
+  for (std::size_t k = 0; k < handle_dofs.size(); ++k) z[m + k] = (k % 3 == 2) ? -0.8 : 0.1;  // tip pushed down
+  const TaylorTestResult t = taylor_test(f, z);
+  std::printf("handle displacements + log E:\n%s", t.table().c_str());
+  EXPECT_TRUE(t.passed()) << t.table();
+  // The tip really sits where the parameters put it.
+  f.value(z);
+  for (std::size_t k = 0; k < handle_dofs.size(); ++k)
+    EXPECT_NEAR(f.state()[handle_dofs[k]], rest[handle_dofs[k]] + z[m + k], 1e-14);
+
+  // Second order with an objective that has second derivatives.
+  StaticFunctional g(model, map, positions, model.elimination().restrict_state(rest));
+  const TaylorTestResult th = taylor_test_hessian(g, z);
+  EXPECT_TRUE(th.passed()) << th.table();
+}
+
+}  // namespace
+}  // namespace tailor

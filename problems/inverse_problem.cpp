@@ -259,7 +259,7 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene) {
     throw SceneError(
         scene.source +
         ": (top level): the scene has no \"inverse\" section (tailor run and tailor gradcheck need "
-        "one; see docs/scene-format.md)");
+        "one; see the README)");
   const auto t0 = std::chrono::steady_clock::now();
   auto problem = std::make_unique<InverseProblem>();
   problem->scene_name = scene.name;

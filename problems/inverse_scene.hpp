@@ -1,7 +1,7 @@
 #pragma once
 // The optional "inverse" section of a scene as typed data: which parameter is designed and
 // how it maps to design variables, the objective terms, the ground truth for error reports,
-// and the optimizer and gradient-check settings (see docs/scene-format.md). Parsed and
+// and the optimizer and gradient-check settings (see the README). Parsed and
 // validated with the rest of the scene (parse_scene); checks that need the mesh happen when
 // the inverse problem is built (inverse_problem.hpp), naming the key path kept here.
 #include <Eigen/Core>

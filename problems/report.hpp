@@ -1,6 +1,6 @@
 #pragma once
 // Outputs of a static run: DIR/report.json (the machine-readable summary that later tools
-// read; its format is documented field by field in docs/scene-format.md and stays stable) and
+// read; its format is documented field by field in the README and stays stable) and
 // DIR/result.vtu (the deformed mesh with per-vertex and per-element fields, for ParaView).
 #include <string>
 

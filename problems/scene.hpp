@@ -1,7 +1,7 @@
 #pragma once
 // A static scene as typed data: the mesh, the materials over element subsets, Dirichlet
 // conditions, loads and solver settings. JSON is parsed and validated once, here, at the edge
-// (see docs/scene-format.md for the format); everything downstream works on these structs.
+// (see the README for the format); everything downstream works on these structs.
 //
 // Checks that need the mesh (selectors that select nothing, element coverage, vector lengths
 // against a mesh read from a file) happen when the scene is built (static_scene.hpp); each

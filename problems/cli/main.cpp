@@ -45,7 +45,7 @@ const char* const kUsage =
     "\n"
     "exit codes: 0 success, 1 solve, check or optimization failed (or did not converge),\n"
     "2 bad input or usage.\n"
-    "The scene format is described in docs/scene-format.md.\n";
+    "The scene format is described in README.md, section \"Scenes, verbs and reports\".\n";
 
 int usage_error(const std::string& what) {
   std::cerr << "tailor: " << what << "\n\n" << kUsage;

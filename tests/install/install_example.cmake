@@ -34,3 +34,7 @@ string(FIND "${last_output}" "tailor ${EXPECTED_VERSION}" found)
 if(found EQUAL -1)
   message(FATAL_ERROR "minimal did not report tailor ${EXPECTED_VERSION}")
 endif()
+
+# A whole inverse problem through the installed API; it exits non-zero unless its Taylor test
+# passes and both moduli are recovered to 1e-6.
+run(${example_build}/inverse_bar)

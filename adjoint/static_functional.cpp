@@ -124,21 +124,34 @@ Vector StaticFunctional::solve_hessian(const Vector& rhs) {
   return v;
 }
 
-double StaticFunctional::value_and_gradient(const Vector& z, Vector& gradient) {
-  forward(z);
+StaticFunctional::FirstOrder StaticFunctional::first_order() {
   const Elimination& elim = model_.elimination();
-  Vector jx = Vector::Zero(x_.size());
-  objective_->add_gradient_x(x_, p_, jx);
-  Vector jp = Vector::Zero(p_.size());
-  objective_->add_gradient_p(x_, p_, jp);
-  const Vector lambda = elim.expand_direction(solve_hessian(elim.reduce(jx)));
-  jp -= model_.mixed_transpose_times(x_, p_, lambda);
+  FirstOrder f;
+  f.jx = Vector::Zero(x_.size());
+  objective_->add_gradient_x(x_, p_, f.jx);
+  f.gradient_p = Vector::Zero(p_.size());
+  objective_->add_gradient_p(x_, p_, f.gradient_p);
+  f.lambda = elim.expand_direction(solve_hessian(elim.reduce(f.jx)));
+  f.gradient_p -= model_.mixed_transpose_times(x_, p_, f.lambda);
   if (model_.has_prescribed_parameters()) {
     // x depends on p directly through D: dJ/dp += D^T (J_x - E_xx S lambda).
-    const SparseMatrix& D = model_.prescribed_parameters();
-    jp += D.transpose() * (jx - model_.hessian_times(x_, p_, lambda));
+    f.gradient_p += model_.prescribed_parameters().transpose() * (f.jx - model_.hessian_times(x_, p_, f.lambda));
   }
-  gradient = parameterization_->jacobian_transpose_times(z, jp);
+  return f;
+}
+
+Vector StaticFunctional::tangent(const Vector& dp, const SparseMatrix& mixed) {
+  const Elimination& elim = model_.elimination();
+  const bool prescribed = model_.has_prescribed_parameters();
+  const Vector direct = prescribed ? Vector(model_.prescribed_parameters() * dp) : Vector::Zero(x_.size());
+  Vector forcing = mixed * dp;
+  if (prescribed) forcing += model_.hessian_times(x_, p_, direct);
+  return direct + elim.expand_direction(solve_hessian(-elim.reduce(forcing)));
+}
+
+double StaticFunctional::value_and_gradient(const Vector& z, Vector& gradient) {
+  forward(z);
+  gradient = parameterization_->jacobian_transpose_times(z, first_order().gradient_p);
   return objective_value_;
 }
 
@@ -148,23 +161,12 @@ Vector StaticFunctional::hessian_vector(const Vector& z, const Vector& v) {
   if (v.size() != size()) throw std::invalid_argument("StaticFunctional::hessian_vector: v has the wrong size");
   forward(z);
   const Elimination& elim = model_.elimination();
-  // First order: adjoint lambda and the total parameter gradient G = J_p - E_xp^T S lambda.
-  Vector jx = Vector::Zero(x_.size());
-  objective_->add_gradient_x(x_, p_, jx);
-  Vector gp = Vector::Zero(p_.size());
-  objective_->add_gradient_p(x_, p_, gp);
-  const Vector lambda = elim.expand_direction(solve_hessian(elim.reduce(jx)));
-  gp -= model_.mixed_transpose_times(x_, p_, lambda);
-  const bool prescribed = model_.has_prescribed_parameters();
-  const SparseMatrix& D = model_.prescribed_parameters();
-  if (prescribed) gp += D.transpose() * (jx - model_.hessian_times(x_, p_, lambda));
+  const FirstOrder first = first_order();
+  const Vector& lambda = first.lambda;
 
   // Tangent: dp = phi' v, dx = D dp + S dy with H dy = -S^T (E_xp dp + E_xx D dp).
   const Vector dp = parameterization_->jacobian_times(z, v);
-  const Vector direct = prescribed ? Vector(D * dp) : Vector::Zero(x_.size());
-  Vector forcing = model_.mixed(x_, p_) * dp;
-  if (prescribed) forcing += model_.hessian_times(x_, p_, direct);
-  const Vector dx = direct + elim.expand_direction(solve_hessian(-elim.reduce(forcing)));
+  const Vector dx = tangent(dp, model_.mixed(x_, p_));
 
   // Third-derivative contractions along (dx, dp) by central differences (see header).
   double relative = 0.0;
@@ -185,26 +187,20 @@ Vector StaticFunctional::hessian_vector(const Vector& z, const Vector& v) {
   objective_->add_hessian_times(x_, p_, dx, dp, ox, op);
   const Vector mu = elim.expand_direction(solve_hessian(elim.reduce(ox - d_hessian_lambda)));
   Vector hp = op - d_mixed_lambda - model_.mixed_transpose_times(x_, p_, mu);
-  if (prescribed) hp += D.transpose() * (ox - d_hessian_lambda - model_.hessian_times(x_, p_, mu));
-  return parameterization_->jacobian_transpose_times(z, hp) + parameterization_->second_derivative_times(z, gp, v);
+  if (model_.has_prescribed_parameters())
+    hp += model_.prescribed_parameters().transpose() * (ox - d_hessian_lambda - model_.hessian_times(x_, p_, mu));
+  return parameterization_->jacobian_transpose_times(z, hp) + parameterization_->second_derivative_times(z, first.gradient_p, v);
 }
 
 Matrix StaticFunctional::state_sensitivity(const Vector& z) {
   forward(z);
-  const Elimination& elim = model_.elimination();
   const SparseMatrix mixed = model_.mixed(x_, p_);
   Matrix dx(x_.size(), size());
   Vector unit = Vector::Zero(size());
   for (int j = 0; j < size(); ++j) {
     unit[j] = 1.0;
-    const Vector dp = parameterization_->jacobian_times(z, unit);
+    dx.col(j) = tangent(parameterization_->jacobian_times(z, unit), mixed);
     unit[j] = 0.0;
-    const Vector direct = model_.has_prescribed_parameters() ? Vector(model_.prescribed_parameters() * dp)
-                                                              : Vector::Zero(x_.size());
-    Vector forcing = mixed * dp;
-    if (model_.has_prescribed_parameters()) forcing += model_.hessian_times(x_, p_, direct);
-    const Vector dy = solve_hessian(-elim.reduce(forcing));
-    dx.col(j) = direct + elim.expand_direction(dy);
   }
   return dx;
 }

@@ -69,6 +69,13 @@ class StaticFunctional final : public ReducedFunctional {
   int last_cg_iterations() const { return last_cg_iterations_; }
 
  private:
+  // The adjoint at the current equilibrium: dT/dx, S lambda, and dJ/dp (total).
+  struct FirstOrder {
+    Vector jx, lambda, gradient_p;
+  };
+  FirstOrder first_order();
+  // dx*/dp along dp (direct mode), given the mixed block d2E/dxdp at the equilibrium.
+  Vector tangent(const Vector& dp, const SparseMatrix& mixed);
   void forward(const Vector& z);             // solves unless z is the cached point
   Vector solve_hessian(const Vector& rhs);   // H v = rhs at the current equilibrium
 

@@ -49,14 +49,7 @@ Row run(MaterialKind kind, int target_tets) {
   model.parameter_layout().add("poisson_ratio", m);
   model.add(std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(kind), 0, m));
   const double E = 1e6;
-  const Eigen::MatrixXi facets = boundary_facets(mesh);
-  std::vector<int> top_rows;
-  for (int k = 0; k < facets.rows(); ++k)
-    if (mesh.rest_positions(facets(k, 0), 2) > 1 - 1e-9 && mesh.rest_positions(facets(k, 1), 2) > 1 - 1e-9 &&
-        mesh.rest_positions(facets(k, 2), 2) > 1 - 1e-9)
-      top_rows.push_back(k);
-  Eigen::MatrixXi top(top_rows.size(), 3);
-  for (std::size_t k = 0; k < top_rows.size(); ++k) top.row(k) = facets.row(top_rows[k]);
+  const Eigen::MatrixXi top = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[2] > 1 - 1e-9; });
   model.add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, top, Eigen::Vector3d(0.05 * E, 0.0, -0.05 * E))));
   Vector rest(3 * mesh.num_vertices());
   std::vector<int> fixed, top_vertices;

@@ -55,14 +55,7 @@ SizeResult run(int target_tets, int max_iterations) {
 
   // Clamped bottom (z = 0); the top face gets a shear-and-compression traction that
   // deforms the block by roughly 20-30% (about ten Newton iterations).
-  const Eigen::MatrixXi facets = boundary_facets(mesh);
-  std::vector<int> top;
-  for (int k = 0; k < facets.rows(); ++k)
-    if ((mesh.rest_positions(facets(k, 0), 2) > 1 - 1e-9) && (mesh.rest_positions(facets(k, 1), 2) > 1 - 1e-9) &&
-        (mesh.rest_positions(facets(k, 2), 2) > 1 - 1e-9))
-      top.push_back(k);
-  Eigen::MatrixXi top_facets(top.size(), 3);
-  for (std::size_t k = 0; k < top.size(); ++k) top_facets.row(k) = facets.row(top[k]);
+  const Eigen::MatrixXi top_facets = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[2] > 1 - 1e-9; });
   const double E = 1e6;
   model.add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, top_facets, Eigen::Vector3d(0.05 * E, 0.0, -0.05 * E))));
   Vector rest(3 * mesh.num_vertices());

@@ -6,6 +6,7 @@
 // is positively oriented when (b - a) x (c - a) . (d - a) > 0; a triangle (a, b, c) when
 // (b - a) x (c - a) > 0.
 #include <Eigen/Core>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -39,6 +40,10 @@ Eigen::VectorXd element_volumes(const Mesh& mesh);
 // Boundary facets (triangles of tets, edges of triangles), num_facets x dim, ordered so the
 // facet normal points out of the mesh. Also returns the owning element of each facet.
 Eigen::MatrixXi boundary_facets(const Mesh& mesh, Eigen::VectorXi* owner = nullptr);
+
+// The boundary facets all of whose vertices satisfy `on` (a predicate on rest positions),
+// oriented as boundary_facets(); e.g. the end face x = L of a bar for a traction.
+Eigen::MatrixXi boundary_facets_where(const Mesh& mesh, const std::function<bool(const Eigen::VectorXd&)>& on);
 
 // Element adjacency through shared facets: pairs (e, f) with e < f.
 Eigen::MatrixXi element_adjacency(const Mesh& mesh);

@@ -30,14 +30,7 @@ struct BarProblem {
     model->parameter_layout().add("youngs_modulus", m);
     model->parameter_layout().add("poisson_ratio", m);
     model->add(elastic_term<3>(mesh, kind));
-    const Eigen::MatrixXi facets = boundary_facets(mesh);
-    std::vector<int> end;
-    for (int k = 0; k < facets.rows(); ++k)
-      if (mesh.rest_positions(facets(k, 0), 0) > 4 - 1e-9 && mesh.rest_positions(facets(k, 1), 0) > 4 - 1e-9 &&
-          mesh.rest_positions(facets(k, 2), 0) > 4 - 1e-9)
-        end.push_back(k);
-    Eigen::MatrixXi end_facets(end.size(), 3);
-    for (std::size_t k = 0; k < end.size(); ++k) end_facets.row(k) = facets.row(end[k]);
+    const Eigen::MatrixXi end_facets = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > 4 - 1e-9; });
     model->add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, end_facets, Eigen::Vector3d(0, 0.3 * load, -load))));
     rest = rest_state(mesh);
     std::vector<int> fixed;

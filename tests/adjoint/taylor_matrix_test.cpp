@@ -40,13 +40,7 @@ struct Bar {
     model.parameter_layout().add("youngs_modulus", m);
     model.parameter_layout().add("poisson_ratio", m);
     model.add(elastic_term<3>(mesh, scene.material));
-    const Eigen::MatrixXi facets = boundary_facets(mesh);
-    std::vector<int> end;
-    for (int k = 0; k < facets.rows(); ++k)
-      if ((mesh.rest_positions(Eigen::Vector3i(facets(k, 0), facets(k, 1), facets(k, 2)), 0).array() > 4 - 1e-9).all())
-        end.push_back(k);
-    Eigen::MatrixXi end_facets(end.size(), 3);
-    for (std::size_t k = 0; k < end.size(); ++k) end_facets.row(k) = facets.row(end[k]);
+    const Eigen::MatrixXi end_facets = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > 4 - 1e-9; });
     model.add(std::make_unique<ExternalForceTerm>(
         traction_forces(mesh, end_facets, Eigen::Vector3d(0.2 * scene.load, 0.3 * scene.load, -scene.load))));
     rest = rest_state(mesh);

@@ -40,15 +40,8 @@ double fem_tip_deflection(int n) {
   model.add(elastic_term<Dim>(mesh, MaterialKind::linear));
 
   // Uniform shear traction on the end face x = L with resultant P (width 1 in both cases).
-  const Eigen::MatrixXi facets = boundary_facets(mesh);
-  std::vector<int> end;
-  for (int k = 0; k < facets.rows(); ++k) {
-    bool on_end = true;
-    for (int a = 0; a < Dim; ++a) on_end = on_end && mesh.rest_positions(facets(k, a), 0) > kLength - 1e-9;
-    if (on_end) end.push_back(k);
-  }
-  Eigen::MatrixXi end_facets(end.size(), Dim);
-  for (std::size_t k = 0; k < end.size(); ++k) end_facets.row(k) = facets.row(end[k]);
+  const Eigen::MatrixXi end_facets =
+      boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > kLength - 1e-9; });
   Eigen::VectorXd traction = Eigen::VectorXd::Zero(Dim);
   traction[Dim - 1] = -kLoad / kHeight / (Dim == 3 ? kHeight : 1.0);
   model.add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, end_facets, traction)));

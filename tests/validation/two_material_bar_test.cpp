@@ -36,14 +36,7 @@ struct TwoMaterialBar {
       for (int a = 0; a < 4; ++a) cx += 0.25 * mesh.rest_positions(mesh.elements(e, a), 0);
       region[e] = cx < 2.0 ? 0 : 1;
     }
-    const Eigen::MatrixXi facets = boundary_facets(mesh);
-    std::vector<int> end;
-    for (int k = 0; k < facets.rows(); ++k)
-      if (mesh.rest_positions(facets(k, 0), 0) > 4 - 1e-9 && mesh.rest_positions(facets(k, 1), 0) > 4 - 1e-9 &&
-          mesh.rest_positions(facets(k, 2), 0) > 4 - 1e-9)
-        end.push_back(k);
-    Eigen::MatrixXi end_facets(end.size(), 3);
-    for (std::size_t k = 0; k < end.size(); ++k) end_facets.row(k) = facets.row(end[k]);
+    const Eigen::MatrixXi end_facets = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > 4 - 1e-9; });
     model.add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, end_facets, Eigen::Vector3d(1e4, 0, -5e2))));
     rest = rest_state(mesh);
     std::vector<int> fixed;

@@ -31,15 +31,7 @@ TEST(Loads, GravityResultantIsTotalWeight) {
 
 TEST(Loads, TractionResultantIsTractionTimesArea) {
   const Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 1, 0.5), 4, 2, 2);
-  const Eigen::MatrixXi facets = boundary_facets(mesh);
-  std::vector<int> end_faces;
-  for (int k = 0; k < facets.rows(); ++k) {
-    bool on_end = true;
-    for (int a = 0; a < 3; ++a) on_end = on_end && std::abs(mesh.rest_positions(facets(k, a), 0) - 2.0) < 1e-12;
-    if (on_end) end_faces.push_back(k);
-  }
-  Eigen::MatrixXi end(end_faces.size(), 3);
-  for (std::size_t k = 0; k < end_faces.size(); ++k) end.row(k) = facets.row(end_faces[k]);
+  const Eigen::MatrixXi end = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return std::abs(X[0] - 2.0) < 1e-12; });
   const Vector f = traction_forces(mesh, end, Eigen::Vector3d(0.0, 3.0, -1.0));
   const Vector r = resultant(f, 3);
   EXPECT_NEAR(r[1], 3.0 * 0.5, 1e-12);

@@ -44,12 +44,21 @@ void StaticFunctional::forward(const Vector& z) {
   if (have_state_ && z == z_) return;
   const auto t0 = Clock::now();
   p_ = parameterization_->apply(z);
-  Vector y = (options_.warm_start && have_state_) ? y_ : rest_y_;
+  const bool warm = options_.warm_start && have_state_;
+  Vector y = warm ? y_ : rest_y_;
   have_state_ = false;
+  // A warm start measures convergence against the residual a cold start would begin with.
+  newton_.options().reference_residual = 0.0;
+  if (warm) {
+    Vector g_rest;
+    newton_.assembler().evaluate(rest_y_, p_, nullptr, &g_rest, nullptr);
+    newton_.options().reference_residual = g_rest.norm();
+  }
   newton_result_ = newton_.solve(p_, y);
   ++counters_.forward_solves;
-  if (!newton_result_.converged() && options_.warm_start) {
+  if (!newton_result_.converged() && warm) {
     y = rest_y_;  // a warm start can sit in another basin; retry from rest once
+    newton_.options().reference_residual = 0.0;
     newton_result_ = newton_.solve(p_, y);
     ++counters_.forward_solves;
   }

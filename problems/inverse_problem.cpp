@@ -229,9 +229,9 @@ std::unique_ptr<StaticFunctional> make_functional(const InverseProblem& problem)
   options.newton.hessian = scene_newton.hessian;
   options.newton.relative_tolerance =
       std::min(options.newton.relative_tolerance, scene_newton.relative_tolerance);
-  // Newton's relative tolerance is relative to the residual at its start, which a warm start
-  // near equilibrium makes tiny and the tolerance unreachable; the absolute floor asks every
-  // solve for what a solve from rest at the initial design has to reach.
+  // StaticFunctional measures warm starts against the residual at its start state; with load
+  // steps that start is already an equilibrium of the initial design, so the absolute floor
+  // asks every solve for what a solve from rest at the initial design has to reach.
   const double rest_residual =
       elimination.reduce(problem.model->gradient(elimination.expand(rest), problem.setup.parameters()))
           .norm();

@@ -117,13 +117,14 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     if (!std::isfinite(energy) || !std::isfinite(residual))
       return finish(NewtonStatus::non_finite, "energy or gradient is not finite at iteration " + std::to_string(k));
 
-    const double target = std::max(options_.relative_tolerance * result.initial_residual, options_.absolute_tolerance);
+    const double scale = std::max(result.initial_residual, options_.reference_residual);
+    const double target = std::max(options_.relative_tolerance * scale, options_.absolute_tolerance);
     if (residual <= target) return finish(NewtonStatus::converged, "residual below tolerance");
     if (k > 0) {
       const auto& last = result.history.back();
       const double x_scale = 1.0 + model_.state(y, p).lpNorm<Eigen::Infinity>();
       if (last.step_length == 1.0 && last.step_norm <= options_.step_tolerance * x_scale &&
-          residual <= std::sqrt(options_.relative_tolerance) * result.initial_residual)
+          residual <= std::sqrt(options_.relative_tolerance) * scale)
         return finish(NewtonStatus::converged, "step at round-off level");
     }
     if (k == options_.max_iterations)

@@ -29,6 +29,10 @@ struct NewtonOptions {
   double relative_tolerance = 1e-9;
   double absolute_tolerance = 0.0;
   double step_tolerance = 1e-13;
+  // When > 0, the relative tolerances refer to max(||g_0||, reference_residual) instead of
+  // ||g_0||: a warm start next to the equilibrium has a tiny ||g_0|| that would make the
+  // relative tolerance unreachable (pass, e.g., the residual at the undeformed state).
+  double reference_residual = 0.0;
   // Which Hessian Newton factorizes:
   //  adaptive  (default) the exact Hessian whenever its Cholesky factorization succeeds
   //            (quadratic convergence near a stable equilibrium); when it is indefinite,

@@ -93,6 +93,22 @@ TEST(StaticFunctional, AdjointSolveReusesNewtonWork) {
   EXPECT_EQ(f.counters().forward_solves, 1);
 }
 
+TEST(StaticFunctional, WarmStartNextToTheEquilibriumConverges) {
+  // A tiny design change leaves the warm start almost in equilibrium; the relative tolerance
+  // must then refer to the residual at rest, not to the tiny initial one.
+  BarProblem bar(MaterialKind::neo_hookean, 30.0);
+  StaticFunctional f = bar.functional();
+  const Vector z = bar.z0();
+  f.value(z);
+  const double cold_iterations = f.last_newton().iterations;
+  const Vector dz = Vector::Constant(f.size(), 1e-9);
+  EXPECT_NO_THROW(f.value(z + dz));
+  EXPECT_TRUE(f.last_newton().converged()) << f.last_newton().report();
+  EXPECT_LE(f.last_newton().iterations, 2);
+  EXPECT_GT(cold_iterations, 2);
+  EXPECT_EQ(f.counters().forward_solves, 2);  // no retry from rest was needed
+}
+
 TEST(StaticFunctional, DirectModeAgreesWithAdjoint) {
   BarProblem bar(MaterialKind::stvk, 20.0);
   StaticFunctional f = bar.functional(1e-3);

@@ -1,0 +1,251 @@
+#include "forward/reduction/generalized_eigen.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <arpack/arpack.hpp>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "forward/solve/sparse_cholesky.hpp"
+
+namespace tailor {
+namespace {
+
+std::string saupd_message(a_int info) {
+  switch (info) {
+    case 0:
+      return "converged";
+    case 1:
+      return "maximum number of iterations reached before all pairs converged";
+    case 3:
+      return "no shifts could be applied during an implicit restart (try a larger ncv)";
+    case -1:
+      return "n must be positive";
+    case -2:
+      return "count (nev) must be positive";
+    case -3:
+      return "ncv must satisfy count < ncv <= n";
+    case -4:
+      return "the maximum number of iterations must be positive";
+    case -5:
+      return "invalid 'which' option";
+    case -6:
+      return "invalid bmat option";
+    case -7:
+      return "work array too short";
+    case -8:
+      return "error in the LAPACK tridiagonal eigenvalue calculation";
+    case -9:
+      return "the starting vector is zero";
+    case -10:
+      return "invalid ARPACK mode";
+    case -11:
+      return "mode 1 is incompatible with bmat = 'G'";
+    case -12:
+      return "invalid shift strategy (iparam[0])";
+    case -13:
+      return "nev and which = 'BE' are incompatible";
+    case -9999:
+      return "could not build a Lanczos factorization (B may not be positive definite)";
+    default:
+      return "unknown ARPACK dsaupd error";
+  }
+}
+
+std::string seupd_message(a_int info) {
+  switch (info) {
+    case 0:
+      return "ok";
+    case -1:
+      return "n must be positive";
+    case -2:
+      return "count (nev) must be positive";
+    case -3:
+      return "ncv must satisfy count < ncv <= n";
+    case -5:
+      return "invalid 'which' option";
+    case -6:
+      return "invalid bmat option";
+    case -7:
+      return "work array too short";
+    case -8:
+      return "error in the LAPACK tridiagonal eigenvalue calculation";
+    case -9:
+      return "error in the LAPACK eigenvector calculation";
+    case -10:
+      return "invalid ARPACK mode";
+    case -11:
+      return "mode 1 is incompatible with bmat = 'G'";
+    case -12:
+      return "nev and which = 'BE' are incompatible";
+    case -14:
+      return "dsaupd found no eigenvalues to sufficient accuracy";
+    case -15:
+      return "howmny must be 'A' or 'S'";
+    case -16:
+      return "howmny = 'S' is not implemented";
+    case -17:
+      return "the number of converged Ritz values changed between dsaupd and dseupd";
+    default:
+      return "unknown ARPACK dseupd error";
+  }
+}
+
+// Sign each column so that its entry of largest magnitude is positive.
+void normalize_signs(Matrix& x) {
+  for (Eigen::Index j = 0; j < x.cols(); ++j) {
+    Eigen::Index i = 0;
+    x.col(j).cwiseAbs().maxCoeff(&i);
+    if (x(i, j) < 0) x.col(j) *= -1.0;
+  }
+}
+
+GeneralizedEigenResult dense_solve(const SparseMatrix& A, const SparseMatrix& B, int count,
+                                   const std::string& why) {
+  GeneralizedEigenResult result;
+  result.dense = true;
+  const Matrix a = Matrix(A), b = Matrix(B);
+  // Symmetrize: the solvers read one triangle only; averaging makes both count.
+  const Matrix as = 0.5 * (a + a.transpose()), bs = 0.5 * (b + b.transpose());
+  Eigen::GeneralizedSelfAdjointEigenSolver<Matrix> solver(as, bs, Eigen::ComputeEigenvectors | Eigen::ABx_lx);
+  if (solver.info() != Eigen::Success) {
+    result.message = "dense generalized eigensolver failed (" + why + "; B may not be positive definite)";
+    return result;
+  }
+  result.eigenvalues = solver.eigenvalues().head(count);  // ascending
+  result.eigenvectors = solver.eigenvectors().leftCols(count);
+  normalize_signs(result.eigenvectors);
+  result.converged = count;
+  result.success = true;
+  result.message = "solved densely (" + why + ")";
+  return result;
+}
+
+}  // namespace
+
+GeneralizedEigenResult generalized_eigenpairs(const SparseMatrix& A, const SparseMatrix& B, int count,
+                                              const GeneralizedEigenOptions& options) {
+  if (A.rows() != A.cols() || B.rows() != B.cols())
+    throw std::invalid_argument("generalized_eigenpairs: A and B must be square");
+  if (A.rows() != B.rows())
+    throw std::invalid_argument("generalized_eigenpairs: A is " + std::to_string(A.rows()) + " x " +
+                                std::to_string(A.cols()) + " but B is " + std::to_string(B.rows()) + " x " +
+                                std::to_string(B.cols()));
+  const int n = static_cast<int>(A.rows());
+  if (count < 1 || count > n - 1)
+    throw std::invalid_argument("generalized_eigenpairs: count = " + std::to_string(count) +
+                                " is not in [1, n - 1] = [1, " + std::to_string(n - 1) + "]");
+  if (!(options.tolerance >= 0.0))
+    throw std::invalid_argument("generalized_eigenpairs: tolerance must be >= 0");
+  if (options.max_iterations < 1)
+    throw std::invalid_argument("generalized_eigenpairs: max_iterations must be >= 1");
+  if (options.ncv != 0 && (options.ncv <= count || options.ncv > n))
+    throw std::invalid_argument("generalized_eigenpairs: ncv = " + std::to_string(options.ncv) +
+                                " must satisfy count < ncv <= n (or be 0 for the default)");
+  if (options.shift && !std::isfinite(*options.shift))
+    throw std::invalid_argument("generalized_eigenpairs: shift must be finite");
+
+  if (n <= options.dense_threshold) return dense_solve(A, B, count, "n = " + std::to_string(n) + " is small");
+  if (count >= n - 1) return dense_solve(A, B, count, "count >= n - 1, beyond ARPACK");
+
+  // Shift: small negative by default, scaled to the ratio of the two matrices' diagonals.
+  double sigma = 0.0;
+  if (options.shift) {
+    sigma = *options.shift;
+  } else {
+    const double max_a = A.diagonal().maxCoeff(), max_b = B.diagonal().maxCoeff();
+    const double scale = (max_a > 0 && max_b > 0 && std::isfinite(max_a / max_b)) ? max_a / max_b : 1.0;
+    sigma = -1e-8 * scale;
+  }
+
+  GeneralizedEigenResult result;
+  result.shift = sigma;
+  SparseMatrix shifted = A - sigma * B;
+  SparseMatrix upper = shifted.triangularView<Eigen::Upper>();
+  upper.makeCompressed();
+  SparseCholesky factor;
+  const FactorizationResult fact = factor.factorize(upper);
+  if (!fact.success) {
+    result.message = "factorization of A - sigma B failed: " + fact.message;
+    return result;
+  }
+
+  const a_int nev = count;
+  const a_int ncv = options.ncv != 0 ? options.ncv : std::min(n, std::max(2 * count + 1, 20));
+  const a_int lworkl = ncv * (ncv + 8);
+  std::vector<double> resid(static_cast<std::size_t>(n)), v(static_cast<std::size_t>(n) * ncv),
+      workd(3 * static_cast<std::size_t>(n)), workl(static_cast<std::size_t>(lworkl));
+  a_int iparam[11] = {}, ipntr[11] = {};
+  iparam[0] = 1;                       // exact shifts
+  iparam[2] = options.max_iterations;  // max restarts
+  iparam[6] = 3;                       // shift-invert: OP = (A - sigma B)^{-1} B, inner product B
+  a_int ido = 0, info = 0;
+  const double tol = options.tolerance;
+  int applications = 0;
+
+  while (true) {
+    arpack::saupd(ido, arpack::bmat::generalized, n, arpack::which::largest_magnitude, nev, tol, resid.data(),
+                  ncv, v.data(), n, iparam, ipntr, workd.data(), workl.data(), lworkl, info);
+    if (ido != -1 && ido != 1 && ido != 2) break;
+    const Eigen::Map<const Vector> x(workd.data() + ipntr[0] - 1, n);
+    Eigen::Map<Vector> y(workd.data() + ipntr[1] - 1, n);
+    if (ido == -1) {  // y = OP x, B x not yet known
+      y = factor.solve(B * Vector(x));
+      ++applications;
+    } else if (ido == 1) {  // y = OP x with B x given at ipntr[2]
+      const Eigen::Map<const Vector> bx(workd.data() + ipntr[2] - 1, n);
+      y = factor.solve(Vector(bx));
+      ++applications;
+    } else {  // ido == 2: y = B x
+      y = B * Vector(x);
+    }
+  }
+  result.iterations = static_cast<int>(iparam[2]);
+  result.operator_applications = applications;
+  if (info != 0 && info != 1) {
+    result.message = "ARPACK dsaupd error " + std::to_string(info) + ": " + saupd_message(info);
+    return result;
+  }
+  const std::string saupd_status = saupd_message(info);
+  const int nconv = static_cast<int>(iparam[4]);
+  if (nconv < 1) {
+    result.message = "ARPACK dsaupd: no pair converged (" + saupd_status + ")";
+    return result;
+  }
+
+  std::vector<a_int> select(static_cast<std::size_t>(ncv));
+  std::vector<double> d(static_cast<std::size_t>(nev)), z(static_cast<std::size_t>(n) * nev);
+  a_int einfo = 0;
+  arpack::seupd(1, arpack::howmny::ritz_vectors, select.data(), d.data(), z.data(), n, sigma,
+                arpack::bmat::generalized, n, arpack::which::largest_magnitude, nev, tol, resid.data(), ncv,
+                v.data(), n, iparam, ipntr, workd.data(), workl.data(), lworkl, einfo);
+  if (einfo != 0) {
+    result.message = "ARPACK dseupd error " + std::to_string(einfo) + ": " + seupd_message(einfo);
+    return result;
+  }
+  const int got = std::min(nconv, count);
+  // dseupd returns the converged values (un-shifted) in ascending order; sort to be sure.
+  std::vector<int> order(static_cast<std::size_t>(got));
+  for (int i = 0; i < got; ++i) order[static_cast<std::size_t>(i)] = i;
+  std::sort(order.begin(), order.end(),
+            [&](int i, int j) { return d[static_cast<std::size_t>(i)] < d[static_cast<std::size_t>(j)]; });
+  Eigen::Map<const Matrix> zmap(z.data(), n, nev);
+  result.eigenvalues.resize(got);
+  result.eigenvectors.resize(n, got);
+  for (int k = 0; k < got; ++k) {
+    const int i = order[static_cast<std::size_t>(k)];
+    result.eigenvalues[k] = d[static_cast<std::size_t>(i)];
+    result.eigenvectors.col(k) = zmap.col(i);
+  }
+  normalize_signs(result.eigenvectors);
+  result.converged = got;
+  result.success = got == count;
+  result.message = result.success ? "ARPACK shift-invert: " + std::to_string(got) + " pairs converged"
+                                  : "ARPACK shift-invert: only " + std::to_string(got) + " of " +
+                                        std::to_string(count) + " pairs converged (" + saupd_status + ")";
+  if (fact.positive_definite == false) result.message += "; A - sigma B needed LDL^T: " + fact.message;
+  return result;
+}
+
+}  // namespace tailor

@@ -5,6 +5,8 @@
 #include <iomanip>
 #include <ostream>
 
+#include "problems/plot/convergence_plot.hpp"
+
 namespace tailor {
 namespace {
 
@@ -124,10 +126,13 @@ InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std
   run.timings.output = seconds_since(t_output);
   run.timings.total = seconds_since(t_start);
   write_inverse_report_json(run.report_path, run);
+  const std::string plot_path = output_path(out_dir, "convergence.png");
+  write_convergence_png(plot_path, run.result,
+                        problem.scene_name + " (" + to_string(problem.spec.optimizer.backend) + ")");
   if (log) {
     *log << run.result.report();
     print_design(*log, run);
-    *log << "wrote " << run.report_path << " and " << run.result_path << "\n";
+    *log << "wrote " << run.report_path << ", " << run.result_path << " and " << plot_path << "\n";
   }
   return run;
 }

@@ -8,74 +8,14 @@
 #include <vector>
 
 namespace tailor {
-namespace {
-
-void check_mesh(const Mesh& mesh) {
-  const int dim = mesh.dim();
-  if (dim != 2 && dim != 3)
-    throw std::invalid_argument("MaterialSmoothness: mesh dimension must be 2 or 3, got " + std::to_string(dim));
-  if (mesh.num_elements() == 0) throw std::invalid_argument("MaterialSmoothness: mesh has no elements");
-  if (mesh.elements.cols() != dim + 1)
-    throw std::invalid_argument("MaterialSmoothness: elements must have " + std::to_string(dim + 1) + " vertices");
-}
-
-Eigen::VectorXd centroid(const Mesh& mesh, int e) {
-  Eigen::VectorXd c = Eigen::VectorXd::Zero(mesh.dim());
-  for (Eigen::Index a = 0; a < mesh.elements.cols(); ++a) c += mesh.rest_positions.row(mesh.elements(e, a)).transpose();
-  return c / static_cast<double>(mesh.elements.cols());
-}
-
-// Rest measure of the facet shared by elements e and f: the edge length in 2D, the triangle
-// area 1/2 |(b - a) x (c - a)| in 3D.
-double shared_facet_measure(const Mesh& mesh, int e, int f) {
-  const int dim = mesh.dim();
-  std::vector<int> shared;
-  for (Eigen::Index a = 0; a < mesh.elements.cols(); ++a)
-    for (Eigen::Index b = 0; b < mesh.elements.cols(); ++b)
-      if (mesh.elements(e, a) == mesh.elements(f, b)) shared.push_back(mesh.elements(e, a));
-  if (static_cast<int>(shared.size()) != dim)
-    throw std::invalid_argument("MaterialSmoothness: elements " + std::to_string(e) + " and " + std::to_string(f) +
-                                " do not share exactly one facet");
-  const auto X = [&](std::size_t i) { return mesh.rest_positions.row(shared[i]).transpose(); };
-  if (dim == 2) return (X(1) - X(0)).norm();
-  const Eigen::Vector3d ab = X(1) - X(0), ac = X(2) - X(0);
-  return 0.5 * ab.cross(ac).norm();
-}
-
-}  // namespace
 
 Vector MaterialSmoothness::adjacency_weights(const Mesh& mesh, const Eigen::MatrixXi& pairs,
                                              AdjacencyWeighting weighting) {
-  Vector w = Vector::Ones(pairs.rows());
-  if (weighting == AdjacencyWeighting::unit) return w;
-  for (Eigen::Index k = 0; k < pairs.rows(); ++k) {
-    const int e = pairs(k, 0), f = pairs(k, 1);
-    const double measure = shared_facet_measure(mesh, e, f);
-    const double distance = (centroid(mesh, e) - centroid(mesh, f)).norm();
-    if (!(measure > 0) || !(distance > 0) || !std::isfinite(measure / distance))
-      throw std::invalid_argument("MaterialSmoothness: degenerate facet or coincident centroids between elements " +
-                                  std::to_string(e) + " and " + std::to_string(f));
-    w[k] = measure / distance;
-  }
-  return w;
+  return element_adjacency_weights(mesh, pairs, weighting);
 }
 
 SparseMatrix MaterialSmoothness::laplacian(const Mesh& mesh, AdjacencyWeighting weighting) {
-  check_mesh(mesh);
-  const Eigen::MatrixXi pairs = element_adjacency(mesh);
-  const Vector w = adjacency_weights(mesh, pairs, weighting);
-  Triplets triplets;
-  triplets.reserve(4 * static_cast<std::size_t>(pairs.rows()));
-  for (Eigen::Index k = 0; k < pairs.rows(); ++k) {
-    const int e = pairs(k, 0), f = pairs(k, 1);
-    triplets.emplace_back(e, e, w[k]);
-    triplets.emplace_back(f, f, w[k]);
-    triplets.emplace_back(e, f, -w[k]);
-    triplets.emplace_back(f, e, -w[k]);
-  }
-  SparseMatrix L(mesh.num_elements(), mesh.num_elements());
-  L.setFromTriplets(triplets.begin(), triplets.end());
-  return L;
+  return element_adjacency_laplacian(mesh, weighting);
 }
 
 MaterialSmoothness::MaterialSmoothness(const Mesh& mesh, int offset, double alpha, MaterialSmoothnessOptions options)

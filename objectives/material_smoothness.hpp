@@ -19,11 +19,11 @@
 // J does not depend on x. Least-squares form: one residual per adjacent pair,
 // r_ef = sqrt(alpha w_ef) (s_e - s_f), in the order of element_adjacency.
 #include "forward/mesh/mesh.hpp"
+#include "forward/mesh/element_laplacian.hpp"
 #include "objectives/objective.hpp"
 
 namespace tailor {
 
-enum class AdjacencyWeighting { unit, facet_over_distance };
 
 struct MaterialSmoothnessOptions {
   AdjacencyWeighting weighting = AdjacencyWeighting::unit;

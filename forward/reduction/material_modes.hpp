@@ -10,24 +10,19 @@
 // on a connected mesh. Phi is V-orthonormal: Phi^T V Phi = I. This is the basis that
 // linear_basis_map(Phi, p0) takes.
 //
-// Weights:
-//   unit:                w_ef = 1.
-//   facet_over_distance: w_ef = |F_ef| / |c_e - c_f| (shared facet measure over centroid
-//                        distance; two-point flux approximation, so y^T L y approximates the
-//                        integral of |grad y|^2 and the eigenvalues approximate those of the
-//                        Neumann Laplacian of the body).
+// Weights: see element_laplacian.hpp (with facet_over_distance the eigenvalues approximate
+// those of the Neumann Laplacian of the body).
 #include <string>
 
 #include "forward/core/types.hpp"
+#include "forward/mesh/element_laplacian.hpp"
 #include "forward/mesh/mesh.hpp"
 #include "forward/reduction/generalized_eigen.hpp"
 
 namespace tailor {
 
-enum class ModeWeighting { unit, facet_over_distance };
-
 struct MaterialModeOptions {
-  ModeWeighting weighting = ModeWeighting::unit;
+  AdjacencyWeighting weighting = AdjacencyWeighting::unit;
   GeneralizedEigenOptions eigen;  // passed to generalized_eigenpairs
 };
 
@@ -36,11 +31,6 @@ struct MaterialModes {
   Vector eigenvalues;            // r, ascending, >= 0 up to round-off
   GeneralizedEigenResult solve;  // diagnostics of the eigen solve (its eigenvectors moved out)
 };
-
-// The element face-adjacency Laplacian described above (symmetric, full storage, rows sum to
-// zero). Throws std::invalid_argument for an empty or non-simplicial mesh, or (facet_over_distance)
-// a degenerate shared facet / coincident centroids.
-SparseMatrix element_adjacency_laplacian(const Mesh& mesh, ModeWeighting weighting = ModeWeighting::unit);
 
 // The `count` lowest material modes. Throws std::invalid_argument for a bad mesh (as above,
 // or a non-positive element volume) or count not in [1, num_elements - 1]; throws

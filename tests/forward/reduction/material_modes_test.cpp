@@ -25,7 +25,7 @@ SparseMatrix volume_matrix(const Mesh& mesh) {
   return m;
 }
 
-void expect_modes_valid(const Mesh& mesh, const MaterialModes& modes, ModeWeighting weighting,
+void expect_modes_valid(const Mesh& mesh, const MaterialModes& modes, AdjacencyWeighting weighting,
                         double residual_tol) {
   const int m = mesh.num_elements();
   const Eigen::Index r = modes.eigenvalues.size();
@@ -52,13 +52,13 @@ void expect_modes_valid(const Mesh& mesh, const MaterialModes& modes, ModeWeight
 
 TEST(MaterialModes, LaplacianIsSymmetricWithZeroRowSums) {
   const Mesh mesh = small_box();
-  for (ModeWeighting w : {ModeWeighting::unit, ModeWeighting::facet_over_distance}) {
+  for (AdjacencyWeighting w : {AdjacencyWeighting::unit, AdjacencyWeighting::facet_over_distance}) {
     const SparseMatrix L = element_adjacency_laplacian(mesh, w);
     EXPECT_EQ(L.rows(), mesh.num_elements());
     EXPECT_LT(Matrix(L - SparseMatrix(L.transpose())).cwiseAbs().maxCoeff(), 1e-15);
     EXPECT_LT((L * Vector::Ones(L.cols())).cwiseAbs().maxCoeff(), 1e-12);
     // Each interior tet has 4 face neighbours: with unit weights the diagonal is the degree.
-    if (w == ModeWeighting::unit) {
+    if (w == AdjacencyWeighting::unit) {
       EXPECT_EQ(L.diagonal().maxCoeff(), 4.0);
       EXPECT_GE(L.diagonal().minCoeff(), 1.0);
     }
@@ -74,7 +74,7 @@ TEST(MaterialModes, FacetOverDistanceWeightOfTwoUnitTriangles) {
   mesh.elements.resize(2, 3);
   mesh.elements << 0, 1, 2, 0, 2, 3;
   mesh.element_regions = Eigen::VectorXi::Zero(2);
-  const SparseMatrix L = element_adjacency_laplacian(mesh, ModeWeighting::facet_over_distance);
+  const SparseMatrix L = element_adjacency_laplacian(mesh, AdjacencyWeighting::facet_over_distance);
   EXPECT_NEAR(L.coeff(0, 1), -3.0, 1e-14);
   EXPECT_NEAR(L.coeff(0, 0), 3.0, 1e-14);
 }
@@ -94,7 +94,7 @@ TEST(MaterialModes, SmallBoxMatchesDenseGeneralizedSolve) {
   options.eigen.dense_threshold = 0;  // force ARPACK
   const MaterialModes modes = material_modes(mesh, r, options);
   EXPECT_FALSE(modes.solve.dense);
-  expect_modes_valid(mesh, modes, ModeWeighting::unit, 1e-9);
+  expect_modes_valid(mesh, modes, AdjacencyWeighting::unit, 1e-9);
   for (int k = 0; k < r; ++k)
     EXPECT_NEAR(modes.eigenvalues[k], exact[k], 1e-8 * std::max(1.0, exact[k])) << "k = " << k;
   // Same subspace: the dense modes are reproduced by V-projection onto ARPACK's.
@@ -108,9 +108,9 @@ TEST(MaterialModes, SmallBoxMatchesDenseGeneralizedSolve) {
 TEST(MaterialModes, FacetOverDistanceModesAreValid) {
   const Mesh mesh = small_box();
   MaterialModeOptions options;
-  options.weighting = ModeWeighting::facet_over_distance;
+  options.weighting = AdjacencyWeighting::facet_over_distance;
   const MaterialModes modes = material_modes(mesh, 6, options);
-  expect_modes_valid(mesh, modes, ModeWeighting::facet_over_distance, 1e-9);
+  expect_modes_valid(mesh, modes, AdjacencyWeighting::facet_over_distance, 1e-9);
   // Coarse approximation of the Neumann Laplacian of the box [0,1]x[0,1.3]x[0,1.7]: the lowest
   // nonzero eigenvalue is (pi / 1.7)^2 = 3.41; the two-point flux approximation on this
   // coarse Kuhn mesh is only roughly right.
@@ -135,7 +135,7 @@ TEST(MaterialModes, TwentyModesOn48kTets) {
   std::cout << "[ timing ] 20 material modes on 48000 tets: " << seconds << " s (" << modes.solve.iterations
             << " ARPACK restarts, " << modes.solve.operator_applications << " solves)\n";
   EXPECT_FALSE(modes.solve.dense);
-  expect_modes_valid(mesh, modes, ModeWeighting::unit, 1e-8);
+  expect_modes_valid(mesh, modes, AdjacencyWeighting::unit, 1e-8);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // The `tailor gradcheck` and `tailor run` verbs of the executable: exit codes, outputs, and
 // the progress table that --quiet suppresses.
 #include <gtest/gtest.h>
+
+#include "../support/temp_folder.hpp"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -15,22 +17,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kScenes = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes";
+const std::string kScenes = tailor::testing::kScenesDir;
 const std::string kBar = kScenes + "/two_material_bar_inverse.json";
 
-class TempFolder {
- public:
-  explicit TempFolder(const std::string& tag)
-      : path_(fs::temp_directory_path() / ("tailor_inverse_cli_" + tag + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempFolder() { fs::remove_all(path_); }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
+using TempFolder = tailor::testing::TempFolder;
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
@@ -59,7 +49,7 @@ int progress_lines(const std::string& output) {
 }
 
 TEST(InverseCli, GradcheckPassesOnTheExampleAndWritesJson) {
-  TempFolder folder("gradcheck");
+  TempFolder folder("inverse_cli_gradcheck");
   std::string output;
   EXPECT_EQ(run_cli("gradcheck " + kBar + " --out " + (folder / "out") + " --seed 3 --hessian",
                     folder / "log", output),
@@ -73,7 +63,7 @@ TEST(InverseCli, GradcheckPassesOnTheExampleAndWritesJson) {
 }
 
 TEST(InverseCli, BadInputExitsWithTwo) {
-  TempFolder folder("bad");
+  TempFolder folder("inverse_cli_bad");
   std::string scene = read_file(kBar);
   scene.replace(scene.find("\"granularity\": \"per_material\""), 29, "\"granularity\": \"per_part\"");
   std::ofstream(folder / "bad.json") << scene;
@@ -98,7 +88,7 @@ TEST(InverseCli, BadInputExitsWithTwo) {
 }
 
 TEST(InverseCli, RunPrintsProgressUnlessQuiet) {
-  TempFolder folder("run");
+  TempFolder folder("inverse_cli_run");
   std::string output;
   ASSERT_EQ(run_cli("run " + kBar + " --out " + (folder / "loud"), folder / "log", output), 0) << output;
   EXPECT_GT(progress_lines(output), 5) << output;
@@ -114,7 +104,7 @@ TEST(InverseCli, RunPrintsProgressUnlessQuiet) {
 }
 
 TEST(InverseCli, UsageListsTheInverseVerbs) {
-  TempFolder folder("usage");
+  TempFolder folder("inverse_cli_usage");
   std::string output;
   EXPECT_EQ(run_cli("--help", folder / "log", output), 0);
   EXPECT_NE(output.find("gradcheck scene.json [--out DIR] [--seed N] [--hessian]"), std::string::npos)

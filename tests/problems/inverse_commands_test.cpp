@@ -4,6 +4,8 @@
 #include "problems/inverse_commands.hpp"
 
 #include <gtest/gtest.h>
+
+#include "../support/temp_folder.hpp"
 #include <unistd.h>
 
 #include <filesystem>
@@ -18,22 +20,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kScenes = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes";
+const std::string kScenes = tailor::testing::kScenesDir;
 
-// A fresh folder per test, removed afterwards.
-class TempFolder {
- public:
-  explicit TempFolder(const std::string& tag)
-      : path_(fs::temp_directory_path() / ("tailor_inverse_" + tag + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempFolder() { fs::remove_all(path_); }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
+using TempFolder = tailor::testing::TempFolder;
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
@@ -50,7 +39,7 @@ Scene box_scene(const std::string& inverse, const std::string& directory = "") {
 }
 
 TEST(InverseGradcheck, ExampleScenesPassAndWriteTheirJson) {
-  TempFolder folder("gradcheck");
+  TempFolder folder("inverse_gradcheck");
   for (const char* name : {"two_material_bar_inverse", "plate_stripe_inverse"}) {
     SCOPED_TRACE(name);
     const GradcheckRun run = gradcheck_scene(read_scene(kScenes + "/" + name + ".json"), folder / name, {});
@@ -72,7 +61,7 @@ TEST(InverseGradcheck, ExampleScenesPassAndWriteTheirJson) {
 }
 
 TEST(InverseGradcheck, HessianCheckAndSeedOverride) {
-  TempFolder folder("gradcheck_hessian");
+  TempFolder folder("inverse_gradcheck_hessian");
   const GradcheckRun run =
       gradcheck_scene(read_scene(kScenes + "/two_material_bar_inverse.json"), folder / "out", {7u, true});
   EXPECT_EQ(run.seed, 7u);
@@ -86,7 +75,7 @@ TEST(InverseGradcheck, HessianCheckAndSeedOverride) {
 
 // Every term type and both maps, on the small box (per element) and the two-region cube.
 TEST(InverseGradcheck, EveryTermAndDesignMapPasses) {
-  TempFolder folder("gradcheck_terms");
+  TempFolder folder("inverse_gradcheck_terms");
   const Scene identity = box_scene(R"({
     "design": {"parameter": "youngs_modulus", "granularity": "per_element", "map": "identity", "min": 10,
                "initial": 800},
@@ -116,7 +105,7 @@ TEST(InverseGradcheck, EveryTermAndDesignMapPasses) {
 }
 
 TEST(InverseGradcheck, FailedForwardSolveIsAStatusNotAnException) {
-  TempFolder folder("gradcheck_failed");
+  TempFolder folder("inverse_gradcheck_failed");
   // One Newton iteration cannot converge a large Neo-Hookean stretch.
   std::string json = testing::with("\"model\": \"linear\"", "\"model\": \"neo_hookean\"");
   json = testing::with("\"traction\": [1, 0, 0]", "\"traction\": [300, 0, 0]", json);
@@ -134,7 +123,7 @@ TEST(InverseGradcheck, FailedForwardSolveIsAStatusNotAnException) {
 }
 
 TEST(InverseRun, TwoMaterialBarRecoversBothModuli) {
-  TempFolder folder("run_bar");
+  TempFolder folder("inverse_run_bar");
   const InverseRun run =
       run_inverse_scene(read_scene(kScenes + "/two_material_bar_inverse.json"), folder / "out");
   ASSERT_TRUE(run.result.converged()) << run.result.report();
@@ -184,7 +173,7 @@ TEST(InverseRun, TwoMaterialBarRecoversBothModuli) {
 }
 
 TEST(InverseRun, ObservationsFromAFileRecoverTheModulus) {
-  TempFolder folder("run_observations");
+  TempFolder folder("inverse_run_observations");
   // Observe the pulled end of the box at its true modulus (1000), then start from 3000.
   const Scene truth = parse_scene(testing::small_box_scene(), "box.json", "");
   const StaticSetup setup = setup_static_scene(truth);
@@ -211,7 +200,7 @@ TEST(InverseRun, ObservationsFromAFileRecoverTheModulus) {
 }
 
 TEST(InverseRun, IterationLimitStillWritesTheReport) {
-  TempFolder folder("run_limit");
+  TempFolder folder("inverse_run_limit");
   std::string json = read_file(kScenes + "/two_material_bar_inverse.json");
   json = testing::with("\"max_iterations\": 100", "\"max_iterations\": 2", json);
   const InverseRun run = run_inverse_scene(parse_scene(json, "bar.json", kScenes), folder / "out");

@@ -3,6 +3,8 @@
 // line plot, log axes with non-positive values, empty series, unwritable paths, and
 // DIR/convergence.png of `tailor run`.
 #include <gtest/gtest.h>
+
+#include "../support/temp_folder.hpp"
 #include <unistd.h>
 
 #include <array>
@@ -28,21 +30,9 @@ namespace {
 namespace fs = std::filesystem;
 using Bytes = std::vector<std::uint8_t>;
 
-const std::string kScenes = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes";
+const std::string kScenes = tailor::testing::kScenesDir;
 
-class TempFolder {
- public:
-  explicit TempFolder(const std::string& tag)
-      : path_(fs::temp_directory_path() / ("tailor_plot_" + tag + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempFolder() { fs::remove_all(path_); }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
+using TempFolder = tailor::testing::TempFolder;
 
 Bytes read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -162,7 +152,7 @@ TEST(Png, ChecksumsMatchTheirStandardCheckValues) {
 }
 
 TEST(Png, SmallImageRoundTrips) {
-  TempFolder folder("small");
+  TempFolder folder("plot_small");
   RgbImage image(3, 2, {10, 20, 30});
   image.set(2, 1, {1, 2, 3});
   image.set(5, 5, {9, 9, 9});  // outside: ignored
@@ -191,7 +181,7 @@ TEST(Png, UnwritablePathThrowsNamingIt) {
 }
 
 TEST(LinePlotPng, KnownPixelsOfAStraightLine) {
-  TempFolder folder("line");
+  TempFolder folder("plot_line");
   LinePlot plot;
   plot.title = "Straight (lines)";
   plot.x_label = "x";
@@ -252,7 +242,7 @@ TEST(LinePlotPng, LogAxisSkipsNonPositiveAndNonFiniteValues) {
 }
 
 TEST(LinePlotPng, EmptySeriesAndNoSeriesRender) {
-  TempFolder folder("empty");
+  TempFolder folder("plot_empty");
   LinePlot plot;
   plot.title = "nothing";
   plot.series = {{"empty", kRed, {}, {}}};
@@ -292,13 +282,13 @@ TEST(ConvergencePlot, ObjectiveAndGradientNormOnALogAxis) {
   EXPECT_DOUBLE_EQ(frame.y_min, -8.0);
   EXPECT_DOUBLE_EQ(frame.y_max, 0.0);
 
-  TempFolder folder("convergence");
+  TempFolder folder("plot_convergence");
   write_convergence_png(folder / "c.png", OptimizerResult{}, "no iterations");  // empty history
   EXPECT_EQ(decode(read_bytes(folder / "c.png")).height, 500u);
 }
 
 TEST(ConvergencePlot, TailorRunWritesConvergencePng) {
-  TempFolder folder("run");
+  TempFolder folder("plot_run");
   const InverseRun run =
       run_inverse_scene(read_scene(kScenes + "/two_material_bar_inverse.json"), folder / "out");
   ASSERT_FALSE(run.result.history.empty());

@@ -3,6 +3,8 @@
 #include "problems/report.hpp"
 
 #include <gtest/gtest.h>
+
+#include "../support/temp_folder.hpp"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,21 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh folder per test, removed afterwards.
-class TempFolder {
- public:
-  explicit TempFolder(const std::string& tag)
-      : path_(fs::temp_directory_path() / ("tailor_problems_" + tag + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempFolder() { fs::remove_all(path_); }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-  std::string str() const { return path_.string(); }
-
- private:
-  fs::path path_;
-};
+using TempFolder = tailor::testing::TempFolder;
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
@@ -46,7 +34,7 @@ std::string read_file(const std::string& path) {
 void write_file(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
 TEST(Report, HasEveryDocumentedKey) {
-  TempFolder folder("report");
+  TempFolder folder("problems_report");
   const Scene scene = parse_scene(testing::with("\"load_steps\": 1", "\"load_steps\": 2"), "box.json", "");
   const SimulateRun run = simulate_scene(scene, folder / "out");
   ASSERT_TRUE(run.solution.converged);
@@ -87,7 +75,7 @@ TEST(Report, HasEveryDocumentedKey) {
 }
 
 TEST(Report, FailedSolveStillWritesTheReport) {
-  TempFolder folder("failed");
+  TempFolder folder("problems_failed");
   // One iteration cannot converge a large Neo-Hookean stretch.
   std::string json = testing::with("\"model\": \"linear\"", "\"model\": \"neo_hookean\"");
   json = testing::with("\"traction\": [1, 0, 0]", "\"traction\": [300, 0, 0]", json);
@@ -110,7 +98,7 @@ int run_cli(const std::string& arguments, const std::string& log, std::string& o
 }
 
 TEST(Cli, BadSceneExitsWithTwoAndNamesTheKey) {
-  TempFolder folder("cli_bad");
+  TempFolder folder("problems_cli_bad");
   write_file(folder / "beam.json", testing::with("\"poisson_ratio\": 0.3", "\"poisson_ratio\": 0.5"));
   std::string output;
   EXPECT_EQ(
@@ -123,7 +111,7 @@ TEST(Cli, BadSceneExitsWithTwoAndNamesTheKey) {
 }
 
 TEST(Cli, DefaultJobConverges) {
-  TempFolder folder("cli_default");
+  TempFolder folder("problems_cli_default");
   std::string output;
   ASSERT_EQ(run_cli("simulate --out " + (folder / "out"), folder / "log", output), 0) << output;
   EXPECT_NE(output.find("built-in cantilever"), std::string::npos) << output;
@@ -137,7 +125,7 @@ TEST(Cli, DefaultJobConverges) {
 }
 
 TEST(Cli, SceneFileRunsAndChecks) {
-  TempFolder folder("cli_scene");
+  TempFolder folder("problems_cli_scene");
   write_file(folder / "box.json", testing::small_box_scene());
   std::string output;
   EXPECT_EQ(
@@ -149,7 +137,7 @@ TEST(Cli, SceneFileRunsAndChecks) {
 }
 
 TEST(Cli, UsageVersionAndUnknownInput) {
-  TempFolder folder("cli_usage");
+  TempFolder folder("problems_cli_usage");
   std::string output;
   EXPECT_EQ(run_cli("--version", folder / "log", output), 0);
   EXPECT_EQ(output.rfind("tailor ", 0), 0u) << output;

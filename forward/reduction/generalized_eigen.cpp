@@ -12,83 +12,43 @@
 namespace tailor {
 namespace {
 
-std::string saupd_message(a_int info) {
+// Text for an ARPACK info code of dsaupd (the iteration) or dseupd (the extraction); most
+// codes mean the same in both.
+std::string arpack_message(a_int info, bool extraction) {
   switch (info) {
-    case 0:
-      return "converged";
-    case 1:
-      return "maximum number of iterations reached before all pairs converged";
-    case 3:
-      return "no shifts could be applied during an implicit restart (try a larger ncv)";
-    case -1:
-      return "n must be positive";
-    case -2:
-      return "count (nev) must be positive";
-    case -3:
-      return "ncv must satisfy count < ncv <= n";
-    case -4:
-      return "the maximum number of iterations must be positive";
-    case -5:
-      return "invalid 'which' option";
-    case -6:
-      return "invalid bmat option";
-    case -7:
-      return "work array too short";
-    case -8:
-      return "error in the LAPACK tridiagonal eigenvalue calculation";
-    case -9:
-      return "the starting vector is zero";
-    case -10:
-      return "invalid ARPACK mode";
-    case -11:
-      return "mode 1 is incompatible with bmat = 'G'";
-    case -12:
-      return "invalid shift strategy (iparam[0])";
-    case -13:
-      return "nev and which = 'BE' are incompatible";
-    case -9999:
-      return "could not build a Lanczos factorization (B may not be positive definite)";
-    default:
-      return "unknown ARPACK dsaupd error";
+    case -1: return "n must be positive";
+    case -2: return "count (nev) must be positive";
+    case -3: return "ncv must satisfy count < ncv <= n";
+    case -5: return "invalid 'which' option";
+    case -6: return "invalid bmat option";
+    case -7: return "work array too short";
+    case -8: return "error in the LAPACK tridiagonal eigenvalue calculation";
+    case -10: return "invalid ARPACK mode";
+    case -11: return "mode 1 is incompatible with bmat = 'G'";
+    default: break;
   }
-}
-
-std::string seupd_message(a_int info) {
+  if (extraction) {
+    switch (info) {
+      case 0: return "ok";
+      case -9: return "error in the LAPACK eigenvector calculation";
+      case -12: return "nev and which = 'BE' are incompatible";
+      case -14: return "dsaupd found no eigenvalues to sufficient accuracy";
+      case -15: return "howmny must be 'A' or 'S'";
+      case -16: return "howmny = 'S' is not implemented";
+      case -17: return "the number of converged Ritz values changed between dsaupd and dseupd";
+      default: return "unknown ARPACK dseupd error";
+    }
+  }
   switch (info) {
-    case 0:
-      return "ok";
-    case -1:
-      return "n must be positive";
-    case -2:
-      return "count (nev) must be positive";
-    case -3:
-      return "ncv must satisfy count < ncv <= n";
-    case -5:
-      return "invalid 'which' option";
-    case -6:
-      return "invalid bmat option";
-    case -7:
-      return "work array too short";
-    case -8:
-      return "error in the LAPACK tridiagonal eigenvalue calculation";
-    case -9:
-      return "error in the LAPACK eigenvector calculation";
-    case -10:
-      return "invalid ARPACK mode";
-    case -11:
-      return "mode 1 is incompatible with bmat = 'G'";
-    case -12:
-      return "nev and which = 'BE' are incompatible";
-    case -14:
-      return "dsaupd found no eigenvalues to sufficient accuracy";
-    case -15:
-      return "howmny must be 'A' or 'S'";
-    case -16:
-      return "howmny = 'S' is not implemented";
-    case -17:
-      return "the number of converged Ritz values changed between dsaupd and dseupd";
-    default:
-      return "unknown ARPACK dseupd error";
+    case 0: return "converged";
+    case 1: return "maximum number of iterations reached before all pairs converged";
+    case 3: return "no shifts could be applied during an implicit restart (try a larger ncv)";
+    case -4: return "the maximum number of iterations must be positive";
+    case -9: return "the starting vector is zero";
+    case -12: return "invalid shift strategy (iparam[0])";
+    case -13: return "nev and which = 'BE' are incompatible";
+    case -9999: return "could not build a Lanczos factorization (B may not be positive definite)";
+    default: return "unknown ARPACK dsaupd error";
   }
 }
 
@@ -204,10 +164,10 @@ GeneralizedEigenResult generalized_eigenpairs(const SparseMatrix& A, const Spars
   result.iterations = static_cast<int>(iparam[2]);
   result.operator_applications = applications;
   if (info != 0 && info != 1) {
-    result.message = "ARPACK dsaupd error " + std::to_string(info) + ": " + saupd_message(info);
+    result.message = "ARPACK dsaupd error " + std::to_string(info) + ": " + arpack_message(info, false);
     return result;
   }
-  const std::string saupd_status = saupd_message(info);
+  const std::string saupd_status = arpack_message(info, false);
   const int nconv = static_cast<int>(iparam[4]);
   if (nconv < 1) {
     result.message = "ARPACK dsaupd: no pair converged (" + saupd_status + ")";
@@ -221,7 +181,7 @@ GeneralizedEigenResult generalized_eigenpairs(const SparseMatrix& A, const Spars
                 arpack::bmat::generalized, n, arpack::which::largest_magnitude, nev, tol, resid.data(), ncv,
                 v.data(), n, iparam, ipntr, workd.data(), workl.data(), lworkl, einfo);
   if (einfo != 0) {
-    result.message = "ARPACK dseupd error " + std::to_string(einfo) + ": " + seupd_message(einfo);
+    result.message = "ARPACK dseupd error " + std::to_string(einfo) + ": " + arpack_message(einfo, true);
     return result;
   }
   const int got = std::min(nconv, count);

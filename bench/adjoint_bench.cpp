@@ -20,9 +20,7 @@
 #include <vector>
 
 #include "adjoint/static_functional.hpp"
-#include "forward/fem/elastic_term.hpp"
-#include "forward/fem/loads.hpp"
-#include "forward/mesh/generate.hpp"
+#include "loaded_block.hpp"
 #include "objectives/target_positions.hpp"
 #include "tailor_version.hpp"
 
@@ -41,35 +39,19 @@ struct Row {
 };
 
 Row run(MaterialKind kind, int target_tets) {
-  const int n = std::max(1, static_cast<int>(std::lround(std::cbrt(target_tets / 6.0))));
-  const Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 1), n, n, n);
+  const bench::LoadedBlock block = bench::make_loaded_block(target_tets, kind);
+  const Mesh& mesh = block.mesh;
+  const Model& model = *block.model;
   const int m = mesh.num_elements();
-  Model model(3 * mesh.num_vertices());
-  model.parameter_layout().add("youngs_modulus", m);
-  model.parameter_layout().add("poisson_ratio", m);
-  model.add(std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(kind), 0, m));
-  const double E = 1e6;
-  const Eigen::MatrixXi top = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[2] > 1 - 1e-9; });
-  model.add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, top, Eigen::Vector3d(0.05 * E, 0.0, -0.05 * E))));
-  Vector rest(3 * mesh.num_vertices());
-  std::vector<int> fixed, top_vertices;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    rest.segment<3>(3 * v) = mesh.rest_positions.row(v).transpose();
-    if (mesh.rest_positions(v, 2) < 1e-9)
-      for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
-    if (mesh.rest_positions(v, 2) > 1 - 1e-9) top_vertices.push_back(v);
-  }
-  model.set_elimination(Elimination::dirichlet(fixed, rest));
-  Vector base(2 * m);
-  base.head(m).setConstant(E);
-  base.tail(m).setConstant(0.4);
+  const Vector& base = block.parameters;
+  const std::vector<int>& top_vertices = block.top_vertices;
   const auto map = embed_blocks(base, {{0, identity_map(m)}});
   Matrix targets(top_vertices.size(), 3);
   for (std::size_t k = 0; k < top_vertices.size(); ++k)
     targets.row(k) = mesh.rest_positions.row(top_vertices[k]) + Eigen::RowVector3d(0.02, 0.0, -0.03);
   const auto objective = std::make_shared<TargetPositions>(3, top_vertices, targets);
   const Vector z = base.head(m);
-  const Vector y0 = model.elimination().restrict_state(rest);
+  const Vector y0 = block.rest_unknowns();
 
   Row row;
   row.material = to_string(kind);

@@ -1,4 +1,4 @@
-// Newton iteration cost on box meshes under a Neo-Hookean load case.
+// Newton iteration cost on box meshes under a Neo-Hookean load case (bench/loaded_block.hpp).
 //
 // For each mesh size, per Newton iteration: assembly (energy + gradient + Hessian),
 // numeric factorization, triangular solve, line search; and the ratio
@@ -19,9 +19,7 @@
 #include <thread>
 #include <vector>
 
-#include "forward/fem/elastic_term.hpp"
-#include "forward/fem/loads.hpp"
-#include "forward/mesh/generate.hpp"
+#include "loaded_block.hpp"
 #include "forward/solve/blas_info.hpp"
 #include "forward/solve/newton.hpp"
 #include "tailor_version.hpp"
@@ -40,41 +38,20 @@ struct SizeResult {
   int target_tets, tets, vertices, free_dofs, iterations;
   std::string status;
   double analysis, assembly, factorization, solve, line_search, iteration, ratio, total;
-  long long factor_nnz_hint;
 };
 
 SizeResult run(int target_tets, int max_iterations) {
-  // Cube split into n^3 cells of 6 tets, n chosen to match the target count.
-  const int n = std::max(1, static_cast<int>(std::lround(std::cbrt(target_tets / 6.0))));
-  const Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 1), n, n, n);
+  const bench::LoadedBlock block = bench::make_loaded_block(target_tets, MaterialKind::neo_hookean);
+  const Mesh& mesh = block.mesh;
+  const Model& model = *block.model;
   const int m = mesh.num_elements();
-  Model model(3 * mesh.num_vertices());
-  model.parameter_layout().add("youngs_modulus", m);
-  model.parameter_layout().add("poisson_ratio", m);
-  model.add(std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(MaterialKind::neo_hookean), 0, m));
-
-  // Clamped bottom (z = 0); the top face gets a shear-and-compression traction that
-  // deforms the block by roughly 20-30% (about ten Newton iterations).
-  const Eigen::MatrixXi top_facets = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[2] > 1 - 1e-9; });
-  const double E = 1e6;
-  model.add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, top_facets, Eigen::Vector3d(0.05 * E, 0.0, -0.05 * E))));
-  Vector rest(3 * mesh.num_vertices());
-  std::vector<int> fixed;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    rest.segment<3>(3 * v) = mesh.rest_positions.row(v).transpose();
-    if (mesh.rest_positions(v, 2) < 1e-9)
-      for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
-  }
-  model.set_elimination(Elimination::dirichlet(fixed, rest));
-  Vector p(2 * m);
-  p.head(m).setConstant(E);
-  p.tail(m).setConstant(0.4);
+  const Vector& p = block.parameters;
 
   NewtonOptions options;
   options.max_iterations = max_iterations;
   options.relative_tolerance = 1e-8;
   NewtonSolver solver(model, options);
-  Vector y = model.elimination().restrict_state(rest);
+  Vector y = block.rest_unknowns();
   const NewtonResult r = solver.solve(p, y);
 
   std::vector<double> assembly, factorization, solve, line_search, iteration, ratio;

@@ -28,9 +28,11 @@ void print_problem(std::ostream& log, const InverseProblem& problem) {
   const Mesh& mesh = problem.setup.mesh;
   log << "scene '" << problem.scene_name << "' (" << problem.scene_source << "): " << mesh.dim() << "D mesh, "
       << mesh.num_vertices() << " vertices, " << mesh.num_elements() << " elements; design: " << d.parameter
-      << " " << to_string(d.granularity) << " (" << problem.num_design() << " variable"
-      << (problem.num_design() == 1 ? "" : "s") << "), " << (d.map == DesignMap::log ? "z = log E" : "z = E")
-      << "\n";
+      << " " << to_string(d.granularity) << " (" << problem.num_material_design() << " variable"
+      << (problem.num_material_design() == 1 ? "" : "s") << "), "
+      << (d.map == DesignMap::log ? "z = log E" : "z = E");
+  if (problem.handles) log << ", plus " << problem.handles->displacement_size() << " handle displacements";
+  log << "\n";
   log << "objective:";
   for (const ObjectiveTermInfo& t : problem.terms)
     log << (&t == &problem.terms.front() ? " " : " + ") << std::defaultfloat << std::setprecision(4)
@@ -44,7 +46,7 @@ void print_design(std::ostream& log, const InverseRun& run) {
   log << std::scientific << std::setprecision(8);
   if (problem.spec.design.granularity != DesignGranularity::per_element) {
     const Eigen::VectorXd initial = problem.design_values(problem.z0);
-    for (int k = 0; k < problem.num_design(); ++k)
+    for (int k = 0; k < problem.num_material_design(); ++k)
       log << "  " << problem.design_labels[k] << ": E = " << run.design_values[k] << " (initial "
           << initial[k] << ")\n";
   } else {
@@ -55,6 +57,17 @@ void print_design(std::ostream& log, const InverseRun& run) {
     log << "  error against the ground truth (" << problem.truth_key << "): relative L2 "
         << std::setprecision(3) << run.error->relative_l2 << ", max relative " << run.error->max_relative
         << " (initially " << run.initial_error->relative_l2 << ")\n";
+  for (const HandleResult& h : run.handles) {
+    log << "  " << h.key << " (" << h.vertices << " vertices): force " << h.total_force.transpose();
+    if (h.target_force.size() > 0)
+      log << ", error " << std::setprecision(3) << h.force_error << " (relative " << h.relative_force_error
+          << ")" << std::setprecision(8);
+    log << "; displacement " << h.displacement.transpose();
+    if (h.target_displacement.size() > 0)
+      log << ", error " << std::setprecision(3) << h.displacement_error << " (relative "
+          << h.relative_displacement_error << ")" << std::setprecision(8);
+    log << "\n";
+  }
   log << std::defaultfloat;
 }
 
@@ -108,13 +121,13 @@ InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std
   const auto t_output = Clock::now();
   run.design_values = problem.design_values(run.result.z);
   run.youngs_modulus = problem.youngs_modulus(run.result.z);
-  StaticSetup best = problem.setup;
-  best.youngs_modulus = run.youngs_modulus;
+  const StaticSetup best = problem.setup_at(run.result.z);
   run.solution = solve_static(best);
   if (run.solution.converged) {
     const Vector p = problem.parameterization->apply(run.result.z);
     for (const ObjectiveTermInfo& t : problem.terms)
       run.term_values.push_back(t.coefficient * t.term->value(run.solution.positions, p));
+    run.handles = handle_results(problem, run.result.z, run.solution.positions);
   }
   if (problem.truth.size() > 0) {
     run.error = field_error(best.mesh, run.youngs_modulus, problem.truth);

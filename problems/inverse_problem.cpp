@@ -11,6 +11,7 @@
 #include "objectives/target_positions.hpp"
 #include "objectives/tikhonov.hpp"
 #include "objectives/weighted_sum.hpp"
+#include "problems/inverse_handles.hpp"
 #include "problems/scene_selection.hpp"
 
 namespace tailor {
@@ -117,7 +118,7 @@ void initial_design(const Scene& scene, InverseProblem& problem) {
 }
 
 ParameterizationPtr design_map(const InverseProblem& problem) {
-  const int n = problem.num_design();
+  const int n = problem.num_material_design();
   const int ne = problem.setup.mesh.num_elements();
   ParameterizationPtr values = problem.spec.design.map == DesignMap::log ? exp_map(n) : identity_map(n);
   ParameterizationPtr per_element = values;
@@ -125,7 +126,15 @@ ParameterizationPtr design_map(const InverseProblem& problem) {
     std::vector<int> group(problem.design_of_element.data(), problem.design_of_element.data() + ne);
     per_element = compose(region_scatter_map(std::move(group), n), values);
   }
-  return embed_blocks(problem.setup.parameters(), {{problem.youngs_offset, per_element}});
+  std::vector<ParameterBlock> blocks{{problem.youngs_offset, per_element}};
+  Vector base = problem.setup.parameters();
+  if (problem.handles) {  // u~ after the material design: z = [z_E, u~]
+    const int size = problem.handles->displacement_size();
+    base.conservativeResize(problem.model->parameter_layout().size());
+    base.segment(problem.handle_offset, size).setZero();
+    blocks.push_back({problem.handle_offset, identity_map(size)});
+  }
+  return embed_blocks(std::move(base), std::move(blocks));
 }
 
 // Relative misfit of displacements: coefficient weight / |u*|^2 (see the header).
@@ -196,6 +205,8 @@ ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const 
   }
   if (const auto* t = std::get_if<SyntheticObservationsTerm>(&spec.term))
     return synthetic_term(scene, problem, spec, *t);
+  if (std::holds_alternative<HandlesTerm>(spec.term))  // built by attach_handles
+    return {spec.key, spec.type(), spec.weight, spec.weight, problem.handles};
   if (const auto* t = std::get_if<SmoothnessTerm>(&spec.term)) {
     try {
       auto term = std::make_shared<MaterialSmoothness>(
@@ -220,7 +231,7 @@ std::unique_ptr<StaticFunctional> make_functional(const InverseProblem& problem)
   const Vector rest = elimination.restrict_state(problem.setup.rest_state());
   Vector start = rest;
   if (problem.setup.solver.load_steps > 1) {
-    const StaticSolution ramped = solve_static(problem.setup);
+    const StaticSolution ramped = solve_static(problem.setup_at(problem.z0));
     if (ramped.converged) start = elimination.restrict_state(ramped.positions);
   }
   StaticFunctionalOptions options;  // keeps its tighter tolerance: gradients need it
@@ -244,13 +255,25 @@ std::unique_ptr<StaticFunctional> make_functional(const InverseProblem& problem)
 }  // namespace
 
 Eigen::VectorXd InverseProblem::design_values(const Vector& z) const {
-  return spec.design.map == DesignMap::log ? Eigen::VectorXd(z.array().exp()) : Eigen::VectorXd(z);
+  const Vector material = z.head(num_material_design());
+  return spec.design.map == DesignMap::log ? Eigen::VectorXd(material.array().exp())
+                                           : Eigen::VectorXd(material);
 }
 
 Eigen::VectorXd InverseProblem::youngs_modulus(const Vector& z) const {
   const Eigen::VectorXd values = design_values(z);
   Eigen::VectorXd out(design_of_element.size());
   for (Eigen::Index e = 0; e < out.size(); ++e) out[e] = values[design_of_element[e]];
+  return out;
+}
+
+StaticSetup InverseProblem::setup_at(const Vector& z) const {
+  StaticSetup out = setup;
+  out.youngs_modulus = youngs_modulus(z);
+  if (handles)
+    for (int k = 0; k < handles->displacement_size(); ++k)
+      out.prescribed_displacement[handles->dofs()[static_cast<std::size_t>(k)]] =
+          z[num_material_design() + k];
   return out;
 }
 
@@ -273,9 +296,14 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene) {
   assign_design_groups(scene, *problem);
   initial_design(scene, *problem);
   problem->setup.youngs_modulus = problem->youngs_modulus(problem->z0);
+  std::string handles_key;
+  const HandlesTerm* handles = find_handles_term(problem->spec, &handles_key);
+  std::vector<std::vector<int>> handle_vertices;
+  if (handles) handle_vertices = constrain_handles(scene, *problem, *handles, handles_key);
 
   problem->model = build_static_model(problem->setup, 1.0);
   problem->youngs_offset = problem->model->parameter_layout().at("youngs_modulus").offset;
+  if (handles) attach_handles(*problem, *handles, handle_vertices);
   problem->parameterization = design_map(*problem);
 
   std::vector<ObjectivePtr> parts;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "adjoint/static_functional.hpp"
+#include "objectives/handle_objective.hpp"
 #include "optimizers/optimizer.hpp"
 #include "problems/inverse_scene.hpp"
 #include "problems/static_scene.hpp"
@@ -32,24 +33,32 @@ struct ObjectiveTermInfo {
 struct InverseProblem {
   std::string scene_name, scene_source;
   InverseSpec spec;
-  StaticSetup setup;                       // youngs_modulus holds the initial design
-  std::unique_ptr<Model> model;            // at full load
-  int youngs_offset = 0;                   // of the "youngs_modulus" block in p
+  StaticSetup setup;             // youngs_modulus holds the initial design; fixed_dofs include the handles'
+  std::unique_ptr<Model> model;  // at full load
+  int youngs_offset = 0;         // of the "youngs_modulus" block in p
   Eigen::VectorXi design_of_element;       // per element: its design variable
   std::vector<std::string> design_labels;  // per design variable: "element e", "region r", "materials[m]"
   ParameterizationPtr parameterization;
   std::vector<ObjectiveTermInfo> terms;
   ObjectivePtr objective;
   std::unique_ptr<StaticFunctional> functional;
+  // With a "handles" term: its objective (also in `terms`), the offset of the
+  // "handle_displacement" block u~ in p; z = [material design, u~] (problems/inverse_handles.hpp).
+  std::shared_ptr<const HandleObjective> handles;
+  int handle_offset = 0;
   Vector z0;                   // initial design
   Bounds bounds;               // in z-space; empty when the design has no min/max
   Eigen::VectorXd truth;       // per element true E; empty when unknown
   std::string truth_key;       // the key it came from
   double setup_seconds = 0.0;  // building all this, including the synthetic forward solves
 
-  int num_design() const { return static_cast<int>(z0.size()); }
-  Eigen::VectorXd design_values(const Vector& z) const;   // E per design variable
+  int num_design() const { return static_cast<int>(z0.size()); }  // all of z
+  int num_material_design() const { return static_cast<int>(design_labels.size()); }
+  Eigen::VectorXd design_values(const Vector& z) const;   // E per material design variable
   Eigen::VectorXd youngs_modulus(const Vector& z) const;  // E per element
+  // The static setup at design z: its Young's moduli and, with handles, u~ prescribed on the
+  // handle DOFs (solve_static of it is the equilibrium J(z) sees).
+  StaticSetup setup_at(const Vector& z) const;
 };
 
 // Throws SceneError (no inverse section, selectors that select nothing, sizes that do not fit

@@ -44,6 +44,34 @@ Json taylor_json(const TaylorTestResult& result) {
   }
 }
 
+Json optional_vector(const Vector& v) { return v.size() > 0 ? to_json(v) : Json(nullptr); }
+
+// The handles term's settings and, per handle, what it achieved (see the README).
+Json handles_json(const InverseProblem& problem, const std::vector<HandleResult>& results) {
+  const HandlesTerm* term = find_handles_term(problem.spec);
+  Json list = Json::array();
+  for (const HandleResult& r : results) {
+    const bool has_f = r.target_force.size() > 0, has_u = r.target_displacement.size() > 0;
+    list.push_back(
+        {{"key", r.key},
+         {"vertices", r.vertices},
+         {"weight", r.weight},
+         {"force", to_json(r.total_force)},
+         {"target_force", optional_vector(r.target_force)},
+         {"force_per_vertex", r.force_per_vertex},
+         {"force_error", has_f ? Json(r.force_error) : Json(nullptr)},
+         {"relative_force_error", has_f ? Json(r.relative_force_error) : Json(nullptr)},
+         {"displacement", to_json(r.displacement)},
+         {"target_displacement", optional_vector(r.target_displacement)},
+         {"displacement_error", has_u ? Json(r.displacement_error) : Json(nullptr)},
+         {"relative_displacement_error", has_u ? Json(r.relative_displacement_error) : Json(nullptr)}});
+  }
+  return {{"alpha", term ? term->alpha : 1.0},
+          {"beta", term ? term->beta : 1.0},
+          {"displacement_variables", problem.handles->displacement_size()},
+          {"list", list}};
+}
+
 }  // namespace
 
 void write_gradcheck_json(const std::string& path, const GradcheckRun& run) {
@@ -105,7 +133,7 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
   Json design = {{"parameter", d.parameter},
                  {"granularity", to_string(d.granularity)},
                  {"map", to_string(d.map)},
-                 {"size", problem.num_design()},
+                 {"size", problem.num_material_design()},
                  {"min", d.min ? Json(*d.min) : Json(nullptr)},
                  {"max", d.max ? Json(*d.max) : Json(nullptr)},
                  {"initial", summary(mesh, problem.youngs_modulus(problem.z0))},
@@ -115,6 +143,7 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
     design["values"] = to_json(run.design_values);
   }
   report["design"] = design;
+  if (problem.handles) report["handles"] = handles_json(problem, run.handles);
   if (run.error) {
     Json truth = {{"source", problem.truth_key}};
     truth.update(error_json(*run.error));
@@ -131,9 +160,14 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
 
 void write_inverse_result_vtu(const std::string& path, const InverseRun& run) {
   const InverseProblem& problem = *run.problem;
-  StaticSetup setup = problem.setup;
-  setup.youngs_modulus = run.youngs_modulus;
+  const StaticSetup setup = problem.setup_at(run.result.z);
   VtkFields extra;
+  if (problem.handles) {  // 1 + the handle's index on handle vertices, 0 elsewhere
+    Eigen::MatrixXd handle = Eigen::MatrixXd::Zero(setup.mesh.num_vertices(), 1);
+    for (int h = 0; h < problem.handles->num_handles(); ++h)
+      for (int v : problem.handles->handle(h).vertices) handle(v, 0) = h + 1;
+    extra.point["handle"] = handle;
+  }
   extra.cell["youngs_modulus_initial"] = problem.youngs_modulus(problem.z0);
   if (problem.truth.size() > 0) {
     extra.cell["youngs_modulus_true"] = problem.truth;

@@ -9,6 +9,7 @@
 
 #include "adjoint/taylor_test.hpp"
 #include "optimizers/optimizer.hpp"
+#include "problems/inverse_handles.hpp"
 #include "problems/inverse_problem.hpp"
 
 namespace tailor {
@@ -41,7 +42,8 @@ struct InverseRun {
   std::vector<double> term_values;  // coefficient * term at result.z, per objective term
   std::optional<FieldError> error;  // against the ground truth, when known
   std::optional<FieldError> initial_error;
-  StaticSolution solution;  // the equilibrium at result.z (with the scene's load steps)
+  StaticSolution solution;            // the equilibrium at result.z (with the scene's load steps)
+  std::vector<HandleResult> handles;  // per handle at result.z, when the scene has handles and it converged
   InverseTimings timings;
   std::string report_path;  // out_dir/report.json
   std::string result_path;  // out_dir/result.vtu

@@ -24,14 +24,14 @@ std::string to_string(DesignMap map) { return map == DesignMap::log ? "log" : "i
 
 std::string ObjectiveTermSpec::type() const {
   static const char* const names[] = {"target_displacements", "observations", "synthetic_observations",
-                                      "smoothness", "tikhonov"};
+                                      "smoothness",           "tikhonov",     "handles"};
   return names[term.index()];
 }
 
 bool ObjectiveTermSpec::is_data() const {
   return std::holds_alternative<TargetDisplacementsTerm>(term) ||
          std::holds_alternative<ObservationsTerm>(term) ||
-         std::holds_alternative<SyntheticObservationsTerm>(term);
+         std::holds_alternative<SyntheticObservationsTerm>(term) || std::holds_alternative<HandlesTerm>(term);
 }
 
 namespace {
@@ -137,8 +137,9 @@ ObservationsTerm parse_observation_file(const SceneNode& node, const std::string
 ObjectiveTermSpec parse_term(const SceneNode& node, const std::string& directory) {
   ObjectiveTermSpec spec;
   spec.key = node.path();
-  const std::string type = node.at("type").choice(
-      {"target_displacements", "observations", "synthetic_observations", "smoothness", "tikhonov"});
+  const std::string type =
+      node.at("type").choice({"target_displacements", "observations", "synthetic_observations", "smoothness",
+                              "tikhonov", "handles"});
   if (type == "target_displacements") {
     node.expect_keys({"type", "weight", "vertices", "displacement"});
     spec.term = TargetDisplacementsTerm{parse_vertex_selector(node.at("vertices"), directory),
@@ -162,6 +163,8 @@ ObjectiveTermSpec parse_term(const SceneNode& node, const std::string& directory
       t.weighting = w->choice({"unit", "facet"}) == "unit" ? AdjacencyWeighting::unit
                                                            : AdjacencyWeighting::facet_over_distance;
     spec.term = t;
+  } else if (type == "handles") {
+    spec.term = parse_handles_term(node, directory);
   } else {
     node.expect_keys({"type", "weight", "prior"});
     spec.term = TikhonovTerm{node.at("prior").positive()};
@@ -217,7 +220,8 @@ InverseSpec parse_inverse_section(const SceneNode& node, const std::string& dire
   }
   if (!has_data)
     objective.fail(
-        "needs at least one data term (target_displacements, observations or synthetic_observations); "
+        "needs at least one data term (target_displacements, observations, synthetic_observations or "
+        "handles); "
         "regularization alone has nothing to fit");
   // log E needs E > 0, which only the log map or a positive lower bound guarantees.
   const bool positive = spec.design.map == DesignMap::log || (spec.design.min && *spec.design.min > 0.0);
@@ -228,6 +232,10 @@ InverseSpec parse_inverse_section(const SceneNode& node, const std::string& dire
           "smoothness on log E needs E > 0: with the identity map give inverse.design.min > 0, use \"on\": "
           "\"value\", or the log map");
   }
+  int handle_terms = 0;
+  for (std::size_t k = 0; k < spec.objective.size(); ++k)
+    if (std::holds_alternative<HandlesTerm>(spec.objective[k].term) && ++handle_terms > 1)
+      objective.items()[k].fail("at most one \"handles\" term; list every handle in the first one");
   if (auto truth = node.find("ground_truth")) {
     truth->expect_keys({"youngs_modulus"});
     spec.ground_truth = parse_modulus_field(truth->at("youngs_modulus"), directory);

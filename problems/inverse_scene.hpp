@@ -13,6 +13,7 @@
 #include "adjoint/taylor_test.hpp"
 #include "objectives/material_smoothness.hpp"
 #include "optimizers/optimizer.hpp"
+#include "problems/inverse_handles_spec.hpp"
 #include "problems/scene.hpp"
 
 namespace tailor {
@@ -67,12 +68,12 @@ struct TikhonovTerm {
 
 struct ObjectiveTermSpec {
   std::variant<TargetDisplacementsTerm, ObservationsTerm, SyntheticObservationsTerm, SmoothnessTerm,
-               TikhonovTerm>
+               TikhonovTerm, HandlesTerm>
       term;
   double weight = 1.0;
   std::string key;           // "inverse.objective[i]"
   std::string type() const;  // the JSON "type"
-  bool is_data() const;      // compares displacements (not a regularization)
+  bool is_data() const;      // compares displacements or forces (not a regularization)
 };
 
 struct InverseSpec {

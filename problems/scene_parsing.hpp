@@ -31,6 +31,9 @@ std::vector<double> read_positive_values(const SceneNode& node, const std::strin
 
 VertexSelector parse_vertex_selector(const SceneNode& node, const std::string& directory);
 
+// A "handles" objective term (inverse_handles.cpp).
+HandlesTerm parse_handles_term(const SceneNode& node, const std::string& directory);
+
 // The "inverse" section (inverse_scene.cpp).
 InverseSpec parse_inverse_section(const SceneNode& node, const std::string& directory);
 

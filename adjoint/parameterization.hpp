@@ -31,6 +31,8 @@ using ParameterizationPtr = std::shared_ptr<const Parameterization>;
 ParameterizationPtr identity_map(int n);
 // p_i = exp(z_i): positivity (and a log-scale for moduli spanning decades).
 ParameterizationPtr exp_map(int n);
+// p_i = s_i z_i, s_i finite and non-zero: variables in units of a characteristic size.
+ParameterizationPtr scale_map(Vector scales);
 // p = basis z + offset (e.g. Laplacian material modes: E = Phi z).
 ParameterizationPtr linear_basis_map(Matrix basis, Vector offset);
 // p_e = z[region[e]]: one design variable per region, scattered to its elements.

@@ -231,9 +231,22 @@ void attach_handles(InverseProblem& problem, const HandlesTerm& term,
                                         problem.handle_offset, HandleObjectiveOptions{term.alpha, term.beta});
 
   const Vector u0 = initial_handle_displacements(problem, term, vertices);
+  // The characteristic displacement: the largest target, else the largest initial one, else
+  // 1e-3 of the bounding-box diagonal.
+  double scale = 0.0;
+  for (const HandleSpec& h : term.handles)
+    if (h.displacement) scale = std::max(scale, h.displacement->norm());
+  for (Eigen::Index i = 0; scale == 0.0 && i + dim <= u0.size(); i += dim)
+    scale = std::max(scale, u0.segment(i, dim).norm());
+  if (!(scale > 0.0)) {
+    const Mesh& mesh = setup.mesh;
+    scale =
+        1e-3 * (mesh.rest_positions.colwise().maxCoeff() - mesh.rest_positions.colwise().minCoeff()).norm();
+  }
+  problem.handle_scale = scale;
   const Eigen::Index n = problem.z0.size(), m = u0.size();
   problem.z0.conservativeResize(n + m);
-  problem.z0.tail(m) = u0;
+  problem.z0.tail(m) = u0 / scale;
   if (problem.bounds.lower.size() > 0 || problem.bounds.upper.size() > 0) {
     const double inf = std::numeric_limits<double>::infinity();
     problem.bounds.lower.conservativeResize(n + m);

@@ -24,9 +24,11 @@ std::vector<std::vector<int>> constrain_handles(const Scene& scene, InverseProbl
                                                 const HandlesTerm& term, const std::string& key);
 
 // After the model is built: adds the "handle_displacement" block to the model, builds
-// problem.handles, and appends u~0 to problem.z0 (ubar, or for handles without ubar the
-// displacement of their vertices at the initial design when they are free and apply fbar as a
-// load; zero when that solve fails) and unbounded entries to problem.bounds.
+// problem.handles, and appends u~0 / handle_scale to problem.z0 (u~0: ubar, or for handles
+// without ubar the displacement of their vertices at the initial design when they are free and
+// apply fbar as a load; zero when that solve fails) and unbounded entries to problem.bounds.
+// handle_scale: the largest |ubar|, else the largest |u~0| of a vertex, else 1e-3 of the mesh's
+// bounding-box diagonal.
 void attach_handles(InverseProblem& problem, const HandlesTerm& term,
                     const std::vector<std::vector<int>>& vertices);
 

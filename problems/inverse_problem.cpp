@@ -128,11 +128,11 @@ ParameterizationPtr design_map(const InverseProblem& problem) {
   }
   std::vector<ParameterBlock> blocks{{problem.youngs_offset, per_element}};
   Vector base = problem.setup.parameters();
-  if (problem.handles) {  // u~ after the material design: z = [z_E, u~]
+  if (problem.handles) {  // u~ / handle_scale after the material design
     const int size = problem.handles->displacement_size();
     base.conservativeResize(problem.model->parameter_layout().size());
     base.segment(problem.handle_offset, size).setZero();
-    blocks.push_back({problem.handle_offset, identity_map(size)});
+    blocks.push_back({problem.handle_offset, scale_map(Vector::Constant(size, problem.handle_scale))});
   }
   return embed_blocks(std::move(base), std::move(blocks));
 }
@@ -273,7 +273,7 @@ StaticSetup InverseProblem::setup_at(const Vector& z) const {
   if (handles)
     for (int k = 0; k < handles->displacement_size(); ++k)
       out.prescribed_displacement[handles->dofs()[static_cast<std::size_t>(k)]] =
-          z[num_material_design() + k];
+          handle_scale * z[num_material_design() + k];
   return out;
 }
 

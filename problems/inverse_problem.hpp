@@ -44,8 +44,11 @@ struct InverseProblem {
   std::unique_ptr<StaticFunctional> functional;
   // With a "handles" term: its objective (also in `terms`), the offset of the
   // "handle_displacement" block u~ in p; z = [material design, u~] (problems/inverse_handles.hpp).
+  // The optimizer sees u~ / handle_scale (a characteristic displacement), so those variables are
+  // O(1) like log E.
   std::shared_ptr<const HandleObjective> handles;
   int handle_offset = 0;
+  double handle_scale = 1.0;
   Vector z0;                   // initial design
   Bounds bounds;               // in z-space; empty when the design has no min/max
   Eigen::VectorXd truth;       // per element true E; empty when unknown

@@ -213,7 +213,7 @@ TEST(InverseScene, EveryErrorNamesTheKeyPath) {
        "test.json: inverse.objective[1].weight: expected a number >= 0, got -1"},
       {edited("\"type\": \"smoothness\"", "\"type\": \"smooth\""),
        "test.json: inverse.objective[1].type: expected one of target_displacements, observations, "
-       "synthetic_observations, smoothness, tikhonov, got \"smooth\""},
+       "synthetic_observations, smoothness, tikhonov, handles, got \"smooth\""},
       {edited("\"youngs_modulus\": 1200", "\"youngs_modulus\": 1200, \"nosie\": 0.1"),
        "test.json: inverse.objective[0].nosie: unknown key (allowed here: type, weight, vertices, "
        "youngs_modulus, "
@@ -232,8 +232,8 @@ TEST(InverseScene, EveryErrorNamesTheKeyPath) {
       {edited("\"value\": 2}}", "\"value\": 5}}"),
        "test.json: inverse.objective[0].vertices: selects no vertices"},
       {edited(synthetic, R"({"type": "tikhonov", "prior": 1000})"),
-       "test.json: inverse.objective: needs at least one data term (target_displacements, observations or "
-       "synthetic_observations)"},
+       "test.json: inverse.objective: needs at least one data term (target_displacements, observations, "
+       "synthetic_observations or handles)"},
       {edited(synthetic,
               R"({"type": "target_displacements", "vertices": {"list": [1]}, "displacement": [0, 1]})"),
        "test.json: inverse.objective[0].displacement: expected 3 components (the mesh is 3D), got 2"},

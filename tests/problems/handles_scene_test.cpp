@@ -119,6 +119,36 @@ TEST(HandlesScene, ShippedScenesPassTheGradientCheck) {
   }
 }
 
+// Neo-Hookean in 3D and plane strain in 2D, with loads on a handle vertex and a handle without
+// ubar: the reduced functional of the scene passes its Taylor test.
+TEST(HandlesScene, NonlinearAnd2DScenesPassTheGradientCheck) {
+  TempFolder folder("handles_gradcheck_nonlinear");
+  const std::string neo_hookean =
+      testing::with("\"model\": \"linear\"", "\"model\": \"neo_hookean\"",
+                    handle_scene(R"({"type": "handles", "alpha": 0.01, "beta": 100, "handles": [
+          {"vertices": {"plane": {"axis": "x", "value": 2}}, "force": [30, 5, -10], "displacement": [0.2, 0, -0.1]},
+          {"vertices": {"list": [7]}, "force_per_vertex": [0, 0, 3]}]})",
+                                 R"(, {"type": "smoothness", "weight": 0.01})"));
+  const std::string plate = R"({
+  "mesh": {"rectangle": {"min": [0, 0], "max": [2, 1], "cells": [6, 3]}},
+  "materials": [{"elements": "all", "model": "neo_hookean", "youngs_modulus": 1000, "poisson_ratio": 0.3}],
+  "dirichlet": [{"vertices": {"plane": {"axis": "x", "value": 0}}}],
+  "loads": {"nodal": [{"vertices": {"plane": {"axis": "x", "value": 2}}, "force": [0, -5]}]},
+  "inverse": {
+    "design": {"parameter": "youngs_modulus", "granularity": "per_element"},
+    "objective": [{"type": "handles", "alpha": 0.01, "beta": 1e4,
+                   "handles": [{"vertices": {"plane": {"axis": "x", "value": 2}}, "force": [0, -40], "displacement": [0, -0.1]}]}]
+  }
+})";
+  for (const auto& [name, text] : {std::pair{"neo_hookean_box", neo_hookean}, std::pair{"plate_2d", plate}}) {
+    SCOPED_TRACE(name);
+    const GradcheckRun run =
+        gradcheck_scene(parse_scene(text, std::string(name) + ".json", ""), folder / name, {});
+    EXPECT_TRUE(run.passed()) << run.gradient.table();
+    EXPECT_GE(run.gradient.rate1, 1.9) << run.gradient.table();
+  }
+}
+
 TEST(HandlesScene, RunReportsTheErrorsAtEachHandle) {
   TempFolder folder("handles_run");
   // Force and displacement are consistent for E = 2000 x (stiffness at E = 1000): the optimum

@@ -118,13 +118,14 @@ std::vector<std::vector<int>> constrain_handles(const Scene& scene, InverseProbl
   std::sort(setup.fixed_dofs.begin(), setup.fixed_dofs.end());
 
   if (const int free = free_rigid_motions(mesh, setup.fixed_dofs); free > 0)
-    throw_scene_error(
-        scene, key,
-        "the dirichlet conditions and the handles leave the body free to move rigidly (" +
-            std::to_string(free) + " independent rigid motion" + (free == 1 ? "" : "s") +
-            " move no supported or handle vertex), so its stiffness matrix is singular: hold at least " +
-            (dim == 3 ? "3 non-collinear vertices" : "2 distinct vertices") +
-            " in all components, with dirichlet conditions or handles");
+    throw_scene_error(scene, key,
+                      "the dirichlet conditions and the handles leave the body free to move rigidly (" +
+                          std::to_string(free) + " independent rigid motion" + (free == 1 ? "" : "s") +
+                          (free == 1 ? " leaves" : " leave") +
+                          " every supported and handle vertex in place), so its stiffness matrix is "
+                          "singular: hold at least " +
+                          (dim == 3 ? "3 non-collinear vertices" : "2 distinct vertices") +
+                          " in all components, with dirichlet conditions or handles");
   return vertices;
 }
 

@@ -51,20 +51,6 @@ Matrix ReducedDynamics::step_jacobian(const Vector& q_next) const {
          options_.material_scale * model_.stiffness(q_next);
 }
 
-// The potential whose q'-gradient is the step residual (see the header):
-//   implicit Euler: |q' - q - h v|_M^2 / (2 h^2) + |q' - q|_C^2 / (2 h) + s W(q') - f_ext.q'
-//   Newmark:        2 |q' - q - h v|_M^2 / h^2 - a.M q' + |q' - q|_C^2 / h - v.C q' + s W(q') - f_ext.q'
-double ReducedDynamics::incremental_energy(const ReducedState& c, const Vector& q_next) const {
-  const double h = options_.time_step;
-  const Vector jump = q_next - c.q - h * c.v, dq = q_next - c.q;
-  const Matrix C = damping();
-  double e = options_.material_scale * model_.energy(q_next) - external_force_.dot(q_next);
-  if (options_.integrator == ReducedIntegrator::implicit_euler)
-    return e + jump.dot(mass_ * jump) / (2 * h * h) + dq.dot(C * dq) / (2 * h);
-  return e + 2.0 * jump.dot(mass_ * jump) / (h * h) - c.a.dot(mass_ * q_next) + dq.dot(C * dq) / h -
-         c.v.dot(C * q_next);
-}
-
 bool ReducedDynamics::step(const ReducedState& c, ReducedState& next, int& iterations,
                            std::string& message) const {
   const double h = options_.time_step, s = options_.material_scale;
@@ -72,13 +58,25 @@ bool ReducedDynamics::step(const ReducedState& c, ReducedState& next, int& itera
   const Matrix C = damping();
   const Matrix inertia_matrix =
       (newmark ? 4.0 / (h * h) : 1.0 / (h * h)) * mass_ + (newmark ? 2.0 / h : 1.0 / h) * C;
+  // The potential whose q-gradient is the step residual, from a given W(q):
+  //   implicit Euler: |q - q_n - h v|_M^2 / (2 h^2) + |q - q_n|_C^2 / (2 h) + s W(q) - f_ext.q
+  //   Newmark: 2 |q - q_n - h v|_M^2 / h^2 - a.M q + |q - q_n|_C^2 / h - v.C q + s W(q) - f_ext.q
+  const auto potential = [&](const Vector& q, double elastic) {
+    const Vector jump = q - c.q - h * c.v, dq = q - c.q;
+    const double e = s * elastic - external_force_.dot(q);
+    if (!newmark) return e + jump.dot(mass_ * jump) / (2 * h * h) + dq.dot(C * dq) / (2 * h);
+    return e + 2.0 * jump.dot(mass_ * jump) / (h * h) - c.a.dot(mass_ * q) + dq.dot(C * dq) / h -
+           c.v.dot(C * q);
+  };
   Vector q = c.q + h * c.v + (newmark ? Vector(0.25 * h * h * c.a) : Vector::Zero(size()));  // predictor
   iterations = 0;
   Vector force;
   Matrix stiffness;
   double energy = 0.0;
-  for (int it = 0; it < options_.max_newton_iterations; ++it) {
-    model_.evaluate(q, &energy, &force, &stiffness);
+  const bool chord = options_.jacobian == ReducedJacobian::once_per_step;
+  model_.evaluate(q, &energy, &force, &stiffness);
+  Eigen::LDLT<Matrix> ldlt;
+  for (int it = 0;; ++it) {
     // Residual: inertia + damping + elastic - external.
     const Vector jump = q - c.q - h * c.v;
     const Vector inertia =
@@ -88,28 +86,42 @@ bool ReducedDynamics::step(const ReducedState& c, ReducedState& next, int& itera
     const Vector residual = inertia + damping_force + s * force - external_force_;
     const double scale = inertia.norm() + damping_force.norm() + s * force.norm() + external_force_.norm();
     if (residual.norm() <= options_.newton_tolerance * scale || residual.norm() == 0.0) break;
-    const Matrix jacobian = inertia_matrix + s * stiffness;
-    const Eigen::LDLT<Matrix> ldlt(jacobian);
+    if (it == options_.max_newton_iterations) {
+      message = "reduced step: Newton did not converge in " + std::to_string(options_.max_newton_iterations) +
+                " iterations (residual " + std::to_string(residual.norm()) + ")";
+      return false;
+    }
+    if (!chord || it == 0) ldlt.compute(inertia_matrix + s * stiffness);
     const Vector dq = -ldlt.solve(residual);
     if (!dq.allFinite()) {
       message = "reduced step: the Newton system is singular";
       return false;
     }
-    // Backtracking on the incremental potential (a descent direction when the Jacobian is
-    // positive definite; the full step is taken otherwise).
-    double t = 1.0;
-    const double e0 = incremental_energy(c, q);
-    if (ldlt.isPositive() && dq.dot(residual) < 0.0)
-      for (int k = 0; k < 30 && incremental_energy(c, q + t * dq) > e0 + 1e-4 * t * dq.dot(residual); ++k)
-        t *= 0.5;
-    q += t * dq;
-    ++iterations;
-    if (t * dq.norm() <= options_.newton_tolerance * (1.0 + q.norm())) break;
-    if (it + 1 == options_.max_newton_iterations) {
-      message = "reduced step: Newton did not converge in " + std::to_string(options_.max_newton_iterations) +
-                " iterations (residual " + std::to_string(residual.norm()) + ")";
-      return false;
+    if (options_.accept_unconverged && it + 1 == options_.max_newton_iterations) {
+      q += dq;
+      ++iterations;
+      break;
     }
+    // Backtracking on the incremental potential when the full step does not decrease it (a
+    // descent direction when the Jacobian is positive definite; the full step is kept
+    // otherwise). The full step is nearly always accepted, so an iteration costs one
+    // evaluation of the reduced model.
+    const double e0 = potential(q, energy), slope = dq.dot(residual);
+    double t = 1.0;
+    Vector trial = q + dq;
+    const bool want_stiffness = !chord;
+    model_.evaluate(trial, &energy, &force, want_stiffness ? &stiffness : nullptr);
+    if (ldlt.isPositive() && slope < 0.0) {
+      for (int k = 0; k < 30 && potential(trial, energy) > e0 + 1e-4 * t * slope; ++k) {
+        t *= 0.5;
+        trial = q + t * dq;
+        energy = model_.energy(trial);
+      }
+      if (t < 1.0) model_.evaluate(trial, &energy, &force, want_stiffness ? &stiffness : nullptr);
+    }
+    q = trial;
+    ++iterations;
+    if (t * dq.norm() <= 1e-3 * options_.newton_tolerance * (1.0 + q.norm())) break;
   }
   next.q = q;
   if (newmark) {

@@ -25,6 +25,11 @@
 namespace tailor {
 
 enum class ReducedIntegrator { implicit_euler, newmark };
+// Newton's Jacobian: re-evaluated at every iteration (quadratic convergence), or evaluated and
+// factorized once per step at the predictor and reused (chord method: linear convergence to
+// the same solution, but the O(r^4) stiffness is evaluated once per step instead of once per
+// iteration).
+enum class ReducedJacobian { every_iteration, once_per_step };
 std::string to_string(ReducedIntegrator integrator);
 
 struct ReducedDynamicsOptions {
@@ -33,9 +38,14 @@ struct ReducedDynamicsOptions {
   double rayleigh_mass = 0.0;       // alpha [1/s], >= 0
   double rayleigh_stiffness = 0.0;  // beta [s], >= 0
   double material_scale = 1.0;      // s, > 0
+  ReducedJacobian jacobian = ReducedJacobian::every_iteration;
   int max_newton_iterations = 30;
-  // Converged when |residual| <= tolerance * (|M_q accel| + |C_q v| + |s f| + |f_ext|) or the
-  // Newton step is below tolerance * (1 + |q|).
+  // Accept the iterate after max_newton_iterations even when unconverged (no failure). With
+  // max_newton_iterations = 1 this is the linearly implicit scheme of Barbic & James 2005
+  // (one Newton step per time step, no line search): cheapest, approximate.
+  bool accept_unconverged = false;
+  // Converged when |residual| <= tolerance * (|M_q accel| + |C_q v| + |s f| + |f_ext|) (or the
+  // Newton step falls below 1e-3 * tolerance * (1 + |q|), at round-off).
   double newton_tolerance = 1e-12;
 };
 
@@ -76,7 +86,6 @@ class ReducedDynamics {
   Matrix step_jacobian(const Vector& q_next) const;
 
  private:
-  double incremental_energy(const ReducedState& current, const Vector& q_next) const;
   const ReducedElasticModel& model_;
   ReducedDynamicsOptions options_;
   Matrix mass_, rest_stiffness_;

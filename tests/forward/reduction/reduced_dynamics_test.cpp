@@ -146,6 +146,32 @@ void taylor_check(ReducedIntegrator integrator) {
 TEST(ReducedDynamicsAdjoint, TaylorTestImplicitEuler) { taylor_check(ReducedIntegrator::implicit_euler); }
 TEST(ReducedDynamicsAdjoint, TaylorTestNewmark) { taylor_check(ReducedIntegrator::newmark); }
 
+// The chord Jacobian (once per step) converges to the same steps; one Newton step per time
+// step (linearly implicit) is an approximation that stays close at this step size.
+TEST(ReducedDynamics, ChordAndOneStepNewtonVariants) {
+  const ReducedBeam b = reduced_beam(3, true);
+  const int r = b.reduced->size();
+  ReducedDynamicsOptions options;
+  options.integrator = ReducedIntegrator::newmark;
+  options.time_step = 0.02;
+  Vector v0 = Vector::Zero(r);
+  v0[0] = 3.0 / b.basis.cwiseAbs().col(0).maxCoeff();
+  const ReducedTrajectory full = ReducedDynamics(*b.reduced, options).simulate(Vector::Zero(r), v0, 100);
+  options.jacobian = ReducedJacobian::once_per_step;
+  const ReducedTrajectory chord = ReducedDynamics(*b.reduced, options).simulate(Vector::Zero(r), v0, 100);
+  options.jacobian = ReducedJacobian::every_iteration;
+  options.max_newton_iterations = 1;
+  options.accept_unconverged = true;
+  const ReducedTrajectory one = ReducedDynamics(*b.reduced, options).simulate(Vector::Zero(r), v0, 100);
+  ASSERT_TRUE(full.converged && chord.converged && one.converged);
+  EXPECT_EQ(one.newton_iterations, 100);
+  const double scale = full.states.back().q.norm();
+  EXPECT_LT((chord.states.back().q - full.states.back().q).norm(), 1e-8 * scale);
+  const double one_step_error = (one.states.back().q - full.states.back().q).norm() / scale;
+  std::printf("one Newton step per time step: relative deviation after 100 steps %.2e\n", one_step_error);
+  EXPECT_LT(one_step_error, 1e-3);
+}
+
 TEST(ReducedDynamics, RejectsBadOptions) {
   const ReducedBeam b = reduced_beam(2, false);
   ReducedDynamicsOptions options;

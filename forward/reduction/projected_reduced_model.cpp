@@ -18,9 +18,9 @@ void ProjectedReducedModel::evaluate(const Vector& q, double* energy, Vector* fo
   if (energy) *energy = model_.energy(x, p_);
   if (force) *force = basis_.transpose() * model_.gradient(x, p_);
   if (stiffness) {
-    Matrix k_phi(basis_.rows(), basis_.cols());
-    for (Eigen::Index j = 0; j < basis_.cols(); ++j)
-      k_phi.col(j) = model_.hessian_times(x, p_, basis_.col(j));
+    // One assembly of each term's exact Hessian, then a sparse-dense product with the basis.
+    Matrix k_phi = Matrix::Zero(basis_.rows(), basis_.cols());
+    for (const auto& term : model_.terms()) k_phi += term->hessian(x, p_, HessianMode::exact) * basis_;
     *stiffness = basis_.transpose() * k_phi;
     *stiffness = 0.5 * (*stiffness + stiffness->transpose()).eval();
   }

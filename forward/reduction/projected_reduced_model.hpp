@@ -1,9 +1,9 @@
 #pragma once
 // Reduced model of any material by projection: W(q) = E(x0 + Phi q) over every term of a
-// Model, force Phi^T dE/dx, stiffness Phi^T (d2E/dx2) Phi from r exact Hessian-vector
-// products. Every evaluation visits the whole mesh: the cost is O(mesh size * r) for the force
-// and O(mesh size * r^2) for the stiffness, unlike ReducedStvk. Kept as the reference and for
-// materials without polynomial structure.
+// Model, force Phi^T dE/dx, stiffness Phi^T (d2E/dx2) Phi from one assembly of the exact
+// Hessian per term. Every evaluation visits the whole mesh: the cost is O(mesh size * r) for
+// the force and O(mesh size * r^2) for the stiffness, unlike ReducedStvk. Kept as the
+// reference and for materials without polynomial structure.
 #include "forward/core/model.hpp"
 #include "forward/reduction/reduced_elastic_model.hpp"
 

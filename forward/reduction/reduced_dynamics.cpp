@@ -68,7 +68,8 @@ bool ReducedDynamics::step(const ReducedState& c, ReducedState& next, int& itera
     return e + 2.0 * jump.dot(mass_ * jump) / (h * h) - c.a.dot(mass_ * q) + dq.dot(C * dq) / h -
            c.v.dot(C * q);
   };
-  Vector q = c.q + h * c.v + (newmark ? Vector(0.25 * h * h * c.a) : Vector::Zero(size()));  // predictor
+  // Predictor: constant acceleration over the step (the last step's for implicit Euler).
+  Vector q = c.q + h * c.v + ((newmark ? 0.25 : 1.0) * h * h) * c.a;
   iterations = 0;
   Vector force;
   Matrix stiffness;

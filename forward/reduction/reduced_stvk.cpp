@@ -148,25 +148,42 @@ void ReducedStvk::evaluate(const Vector& q, double* energy, Vector* force, Matri
     pairs_transpose(y.tail(P), *force);
   }
   if (stiffness) {
-    // T = G [I; J_s]: the column of pair (a, b) enters column b with weight q_a and column a
-    // with weight q_b (2 q_a when a = b); one pass over the columns of G.
-    Matrix T = gram_.leftCols(r);
-    for (int a = 0, k = r; a < r; ++a) {
-      T.col(a).noalias() += (2.0 * q[a]) * gram_.col(k++);
-      for (int b = a + 1; b < r; ++b, ++k) {
-        T.col(b).noalias() += q[a] * gram_.col(k);
-        T.col(a).noalias() += q[b] * gram_.col(k);
+    // Hessian of 1/2 w^T G w with w = [q; s(q)], G = [[A, B], [B^T, D]]:
+    //   A + B J_s + (B J_s)^T + J_s^T D J_s + sum_p y_p d2 s_p / dq2.
+    // J_s^T D J_s = X + X^T - J_s^T diag(D) J_s with X = J_s^T (L J_s), L the lower triangle of
+    // D (diagonal included): only the lower half of D is read, half the work of D J_s. A pair
+    // p = (a, b) has d s_p / dq_b = q_a and d s_p / dq_a = q_b (2 q_a when a = b).
+    Matrix lower_j = Matrix::Zero(P, r), b_j = Matrix::Zero(r, r);
+    for (int a = 0, p = 0; a < r; ++a)
+      for (int b = a; b < r; ++b, ++p) {
+        const auto column = gram_.col(r + p);
+        const auto lower = column.segment(r + p, P - p);
+        if (a == b) {
+          lower_j.col(a).tail(P - p).noalias() += (2.0 * q[a]) * lower;
+          b_j.col(a).noalias() += (2.0 * q[a]) * column.head(r);
+        } else {
+          lower_j.col(b).tail(P - p).noalias() += q[a] * lower;
+          lower_j.col(a).tail(P - p).noalias() += q[b] * lower;
+          b_j.col(b).noalias() += q[a] * column.head(r);
+          b_j.col(a).noalias() += q[b] * column.head(r);
+        }
       }
-    }
+    Matrix x = Matrix::Zero(r, r);
+    for (int c = 0; c < r; ++c) pairs_transpose(lower_j.col(c), x.col(c));
     Matrix& K = *stiffness;
-    K = T.topRows(r);
-    for (int c = 0; c < r; ++c) pairs_transpose(T.col(c).tail(P), K.col(c));
-    // + sum_p y_p d2 s_p / dq2
+    K = gram_.topLeftCorner(r, r) + b_j + b_j.transpose() + x + x.transpose();
     for (int a = 0, k = r; a < r; ++a) {
-      K(a, a) += 2.0 * y[k++];
+      // - J_s^T diag(D) J_s, + sum_p y_p d2 s_p / dq2
+      const double d_aa = gram_(k, k);
+      K(a, a) += 2.0 * y[k] - 4.0 * d_aa * q[a] * q[a];
+      ++k;
       for (int b = a + 1; b < r; ++b, ++k) {
-        K(a, b) += y[k];
-        K(b, a) += y[k];
+        const double d = gram_(k, k);
+        K(a, a) -= d * q[b] * q[b];
+        K(b, b) -= d * q[a] * q[a];
+        const double off = y[k] - d * q[a] * q[b];
+        K(a, b) += off;
+        K(b, a) += off;
       }
     }
   }

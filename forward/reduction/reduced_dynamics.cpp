@@ -177,4 +177,23 @@ Matrix vertex_displacements(const ReducedTrajectory& trajectory, const Matrix& r
   return out;
 }
 
+Vector project_to_basis(const Matrix& basis, const SparseMatrix& mass, const Vector& u) {
+  if (mass.rows() != basis.rows() || u.size() != basis.rows())
+    throw std::invalid_argument("project_to_basis: the basis, mass matrix and vector sizes differ");
+  return basis.transpose() * (mass * u);
+}
+
+Matrix simulate_vertex_displacements(const ReducedDynamics& dynamics, const Matrix& basis,
+                                     const SparseMatrix& mass, const std::vector<int>& vertices, int dim,
+                                     const Vector& u0, const Vector& v0, int steps) {
+  if (basis.cols() != dynamics.size())
+    throw std::invalid_argument("simulate_vertex_displacements: the basis has " +
+                                std::to_string(basis.cols()) + " columns, the reduced model " +
+                                std::to_string(dynamics.size()));
+  const ReducedTrajectory trajectory =
+      dynamics.simulate(project_to_basis(basis, mass, u0), project_to_basis(basis, mass, v0), steps);
+  if (!trajectory.converged) throw std::runtime_error("simulate_vertex_displacements: " + trajectory.message);
+  return vertex_displacements(trajectory, vertex_rows(basis, vertices, dim));
+}
+
 }  // namespace tailor

@@ -97,4 +97,16 @@ class ReducedDynamics {
 Matrix vertex_rows(const Matrix& basis, const std::vector<int>& vertices, int dim);
 Matrix vertex_displacements(const ReducedTrajectory& trajectory, const Matrix& rows);
 
+// Reduced coordinates of a full-space displacement or velocity u for an M-orthonormal basis:
+// q = Phi^T M u (the M-orthogonal projection onto span(Phi)).
+Vector project_to_basis(const Matrix& basis, const SparseMatrix& mass, const Vector& u);
+
+// One call for comparisons with full-space simulations: from full-space initial displacement
+// u0 and velocity v0 (projected), `steps` steps, the displacements of `vertices` per state:
+// (steps + 1) x (|vertices| dim), vertex-interleaved. Throws std::runtime_error with the step's
+// message when a step fails.
+Matrix simulate_vertex_displacements(const ReducedDynamics& dynamics, const Matrix& basis,
+                                     const SparseMatrix& mass, const std::vector<int>& vertices, int dim,
+                                     const Vector& u0, const Vector& v0, int steps);
+
 }  // namespace tailor

@@ -61,7 +61,7 @@ void normalize_signs(Matrix& x) {
   }
 }
 
-GeneralizedEigenResult dense_solve(const SparseMatrix& A, const SparseMatrix& B, int count,
+GeneralizedEigenResult dense_solve(const SparseMatrix& A, const SparseMatrix& B, int count, const Matrix& deflation,
                                    const std::string& why) {
   GeneralizedEigenResult result;
   result.dense = true;
@@ -73,8 +73,23 @@ GeneralizedEigenResult dense_solve(const SparseMatrix& A, const SparseMatrix& B,
     result.message = "dense generalized eigensolver failed (" + why + "; B may not be positive definite)";
     return result;
   }
-  result.eigenvalues = solver.eigenvalues().head(count);  // ascending
-  result.eigenvectors = solver.eigenvectors().leftCols(count);
+  // Keep the lowest `count` pairs outside span(deflation): drop the k most inside it.
+  const Eigen::Index k = deflation.cols();
+  std::vector<Eigen::Index> keep;
+  if (k > 0) {
+    const Vector inside = (deflation.transpose() * (bs * solver.eigenvectors())).colwise().squaredNorm();
+    std::vector<Eigen::Index> order(static_cast<std::size_t>(inside.size()));
+    for (Eigen::Index i = 0; i < inside.size(); ++i) order[static_cast<std::size_t>(i)] = i;
+    std::stable_sort(order.begin(), order.end(), [&](Eigen::Index i, Eigen::Index j) { return inside[i] > inside[j]; });
+    std::vector<bool> dropped(static_cast<std::size_t>(inside.size()), false);
+    for (Eigen::Index i = 0; i < k; ++i) dropped[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])] = true;
+    for (Eigen::Index i = 0; i < inside.size() && static_cast<int>(keep.size()) < count; ++i)
+      if (!dropped[static_cast<std::size_t>(i)]) keep.push_back(i);
+  } else {
+    for (Eigen::Index i = 0; i < count; ++i) keep.push_back(i);
+  }
+  result.eigenvalues = solver.eigenvalues()(keep);  // ascending
+  result.eigenvectors = solver.eigenvectors()(Eigen::all, keep);
   normalize_signs(result.eigenvectors);
   result.converged = count;
   result.success = true;
@@ -106,8 +121,17 @@ GeneralizedEigenResult generalized_eigenpairs(const SparseMatrix& A, const Spars
   if (options.shift && !std::isfinite(*options.shift))
     throw std::invalid_argument("generalized_eigenpairs: shift must be finite");
 
-  if (n <= options.dense_threshold) return dense_solve(A, B, count, "n = " + std::to_string(n) + " is small");
-  if (count >= n - 1) return dense_solve(A, B, count, "count >= n - 1, beyond ARPACK");
+  const Matrix& deflation = options.deflation;
+  if (deflation.size() > 0 && (deflation.rows() != n || count + deflation.cols() > n - 1))
+    throw std::invalid_argument("generalized_eigenpairs: the deflation basis must have n rows and count + its columns <= n - 1");
+  if (n <= options.dense_threshold)
+    return dense_solve(A, B, count, deflation, "n = " + std::to_string(n) + " is small");
+  if (count + deflation.cols() >= n - 1) return dense_solve(A, B, count, deflation, "count >= n - 1, beyond ARPACK");
+  const Matrix b_deflation = deflation.size() > 0 ? Matrix(B * deflation) : Matrix();
+  // y <- (I - R R^T B) y: keeps the Lanczos vectors B-orthogonal to the deflated subspace.
+  const auto deflate = [&](Eigen::Map<Vector>& y) {
+    if (deflation.size() > 0) y -= deflation * (b_deflation.transpose() * y);
+  };
 
   // Shift: small negative by default, scaled to the ratio of the two matrices' diagonals.
   double sigma = 0.0;
@@ -152,10 +176,12 @@ GeneralizedEigenResult generalized_eigenpairs(const SparseMatrix& A, const Spars
     Eigen::Map<Vector> y(workd.data() + ipntr[1] - 1, n);
     if (ido == -1) {  // y = OP x, B x not yet known
       y = factor.solve(B * Vector(x));
+      deflate(y);
       ++applications;
     } else if (ido == 1) {  // y = OP x with B x given at ipntr[2]
       const Eigen::Map<const Vector> bx(workd.data() + ipntr[2] - 1, n);
       y = factor.solve(Vector(bx));
+      deflate(y);
       ++applications;
     } else {  // ido == 2: y = B x
       y = B * Vector(x);

@@ -20,6 +20,12 @@
 // Small problems (n <= options.dense_threshold, or count >= n - 1, which ARPACK cannot do)
 // are solved densely with Eigen's GeneralizedSelfAdjointEigenSolver; the result says so.
 //
+// Deflation. options.deflation (n x k, B-orthonormal columns spanning a subspace that A and B
+// leave invariant, e.g. the rigid-body modes of a free body, A R = 0) is projected out of
+// every Lanczos vector (OP becomes (I - R R^T B) OP), so the pairs returned are the lowest of
+// the B-orthogonal complement of R. The dense path solves the whole problem and drops the k
+// pairs lying most in span(R).
+//
 // Eigenvectors are B-orthonormal (X^T B X = I); each is signed so that its entry of largest
 // magnitude is positive (a deterministic choice, nothing more).
 #include <optional>
@@ -35,6 +41,7 @@ struct GeneralizedEigenOptions {
   int max_iterations = 1000;    // ARPACK restarts (iparam[2])
   int ncv = 0;                  // Lanczos vectors; 0 = min(n, max(2 * count + 1, 20))
   int dense_threshold = 64;     // n at or below this is solved densely
+  Matrix deflation;             // n x k, B-orthonormal; empty = none (see above)
 };
 
 struct GeneralizedEigenResult {

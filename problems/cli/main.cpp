@@ -14,6 +14,7 @@
 #include "problems/builtin_scenes.hpp"
 #include "problems/commands.hpp"
 #include "problems/inverse_commands.hpp"
+#include "problems/modes_command.hpp"
 #include "tailor_version.hpp"
 
 namespace {
@@ -38,6 +39,9 @@ const char* const kUsage =
     "  run scene.json [--out DIR] [--quiet]\n"
     "      Optimize the design of the scene's inverse problem; print one line per iteration\n"
     "      (none with --quiet); write DIR/report.json and DIR/result.vtu at the best design.\n"
+    "  modes scene.json [--out DIR] [--count N]\n"
+    "      Modal analysis at rest: the N lowest vibration modes (default 10), rigid-body modes\n"
+    "      set apart; write DIR/report.json (frequencies in Hz) and DIR/modes.vtu.\n"
     "\n"
     "options:\n"
     "  -h, --help     show this message\n"
@@ -59,6 +63,7 @@ struct Arguments {
   bool hessian = false;
   bool quiet = false;
   bool help = false;
+  int count = 10;  // modes
 };
 
 // Parses the arguments after the verb; returns an error message on bad usage.
@@ -83,6 +88,14 @@ std::optional<std::string> parse_arguments(const std::string& verb, const std::v
       const unsigned long seed = std::strtoul(value.c_str(), &end, 10);
       if (value.empty() || *end != '\0') return "--seed needs a non-negative integer, got '" + value + "'";
       out.seed = static_cast<unsigned>(seed);
+    } else if (a == "--count" && verb == "modes") {
+      if (!has_value) return "--count needs a number";
+      const std::string& value = args[++i];
+      char* end = nullptr;
+      const long count = std::strtol(value.c_str(), &end, 10);
+      if (value.empty() || *end != '\0' || count < 1 || count > 100000)
+        return "--count needs a positive integer, got '" + value + "'";
+      out.count = static_cast<int>(count);
     } else if (!a.empty() && a[0] == '-') {
       return "unknown option '" + a + "' for '" + verb + "'";
     } else if (out.scene) {
@@ -121,6 +134,7 @@ int run_verb(const std::string& verb, const Arguments& args) {
     }
     return run.passed() ? kSuccess : kFailure;
   }
+  if (verb == "modes") return (tailor::modes_scene(scene, args.count, out_dir, &std::cout), kSuccess);
   if (verb == "run") {
     const tailor::InverseRun run =
         tailor::run_inverse_scene(scene, out_dir, &std::cout, args.quiet ? nullptr : &std::cout);
@@ -143,7 +157,7 @@ int main(int argc, char** argv) {
     std::cout << "tailor " << tailor::version_string << "\n";
     return kSuccess;
   }
-  if (verb != "simulate" && verb != "check" && !is_inverse_verb(verb))
+  if (verb != "simulate" && verb != "check" && verb != "modes" && !is_inverse_verb(verb))
     return usage_error("unknown verb '" + verb + "'");
 
   Arguments args;
@@ -153,6 +167,7 @@ int main(int argc, char** argv) {
     std::cout << kUsage;
     return kSuccess;
   }
+  if (verb == "modes" && !args.scene) return usage_error("'modes' needs a scene file");
   if (is_inverse_verb(verb) && !args.scene)
     return usage_error("'" + verb + "' needs a scene file with an \"inverse\" section");
   try {

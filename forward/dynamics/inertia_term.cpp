@@ -26,7 +26,7 @@ void InertiaTerm::evaluate(const Vector& x, const Vector& p, const EnergyRequest
     mass_->add_times(p, d, Md, coefficient_);
     if (request.value) {
       *request.value += 0.5 * d.dot(Md);
-      if (carried_force_.size()) *request.value -= carried_force_.dot(x);
+      if (carried_force_.size()) *request.value -= carried_force_.dot(d);
     }
     if (request.gradient) {
       *request.gradient += Md;

@@ -1,10 +1,11 @@
 #pragma once
 // The inertia part of one implicit time step's incremental potential (METHODS.md section 1):
-//   E(x) = c/2 (x - x~)^T M(rho) (x - x~) - g^T x,
+//   E(x) = c/2 (x - x~)^T M(rho) (x - x~) - g^T (x - x~),
 // c [1/time^2] the scheme's inertia coefficient (1/h^2 for implicit Euler), x~ the predictor
 // (positions), g an optional force carried over from the previous step (the trapezoidal
 // rule's M a_n; empty = none). Its gradient c M (x - x~) - g is M times the scheme's
-// acceleration minus g. The time integrator sets (c, x~, g) before each step; parameters:
+// acceleration minus g. (g^T x~ is subtracted, a constant, so that E stays small near the
+// solution: Newton's line search compares energies and a large offset would drown them.) The time integrator sets (c, x~, g) before each step; parameters:
 // the per-element density of the mass operator.
 #include <memory>
 

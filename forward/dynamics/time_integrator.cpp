@@ -1,6 +1,8 @@
 #include "forward/dynamics/time_integrator.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace tailor {
@@ -117,6 +119,15 @@ DynamicState TimeIntegrator::initial_state(const Vector& x0, const Vector& v0, c
     configure_initial_force(x0, v0);
     s.carried_force = -model_.gradient(x0, p);
   }
+  // Round-off level of the reduced step residual: 1e3 eps |H|_max (1 + |x|_inf) sqrt(m), H the
+  // first step's Hessian. Small vibrations have initial residuals so small that a relative
+  // tolerance alone would ask for more digits than the gradient has.
+  configure_step(s, p);
+  SparseMatrix H = newton_.assembler().hessian_pattern_matrix();
+  newton_.assembler().evaluate(s.y, p, nullptr, nullptr, &H, HessianMode::exact);
+  const double h_max = H.nonZeros() ? H.coeffs().cwiseAbs().maxCoeff() : 0.0;
+  s.residual_floor = 1e3 * std::numeric_limits<double>::epsilon() * h_max * (1.0 + x0.lpNorm<Eigen::Infinity>()) *
+                     std::sqrt(static_cast<double>(s.y.size()));
   return s;
 }
 
@@ -130,7 +141,17 @@ NewtonResult TimeIntegrator::step(DynamicState& state, const Vector& p) {
   newton_.assembler().evaluate(y, p, nullptr, &g0, nullptr);
   const double scale = std::max(state.residual_scale, g0.norm());
   newton_.options().reference_residual = scale;
+  newton_.options().absolute_tolerance = std::max(options_.newton.absolute_tolerance, state.residual_floor);
   NewtonResult result = newton_.solve(p, y);
+  // Near rest the total potential is a sum of pieces that cancel (e.g. the linear-in-strain
+  // parts of an elastic energy), so its round-off can exceed the decrease of a last Newton
+  // step and the line search stalls although the residual is tiny. Accept such a stall at the
+  // level Newton itself accepts for round-off-limited steps: sqrt(relative_tolerance) * scale.
+  const bool stalled = result.status == NewtonStatus::max_iterations || result.status == NewtonStatus::line_search_failed;
+  if (stalled && result.final_residual <= std::sqrt(options_.newton.relative_tolerance) * scale) {
+    result.status = NewtonStatus::converged;
+    result.message += "; accepted: residual at the energy's round-off level";
+  }
   if (!result.converged()) return result;
   const Vector x = model_.state(y, p);
   DynamicState next;
@@ -150,6 +171,7 @@ NewtonResult TimeIntegrator::step(DynamicState& state, const Vector& p) {
   }
   next.x = x;
   next.residual_scale = scale;
+  next.residual_floor = state.residual_floor;
   state = std::move(next);
   return result;
 }

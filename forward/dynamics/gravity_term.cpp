@@ -6,7 +6,8 @@ namespace tailor {
 
 GravityTerm::GravityTerm(const Mesh& mesh, Eigen::VectorXd gravity, int density_offset)
     : gravity_(std::move(gravity)), density_offset_(density_offset), elements_(mesh.elements) {
-  if (gravity_.size() != mesh.dim()) throw std::invalid_argument("GravityTerm: gravity must have one component per dimension");
+  if (gravity_.size() != mesh.dim())
+    throw std::invalid_argument("GravityTerm: gravity must have one component per dimension");
   shares_ = element_volumes(mesh) / (mesh.dim() + 1);
   rest_.resize(mesh.dim() * mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v)
@@ -44,7 +45,8 @@ void GravityTerm::add_mixed(const Vector& x, const Vector& p, Triplets& mixed) c
   for (int e = 0; e < elements_.rows(); ++e)
     for (int a = 0; a < elements_.cols(); ++a)
       for (int i = 0; i < dim; ++i)
-        if (gravity_[i] != 0.0) mixed.emplace_back(dim * elements_(e, a) + i, density_offset_ + e, -shares_[e] * gravity_[i]);
+        if (gravity_[i] != 0.0)
+          mixed.emplace_back(dim * elements_(e, a) + i, density_offset_ + e, -shares_[e] * gravity_[i]);
 }
 
 void GravityTerm::add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,

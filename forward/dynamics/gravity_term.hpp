@@ -17,7 +17,8 @@ class GravityTerm final : public EnergyTerm {
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override;
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override;
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override;
-  void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w, Vector& gradient_p) const override;
+  void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
+                                 Vector& gradient_p) const override;
   const Eigen::VectorXd& gravity() const { return gravity_; }
 
  private:
@@ -26,7 +27,7 @@ class GravityTerm final : public EnergyTerm {
   Eigen::VectorXd gravity_;
   int density_offset_;
   Eigen::MatrixXi elements_;
-  Vector rest_;  // X, interleaved
+  Vector rest_;             // X, interleaved
   Eigen::VectorXd shares_;  // V_e / (d + 1)
 };
 

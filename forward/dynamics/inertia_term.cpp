@@ -11,7 +11,8 @@ InertiaTerm::InertiaTerm(std::shared_ptr<const MassOperator> mass) : mass_(std::
 
 void InertiaTerm::set_step(double coefficient, Vector predictor, Vector carried_force) {
   if (!(coefficient >= 0.0)) throw std::invalid_argument("InertiaTerm: the inertia coefficient must be >= 0");
-  if (predictor.size() != mass_->num_dofs()) throw std::invalid_argument("InertiaTerm: predictor has the wrong size");
+  if (predictor.size() != mass_->num_dofs())
+    throw std::invalid_argument("InertiaTerm: predictor has the wrong size");
   if (carried_force.size() != 0 && carried_force.size() != mass_->num_dofs())
     throw std::invalid_argument("InertiaTerm: carried force has the wrong size");
   coefficient_ = coefficient;

@@ -5,8 +5,8 @@
 // (positions), g an optional force carried over from the previous step (the trapezoidal
 // rule's M a_n; empty = none). Its gradient c M (x - x~) - g is M times the scheme's
 // acceleration minus g. (g^T x~ is subtracted, a constant, so that E stays small near the
-// solution: Newton's line search compares energies and a large offset would drown them.) The time integrator sets (c, x~, g) before each step; parameters:
-// the per-element density of the mass operator.
+// solution: Newton's line search compares energies and a large offset would drown them.) The time integrator
+// sets (c, x~, g) before each step; parameters: the per-element density of the mass operator.
 #include <memory>
 
 #include "forward/core/energy_term.hpp"
@@ -23,7 +23,8 @@ class InertiaTerm final : public EnergyTerm {
   void hessian_pattern(HessianPattern& pattern) const override { mass_->hessian_pattern(pattern); }
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override;
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override;
-  void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w, Vector& gradient_p) const override;
+  void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
+                                 Vector& gradient_p) const override;
 
   // c >= 0; predictor of size num_dofs; carried_force empty or of size num_dofs.
   void set_step(double coefficient, Vector predictor, Vector carried_force = Vector());

@@ -11,16 +11,19 @@ RayleighDamping::RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOpe
     : mass_(std::move(mass)), alpha_offset_(alpha_offset), beta_offset_(beta_offset) {
   if (!mass_) throw std::invalid_argument("RayleighDamping: no mass operator");
   if (mesh.dim() == 3)
-    stiffness_ = std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(MaterialKind::linear), youngs_offset, poisson_offset);
+    stiffness_ = std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(MaterialKind::linear), youngs_offset,
+                                                  poisson_offset);
   else
-    stiffness_ = std::make_unique<ElasticTerm<2>>(mesh, make_material<2>(MaterialKind::linear), youngs_offset, poisson_offset);
+    stiffness_ = std::make_unique<ElasticTerm<2>>(mesh, make_material<2>(MaterialKind::linear), youngs_offset,
+                                                  poisson_offset);
   rest_.resize(mesh.dim() * mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v)
     rest_.segment(mesh.dim() * v, mesh.dim()) = mesh.rest_positions.row(v).transpose();
   mass_slots_ = mass_->pattern_size();
 }
 
-void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p, const EnergyRequest& request) const {
+void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p,
+                                           const EnergyRequest& request) const {
   const double alpha = p[alpha_offset_], beta = p[beta_offset_];
   const Vector X_plus_v = rest_ + v;
   if (request.value || request.gradient) {
@@ -51,7 +54,8 @@ void RayleighDamping::dissipation_pattern(HessianPattern& pattern) const {
   stiffness_->hessian_pattern(pattern);
 }
 
-void RayleighDamping::add_dissipation_param_gradient(const Vector& v, const Vector& p, Vector& gradient_p) const {
+void RayleighDamping::add_dissipation_param_gradient(const Vector& v, const Vector& p,
+                                                     Vector& gradient_p) const {
   const double alpha = p[alpha_offset_], beta = p[beta_offset_];
   const Vector X_plus_v = rest_ + v;
   Vector Mv = Vector::Zero(v.size());

@@ -24,8 +24,8 @@ namespace tailor {
 
 class RayleighDamping final : public DampingTerm {
  public:
-  RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOperator> mass, int alpha_offset, int beta_offset,
-                  int youngs_offset, int poisson_offset);
+  RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOperator> mass, int alpha_offset,
+                  int beta_offset, int youngs_offset, int poisson_offset);
 
   std::string name() const override { return "rayleigh_damping"; }
   void evaluate_dissipation(const Vector& v, const Vector& p, const EnergyRequest& request) const override;

@@ -27,7 +27,7 @@ struct Trajectory {
 };
 
 Trajectory simulate(Cantilever& c, const Vector& p, TimeScheme scheme, double h, int steps, const Vector& x0,
-             const Vector& v0) {
+                    const Vector& v0) {
   TimeIntegratorOptions o;
   o.scheme = scheme;
   o.time_step = h;
@@ -74,19 +74,22 @@ TEST(Integrators, ConvergenceOrdersOnAModalOscillator) {
   const CantileverModes modes = cantilever_modes(c, c.p, 1);
   const double omega = modes.omega[0], period = 2 * kPi / omega, amplitude = 0.01;
   const Vector x0 = c.rest + amplitude * modes.shapes.col(0);
-  std::printf("scheme           h=T/16     T/32       T/64   (error of (omega q, q') at t = T/4, relative)  order\n");
+  std::printf(
+      "scheme           h=T/16     T/32       T/64   (error of (omega q, q') at t = T/4, relative)  order\n");
   for (TimeScheme scheme : {TimeScheme::implicit_euler, TimeScheme::newmark, TimeScheme::bdf2}) {
     std::vector<double> errors;
     for (int per_period : {16, 32, 64}) {
       // Error of the phase-space point (omega q, q') against A (cos, -sin)(omega t) at t = T/4:
       // it contains both the amplitude and the phase error.
-      const Trajectory run = simulate(c, c.p, scheme, period / per_period, per_period / 4, x0, Vector::Zero(x0.size()));
+      const Trajectory run =
+          simulate(c, c.p, scheme, period / per_period, per_period / 4, x0, Vector::Zero(x0.size()));
       const double q = modal_coordinate(modes, 0, run.states.back().x - c.rest);
       const double qdot = modal_coordinate(modes, 0, run.states.back().v);
       errors.push_back(std::hypot(omega * q, qdot + amplitude * omega) / (amplitude * omega));
     }
     const double order = std::log2(errors[1] / errors[2]);
-    std::printf("%-15s %.3e %.3e %.3e  %.2f\n", to_string(scheme).c_str(), errors[0], errors[1], errors[2], order);
+    std::printf("%-15s %.3e %.3e %.3e  %.2f\n", to_string(scheme).c_str(), errors[0], errors[1], errors[2],
+                order);
     EXPECT_NEAR(order, scheme == TimeScheme::implicit_euler ? 1.0 : 2.0, 0.25) << to_string(scheme);
   }
 }
@@ -101,14 +104,15 @@ TEST(Integrators, ImplicitEulerNumericalDampingMatchesClosedForm) {
   std::printf("h/T      omega*h   ratio/step measured  closed form   decay/period measured  closed form\n");
   for (int per_period : {10, 20, 40, 80}) {
     const double h = period / per_period;
-    const Trajectory run = simulate(c, c.p, TimeScheme::implicit_euler, h, per_period, x0, Vector::Zero(x0.size()));
+    const Trajectory run =
+        simulate(c, c.p, TimeScheme::implicit_euler, h, per_period, x0, Vector::Zero(x0.size()));
     auto norm = [&](const DynamicState& s) {
       return std::hypot(omega * modal_coordinate(modes, 0, s.x - c.rest), modal_coordinate(modes, 0, s.v));
     };
     const double measured = std::pow(norm(run.states.back()) / norm(run.states.front()), 1.0 / per_period);
     const double closed = 1.0 / std::sqrt(1.0 + std::pow(omega * h, 2));
-    std::printf("1/%-5d  %.4f    %.8f          %.8f    %.6f              %.6f\n", per_period, omega * h, measured,
-                closed, std::pow(measured, per_period), std::pow(closed, per_period));
+    std::printf("1/%-5d  %.4f    %.8f          %.8f    %.6f              %.6f\n", per_period, omega * h,
+                measured, closed, std::pow(measured, per_period), std::pow(closed, per_period));
     EXPECT_NEAR(measured, closed, 1e-7 * closed);
   }
 }
@@ -132,14 +136,18 @@ TEST(Integrators, NewmarkConservesEnergyOfAnUndampedCantilever) {
     const Vector x0 = c.rest + 0.2 * modes.shapes.col(0) / modes.shapes.col(0).cwiseAbs().maxCoeff() +
                       0.05 * modes.shapes.col(1) / modes.shapes.col(1).cwiseAbs().maxCoeff();
     const Trajectory newmark = simulate(c, c.p, TimeScheme::newmark, h, 1000, x0, Vector::Zero(x0.size()));
-    const Trajectory euler = simulate(c, c.p, TimeScheme::implicit_euler, h, 1000, x0, Vector::Zero(x0.size()));
+    const Trajectory euler =
+        simulate(c, c.p, TimeScheme::implicit_euler, h, 1000, x0, Vector::Zero(x0.size()));
     const double drift = max_relative_drift(newmark.energy);
     const double first_half = max_relative_drift({newmark.energy.begin(), newmark.energy.begin() + 500});
-    std::printf("%-12s 1000 steps of T1/40: Newmark max |E - E0|/E0 = %.2e (first 500 steps %.2e); implicit Euler "
-                "keeps %.2e of E0\n",
-                to_string(kind).c_str(), drift, first_half, euler.energy.back() / euler.energy.front());
-    if (kind == MaterialKind::linear) EXPECT_LT(drift, 1e-8);
-    else EXPECT_LT(drift, 2e-2);
+    std::printf(
+        "%-12s 1000 steps of T1/40: Newmark max |E - E0|/E0 = %.2e (first 500 steps %.2e); implicit Euler "
+        "keeps %.2e of E0\n",
+        to_string(kind).c_str(), drift, first_half, euler.energy.back() / euler.energy.front());
+    if (kind == MaterialKind::linear)
+      EXPECT_LT(drift, 1e-8);
+    else
+      EXPECT_LT(drift, 2e-2);
     EXPECT_LT(euler.energy.back() / euler.energy.front(), 1e-3);
   }
 }
@@ -163,8 +171,9 @@ TEST(Integrators, FreeVibrationPeriodMatchesModalAnalysis) {
   ASSERT_GE(crossings.size(), 6u);
   const double measured = 2 * (crossings.back() - crossings.front()) / (crossings.size() - 1);
   const double newmark_period = 2 * kPi * h / (2 * std::atan(omega * h / 2));
-  std::printf("first mode: omega %.4f, modal period %.5f, Newmark period %.5f, measured %.5f (%.2e relative)\n", omega,
-              period, newmark_period, measured, measured / newmark_period - 1);
+  std::printf(
+      "first mode: omega %.4f, modal period %.5f, Newmark period %.5f, measured %.5f (%.2e relative)\n",
+      omega, period, newmark_period, measured, measured / newmark_period - 1);
   EXPECT_NEAR(measured, newmark_period, 2e-3 * period);  // linear interpolation of crossings
   EXPECT_NEAR(measured, period, 0.01 * period);
 }
@@ -197,8 +206,8 @@ TEST(Integrators, RayleighDampingRatioOfAMode) {
     ASSERT_GE(peaks.size(), 2u);
     const double delta = std::log(peaks.front() / peaks.back()) / (peaks.size() - 1);
     const double measured = delta / std::sqrt(4 * kPi * kPi + delta * delta);
-    std::printf("mode %d alpha %.2g beta %.2g: zeta expected %.5f, measured %.5f (%.2e relative)\n", k.mode + 1,
-                k.alpha, k.beta, zeta, measured, measured / zeta - 1);
+    std::printf("mode %d alpha %.2g beta %.2g: zeta expected %.5f, measured %.5f (%.2e relative)\n",
+                k.mode + 1, k.alpha, k.beta, zeta, measured, measured / zeta - 1);
     EXPECT_NEAR(measured, zeta, 0.01 * zeta);
   }
 }
@@ -240,7 +249,8 @@ TEST(Integrators, ReductionByProjectionReproducesAModalTrajectory) {
     EXPECT_EQ(b.states.back().y.size(), 3);
     const double scale = (a.states.back().x - full.rest).norm();
     EXPECT_LT((a.states.back().x - b.states.back().x).norm(), 1e-8 * scale) << to_string(scheme);
-    EXPECT_LT((a.states.back().v - b.states.back().v).norm(), 1e-7 * a.states.back().v.norm()) << to_string(scheme);
+    EXPECT_LT((a.states.back().v - b.states.back().v).norm(), 1e-7 * a.states.back().v.norm())
+        << to_string(scheme);
   }
 }
 

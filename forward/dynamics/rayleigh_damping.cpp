@@ -20,6 +20,9 @@ RayleighDamping::RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOpe
   for (int v = 0; v < mesh.num_vertices(); ++v)
     rest_.segment(mesh.dim() * v, mesh.dim()) = mesh.rest_positions.row(v).transpose();
   mass_slots_ = mass_->pattern_size();
+  HessianPattern k_pattern;
+  stiffness_->hessian_pattern(k_pattern);
+  stiffness_slots_ = k_pattern.size();
 }
 
 void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p,
@@ -43,9 +46,7 @@ void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p,
     EnergyRequest k_request;
     k_request.hessian_values = k_values;
     stiffness_->evaluate(X_plus_v, p, k_request);
-    HessianPattern k_pattern;
-    stiffness_->hessian_pattern(k_pattern);
-    for (std::size_t k = 0; k < k_pattern.size(); ++k) k_values[k] *= beta;
+    for (std::size_t k = 0; k < stiffness_slots_; ++k) k_values[k] *= beta;
   }
 }
 

@@ -43,7 +43,7 @@ class RayleighDamping final : public DampingTerm {
   std::unique_ptr<EnergyTerm> stiffness_;  // the linear elastic energy E_lin
   Vector rest_;
   int alpha_offset_, beta_offset_;
-  std::size_t mass_slots_;
+  std::size_t mass_slots_, stiffness_slots_;
 };
 
 }  // namespace tailor

@@ -13,6 +13,7 @@
 #include "forward/mesh/mesh.hpp"
 #include "problems/builtin_scenes.hpp"
 #include "problems/commands.hpp"
+#include "problems/dynamic_scene.hpp"
 #include "problems/inverse_commands.hpp"
 #include "tailor_version.hpp"
 
@@ -107,6 +108,8 @@ tailor::Scene load_scene(const Arguments& args) {
 int run_verb(const std::string& verb, const Arguments& args) {
   const tailor::Scene scene = load_scene(args);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
+  if (verb == "simulate" && scene.dynamics)
+    return tailor::simulate_dynamic_scene(scene, out_dir, &std::cout).completed ? kSuccess : kFailure;
   if (verb == "simulate") {
     const tailor::SimulateRun run = tailor::simulate_scene(scene, out_dir, &std::cout);
     return run.solution.converged ? kSuccess : kFailure;

@@ -8,11 +8,14 @@
 #include <ostream>
 #include <sstream>
 
+#include "adjoint/taylor_test.hpp"
+#include "adjoint/transient_functional.hpp"
 #include "forward/dynamics/setup.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/report.hpp"
 #include "problems/scene_node.hpp"
 #include "problems/scene_parsing.hpp"
+#include "problems/scene_selection.hpp"
 #include "problems/static_scene.hpp"
 #include "tailor_version.hpp"
 
@@ -37,8 +40,9 @@ Eigen::MatrixXd as_rows(const Vector& x, int dim) {
 
 }  // namespace
 
-DynamicsSpec parse_dynamics_section(const SceneNode& node) {
-  node.expect_keys({"scheme", "time_step", "steps", "mass", "rayleigh", "output_every", "initial_velocity"});
+DynamicsSpec parse_dynamics_section(const SceneNode& node, const std::string& directory) {
+  node.expect_keys(
+      {"scheme", "time_step", "steps", "mass", "rayleigh", "output_every", "initial_velocity", "objective"});
   DynamicsSpec d;
   if (auto v = node.find("scheme"))
     d.scheme = parse_time_scheme(v->choice({"implicit_euler", "newmark", "bdf2"}));
@@ -54,14 +58,43 @@ DynamicsSpec parse_dynamics_section(const SceneNode& node) {
   }
   if (auto v = node.find("output_every")) d.output_every = v->integer(1);
   if (auto v = node.find("initial_velocity")) d.initial_velocity = v->vector();
+  if (auto o = node.find("objective")) {
+    o->expect_keys({"vertices", "quantity", "steps", "target"});
+    TrajectoryTargetSpec t;
+    t.key = o->path();
+    t.vertices = parse_vertex_selector(o->at("vertices"), directory);
+    if (auto q = o->find("quantity"))
+      t.quantity = q->choice({"position", "velocity"}) == "velocity" ? TrajectoryQuantity::velocity
+                                                                     : TrajectoryQuantity::position;
+    if (auto steps = o->find("steps")) {
+      t.steps = steps->integers(1);
+      for (int step : t.steps)
+        if (step > d.steps)
+          steps->fail("step " + std::to_string(step) + " is beyond the last step " + std::to_string(d.steps));
+    }
+    t.target = o->at("target").vector();
+    d.objective = t;
+  }
   return d;
 }
 
-DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir, std::ostream* log) {
-  const auto t_start = Clock::now();
+namespace {
+
+// The model of a dynamic scene: the static scene's model plus inertia and Rayleigh damping.
+struct DynamicSceneModel {
+  StaticSetup setup;
+  std::unique_ptr<Model> model;
+  DynamicTerms terms;
+  Vector p, rest, initial_positions, initial_velocities;
+  TimeIntegratorOptions options;
+  bool rayleigh = false;
+};
+
+DynamicSceneModel build_dynamic_scene(const Scene& scene) {
   const DynamicsSpec& spec = *scene.dynamics;
-  const StaticSetup setup = setup_static_scene(scene);
-  const int dim = setup.dim(), m = setup.mesh.num_elements();
+  DynamicSceneModel d;
+  d.setup = setup_static_scene(scene);
+  const int dim = d.setup.dim(), m = d.setup.mesh.num_elements();
   for (std::size_t k = 0; k < scene.materials.size(); ++k)
     if (!(scene.materials[k].density > 0.0))
       throw SceneError(scene.source + ": " + scene.materials[k].key +
@@ -69,33 +102,44 @@ DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir
   if (spec.initial_velocity && spec.initial_velocity->size() != dim)
     throw SceneError(scene.source + ": dynamics.initial_velocity: expected " + std::to_string(dim) +
                      " components");
-
-  std::unique_ptr<Model> model = build_static_model(setup, 1.0);
-  const bool rayleigh = spec.rayleigh_alpha > 0.0 || spec.rayleigh_beta > 0.0;
-  const DynamicTerms terms =
-      add_dynamics_terms(*model, setup.mesh, DynamicsSetup{spec.lumping, std::nullopt, rayleigh});
-  Vector p(model->parameter_layout().size());
-  p.head(2 * m) = setup.parameters();
-  p.segment(terms.density_offset, m) = setup.density;
-  if (rayleigh) p[terms.alpha_offset] = spec.rayleigh_alpha, p[terms.beta_offset] = spec.rayleigh_beta;
-
-  TimeIntegratorOptions options;
-  options.scheme = spec.scheme;
-  options.time_step = spec.time_step;
-  options.newton.max_iterations = std::max(setup.solver.newton.max_iterations, 1);
-  options.newton.hessian = setup.solver.newton.hessian;
-  TimeIntegrator integrator(*model, options);
-  const Vector rest = setup.rest_state();
-  Vector v0 = Vector::Zero(rest.size());
+  d.model = build_static_model(d.setup, 1.0);
+  d.rayleigh = spec.rayleigh_alpha > 0.0 || spec.rayleigh_beta > 0.0;
+  d.terms = add_dynamics_terms(*d.model, d.setup.mesh, DynamicsSetup{spec.lumping, std::nullopt, d.rayleigh});
+  d.p.resize(d.model->parameter_layout().size());
+  d.p.head(2 * m) = d.setup.parameters();
+  d.p.segment(d.terms.density_offset, m) = d.setup.density;
+  if (d.rayleigh)
+    d.p[d.terms.alpha_offset] = spec.rayleigh_alpha, d.p[d.terms.beta_offset] = spec.rayleigh_beta;
+  d.options.scheme = spec.scheme;
+  d.options.time_step = spec.time_step;
+  d.options.newton.max_iterations = std::max(d.setup.solver.newton.max_iterations, 1);
+  d.options.newton.hessian = d.setup.solver.newton.hessian;
+  d.rest = d.setup.rest_state();
+  d.initial_velocities = Vector::Zero(d.rest.size());
   if (spec.initial_velocity)
-    for (int v = 0; v < setup.mesh.num_vertices(); ++v) v0.segment(dim * v, dim) = *spec.initial_velocity;
-  // Start from rest positions with the prescribed values on the fixed DOFs.
-  DynamicState state =
-      integrator.initial_state(model->elimination().expand(model->elimination().restrict_state(rest)), v0, p);
+    for (int v = 0; v < d.setup.mesh.num_vertices(); ++v)
+      d.initial_velocities.segment(dim * v, dim) = *spec.initial_velocity;
+  // Rest positions with the prescribed values on the fixed DOFs.
+  d.initial_positions = d.model->elimination().expand(d.model->elimination().restrict_state(d.rest));
+  return d;
+}
+
+}  // namespace
+
+DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir, std::ostream* log) {
+  const auto t_start = Clock::now();
+  const DynamicsSpec& spec = *scene.dynamics;
+  DynamicSceneModel d = build_dynamic_scene(scene);
+  const StaticSetup& setup = d.setup;
+  const int dim = setup.dim();
+  const Vector& p = d.p;
+  const Vector& rest = d.rest;
+  TimeIntegrator integrator(*d.model, d.options);
+  DynamicState state = integrator.initial_state(d.initial_positions, d.initial_velocities, p);
   const double setup_seconds = seconds_since(t_start);
   if (log)
     *log << "dynamic scene '" << scene.name << "': " << setup.mesh.num_elements() << " elements, "
-         << model->elimination().num_free() << " free DOFs; " << to_string(spec.scheme)
+         << d.model->elimination().num_free() << " free DOFs; " << to_string(spec.scheme)
          << ", h = " << spec.time_step << ", " << spec.steps << " steps\n";
 
   std::error_code error;
@@ -196,6 +240,67 @@ DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir
   if (log)
     *log << (run.completed ? "completed " : "FAILED: ") << run.message << "; wrote " << run.report_path
          << " and " << run.series_path << " (" << written.size() << " frames)\n";
+  return run;
+}
+
+}  // namespace tailor
+
+namespace tailor {
+
+GradcheckRun gradcheck_dynamic_scene(const Scene& scene, const std::string& out_dir, unsigned seed,
+                                     std::ostream* log) {
+  const DynamicsSpec& spec = *scene.dynamics;
+  if (!spec.objective)
+    throw SceneError(scene.source + ": dynamics.objective: gradcheck needs a trajectory objective");
+  const TrajectoryTargetSpec& target = *spec.objective;
+  DynamicSceneModel d = build_dynamic_scene(scene);
+  const Mesh& mesh = d.setup.mesh;
+  const int dim = d.setup.dim(), m = mesh.num_elements();
+  check_dimension(scene, mesh, target.target, target.key + ".target");
+  const std::vector<int> vertices = select_vertices(scene, mesh, target.vertices);
+  std::vector<Keyframe> frames;
+  for (int step : target.steps.empty() ? std::vector<int>{spec.steps} : target.steps) {
+    Matrix t(vertices.size(), dim);
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      t.row(i) = target.quantity == TrajectoryQuantity::position
+                     ? Eigen::RowVectorXd(mesh.rest_positions.row(vertices[i]) + target.target.transpose())
+                     : Eigen::RowVectorXd(target.target.transpose());
+    frames.push_back({step, t, 1.0});
+  }
+  auto objective = std::make_shared<KeyframeTargets>(dim, vertices, target.quantity, frames);
+  // Design: log E and log density per element, and alpha, beta with Rayleigh damping.
+  std::vector<ParameterBlock> blocks{{0, exp_map(m)}, {d.terms.density_offset, exp_map(m)}};
+  if (d.rayleigh) blocks.push_back({d.terms.alpha_offset, identity_map(2)});
+  const ParameterizationPtr map = embed_blocks(d.p, blocks);
+  Vector z0(map->num_design());
+  z0.head(m) = d.p.head(m).array().log().matrix();
+  z0.segment(m, m) = d.p.segment(d.terms.density_offset, m).array().log().matrix();
+  if (d.rayleigh) z0.tail(2) << d.p[d.terms.alpha_offset], d.p[d.terms.beta_offset];
+
+  TimeIntegrator integrator(*d.model, d.options);
+  TransientFunctionalOptions options;
+  options.steps = spec.steps;
+  TransientFunctional functional(integrator, map, objective, d.initial_positions, d.initial_velocities,
+                                 options);
+  TaylorTestOptions taylor;
+  taylor.seed = seed;
+  GradcheckRun run;
+  run.scene_name = scene.name;
+  run.scene_source = scene.source;
+  run.design_size = static_cast<int>(z0.size());
+  run.seed = seed;
+  run.gradient = taylor_test(functional, z0, taylor);
+  std::error_code error;
+  std::filesystem::create_directories(out_dir, error);
+  if (error)
+    throw std::runtime_error("cannot create the output folder '" + out_dir + "': " + error.message());
+  run.report_path = (std::filesystem::path(out_dir) / "gradcheck.json").string();
+  write_gradcheck_json(run.report_path, run);
+  if (log)
+    *log << "Taylor test of the time-dependent adjoint over " << spec.steps << " steps ("
+         << to_string(spec.scheme) << "), " << run.design_size << " design variables (log E, log density"
+         << (d.rayleigh ? ", alpha, beta" : "") << "), seed " << seed << ":\n"
+         << run.gradient.table() << "wrote " << run.report_path << "\n";
   return run;
 }
 

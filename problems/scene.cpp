@@ -295,7 +295,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
   if (auto inverse = root.find("inverse"))
     scene.inverse = std::make_shared<const InverseSpec>(parse_inverse_section(*inverse, directory));
   if (auto dynamics = root.find("dynamics"))
-    scene.dynamics = std::make_shared<const DynamicsSpec>(parse_dynamics_section(*dynamics));
+    scene.dynamics = std::make_shared<const DynamicsSpec>(parse_dynamics_section(*dynamics, directory));
   return scene;
 }
 

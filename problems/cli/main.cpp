@@ -36,6 +36,8 @@ const char* const kUsage =
     "  gradcheck scene.json [--out DIR] [--seed N] [--hessian]\n"
     "      Taylor test of the gradient (and with --hessian of the Hessian-vector products)\n"
     "      of the scene's inverse problem at its initial design; write DIR/gradcheck.json.\n"
+    "      For a dynamic scene (no inverse section): the time-dependent adjoint of its\n"
+    "      dynamics.objective.\n"
     "  run scene.json [--out DIR] [--quiet]\n"
     "      Optimize the design of the scene's inverse problem; print one line per iteration\n"
     "      (none with --quiet); write DIR/report.json and DIR/result.vtu at the best design.\n"
@@ -116,7 +118,9 @@ int run_verb(const std::string& verb, const Arguments& args) {
   }
   if (verb == "gradcheck") {
     const tailor::GradcheckRun run =
-        tailor::gradcheck_scene(scene, out_dir, {args.seed, args.hessian}, &std::cout);
+        scene.dynamics && !scene.inverse
+            ? tailor::gradcheck_dynamic_scene(scene, out_dir, args.seed.value_or(1), &std::cout)
+            : tailor::gradcheck_scene(scene, out_dir, {args.seed, args.hessian}, &std::cout);
     if (!run.passed()) {
       const tailor::TaylorTestResult& failed = run.gradient.passed() ? *run.hessian : run.gradient;
       std::cout << (run.gradient.passed() ? "Hessian" : "gradient") << " check "

@@ -41,7 +41,8 @@ TEST(DynamicScene, ParsesAndReportsErrorsWithKeyPaths) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(error_of(R"({"time_step": 0.1})").find("dynamics: missing required key \"steps\""), std::string::npos);
+  EXPECT_NE(error_of(R"({"time_step": 0.1})").find("dynamics: missing required key \"steps\""),
+            std::string::npos);
   EXPECT_NE(error_of(R"({"time_step": -1, "steps": 3})").find("dynamics.time_step"), std::string::npos);
   EXPECT_NE(error_of(R"({"time_step": 0.1, "steps": 3, "scheme": "leapfrog"})").find("dynamics.scheme"),
             std::string::npos);
@@ -88,6 +89,20 @@ TEST(DynamicScene, WritesASeriesAndAReportWithDecayingEnergy) {
   std::ifstream pvd(run.series_path);
   const std::string series((std::istreambuf_iterator<char>(pvd)), std::istreambuf_iterator<char>());
   EXPECT_NE(series.find("frames/frame_00020.vtu"), std::string::npos);
+}
+
+TEST(DynamicScene, GradcheckOfATrajectoryObjectivePasses) {
+  const Scene scene = parse_scene(
+      dynamic_box(
+          R"({"scheme": "bdf2", "time_step": 0.05, "steps": 12, "rayleigh": {"alpha": 0.5, "beta": 0.01},
+          "objective": {"vertices": {"plane": {"axis": "x", "value": 2}}, "steps": [6, 12], "target": [0.01, 0, 0]}})"),
+      "box.json", "");
+  TempFolder folder("dynamic_gradcheck");
+  const GradcheckRun run = gradcheck_dynamic_scene(scene, folder.str(), 1, nullptr);
+  EXPECT_TRUE(run.passed()) << run.gradient.table();
+  EXPECT_TRUE(std::filesystem::exists(run.report_path));
+  const Scene no_objective = parse_scene(dynamic_box(R"({"time_step": 0.05, "steps": 2})"), "box.json", "");
+  EXPECT_THROW(gradcheck_dynamic_scene(no_objective, folder.str(), 1, nullptr), SceneError);
 }
 
 TEST(DynamicScene, ExampleSceneParses) {

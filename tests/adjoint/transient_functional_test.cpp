@@ -181,6 +181,30 @@ TEST(TransientFunctional, FactorizationReuseDoesNotChangeTheGradient) {
   EXPECT_EQ(fresh.statistics().factorizations, 40);
 }
 
+TEST(TransientFunctional, InitialPositionsAndVelocitiesAsDesign) {
+  // Only the initial state is designed (P = [p; x_0; v_0], p fixed): exercises the adjoint of
+  // the history at step 0, including Newmark's start g_0 = -dPi_0/dx(x_0) with damping.
+  SwingProblem problem(false);
+  const int n = problem.c.model->num_dofs(), np = problem.c.model->parameter_layout().size();
+  Vector base(np + 2 * n);
+  base << problem.c.p, problem.c.rest, problem.v0;
+  const ParameterizationPtr map = embed_blocks(base, {{np, identity_map(2 * n)}});
+  Vector z0(2 * n);
+  z0 << problem.c.rest, problem.v0;
+  for (TimeScheme scheme : {TimeScheme::newmark, TimeScheme::bdf2}) {
+    TimeIntegrator integrator(*problem.c.model, integrator_options(scheme));
+    TransientFunctionalOptions options = functional_options(true, 40);
+    options.design_initial_positions = true;
+    TransientFunctional f(integrator, map, problem.objective, problem.c.rest, problem.v0, options);
+    TaylorTestOptions taylor;
+    taylor.direction_floor = 0.05;
+    taylor.initial_step = 2e-3;
+    const TaylorTestResult t = taylor_test(f, z0, taylor);
+    std::printf("initial state as design, %s:\n%s", to_string(scheme).c_str(), t.table().c_str());
+    EXPECT_TRUE(t.passed()) << t.table();
+  }
+}
+
 TEST(TransientFunctional, BadInputIsRejected) {
   SwingProblem problem(false);
   TimeIntegrator integrator(*problem.c.model, integrator_options(TimeScheme::newmark));

@@ -6,6 +6,7 @@
 #include <ostream>
 
 #include "problems/plot/convergence_plot.hpp"
+#include "problems/plot/field_image.hpp"
 
 namespace tailor {
 namespace {
@@ -141,10 +142,16 @@ InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std
   const std::string plot_path = output_path(out_dir, "convergence.png");
   write_convergence_png(plot_path, run.result,
                         problem.scene_name + " (" + to_string(problem.spec.optimizer.backend) + ")");
+  // The designed field next to the truth, on one colour scale.
+  const std::string field_path = output_path(out_dir, "youngs_modulus.png");
+  std::vector<FieldPanel> panels{{"designed E", run.youngs_modulus}};
+  if (problem.truth.size() > 0) panels.push_back({"true E", problem.truth});
+  write_field_png(field_path, problem.setup.mesh, panels, {problem.scene_name, "E"});
   if (log) {
     *log << run.result.report();
     print_design(*log, run);
-    *log << "wrote " << run.report_path << ", " << run.result_path << " and " << plot_path << "\n";
+    *log << "wrote " << run.report_path << ", " << run.result_path << ", " << plot_path << " and " << field_path
+         << "\n";
   }
   return run;
 }

@@ -8,18 +8,23 @@
 //             on log E, no reduction), capped by --full-time-limit and --max-iterations,
 //   r modes   r in --modes (default 5, 10, 20, 40, 80) with nlopt_lbfgs, and the --backends
 //             (default ipopt, ceres_lbfgs, gradient_descent) at r = --backend-modes (20),
+//             capped by --max-iterations and --time-limit seconds (default none),
 // it reports: wall = modes + optimization seconds (the synthetic truth solve is excluded),
 // iterations, per-iteration forward / adjoint milliseconds, the eigen solve's seconds, the
 // final objective and the volume-weighted relative L2 error of E against the truth.
-// Writes JSON (--out, default bench_material_modes.json), a PNG of error against wall time
-// (--plot, default bench_material_modes.png) and prints a table. Run with
+// Writes JSON (--out, default bench_material_modes.json, with every evaluation's time and error),
+// per scene a PNG of error against wall time along each run (--plot, default
+// bench_material_modes.png -> bench_material_modes_small.png, ..._large.png) and prints a table,
+// then per reduced run its speed-up over the full design and how soon it reached the full
+// design's final error. Run with
 // OPENBLAS_NUM_THREADS=1 on a shared machine (BLAS threads fight over the cores otherwise).
 //
 // usage: material_modes_bench [--quick] [--scenes small,large] [--modes 5,10,20,40,80]
 //          [--backends ipopt,ceres_lbfgs,gradient_descent] [--backend-modes 20] [--max-iterations 200]
-//          [--full-time-limit 600] [--scene-dir scenes]
+//          [--full-time-limit 600] [--time-limit 0] [--scene-dir scenes]
 //          [--out FILE] [--plot FILE]
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -50,7 +55,8 @@ struct Row {
   std::string modes;  // "full" or r
   double modes_s = 0, optimization_s = 0, wall_s = 0, forward_ms = 0, adjoint_ms = 0, objective = 0,
          error = 0, initial_error = 0;
-  bool capped = false;  // stopped by an iteration or time cap
+  bool capped = false;                           // stopped by an iteration or time cap
+  std::vector<double> history_s, history_error;  // per evaluation: wall seconds (with modes), E error
 };
 
 struct Settings {
@@ -61,6 +67,7 @@ struct Settings {
                                             OptimizerBackend::gradient_descent};
   int max_iterations = 200;
   double full_time_limit = 600.0;
+  double time_limit = 0.0;  // of the reduced runs; 0 = none
   std::string scene_dir = "scenes", out = "bench_material_modes.json", plot = "bench_material_modes.png";
 };
 
@@ -77,6 +84,40 @@ std::string scene_file(const Settings& settings, const std::string& scene) {
          (scene == "small" ? "/inclusion_recovery_small.json" : "/inclusion_recovery.json");
 }
 
+// The functional as the optimizer sees it, recording after every evaluation the wall time since
+// the start (plus the eigen solve) and the recovery error of the evaluated design.
+class RecordingFunctional final : public ReducedFunctional {
+ public:
+  RecordingFunctional(const InverseProblem& problem, double modes_s, Row& row)
+      : problem_(problem), modes_s_(modes_s), row_(row), start_(std::chrono::steady_clock::now()) {}
+  int size() const override { return problem_.functional->size(); }
+  double value(const Vector& z) override { return record(z, problem_.functional->value(z)); }
+  double value_and_gradient(const Vector& z, Vector& gradient) override {
+    return record(z, problem_.functional->value_and_gradient(z, gradient));
+  }
+  const FunctionalCounters& counters() const override { return problem_.functional->counters(); }
+
+ private:
+  double record(const Vector& z, double value) {
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    row_.history_s.push_back(modes_s_ + t);
+    row_.history_error.push_back(
+        field_error(problem_.setup.mesh, problem_.youngs_modulus(z), problem_.truth).relative_l2);
+    return value;
+  }
+  const InverseProblem& problem_;
+  double modes_s_;
+  Row& row_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// Seconds until the run's error first reached `error` (infinity when never).
+double time_to_error(const Row& row, double error) {
+  for (std::size_t k = 0; k < row.history_s.size(); ++k)
+    if (row.history_error[k] <= error) return row.history_s[k];
+  return std::numeric_limits<double>::infinity();
+}
+
 Row run(const Settings& settings, const Setting& setting) {
   Scene scene = read_scene(scene_file(settings, setting.scene));
   auto spec = std::make_shared<InverseSpec>(*scene.inverse);
@@ -85,14 +126,15 @@ Row run(const Settings& settings, const Setting& setting) {
   spec->design.output_modes = 0;
   spec->optimizer.backend = setting.backend;
   spec->optimizer.max_iterations = settings.max_iterations;
-  if (!setting.modes) spec->optimizer.time_limit_seconds = settings.full_time_limit;
+  spec->optimizer.time_limit_seconds = setting.modes ? settings.time_limit : settings.full_time_limit;
   scene.inverse = spec;
 
   const std::unique_ptr<InverseProblem> problem = build_inverse_problem(scene);
-  OptimizerResult result = minimize(*problem->functional, problem->z0, problem->bounds, {}, spec->optimizer);
+  Row row;
+  RecordingFunctional recording(*problem, problem->modal ? problem->modal->seconds : 0.0, row);
+  OptimizerResult result = minimize(recording, problem->z0, problem->bounds, {}, spec->optimizer);
   const FunctionalCounters& counters = problem->functional->counters();
 
-  Row row;
   row.scene = setting.scene;
   row.backend = to_string(setting.backend);
   row.status = to_string(result.status);
@@ -124,6 +166,14 @@ void print_row(const Row& r) {
   std::fflush(stdout);
 }
 
+std::string json_array(const std::vector<double>& values) {
+  std::ostringstream s;
+  s.precision(6);
+  s << "[";
+  for (std::size_t k = 0; k < values.size(); ++k) s << (k ? ", " : "") << values[k];
+  return s.str() + "]";
+}
+
 void write_json(const Settings& settings, const std::vector<Row>& rows) {
   std::ofstream json(settings.out);
   const char* threads = std::getenv("OPENBLAS_NUM_THREADS");
@@ -141,43 +191,45 @@ void write_json(const Settings& settings, const std::vector<Row>& rows) {
          << ", \"optimization_s\": " << r.optimization_s << ", \"forward_ms_per_iteration\": " << r.forward_ms
          << ", \"adjoint_ms_per_iteration\": " << r.adjoint_ms << ", \"objective\": " << r.objective
          << ", \"relative_l2_error\": " << r.error << ", \"initial_relative_l2_error\": " << r.initial_error
-         << "}" << (k + 1 < rows.size() ? "," : "") << "\n";
+         << ", \"history_s\": " << json_array(r.history_s)
+         << ", \"history_relative_l2_error\": " << json_array(r.history_error) << "}"
+         << (k + 1 < rows.size() ? "," : "") << "\n";
   }
   json << "  ]\n}\n";
 }
 
-// Recovery error against log10(wall seconds): per scene, the nlopt_lbfgs modes as a line over r,
-// the full design and the other back-ends as single points (NaN breaks the line).
-void write_plot(const Settings& settings, const std::vector<Row>& rows) {
-  LinePlot plot;
-  plot.title = "material modes: recovery error vs wall time";
-  plot.x_label = "log10 wall time [s] (modes + optimization)";
-  plot.y_label = "relative L2 error of E";
-  plot.width = 900;
-  plot.height = 560;
-  const Rgb colours[] = {{31, 119, 180}, {230, 110, 20}, {44, 160, 44}, {214, 39, 40}};
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  int c = 0;
+// Per scene, PLOT_scene.png (PLOT = --plot without ".png"): the recovery error of every evaluated
+// design against log10 of the wall time at which it was evaluated, one curve per run.
+std::vector<std::string> write_plots(const Settings& settings, const std::vector<Row>& rows) {
+  static const Rgb palette[] = {{0, 0, 0},       {31, 119, 180},  {230, 110, 20}, {44, 160, 44},
+                                {214, 39, 40},   {148, 103, 189}, {140, 86, 75},  {227, 119, 194},
+                                {127, 127, 127}, {188, 189, 34}};
+  std::string stem = settings.plot;
+  if (stem.size() > 4 && stem.substr(stem.size() - 4) == ".png") stem.resize(stem.size() - 4);
+  std::vector<std::string> paths;
   for (const std::string& scene : settings.scenes) {
-    LineSeries modes{scene + ": r modes (lbfgs)", colours[c % 4], {}, {}};
-    LineSeries full{scene + ": full", colours[(c + 1) % 4], {}, {}};
-    LineSeries others{scene + ": other backends", colours[(c + 2) % 4], {}, {}};
+    LinePlot plot;
+    plot.title = scene + ": recovery error vs wall time";
+    plot.x_label = "log10 wall time [s] (modes + optimization)";
+    plot.y_label = "relative L2 error of E";
+    plot.width = 1000;
+    plot.height = 600;
+    int c = 0;
     for (const Row& r : rows) {
       if (r.scene != scene) continue;
-      const double x = std::log10(std::max(r.wall_s, 1e-3));
-      LineSeries& s = r.modes == "full" ? full : r.backend == "nlopt_lbfgs" ? modes : others;
-      if (&s != &modes && !s.x.empty()) {
-        s.x.push_back(nan);
-        s.y.push_back(nan);
+      LineSeries series{
+          (r.modes == "full" ? "full" : "r=" + r.modes) + " " + r.backend, palette[c++ % 10], {}, {}};
+      for (std::size_t k = 0; k < r.history_s.size(); ++k) {
+        series.x.push_back(std::log10(std::max(r.history_s[k], 1e-3)));
+        series.y.push_back(r.history_error[k]);
       }
-      s.x.push_back(x);
-      s.y.push_back(r.error);
+      plot.series.push_back(std::move(series));
     }
-    for (LineSeries* s : {&modes, &full, &others})
-      if (!s->x.empty()) plot.series.push_back(std::move(*s));
-    c += 2;
+    if (plot.series.empty()) continue;
+    paths.push_back(stem + "_" + scene + ".png");
+    write_line_plot_png(paths.back(), plot);
   }
-  write_line_plot_png(settings.plot, plot);
+  return paths;
 }
 
 }  // namespace
@@ -207,6 +259,8 @@ int main(int argc, char** argv) {
       settings.backend_modes = std::stoi(argv[++i]);
     } else if (arg == "--max-iterations" && has_value) {
       settings.max_iterations = std::stoi(argv[++i]);
+    } else if (arg == "--time-limit" && has_value) {
+      settings.time_limit = std::stod(argv[++i]);
     } else if (arg == "--full-time-limit" && has_value) {
       settings.full_time_limit = std::stod(argv[++i]);
     } else if (arg == "--scene-dir" && has_value) {
@@ -218,7 +272,7 @@ int main(int argc, char** argv) {
     } else {
       std::cerr << "usage: material_modes_bench [--quick] [--scenes small,large] [--modes 5,10,20,40,80]\n"
                    "         [--backends ipopt,ceres_lbfgs,gradient_descent] [--backend-modes 20]\n"
-                   "         [--max-iterations 200] [--full-time-limit 600]\n"
+                   "         [--max-iterations 200] [--full-time-limit 600] [--time-limit 0]\n"
                    "         [--scene-dir scenes] [--out FILE] [--plot FILE]\n";
       return 2;
     }
@@ -273,11 +327,15 @@ int main(int argc, char** argv) {
     if (full == rows.end()) continue;
     for (const Row& r : rows)
       if (r.scene == scene && r.modes != "full")
-        std::printf("%-6s r=%-3s %-17s speed-up %7.1fx, error %.4f vs full %.4f (ratio %.3f)\n",
-                    scene.c_str(), r.modes.c_str(), r.backend.c_str(), full->wall_s / r.wall_s, r.error,
-                    full->error, r.error / full->error);
+        std::printf(
+            "%-6s r=%-3s %-17s speed-up %7.1fx, error %.4f vs full %.4f (ratio %.3f); full's final error "
+            "reached after %.2f s (%.1fx faster)\n",
+            scene.c_str(), r.modes.c_str(), r.backend.c_str(), full->wall_s / r.wall_s, r.error, full->error,
+            r.error / full->error, time_to_error(r, full->error),
+            full->wall_s / time_to_error(r, full->error));
   }
-  write_plot(settings, rows);
-  std::printf("wrote %s and %s\n", settings.out.c_str(), settings.plot.c_str());
+  std::printf("wrote %s", settings.out.c_str());
+  for (const std::string& path : write_plots(settings, rows)) std::printf(", %s", path.c_str());
+  std::printf("\n");
   return 0;
 }

@@ -5,7 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
+#include "../support/temp_folder.hpp"
 #include "forward/mesh/generate.hpp"
+#include "problems/inverse_commands.hpp"
 
 namespace tailor {
 namespace {
@@ -71,6 +76,24 @@ TEST(FieldImage, RefusesBadInput) {
   tiny.panel_width = 10;
   EXPECT_THROW(render_field_image(mesh, {{"ok", Eigen::VectorXd::Ones(mesh.num_elements())}}, tiny),
                std::invalid_argument);
+}
+
+// tailor run writes the designed and the true field side by side.
+TEST(FieldImage, TailorRunWritesYoungsModulusPng) {
+  tailor::testing::TempFolder folder("field_image_run");
+  const InverseRun run = run_inverse_scene(
+      read_scene(tailor::testing::kScenesDir + "/two_material_bar_inverse.json"), folder / "out");
+  const std::string path = folder / "out/youngs_modulus.png";
+  ASSERT_TRUE(std::filesystem::exists(path));
+  std::ifstream in(path, std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const RgbImage expected = render_field_image(
+      run.problem->setup.mesh, {{"designed E", run.youngs_modulus}, {"true E", run.problem->truth}},
+      {run.problem->scene_name, "E"});
+  const std::vector<std::uint8_t> encoded = encode_png(expected);
+  ASSERT_EQ(bytes.size(), encoded.size());
+  EXPECT_TRUE(std::equal(encoded.begin(), encoded.end(), bytes.begin(),
+                         [](std::uint8_t a, char b) { return a == static_cast<std::uint8_t>(b); }));
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 //             (default ipopt, ceres_lbfgs, gradient_descent) at r = --backend-modes (20),
 //             capped by --max-iterations and --time-limit seconds (default none),
 // it reports: wall = modes + optimization seconds (the synthetic truth solve is excluded),
+// Newton iterations per forward solve, the load average (the machine may be shared),
 // iterations, per-iteration forward / adjoint milliseconds, the eigen solve's seconds, the
 // final objective and the volume-weighted relative L2 error of E against the truth.
 // Writes JSON (--out, default bench_material_modes.json, with every evaluation's time and error),
@@ -57,6 +58,8 @@ struct Row {
          error = 0, initial_error = 0;
   bool capped = false;                           // stopped by an iteration or time cap
   std::vector<double> history_s, history_error;  // per evaluation: wall seconds (with modes), E error
+  int newton_iterations = 0;                     // summed over the forward solves
+  double load_average = 0.0;                     // 1-minute load average when the run ended
 };
 
 struct Settings {
@@ -101,6 +104,10 @@ class RecordingFunctional final : public ReducedFunctional {
   double record(const Vector& z, double value) {
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     row_.history_s.push_back(modes_s_ + t);
+    if (problem_.functional->counters().forward_solves != solves_) {
+      solves_ = problem_.functional->counters().forward_solves;
+      row_.newton_iterations += problem_.functional->last_newton().iterations;
+    }
     row_.history_error.push_back(
         field_error(problem_.setup.mesh, problem_.youngs_modulus(z), problem_.truth).relative_l2);
     return value;
@@ -109,7 +116,16 @@ class RecordingFunctional final : public ReducedFunctional {
   double modes_s_;
   Row& row_;
   std::chrono::steady_clock::time_point start_;
+  int solves_ = 0;
 };
+
+// The machine's 1-minute load average (0 when unknown): the bench shares the cores.
+double load_average() {
+  std::ifstream in("/proc/loadavg");
+  double load = 0.0;
+  in >> load;
+  return load;
+}
 
 // Seconds until the run's error first reached `error` (infinity when never).
 double time_to_error(const Row& row, double error) {
@@ -152,6 +168,7 @@ Row run(const Settings& settings, const Setting& setting) {
   row.forward_ms = 1e3 * counters.forward_seconds / per;
   row.adjoint_ms = 1e3 * counters.adjoint_seconds / per;
   row.objective = result.objective;
+  row.load_average = load_average();
   row.error = field_error(problem->setup.mesh, problem->youngs_modulus(result.z), problem->truth).relative_l2;
   row.initial_error =
       field_error(problem->setup.mesh, problem->youngs_modulus(problem->z0), problem->truth).relative_l2;
@@ -159,9 +176,10 @@ Row run(const Settings& settings, const Setting& setting) {
 }
 
 void print_row(const Row& r) {
-  std::printf("%-6s %6d %5s %-17s %5d %5d %9.2f %8.3f %9.1f %9.1f %12.5e %8.4f %s\n", r.scene.c_str(), r.tets,
-              r.modes.c_str(), r.backend.c_str(), r.iterations, r.evaluations, r.wall_s, r.modes_s,
-              r.forward_ms, r.adjoint_ms, r.objective, r.error,
+  std::printf("%-6s %6d %5s %-17s %5d %5d %6.1f %9.2f %8.3f %9.1f %9.1f %12.5e %8.4f %4.1f %s\n",
+              r.scene.c_str(), r.tets, r.modes.c_str(), r.backend.c_str(), r.iterations, r.evaluations,
+              static_cast<double>(r.newton_iterations) / std::max(1, r.evaluations), r.wall_s, r.modes_s,
+              r.forward_ms, r.adjoint_ms, r.objective, r.error, r.load_average,
               (r.status + (r.capped ? " (capped)" : "")).c_str());
   std::fflush(stdout);
 }
@@ -189,8 +207,10 @@ void write_json(const Settings& settings, const std::vector<Row>& rows) {
          << ", \"iterations\": " << r.iterations << ", \"evaluations\": " << r.evaluations
          << ", \"wall_s\": " << r.wall_s << ", \"modes_s\": " << r.modes_s
          << ", \"optimization_s\": " << r.optimization_s << ", \"forward_ms_per_iteration\": " << r.forward_ms
-         << ", \"adjoint_ms_per_iteration\": " << r.adjoint_ms << ", \"objective\": " << r.objective
-         << ", \"relative_l2_error\": " << r.error << ", \"initial_relative_l2_error\": " << r.initial_error
+         << ", \"adjoint_ms_per_iteration\": " << r.adjoint_ms
+         << ", \"newton_iterations\": " << r.newton_iterations << ", \"load_average\": " << r.load_average
+         << ", \"objective\": " << r.objective << ", \"relative_l2_error\": " << r.error
+         << ", \"initial_relative_l2_error\": " << r.initial_error
          << ", \"history_s\": " << json_array(r.history_s)
          << ", \"history_relative_l2_error\": " << json_array(r.history_error) << "}"
          << (k + 1 < rows.size() ? "," : "") << "\n";
@@ -300,9 +320,9 @@ int main(int argc, char** argv) {
       "tailor %s: material modes vs full design (OPENBLAS_NUM_THREADS=%s; caps: %d iterations, full %g s)\n",
       version_string, std::getenv("OPENBLAS_NUM_THREADS") ? std::getenv("OPENBLAS_NUM_THREADS") : "unset",
       settings.max_iterations, settings.full_time_limit);
-  std::printf("%-6s %6s %5s %-17s %5s %5s %9s %8s %9s %9s %12s %8s %s\n", "scene", "tets", "r", "backend",
-              "iters", "evals", "wall s", "modes s", "fwd ms/it", "adj ms/it", "objective", "E error",
-              "status");
+  std::printf("%-6s %6s %5s %-17s %5s %5s %6s %9s %8s %9s %9s %12s %8s %4s %s\n", "scene", "tets", "r",
+              "backend", "iters", "evals", "nwt/ev", "wall s", "modes s", "fwd ms/it", "adj ms/it",
+              "objective", "E error", "load", "status");
   std::vector<Row> rows;
   for (const Setting& setting : plan) {
     try {

@@ -38,11 +38,11 @@ void print_problem(std::ostream& log, const InverseProblem& problem) {
   log << "scene '" << problem.scene_name << "' (" << problem.scene_source << "): " << mesh.dim() << "D mesh, "
       << mesh.num_vertices() << " vertices, " << mesh.num_elements() << " elements; design: " << d.parameter
       << " " << to_string(d.granularity) << " (" << problem.num_design() << " variable"
-      << (problem.num_design() == 1 ? "" : "s") << "), " << design_formula(d)
-      << "\n";
+      << (problem.num_design() == 1 ? "" : "s") << "), " << design_formula(d) << "\n";
   if (problem.modal && d.modes)
-    log << "material modes: " << *d.modes << " in " << std::fixed << std::setprecision(3) << problem.modal->seconds
-        << " s (" << problem.modal->eigen_message << ")" << std::defaultfloat << "\n";
+    log << "material modes: " << *d.modes << " in " << std::fixed << std::setprecision(3)
+        << problem.modal->seconds << " s (" << problem.modal->eigen_message << ")" << std::defaultfloat
+        << "\n";
   log << "objective:";
   for (const ObjectiveTermInfo& t : problem.terms)
     log << (&t == &problem.terms.front() ? " " : " + ") << std::defaultfloat << std::setprecision(4)
@@ -150,8 +150,8 @@ InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std
   if (log) {
     *log << run.result.report();
     print_design(*log, run);
-    *log << "wrote " << run.report_path << ", " << run.result_path << ", " << plot_path << " and " << field_path
-         << "\n";
+    *log << "wrote " << run.report_path << ", " << run.result_path << ", " << plot_path << " and "
+         << field_path << "\n";
   }
   return run;
 }

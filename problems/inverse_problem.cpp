@@ -32,15 +32,16 @@ Eigen::VectorXd expression_field(const Scene& scene, const Mesh& mesh, const Mod
   Eigen::VectorXd out(ne);
   for (int e = 0; e < ne; ++e) {
     Eigen::VectorXd c = Eigen::VectorXd::Zero(mesh.dim());
-    for (Eigen::Index k = 0; k < mesh.elements.cols(); ++k) c += mesh.rest_positions.row(mesh.elements(e, k)).transpose();
+    for (Eigen::Index k = 0; k < mesh.elements.cols(); ++k)
+      c += mesh.rest_positions.row(mesh.elements(e, k)).transpose();
     c /= static_cast<double>(mesh.elements.cols());
     double E = field.value * (field.gradient.size() > 0 ? 1.0 + field.gradient.dot(c) : 1.0);
     for (const ModulusInclusion& inclusion : field.inclusions)
       if ((c - inclusion.center).norm() <= inclusion.radius) E *= inclusion.factor;
     if (!(E > 0.0))
-      throw_scene_error(scene, field.key,
-                        "the field is " + format_number(E) + " (not > 0) at the centroid of element " +
-                            std::to_string(e));
+      throw_scene_error(
+          scene, field.key,
+          "the field is " + format_number(E) + " (not > 0) at the centroid of element " + std::to_string(e));
     out[e] = E;
   }
   return out;
@@ -59,7 +60,8 @@ Eigen::VectorXd expand_field(const Scene& scene, const StaticSetup& setup, const
     for (int e = 0; e < ne; ++e) out[e] = field.per_material[setup.element_material[e]];
     return out;
   }
-  if (field.gradient.size() > 0 || !field.inclusions.empty()) return expression_field(scene, setup.mesh, field);
+  if (field.gradient.size() > 0 || !field.inclusions.empty())
+    return expression_field(scene, setup.mesh, field);
   if (field.values.empty()) return Eigen::VectorXd::Constant(ne, field.value);
   if (static_cast<int>(field.values.size()) != ne)
     throw_scene_error(scene, field.key + ".file",
@@ -152,13 +154,14 @@ void modal_initial_design(const Scene& scene, InverseProblem& problem) {
       design.initial ? Eigen::VectorXd::Constant(ne, *design.initial) : problem.setup.youngs_modulus;
   ModalDesignOptions options{design.modes, design.mode_weighting, design.map == DesignMap::log, design.min,
                              design.max};
+  const bool too_many = design.modes && *design.modes >= ne;  // material_modes needs r < ne
   try {
     problem.modal = modal_design(problem.setup.mesh, initial, options);
   } catch (const std::invalid_argument& e) {
-    throw_scene_error(scene, design.modes && *design.modes >= ne ? "inverse.design.modes" : "inverse.design",
-                      std::string(e.what()) + (design.modes && *design.modes >= ne
-                                                   ? " (use \"full\" for one variable per element)"
-                                                   : ""));
+    if (too_many)
+      throw_scene_error(scene, "inverse.design.modes",
+                        std::string(e.what()) + " (use \"full\" for one variable per element)");
+    throw_scene_error(scene, "inverse.design", e.what());
   } catch (const std::runtime_error& e) {
     throw_scene_error(scene, "inverse.design.modes", e.what());
   }
@@ -168,7 +171,8 @@ void modal_initial_design(const Scene& scene, InverseProblem& problem) {
 }
 
 ParameterizationPtr design_map(const InverseProblem& problem) {
-  if (problem.modal) return embed_blocks(problem.setup.parameters(), {{problem.youngs_offset, problem.modal->element_map}});
+  if (problem.modal)
+    return embed_blocks(problem.setup.parameters(), {{problem.youngs_offset, problem.modal->element_map}});
   const int n = problem.num_design();
   const int ne = problem.setup.mesh.num_elements();
   ParameterizationPtr values = problem.spec.design.map == DesignMap::log ? exp_map(n) : identity_map(n);

@@ -38,7 +38,7 @@ struct InverseProblem {
   std::unique_ptr<Model> model;            // at full load
   int youngs_offset = 0;                   // of the "youngs_modulus" block in p
   Eigen::VectorXi design_of_element;       // per element: its design variable (not for modes)
-  std::vector<std::string> design_labels;  // per design variable: "element e", "region r", "materials[m]", "mode j"
+  std::vector<std::string> design_labels;  // per variable: "element e", "region r", "materials[m]", "mode j"
   std::optional<ModalDesign> modal;        // granularity modes: Phi, y0 and z -> E
   ParameterizationPtr parameterization;
   std::vector<ObjectiveTermInfo> terms;

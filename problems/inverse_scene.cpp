@@ -113,7 +113,8 @@ void parse_mode_keys(const SceneNode& node, DesignSpec& d) {
   }
   if (static_cast<bool>(d.min) != static_cast<bool>(d.max))
     node.at(d.min ? "min" : "max")
-        .fail("with granularity \"modes\" give both min and max (a smooth box keeps E inside them) or neither");
+        .fail(
+            "with granularity \"modes\" give both min and max (a smooth box keeps E inside them) or neither");
   if (d.map == DesignMap::identity && !d.min)
     node.fail(
         "granularity \"modes\" with the identity map needs min and max (E = Phi z alone may turn negative); "
@@ -121,8 +122,8 @@ void parse_mode_keys(const SceneNode& node, DesignSpec& d) {
 }
 
 DesignSpec parse_design(const SceneNode& node) {
-  node.expect_keys(
-      {"parameter", "granularity", "map", "min", "max", "initial", "modes", "mode_weighting", "output_modes"});
+  node.expect_keys({"parameter", "granularity", "map", "min", "max", "initial", "modes", "mode_weighting",
+                    "output_modes"});
   DesignSpec d;
   const SceneNode parameter = node.at("parameter");
   d.parameter = parameter.string();

@@ -34,7 +34,7 @@ struct ModulusField {
   std::vector<double> values;        // from {"file": path}
   Eigen::VectorXd gradient;          // relative change per unit length; empty = none
   std::vector<ModulusInclusion> inclusions;
-  std::string key;                   // JSON key path
+  std::string key;  // JSON key path
 };
 
 // modes: E (or log E) = Phi z over the r lowest Laplacian material modes (inverse_modes.hpp).

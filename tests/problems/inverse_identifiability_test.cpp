@@ -16,7 +16,7 @@ double recovery_error(bool all_vertices) {
   Scene scene = read_scene(std::string(tailor::testing::kScenesDir) + "/inclusion_recovery_small.json");
   auto spec = std::make_shared<InverseSpec>(*scene.inverse);
   spec->design.modes = 10;
-  spec->optimizer.max_iterations = 30;
+  spec->optimizer.max_iterations = 20;
   auto& observations = std::get<SyntheticObservationsTerm>(spec->objective.at(0).term);
   observations.noise = 0.0;
   if (all_vertices) {

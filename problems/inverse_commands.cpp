@@ -6,6 +6,7 @@
 #include <ostream>
 
 #include "problems/plot/convergence_plot.hpp"
+#include "problems/plot/field_image.hpp"
 
 namespace tailor {
 namespace {
@@ -23,16 +24,27 @@ std::string output_path(const std::string& out_dir, const char* name) {
   return (std::filesystem::path(out_dir) / name).string();
 }
 
+std::string design_formula(const DesignSpec& d) {
+  if (d.granularity != DesignGranularity::modes) return d.map == DesignMap::log ? "z = log E" : "z = E";
+  const std::string y = d.modes ? "y = Phi z + y0" : "y = z";
+  if (!d.min) return y + ", E = exp(y)";
+  return y + (d.map == DesignMap::log ? ", log E in the smooth box (log min, log max) of y"
+                                      : ", E in the smooth box (min, max) of y");
+}
+
 void print_problem(std::ostream& log, const InverseProblem& problem) {
   const DesignSpec& d = problem.spec.design;
   const Mesh& mesh = problem.setup.mesh;
   log << "scene '" << problem.scene_name << "' (" << problem.scene_source << "): " << mesh.dim() << "D mesh, "
       << mesh.num_vertices() << " vertices, " << mesh.num_elements() << " elements; design: " << d.parameter
       << " " << to_string(d.granularity) << " (" << problem.num_material_design() << " variable"
-      << (problem.num_material_design() == 1 ? "" : "s") << "), "
-      << (d.map == DesignMap::log ? "z = log E" : "z = E");
+      << (problem.num_material_design() == 1 ? "" : "s") << "), " << design_formula(d);
   if (problem.handles) log << ", plus " << problem.handles->displacement_size() << " handle displacements";
   log << "\n";
+  if (problem.modal && d.modes)
+    log << "material modes: " << *d.modes << " in " << std::fixed << std::setprecision(3)
+        << problem.modal->seconds << " s (" << problem.modal->eigen_message << ")" << std::defaultfloat
+        << "\n";
   log << "objective:";
   for (const ObjectiveTermInfo& t : problem.terms)
     log << (&t == &problem.terms.front() ? " " : " + ") << std::defaultfloat << std::setprecision(4)
@@ -44,7 +56,7 @@ void print_problem(std::ostream& log, const InverseProblem& problem) {
 void print_design(std::ostream& log, const InverseRun& run) {
   const InverseProblem& problem = *run.problem;
   log << std::scientific << std::setprecision(8);
-  if (problem.spec.design.granularity != DesignGranularity::per_element) {
+  if (problem.spec.design.grouped()) {
     const Eigen::VectorXd initial = problem.design_values(problem.z0);
     for (int k = 0; k < problem.num_material_design(); ++k)
       log << "  " << problem.design_labels[k] << ": E = " << run.design_values[k] << " (initial "
@@ -107,6 +119,7 @@ InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std
   run.problem = build_inverse_problem(scene);
   InverseProblem& problem = *run.problem;
   run.timings.setup = problem.setup_seconds;
+  if (problem.modal) run.timings.modes = problem.modal->seconds;
   if (log) print_problem(*log, problem);
 
   OptimizerOptions options = problem.spec.optimizer;
@@ -142,10 +155,16 @@ InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std
   const std::string plot_path = output_path(out_dir, "convergence.png");
   write_convergence_png(plot_path, run.result,
                         problem.scene_name + " (" + to_string(problem.spec.optimizer.backend) + ")");
+  // The designed field next to the truth, on one colour scale.
+  const std::string field_path = output_path(out_dir, "youngs_modulus.png");
+  std::vector<FieldPanel> panels{{"designed E", run.youngs_modulus}};
+  if (problem.truth.size() > 0) panels.push_back({"true E", problem.truth});
+  write_field_png(field_path, problem.setup.mesh, panels, {problem.scene_name, "E"});
   if (log) {
     *log << run.result.report();
     print_design(*log, run);
-    *log << "wrote " << run.report_path << ", " << run.result_path << " and " << plot_path << "\n";
+    *log << "wrote " << run.report_path << ", " << run.result_path << ", " << plot_path << " and "
+         << field_path << "\n";
   }
   return run;
 }

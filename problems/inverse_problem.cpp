@@ -23,6 +23,31 @@ std::string format_number(double v) {
   return s.str();
 }
 
+// value * (1 + gradient . c) * inclusion factors, at the element centroids c.
+Eigen::VectorXd expression_field(const Scene& scene, const Mesh& mesh, const ModulusField& field) {
+  if (field.gradient.size() > 0) check_dimension(scene, mesh, field.gradient, field.key + ".gradient");
+  for (std::size_t i = 0; i < field.inclusions.size(); ++i)
+    check_dimension(scene, mesh, field.inclusions[i].center,
+                    field.key + ".inclusions[" + std::to_string(i) + "].center");
+  const int ne = mesh.num_elements();
+  Eigen::VectorXd out(ne);
+  for (int e = 0; e < ne; ++e) {
+    Eigen::VectorXd c = Eigen::VectorXd::Zero(mesh.dim());
+    for (Eigen::Index k = 0; k < mesh.elements.cols(); ++k)
+      c += mesh.rest_positions.row(mesh.elements(e, k)).transpose();
+    c /= static_cast<double>(mesh.elements.cols());
+    double E = field.value * (field.gradient.size() > 0 ? 1.0 + field.gradient.dot(c) : 1.0);
+    for (const ModulusInclusion& inclusion : field.inclusions)
+      if ((c - inclusion.center).norm() <= inclusion.radius) E *= inclusion.factor;
+    if (!(E > 0.0))
+      throw_scene_error(
+          scene, field.key,
+          "the field is " + format_number(E) + " (not > 0) at the centroid of element " + std::to_string(e));
+    out[e] = E;
+  }
+  return out;
+}
+
 // The per-element values of a field given in the scene.
 Eigen::VectorXd expand_field(const Scene& scene, const StaticSetup& setup, const ModulusField& field) {
   const int ne = setup.mesh.num_elements();
@@ -36,6 +61,8 @@ Eigen::VectorXd expand_field(const Scene& scene, const StaticSetup& setup, const
     for (int e = 0; e < ne; ++e) out[e] = field.per_material[setup.element_material[e]];
     return out;
   }
+  if (field.gradient.size() > 0 || !field.inclusions.empty())
+    return expression_field(scene, setup.mesh, field);
   if (field.values.empty()) return Eigen::VectorXd::Constant(ne, field.value);
   if (static_cast<int>(field.values.size()) != ne)
     throw_scene_error(scene, field.key + ".file",
@@ -84,6 +111,8 @@ void assign_design_groups(const Scene& scene, InverseProblem& problem) {
       problem.design_of_element = problem.setup.element_material;
       for (const MaterialSpec& m : scene.materials) problem.design_labels.push_back(m.key);
       break;
+    case DesignGranularity::modes:  // modal_initial_design
+      break;
   }
 }
 
@@ -117,14 +146,44 @@ void initial_design(const Scene& scene, InverseProblem& problem) {
               (design.max ? format_number(*design.max) : "inf") + "]; give \"initial\" or widen the bounds");
 }
 
+// Granularity modes: Phi, y0, z0 and the map z -> E (inverse_modes.hpp), starting at the
+// materials' moduli (or "initial" everywhere).
+void modal_initial_design(const Scene& scene, InverseProblem& problem) {
+  const DesignSpec& design = problem.spec.design;
+  const int ne = problem.setup.mesh.num_elements();
+  const Eigen::VectorXd initial =
+      design.initial ? Eigen::VectorXd::Constant(ne, *design.initial) : problem.setup.youngs_modulus;
+  ModalDesignOptions options{design.modes, design.mode_weighting, design.map == DesignMap::log, design.min,
+                             design.max};
+  const bool too_many = design.modes && *design.modes >= ne;  // material_modes needs r < ne
+  try {
+    problem.modal = modal_design(problem.setup.mesh, initial, options);
+  } catch (const std::invalid_argument& e) {
+    if (too_many)
+      throw_scene_error(scene, "inverse.design.modes",
+                        std::string(e.what()) + " (use \"full\" for one variable per element)");
+    throw_scene_error(scene, "inverse.design", e.what());
+  } catch (const std::runtime_error& e) {
+    throw_scene_error(scene, "inverse.design.modes", e.what());
+  }
+  problem.z0 = problem.modal->z0;
+  for (Eigen::Index j = 0; j < problem.z0.size(); ++j)
+    problem.design_labels.push_back((design.modes ? "mode " : "element ") + std::to_string(j));
+}
+
 ParameterizationPtr design_map(const InverseProblem& problem) {
   const int n = problem.num_material_design();
   const int ne = problem.setup.mesh.num_elements();
-  ParameterizationPtr values = problem.spec.design.map == DesignMap::log ? exp_map(n) : identity_map(n);
-  ParameterizationPtr per_element = values;
-  if (problem.spec.design.granularity != DesignGranularity::per_element) {
-    std::vector<int> group(problem.design_of_element.data(), problem.design_of_element.data() + ne);
-    per_element = compose(region_scatter_map(std::move(group), n), values);
+  ParameterizationPtr per_element;
+  if (problem.modal) {
+    per_element = problem.modal->element_map;
+  } else {
+    ParameterizationPtr values = problem.spec.design.map == DesignMap::log ? exp_map(n) : identity_map(n);
+    per_element = values;
+    if (problem.spec.design.granularity != DesignGranularity::per_element) {
+      std::vector<int> group(problem.design_of_element.data(), problem.design_of_element.data() + ne);
+      per_element = compose(region_scatter_map(std::move(group), n), values);
+    }
   }
   std::vector<ParameterBlock> blocks{{problem.youngs_offset, per_element}};
   Vector base = problem.setup.parameters();
@@ -255,12 +314,14 @@ std::unique_ptr<StaticFunctional> make_functional(const InverseProblem& problem)
 }  // namespace
 
 Eigen::VectorXd InverseProblem::design_values(const Vector& z) const {
+  if (modal) return youngs_modulus(z);
   const Vector material = z.head(num_material_design());
   return spec.design.map == DesignMap::log ? Eigen::VectorXd(material.array().exp())
                                            : Eigen::VectorXd(material);
 }
 
 Eigen::VectorXd InverseProblem::youngs_modulus(const Vector& z) const {
+  if (modal) return modal->element_map->apply(Vector(z.head(num_material_design())));
   const Eigen::VectorXd values = design_values(z);
   Eigen::VectorXd out(design_of_element.size());
   for (Eigen::Index e = 0; e < out.size(); ++e) out[e] = values[design_of_element[e]];
@@ -293,8 +354,12 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene) {
   if (problem->spec.ground_truth)
     set_truth(scene, *problem, expand_field(scene, problem->setup, *problem->spec.ground_truth),
               problem->spec.ground_truth->key);
-  assign_design_groups(scene, *problem);
-  initial_design(scene, *problem);
+  if (problem->spec.design.granularity == DesignGranularity::modes) {
+    modal_initial_design(scene, *problem);
+  } else {
+    assign_design_groups(scene, *problem);
+    initial_design(scene, *problem);
+  }
   problem->setup.youngs_modulus = problem->youngs_modulus(problem->z0);
   std::string handles_key;
   const HandlesTerm* handles = find_handles_term(problem->spec, &handles_key);

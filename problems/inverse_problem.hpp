@@ -10,12 +10,14 @@
 // n L^2, L the mesh's bounding-box diagonal, when every u* is zero), so a weight of 1 means the
 // same in every scene and the optimizer's absolute tolerances carry over between scenes.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "adjoint/static_functional.hpp"
 #include "objectives/handle_objective.hpp"
 #include "optimizers/optimizer.hpp"
+#include "problems/inverse_modes.hpp"
 #include "problems/inverse_scene.hpp"
 #include "problems/static_scene.hpp"
 
@@ -36,8 +38,9 @@ struct InverseProblem {
   StaticSetup setup;             // youngs_modulus holds the initial design; fixed_dofs include the handles'
   std::unique_ptr<Model> model;  // at full load
   int youngs_offset = 0;         // of the "youngs_modulus" block in p
-  Eigen::VectorXi design_of_element;       // per element: its design variable
-  std::vector<std::string> design_labels;  // per design variable: "element e", "region r", "materials[m]"
+  Eigen::VectorXi design_of_element;       // per element: its design variable (not for modes)
+  std::vector<std::string> design_labels;  // per material variable: "element e", "region r", "materials[m]", "mode j"
+  std::optional<ModalDesign> modal;        // granularity modes: Phi, y0 and z -> E
   ParameterizationPtr parameterization;
   std::vector<ObjectiveTermInfo> terms;
   ObjectivePtr objective;
@@ -57,7 +60,7 @@ struct InverseProblem {
 
   int num_design() const { return static_cast<int>(z0.size()); }  // all of z
   int num_material_design() const { return static_cast<int>(design_labels.size()); }
-  Eigen::VectorXd design_values(const Vector& z) const;   // E per material design variable
+  Eigen::VectorXd design_values(const Vector& z) const;   // E per material design variable (modes: per element)
   Eigen::VectorXd youngs_modulus(const Vector& z) const;  // E per element
   // The static setup at design z: its Young's moduli and, with handles, u~ prescribed on the
   // handle DOFs (solve_static of it is the equilibrium J(z) sees).

@@ -1,5 +1,6 @@
 #include "problems/inverse_report.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -138,7 +139,13 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
                  {"max", d.max ? Json(*d.max) : Json(nullptr)},
                  {"initial", summary(mesh, problem.youngs_modulus(problem.z0))},
                  {"final", summary(mesh, run.youngs_modulus)}};
-  if (d.granularity != DesignGranularity::per_element) {
+  if (d.granularity == DesignGranularity::modes) {
+    design["modes"] = d.modes ? Json(*d.modes) : Json("full");
+    design["mode_weighting"] = d.mode_weighting == AdjacencyWeighting::unit ? "unit" : "facet";
+    if (problem.modal && problem.modal->eigenvalues.size() > 0)
+      design["eigenvalues"] = to_json(problem.modal->eigenvalues);
+  }
+  if (d.grouped()) {
     design["labels"] = problem.design_labels;
     design["values"] = to_json(run.design_values);
   }
@@ -152,7 +159,13 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
   }
   const InverseTimings& t = run.timings;
   report["timings"] = {{"total", t.total},     {"setup", t.setup},     {"optimization", t.optimization},
-                       {"forward", t.forward}, {"adjoint", t.adjoint}, {"output", t.output}};
+                       {"forward", t.forward}, {"adjoint", t.adjoint}, {"output", t.output},
+                       {"modes", t.modes}};
+  // Means over optimizer iterations (at least one), for interactive-rate comparisons.
+  const double iterations = std::max(1, result.history.empty() ? 0 : result.history.back().iteration);
+  report["timings"]["per_iteration"] = {{"optimization", t.optimization / iterations},
+                                        {"forward", t.forward / iterations},
+                                        {"adjoint", t.adjoint / iterations}};
   report["mesh"] = {
       {"dim", mesh.dim()}, {"vertices", mesh.num_vertices()}, {"elements", mesh.num_elements()}};
   write_json(path, report);
@@ -174,6 +187,9 @@ void write_inverse_result_vtu(const std::string& path, const InverseRun& run) {
     extra.cell["youngs_modulus_relative_error"] =
         run.youngs_modulus.cwiseQuotient(problem.truth).array() - 1.0;
   }
+  if (problem.modal)
+    for (int j = 0; j < std::min<int>(problem.spec.design.output_modes, problem.modal->modes.cols()); ++j)
+      extra.cell["material_mode_" + std::to_string(j + 1)] = problem.modal->modes.col(j);
   write_result_vtu(path, setup, run.solution, extra);
 }
 

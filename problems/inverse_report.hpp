@@ -32,6 +32,7 @@ struct InverseTimings {
   double forward = 0.0;       // Newton solves inside the functional
   double adjoint = 0.0;       // adjoint solves inside the functional
   double output = 0.0;        // the final equilibrium and result.vtu
+  double modes = 0.0;         // material modes (granularity modes; part of setup)
 };
 
 struct InverseRun {
@@ -53,7 +54,8 @@ struct InverseRun {
 void write_gradcheck_json(const std::string& path, const GradcheckRun& run);
 void write_inverse_report_json(const std::string& path, const InverseRun& run);
 // result.vtu of the static verbs at the best design, plus cell fields "youngs_modulus_initial"
-// and, with a ground truth, "youngs_modulus_true" and "youngs_modulus_relative_error" (E/T - 1).
+// and, with a ground truth, "youngs_modulus_true" and "youngs_modulus_relative_error" (E/T - 1);
+// for a modal design with output_modes = k, "material_mode_1" ... "material_mode_k" (Phi's columns).
 void write_inverse_result_vtu(const std::string& path, const InverseRun& run);
 
 }  // namespace tailor

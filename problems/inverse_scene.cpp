@@ -16,6 +16,8 @@ std::string to_string(DesignGranularity granularity) {
       return "per_region";
     case DesignGranularity::per_material:
       return "per_material";
+    case DesignGranularity::modes:
+      return "modes";
   }
   return "unknown";
 }
@@ -42,6 +44,21 @@ std::string format_number(double v) {
   return s.str();
 }
 
+// {"value": E0, "gradient": [g...], "inclusions": [{"center": [...], "radius": r, "factor": f}]}:
+// E = E0 (1 + g . c) * f (inside each sphere) at element centroids c. Dimensions and positivity
+// are checked against the mesh when the field is expanded.
+void parse_modulus_expression(const SceneNode& node, ModulusField& field) {
+  node.expect_keys({"value", "gradient", "inclusions"});
+  field.value = node.at("value").positive();
+  if (auto g = node.find("gradient")) field.gradient = g->vector();
+  if (auto list = node.find("inclusions"))
+    for (const SceneNode& item : list->items()) {
+      item.expect_keys({"center", "radius", "factor"});
+      field.inclusions.push_back(
+          {item.at("center").vector(), item.at("radius").positive(), item.at("factor").positive()});
+    }
+}
+
 // A number > 0, {"materials": [...]} with one value > 0 per materials[] entry, or
 // {"file": path} with one value > 0 per mesh element.
 ModulusField parse_modulus_field(const SceneNode& node, const std::string& directory) {
@@ -53,10 +70,12 @@ ModulusField parse_modulus_field(const SceneNode& node, const std::string& direc
   }
   if (!node.json().is_object())
     node.fail(
-        "expected a number > 0, {\"materials\": [one value per material]} or {\"file\": path} (one "
-        "value per element), got " +
+        "expected a number > 0, {\"materials\": [one value per material]}, {\"file\": path} (one "
+        "value per element) or {\"value\": E0, \"gradient\": [...], \"inclusions\": [...]}, got " +
         describe_json(node.json()));
-  if (node.only_key({"materials", "file"}) == "file") {
+  if (node.find("value")) {
+    parse_modulus_expression(node, field);
+  } else if (node.only_key({"materials", "file", "value"}) == "file") {
     field.values = read_positive_values(node.at("file"), directory);
   } else {
     for (const SceneNode& item : node.at("materials").items()) field.per_material.push_back(item.positive());
@@ -66,18 +85,56 @@ ModulusField parse_modulus_field(const SceneNode& node, const std::string& direc
   return field;
 }
 
+// "modes": r (integer >= 1) or "full"; "mode_weighting"; "output_modes": k in [0, r]. Only
+// with granularity "modes". Bounds must come in pairs there: the smooth box of
+// inverse_modes.hpp needs both ends (the log map alone already keeps E > 0).
+void parse_mode_keys(const SceneNode& node, DesignSpec& d) {
+  const bool modal = d.granularity == DesignGranularity::modes;
+  for (const char* key : {"modes", "mode_weighting", "output_modes"})
+    if (auto k = node.find(key); k && !modal)
+      k->fail("only with \"granularity\": \"modes\" (the granularity is " + to_string(d.granularity) + ")");
+  if (!modal) return;
+  const SceneNode modes = node.at("modes");
+  if (modes.json().is_string()) {
+    if (modes.choice({"full"}) == "full") d.modes.reset();
+  } else {
+    if (!modes.json().is_number_integer())
+      modes.fail("expected an integer >= 1 or \"full\", got " + describe_json(modes.json()));
+    d.modes = modes.integer(1);
+  }
+  if (auto w = node.find("mode_weighting"))
+    d.mode_weighting = w->choice({"unit", "facet"}) == "unit" ? AdjacencyWeighting::unit
+                                                              : AdjacencyWeighting::facet_over_distance;
+  if (auto k = node.find("output_modes")) {
+    d.output_modes = k->integer(0);
+    if (d.modes && d.output_modes > *d.modes)
+      k->fail("at most the number of modes (" + std::to_string(*d.modes) + "), got " +
+              std::to_string(d.output_modes));
+  }
+  if (static_cast<bool>(d.min) != static_cast<bool>(d.max))
+    node.at(d.min ? "min" : "max")
+        .fail(
+            "with granularity \"modes\" give both min and max (a smooth box keeps E inside them) or neither");
+  if (d.map == DesignMap::identity && !d.min)
+    node.fail(
+        "granularity \"modes\" with the identity map needs min and max (E = Phi z alone may turn negative); "
+        "or use the log map");
+}
+
 DesignSpec parse_design(const SceneNode& node) {
-  node.expect_keys({"parameter", "granularity", "map", "min", "max", "initial"});
+  node.expect_keys({"parameter", "granularity", "map", "min", "max", "initial", "modes", "mode_weighting",
+                    "output_modes"});
   DesignSpec d;
   const SceneNode parameter = node.at("parameter");
   d.parameter = parameter.string();
   if (d.parameter != "youngs_modulus")
     parameter.fail("only \"youngs_modulus\" can be designed (for now), got \"" + d.parameter + "\"");
   const std::string granularity =
-      node.at("granularity").choice({"per_element", "per_region", "per_material"});
-  d.granularity = granularity == "per_element"  ? DesignGranularity::per_element
-                  : granularity == "per_region" ? DesignGranularity::per_region
-                                                : DesignGranularity::per_material;
+      node.at("granularity").choice({"per_element", "per_region", "per_material", "modes"});
+  d.granularity = granularity == "per_element"    ? DesignGranularity::per_element
+                  : granularity == "per_region"   ? DesignGranularity::per_region
+                  : granularity == "per_material" ? DesignGranularity::per_material
+                                                  : DesignGranularity::modes;
   if (auto m = node.find("map"))
     d.map = m->choice({"log", "identity"}) == "log" ? DesignMap::log : DesignMap::identity;
 
@@ -96,6 +153,7 @@ DesignSpec parse_design(const SceneNode& node) {
   d.max = bound("max");
   if (d.min && d.max && !(*d.max > *d.min))
     node.at("max").fail("must be > min (" + format_number(*d.min) + "), got " + format_number(*d.max));
+  parse_mode_keys(node, d);
   if (auto i = node.find("initial")) {
     d.initial = i->positive();
     if ((d.min && *d.initial < *d.min) || (d.max && *d.initial > *d.max))
@@ -241,7 +299,9 @@ InverseSpec parse_inverse_section(const SceneNode& node, const std::string& dire
     spec.ground_truth = parse_modulus_field(truth->at("youngs_modulus"), directory);
   }
   if (auto o = node.find("optimizer")) spec.optimizer = parse_optimizer(*o);
-  const bool bounded = spec.design.min || spec.design.max;
+  // Modal designs keep E inside the bounds by a smooth box, not by optimizer bounds.
+  const bool bounded =
+      (spec.design.min || spec.design.max) && spec.design.granularity != DesignGranularity::modes;
   if (bounded && spec.optimizer.backend == OptimizerBackend::ceres_lbfgs)
     node.at("optimizer")
         .at("backend")

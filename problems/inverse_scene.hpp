@@ -18,16 +18,28 @@
 
 namespace tailor {
 
+// A sphere inside which a modulus field is multiplied by `factor` (at element centroids).
+struct ModulusInclusion {
+  Eigen::VectorXd center;
+  double radius = 0.0;
+  double factor = 1.0;
+};
+
 // A per-element Young's modulus field: one value everywhere, one per materials[] entry (for
-// its elements), or one per mesh element from a file (whitespace-separated, element order).
+// its elements), one per mesh element from a file (whitespace-separated, element order), or
+// an expression at element centroids c: value * (1 + gradient . c) * (factor of every
+// inclusion holding c).
 struct ModulusField {
   double value = 0.0;                // used when both lists are empty
   std::vector<double> per_material;  // from {"materials": [...]}
   std::vector<double> values;        // from {"file": path}
-  std::string key;                   // JSON key path
+  Eigen::VectorXd gradient;          // relative change per unit length; empty = none
+  std::vector<ModulusInclusion> inclusions;
+  std::string key;  // JSON key path
 };
 
-enum class DesignGranularity { per_element, per_region, per_material };
+// modes: E (or log E) = Phi z over the r lowest Laplacian material modes (inverse_modes.hpp).
+enum class DesignGranularity { per_element, per_region, per_material, modes };
 enum class DesignMap { log, identity };  // z = log E, or z = E
 std::string to_string(DesignGranularity granularity);
 std::string to_string(DesignMap map);
@@ -38,6 +50,14 @@ struct DesignSpec {
   DesignMap map = DesignMap::log;
   std::optional<double> min, max;  // bounds on E (not on z)
   std::optional<double> initial;   // E everywhere at the start; default: the scene's materials
+  // granularity modes only:
+  std::optional<int> modes;  // r, the number of material modes; nullopt = "full" (one per element)
+  AdjacencyWeighting mode_weighting = AdjacencyWeighting::facet_over_distance;
+  int output_modes = 0;  // the first this many modes are written to result.vtu
+  // One design variable per region or material (the report lists their values).
+  bool grouped() const {
+    return granularity == DesignGranularity::per_region || granularity == DesignGranularity::per_material;
+  }
 };
 
 // Data terms compare displacements u of some vertices with wanted ones u*; the term is the

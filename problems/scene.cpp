@@ -76,8 +76,13 @@ std::vector<double> read_positive_values(const SceneNode& node, const std::strin
 VertexSelector parse_vertex_selector(const SceneNode& node, const std::string& directory) {
   VertexSelector s;
   s.key = node.path();
-  const std::string kind = node.only_key({"plane", "box", "list", "file"});
+  const std::string kind = node.only_key({"plane", "box", "list", "file", "boundary"});
   const SceneNode body = node.at(kind.c_str());
+  if (kind == "boundary") {
+    if (!body.boolean()) body.fail("expected true (every vertex of a boundary facet)");
+    s.kind = VertexSelector::Kind::boundary;
+    return s;
+  }
   if (kind == "plane") {
     body.expect_keys({"axis", "value", "tolerance"});
     s.kind = VertexSelector::Kind::plane;

@@ -45,7 +45,7 @@ struct ElementSelector {
 // Which vertices a condition or load acts on. A "file" selector is read at parse time and
 // becomes a list.
 struct VertexSelector {
-  enum class Kind { plane, box, list };
+  enum class Kind { plane, box, list, boundary };  // boundary: every vertex on the surface
   Kind kind = Kind::list;
   int axis = 0;              // plane: 0, 1, 2 for x, y, z
   double value = 0.0;        // plane: coordinate value

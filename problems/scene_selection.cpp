@@ -79,6 +79,15 @@ std::vector<int> select_vertices(const Scene& scene, const Mesh& mesh, const Ver
                               format_vector(selector.max) + "; " + mesh_extent(mesh) + ")");
       break;
     }
+    case VertexSelector::Kind::boundary: {
+      std::vector<char> on_boundary(static_cast<std::size_t>(mesh.num_vertices()), 0);
+      const Eigen::MatrixXi facets = boundary_facets(mesh);
+      for (Eigen::Index k = 0; k < facets.size(); ++k)
+        on_boundary[static_cast<std::size_t>(facets.data()[k])] = 1;
+      for (int v = 0; v < mesh.num_vertices(); ++v)
+        if (on_boundary[static_cast<std::size_t>(v)]) ids.push_back(v);
+      break;
+    }
     case VertexSelector::Kind::list: {
       for (int v : selector.ids)
         if (v >= mesh.num_vertices())

@@ -72,7 +72,7 @@ TEST(InverseCli, BadInputExitsWithTwo) {
       run_cli("gradcheck " + (folder / "bad.json") + " --out " + (folder / "out"), folder / "log", output),
       2);
   EXPECT_NE(output.find("bad.json: inverse.design.granularity: expected one of per_element, per_region, "
-                        "per_material, got \"per_part\""),
+                        "per_material, modes, got \"per_part\""),
             std::string::npos)
       << output;
   EXPECT_FALSE(fs::exists(folder / "out/gradcheck.json"));

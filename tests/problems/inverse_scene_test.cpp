@@ -192,8 +192,8 @@ TEST(InverseScene, EveryErrorNamesTheKeyPath) {
        "test.json: inverse.design.parameter: only \"youngs_modulus\" can be designed (for now), got "
        "\"poisson_ratio\""},
       {edited("\"per_element\"", "\"per_vertex\""),
-       "test.json: inverse.design.granularity: expected one of per_element, per_region, per_material, got "
-       "\"per_vertex\""},
+       "test.json: inverse.design.granularity: expected one of per_element, per_region, per_material, modes, "
+       "got \"per_vertex\""},
       {edited("\"max\": 1e5", "\"max\": 1e5, \"map\": \"exp\""),
        "test.json: inverse.design.map: expected one of log, identity, got \"exp\""},
       {edited("\"min\": 100", "\"min\": 0"),
@@ -222,8 +222,8 @@ TEST(InverseScene, EveryErrorNamesTheKeyPath) {
        "test.json: inverse.objective[0].noise: expected a number >= 0, got -0.1"},
       {edited("\"youngs_modulus\": 1200", "\"youngs_modulus\": \"stiff\""),
        "test.json: inverse.objective[0].youngs_modulus: expected a number > 0, {\"materials\": [one value "
-       "per "
-       "material]} or {\"file\": path} (one value per element), got a string \"stiff\""},
+       "per material]}, {\"file\": path} (one value per element) or {\"value\": E0, \"gradient\": [...], "
+       "\"inclusions\": [...]}, got a string \"stiff\""},
       {edited("\"youngs_modulus\": 1200", "\"youngs_modulus\": {\"materials\": [1200, 900]}"),
        "test.json: inverse.objective[0].youngs_modulus.materials: expected one value per materials[] entry "
        "(1), got 2"},

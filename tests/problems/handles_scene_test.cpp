@@ -149,6 +149,23 @@ TEST(HandlesScene, NonlinearAnd2DScenesPassTheGradientCheck) {
   }
 }
 
+// Material modes and handles together: z = [modal coordinates, u~ / s]; the smooth box keeps E
+// in [min, max] and the gradient in both blocks passes the Taylor test.
+TEST(HandlesScene, ModalDesignWithHandlesPassesTheGradientCheck) {
+  TempFolder folder("handles_gradcheck_modes");
+  const std::string text = testing::with(
+      R"("granularity": "per_material")",
+      R"("granularity": "modes", "modes": 6, "min": 100, "max": 1e5)",
+      testing::with("\"model\": \"linear\"", "\"model\": \"neo_hookean\"", handle_scene()));
+  const auto problem = build_inverse_problem(parse_scene(text, "modes_handles.json", ""));
+  ASSERT_TRUE(problem->modal.has_value());
+  EXPECT_EQ(problem->num_material_design(), 6);
+  EXPECT_EQ(problem->num_design(), 6 + problem->handles->displacement_size());
+  const GradcheckRun run = gradcheck_scene(parse_scene(text, "modes_handles.json", ""), folder / "modes", {});
+  EXPECT_TRUE(run.passed()) << run.gradient.table();
+  EXPECT_GE(run.gradient.rate1, 1.9) << run.gradient.table();
+}
+
 TEST(HandlesScene, RunReportsTheErrorsAtEachHandle) {
   TempFolder folder("handles_run");
   // Force and displacement are consistent for E = 2000 x (stiffness at E = 1000): the optimum

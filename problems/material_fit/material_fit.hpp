@@ -1,0 +1,59 @@
+#pragma once
+// Material fitting with principal-stretch spline curves (Xu, Sin, Zhu, Barbic 2015, section 6:
+// fitting to force-displacement data): choose the control values of f, g, h so that the
+// reaction forces of a set of load cases match targets, through the static adjoint.
+// Targets come from a reference material (a closed-form material or a spline preset, solved on
+// the same load cases) or are given as force curves (design).
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "forward/fem/material.hpp"
+#include "optimizers/optimizer.hpp"
+#include "problems/material_fit/load_cases.hpp"
+
+namespace tailor {
+
+struct MaterialFitSpec {
+  std::string name;
+  int cells = 2;  // of the unit-cube specimen, per edge (shear needs >= 2)
+  PrincipalStretchGrids grids;
+  std::vector<LoadCase> cases;
+
+  // Targets: exactly one of reference_material, reference_preset, target_forces.
+  std::optional<MaterialKind> reference_material;  // closed form, with reference_lame
+  std::optional<SplinePreset> reference_preset;    // spline preset on `grids`, with reference_lame
+  LameParameters reference_lame{0.0, 0.0};
+  std::vector<std::vector<double>> target_forces;  // per case, per amplitude
+
+  // Start: a preset with these Lame parameters.
+  SplinePreset initial_preset = SplinePreset::corotated;
+  LameParameters initial_lame{0.0, 0.0};
+
+  double smoothness = 0.0;          // alpha of the curve smoothness term
+  std::vector<std::string> convex;  // curves constrained convex: "uniaxial", "biaxial", "volumetric"
+  OptimizerOptions optimizer;
+};
+
+struct MaterialFitRun {
+  OptimizerResult result;
+  std::vector<std::vector<double>> target, initial, fitted;  // forces per case, per amplitude
+  double relative_force_error = 0.0;                         // RMS(fitted - target) / RMS(target)
+  double initial_relative_force_error = 0.0;
+  // Only with a reference preset: RMS of dPsi/dl_a (fitted - reference) over stretch triples
+  // sampled in the data range, relative to the RMS of the reference.
+  std::optional<double> relative_stress_error;
+  std::string report_path;
+};
+
+// Solves the targets, fits, writes DIR/report.json and DIR/force_<case>.png. Throws
+// std::invalid_argument on inconsistent specs and std::runtime_error when it cannot write.
+MaterialFitRun run_material_fit(const MaterialFitSpec& spec, const std::string& out_dir, std::ostream* log,
+                                std::ostream* progress);
+
+// The convexity constraints (second differences of the controls >= 0) of the named curves.
+std::vector<Constraint> convexity_constraints(const PrincipalStretchCurves& knots,
+                                              const std::vector<std::string>& curves);
+
+}  // namespace tailor

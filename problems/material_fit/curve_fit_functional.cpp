@@ -21,20 +21,23 @@ CurveFitFunctional::CurveFitFunctional(const Mesh& mesh, std::vector<LoadCase> c
 Matrix CurveFitFunctional::smoothness_rows() const {
   const int sizes[3] = {knots_.uniaxial.num_controls(), knots_.biaxial.num_controls(),
                         knots_.volumetric.num_controls()};
-  // Scaled by h^-2 so that the rows approximate y'' (B-spline: y'' at a knot is the second
-  // difference of the controls over h^2), times h^(1/2) so the sum approximates the integral.
+  // Third differences of the controls over h^3 are y''' on each interval (a cubic piece has a
+  // constant third derivative), times h^(1/2) so the sum of squares approximates the integral of
+  // y'''^2. Penalising y''' (not y'') leaves quadratic curves free: the Neo-Hookean, corotated
+  // and linear responses are not biased, while directions the load cases cannot see are damped.
   const double spacing[3] = {knots_.uniaxial.spacing(), knots_.biaxial.spacing(),
                              knots_.volumetric.spacing()};
   int rows = 0;
-  for (int n : sizes) rows += n - 2;
+  for (int n : sizes) rows += n - 3;
   Matrix D = Matrix::Zero(rows, size());
   int row = 0, offset = 0;
   for (int c = 0; c < 3; ++c) {
-    const double w = std::sqrt(spacing[c]) / (spacing[c] * spacing[c]);
-    for (int k = 1; k + 1 < sizes[c]; ++k, ++row) {
-      D(row, offset + k - 1) = w;
-      D(row, offset + k) = -2.0 * w;
-      D(row, offset + k + 1) = w;
+    const double w = std::sqrt(spacing[c]) / (spacing[c] * spacing[c] * spacing[c]);
+    for (int k = 0; k + 3 < sizes[c]; ++k, ++row) {
+      D(row, offset + k) = -w;
+      D(row, offset + k + 1) = 3.0 * w;
+      D(row, offset + k + 2) = -3.0 * w;
+      D(row, offset + k + 3) = w;
     }
     offset += sizes[c];
   }

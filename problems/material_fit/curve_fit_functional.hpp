@@ -3,7 +3,7 @@
 // [f; g; h] controls of a principal-stretch spline material):
 //   J(z) = sum_{case, step} 1/2 ((F_step(x*(z), z) - F*_step) / F_scale)^2 + alpha/2 |D z|^2,
 // F_step the measured reaction force of a load step at its equilibrium x*(z) (load_cases.hpp),
-// F* its target, D the second differences of the control values of each curve (smoothness; picks
+// F* its target, D the third differences of the control values of each curve over h^3 (y'''; picks
 // one curve among those the load cases cannot tell apart). Each step is a StaticFunctional (its own
 // model, warm-started Newton and adjoint); the residual form stacks their residuals, so
 // Gauss-Newton (ceres_least_squares) applies.
@@ -40,7 +40,7 @@ class CurveFitFunctional final : public ReducedFunctional {
   const std::vector<FitStep>& steps() const { return steps_; }
 
  private:
-  // Second differences of each curve's controls, scaled by sqrt(alpha): rows of D.
+  // Third differences of each curve's controls (y'''), unscaled: rows of D.
   Matrix smoothness_rows() const;
 
   std::vector<LoadCase> cases_;

@@ -84,8 +84,9 @@ MaterialFitSpec parse_material_fit_scene(const std::string& json_text, const std
     if (!spec.target_forces.empty())
       r->fail("give either a reference or target forces in the load cases, not both");
     r->expect_keys({"material", "preset", "youngs_modulus", "poisson_ratio"});
-    const std::string which = r->only_key({"material", "preset"});
-    if (which == "material")
+    if (r->has("material") == r->has("preset"))
+      r->fail("expected exactly one of \"material\" and \"preset\"");
+    if (r->has("material"))
       spec.reference_material =
           parse_material_kind(r->at("material").choice({"linear", "corotated", "stvk", "neo_hookean"}));
     else

@@ -74,11 +74,11 @@ TEST(CurveFitFunctional, ConvexityConstraintsAreSecondDifferences) {
   EXPECT_TRUE(violated);
 }
 
-// Reference: the Neo-Hookean preset's own forces (exactly representable on the grid). The fit
-// from a corotated start with 30% too soft moduli must recover the forces to 1e-3. Five data
-// points do not determine 24 control values: the stresses on arbitrary stretch triples in the
-// data range ([0.85, 1.3]^3, most far from any load case) stay off by tens of percent (measured
-// 0.37), so that bound only guards against divergence.
+// Reference: the Neo-Hookean preset's own forces (exactly representable on the grid, truth
+// known). From a corotated start with 30% too soft moduli, Gauss-Newton with the y''' smoothness
+// term (which leaves the quadratic Neo-Hookean curves unpenalised) recovers the forces and the
+// stresses on every stretch triple of the data range ([0.85, 1.3]^3), not only at the data
+// (to ~1%; the 22-step scene scenes/spline_fit_neo_hookean.json reaches 1e-8).
 TEST(MaterialFit, RecoversANeoHookeanResponse) {
   testing::TempFolder folder("material_fit");
   MaterialFitSpec spec;
@@ -89,14 +89,14 @@ TEST(MaterialFit, RecoversANeoHookeanResponse) {
   spec.reference_lame = lame_from_young_poisson(10.0, 0.3);
   spec.initial_preset = SplinePreset::corotated;
   spec.initial_lame = lame_from_young_poisson(7.0, 0.3);
-  spec.smoothness = 1e-6;
+  spec.smoothness = 1e-4;
   spec.optimizer.backend = OptimizerBackend::ceres_least_squares;
   spec.optimizer.max_iterations = 50;
   const MaterialFitRun run = run_material_fit(spec, folder.str(), nullptr, nullptr);
-  EXPECT_LT(run.relative_force_error, 1e-3) << run.result.report();
+  EXPECT_LT(run.relative_force_error, 1e-6) << run.result.report();
   EXPECT_GT(run.initial_relative_force_error, 0.1);
   ASSERT_TRUE(run.relative_stress_error.has_value());
-  EXPECT_LT(*run.relative_stress_error, 0.6);
+  EXPECT_LT(*run.relative_stress_error, 0.03);  // measured 0.012 with these 5 data points
   EXPECT_TRUE(std::filesystem::exists(run.report_path));
 }
 

@@ -63,7 +63,10 @@ SpecimenStep load_step(const Mesh& mesh, const LoadCase& c, int step, std::uniqu
           fix(2, a);
           s.measured_dofs.push_back(3 * v + 2);
         }
-        if (on(X.x(), 0.0) && on(X.y(), 0.0) && on(X.z(), 0.0)) fix(0, 0.0), fix(1, 0.0);
+        if (on(X.x(), 0.0) && on(X.y(), 0.0) && on(X.z(), 0.0)) {
+          fix(0, 0.0);
+          fix(1, 0.0);
+        }
         if (on(X.x(), 1.0) && on(X.y(), 0.0) && on(X.z(), 0.0)) fix(1, 0.0);
         s.measured_weights << 0, 0, 1;
         break;
@@ -82,9 +85,15 @@ SpecimenStep load_step(const Mesh& mesh, const LoadCase& c, int step, std::uniqu
         s.measured_weights << 1, 0, 1;
         break;
       case LoadCaseKind::shear:
-        if (on(X.z(), 0.0)) fix(0, X.x()), fix(1, X.y()), fix(2, 0.0);
+        if (on(X.z(), 0.0)) {
+          fix(0, X.x());
+          fix(1, X.y());
+          fix(2, 0.0);
+        }
         if (on(X.z(), 1.0)) {
-          fix(0, X.x() + a), fix(1, X.y()), fix(2, 1.0);
+          fix(0, X.x() + a);
+          fix(1, X.y());
+          fix(2, 1.0);
           s.measured_dofs.push_back(3 * v);
         }
         s.measured_weights << 1, 0, 0;

@@ -37,7 +37,7 @@ void evaluate_spline_material(const PrincipalStretchCurves& curves, const Eigen:
                               bool want_stress, bool want_tangent, HessianMode mode,
                               MaterialEvaluation<Dim>& out);
 
-// The principal stretches and frames of F, and the stress weights used by the control derivatives.
+// The principal stretches and frames of F (rotation-variant SVD), as the control derivatives need.
 template <int Dim>
 struct PrincipalFrame {
   Eigen::Matrix<double, Dim, Dim> U, V;

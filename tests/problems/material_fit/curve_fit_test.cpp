@@ -78,7 +78,7 @@ TEST(CurveFitFunctional, ConvexityConstraintsAreSecondDifferences) {
 // known). From a corotated start with 30% too soft moduli, Gauss-Newton with the y''' smoothness
 // term (which leaves the quadratic Neo-Hookean curves unpenalised) recovers the forces and the
 // stresses on every stretch triple of the data range ([0.85, 1.3]^3), not only at the data
-// (to ~1%; the 22-step scene scenes/spline_fit_neo_hookean.json reaches 1e-8).
+// (to ~1%; the 22-step scene scenes/material_fit/spline_fit_neo_hookean.json reaches 1e-8).
 TEST(MaterialFit, RecoversANeoHookeanResponse) {
   testing::TempFolder folder("material_fit");
   MaterialFitSpec spec;

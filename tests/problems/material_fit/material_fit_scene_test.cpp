@@ -22,7 +22,7 @@ const std::string kScenes = testing::kScenesDir + "/";
 TEST(MaterialFitScene, ShippedScenesParse) {
   for (const char* name :
        {"spline_fit_neo_hookean", "spline_fit_stable_neo_hookean", "spline_design_locking"}) {
-    const std::string path = kScenes + name + ".json";
+    const std::string path = kScenes + "material_fit/" + name + ".json";
     ASSERT_TRUE(is_material_fit_scene(path)) << path;
     const MaterialFitSpec spec = read_material_fit_scene(path);
     EXPECT_EQ(spec.name, name);

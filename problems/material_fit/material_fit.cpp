@@ -232,24 +232,16 @@ MaterialFitRun run_material_fit(const MaterialFitSpec& spec, const std::string& 
                      {"plot", plot}});
   }
   report["load_cases"] = cases;
-  report["curves"] = {{"uniaxial",
-                       {{"lower", spec.grids.uniaxial.lower},
-                        {"upper", spec.grids.uniaxial.upper},
-                        {"controls", std::vector<double>(fitted_curves.uniaxial.controls().data(),
-                                                         fitted_curves.uniaxial.controls().data() +
-                                                             fitted_curves.uniaxial.num_controls())}}},
-                      {"biaxial",
-                       {{"lower", spec.grids.biaxial.lower},
-                        {"upper", spec.grids.biaxial.upper},
-                        {"controls", std::vector<double>(fitted_curves.biaxial.controls().data(),
-                                                         fitted_curves.biaxial.controls().data() +
-                                                             fitted_curves.biaxial.num_controls())}}},
-                      {"volumetric",
-                       {{"lower", spec.grids.volumetric.lower},
-                        {"upper", spec.grids.volumetric.upper},
-                        {"controls", std::vector<double>(fitted_curves.volumetric.controls().data(),
-                                                         fitted_curves.volumetric.controls().data() +
-                                                             fitted_curves.volumetric.num_controls())}}}};
+  const auto curve_json = [](const CubicSpline& c) {
+    const Eigen::VectorXd& v = c.controls();
+    return nlohmann::json{{"lower", c.lower()},
+                          {"upper", c.upper()},
+                          {"intervals", c.intervals()},
+                          {"controls", std::vector<double>(v.data(), v.data() + v.size())}};
+  };
+  report["curves"] = {{"uniaxial", curve_json(fitted_curves.uniaxial)},
+                      {"biaxial", curve_json(fitted_curves.biaxial)},
+                      {"volumetric", curve_json(fitted_curves.volumetric)}};
   const FunctionalCounters& counters = functional.counters();
   report["timings"] = {
       {"total_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},

@@ -13,6 +13,7 @@
 #include "forward/solve/newton.hpp"
 #include "problems/material_fit/curve_fit_functional.hpp"
 #include "problems/plot/line_plot.hpp"
+#include "problems/spline_curves_json.hpp"
 #include "tailor_version.hpp"
 
 namespace tailor {
@@ -232,16 +233,11 @@ MaterialFitRun run_material_fit(const MaterialFitSpec& spec, const std::string& 
                      {"plot", plot}});
   }
   report["load_cases"] = cases;
-  const auto curve_json = [](const CubicSpline& c) {
-    const Eigen::VectorXd& v = c.controls();
-    return nlohmann::json{{"lower", c.lower()},
-                          {"upper", c.upper()},
-                          {"intervals", c.intervals()},
-                          {"controls", std::vector<double>(v.data(), v.data() + v.size())}};
-  };
-  report["curves"] = {{"uniaxial", curve_json(fitted_curves.uniaxial)},
-                      {"biaxial", curve_json(fitted_curves.biaxial)},
-                      {"volumetric", curve_json(fitted_curves.volumetric)}};
+  report["curves"] = principal_stretch_curves_json(fitted_curves);
+  // The fitted material in a form scenes reference: "curves": {"file": ".../material.json"}.
+  run.material_path = (std::filesystem::path(out_dir) / "material.json").string();
+  write_spline_material_file(run.material_path, fitted_curves, "material fit '" + spec.name + "'");
+  report["material_file"] = "material.json";
   const FunctionalCounters& counters = functional.counters();
   report["timings"] = {
       {"total_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
@@ -259,7 +255,7 @@ MaterialFitRun run_material_fit(const MaterialFitSpec& spec, const std::string& 
          << run.relative_force_error << "\n";
     if (run.relative_stress_error)
       *log << "relative stress error vs the reference curves: " << *run.relative_stress_error << "\n";
-    *log << "wrote " << run.report_path << " and the force plots\n";
+    *log << "wrote " << run.report_path << ", " << run.material_path << " and the force plots\n";
   }
   return run;
 }

@@ -45,9 +45,10 @@ struct MaterialFitRun {
   // sampled in the data range, relative to the RMS of the reference.
   std::optional<double> relative_stress_error;
   std::string report_path;
+  std::string material_path;  // DIR/material.json: the fitted curves, for "curves": {"file": ...}
 };
 
-// Solves the targets, fits, writes DIR/report.json and DIR/force_<case>.png. Throws
+// Solves the targets, fits, writes DIR/report.json, DIR/material.json and DIR/force_<case>.png. Throws
 // std::invalid_argument on inconsistent specs and std::runtime_error when it cannot write.
 MaterialFitRun run_material_fit(const MaterialFitSpec& spec, const std::string& out_dir, std::ostream* log,
                                 std::ostream* progress);

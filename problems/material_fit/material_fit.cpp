@@ -4,7 +4,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <ostream>
 #include <stdexcept>
 
@@ -12,9 +11,9 @@
 #include "forward/fem/materials/spline_material.hpp"
 #include "forward/solve/newton.hpp"
 #include "problems/material_fit/curve_fit_functional.hpp"
+#include "problems/material_fit/material_fit_report.hpp"
 #include "problems/plot/line_plot.hpp"
 #include "problems/spline_curves_json.hpp"
-#include "tailor_version.hpp"
 
 namespace tailor {
 namespace {
@@ -124,6 +123,9 @@ std::vector<Constraint> convexity_constraints(const PrincipalStretchCurves& knot
 MaterialFitRun run_material_fit(const MaterialFitSpec& spec, const std::string& out_dir, std::ostream* log,
                                 std::ostream* progress) {
   const auto t0 = std::chrono::steady_clock::now();
+  const auto seconds_since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
   if (spec.cases.empty()) throw std::invalid_argument("material fit: no load cases");
   const Mesh mesh = load_case_mesh(spec.cells);
   const PrincipalStretchCurves knots = zero_curves(spec.grids);
@@ -164,6 +166,7 @@ MaterialFitRun run_material_fit(const MaterialFitSpec& spec, const std::string& 
   const double force_scale = std::max(rms(run.target, nullptr), 1e-12);
   CurveFitFunctional functional(mesh, spec.cases, steps, knots, force_scale, spec.smoothness);
 
+  run.timings.setup = seconds_since(t0);
   const Vector z0 = principal_stretch_preset(spec.initial_preset, spec.initial_lame, spec.grids).controls();
   auto split = [&](const std::vector<double>& flat) {
     std::vector<std::vector<double>> out;
@@ -193,62 +196,29 @@ MaterialFitRun run_material_fit(const MaterialFitSpec& spec, const std::string& 
   fitted_curves.set_controls(run.result.z);
   if (reference_curves) run.relative_stress_error = stress_error(fitted_curves, *reference_curves, lo, hi);
 
+  const double optimization_end = seconds_since(t0);
+  run.timings.optimization = optimization_end - run.timings.setup;
+  run.timings.forward = functional.counters().forward_seconds;
+  run.timings.adjoint = functional.counters().adjoint_seconds;
+  run.evaluations = run.result.evaluations;
+  run.forward_solves = functional.counters().forward_solves;
+  run.adjoint_solves = functional.counters().adjoint_solves;
+
   // Output.
   std::error_code error;
   std::filesystem::create_directories(out_dir, error);
   if (error)
     throw std::runtime_error("cannot create the output folder '" + out_dir + "': " + error.message());
-  nlohmann::json report;
-  report["tailor_version"] = version_string;
-  report["scene"] = spec.name;
-  report["kind"] = "material_fit";
-  report["status"] = to_string(run.result.status);
-  report["message"] = run.result.message;
-  report["optimizer"] = to_string(spec.optimizer.backend);
-  nlohmann::json history = nlohmann::json::array();
-  for (const auto& it : run.result.history)
-    history.push_back({{"iteration", it.iteration},
-                       {"objective", it.objective},
-                       {"gradient_norm", it.gradient_norm},
-                       {"seconds", it.seconds},
-                       {"forward_solves", it.forward_solves},
-                       {"adjoint_solves", it.adjoint_solves}});
-  report["history"] = history;
-  report["objective"] = run.result.objective;
-  report["relative_force_error"] = run.relative_force_error;
-  report["initial_relative_force_error"] = run.initial_relative_force_error;
-  if (run.relative_stress_error) report["relative_stress_error"] = *run.relative_stress_error;
-  nlohmann::json cases = nlohmann::json::array();
-  for (std::size_t c = 0; c < spec.cases.size(); ++c) {
-    const LoadCase& lc = spec.cases[c];
-    const std::string plot = "force_" + lc.name + ".png";
-    plot_case((std::filesystem::path(out_dir) / plot).string(), lc, run.target[c], run.initial[c],
-              run.fitted[c], design);
-    cases.push_back({{"name", lc.name},
-                     {"kind", to_string(lc.kind)},
-                     {"amplitudes", lc.amplitudes},
-                     {"target", run.target[c]},
-                     {"initial", run.initial[c]},
-                     {"fitted", run.fitted[c]},
-                     {"plot", plot}});
-  }
-  report["load_cases"] = cases;
-  report["curves"] = principal_stretch_curves_json(fitted_curves);
+  for (std::size_t c = 0; c < spec.cases.size(); ++c)
+    plot_case((std::filesystem::path(out_dir) / force_plot_name(spec.cases[c])).string(), spec.cases[c],
+              run.target[c], run.initial[c], run.fitted[c], design);
   // The fitted material in a form scenes reference: "curves": {"file": ".../material.json"}.
   run.material_path = (std::filesystem::path(out_dir) / "material.json").string();
   write_spline_material_file(run.material_path, fitted_curves, "material fit '" + spec.name + "'");
-  report["material_file"] = "material.json";
-  const FunctionalCounters& counters = functional.counters();
-  report["timings"] = {
-      {"total_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-      {"forward_seconds", counters.forward_seconds},
-      {"adjoint_seconds", counters.adjoint_seconds},
-      {"forward_solves", counters.forward_solves},
-      {"adjoint_solves", counters.adjoint_solves}};
+  run.timings.output = seconds_since(t0) - optimization_end;
+  run.timings.total = seconds_since(t0);
   run.report_path = (std::filesystem::path(out_dir) / "report.json").string();
-  std::ofstream file(run.report_path);
-  if (!file) throw std::runtime_error("cannot write '" + run.report_path + "'");
-  file << report.dump(2) << "\n";
+  write_material_fit_report(run.report_path, spec, run, fitted_curves, mesh);
   if (log) {
     *log << "status: " << to_string(run.result.status) << " (" << run.result.message << ")\n"
          << "relative force error: initial " << run.initial_relative_force_error << ", final "

@@ -17,7 +17,8 @@ namespace tailor {
 
 struct MaterialFitSpec {
   std::string name;
-  int cells = 2;  // of the unit-cube specimen, per edge (shear needs >= 2)
+  std::string source;  // the scene file as given (for the report)
+  int cells = 2;       // of the unit-cube specimen, per edge (shear needs >= 2)
   PrincipalStretchGrids grids;
   std::vector<LoadCase> cases;
 
@@ -36,6 +37,16 @@ struct MaterialFitSpec {
   OptimizerOptions optimizer;
 };
 
+// Wall-clock seconds of the parts of a fit.
+struct MaterialFitTimings {
+  double total = 0.0;         // the whole fit, up to (not including) writing report.json
+  double setup = 0.0;         // specimen, targets (reference solves) and the functional
+  double optimization = 0.0;  // initial forces and the optimizer, final forces and errors
+  double forward = 0.0;       // Newton solves inside the optimization
+  double adjoint = 0.0;       // adjoint solves inside the optimization
+  double output = 0.0;        // plots and material.json
+};
+
 struct MaterialFitRun {
   OptimizerResult result;
   std::vector<std::vector<double>> target, initial, fitted;  // forces per case, per amplitude
@@ -44,6 +55,8 @@ struct MaterialFitRun {
   // Only with a reference preset: RMS of dPsi/dl_a (fitted - reference) over stretch triples
   // sampled in the data range, relative to the RMS of the reference.
   std::optional<double> relative_stress_error;
+  int evaluations = 0, forward_solves = 0, adjoint_solves = 0;
+  MaterialFitTimings timings;
   std::string report_path;
   std::string material_path;  // DIR/material.json: the fitted curves, for "curves": {"file": ...}
 };

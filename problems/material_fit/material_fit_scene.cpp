@@ -134,6 +134,7 @@ MaterialFitSpec read_material_fit_scene(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   MaterialFitSpec spec = parse_material_fit_scene(text.str(), path);
+  spec.source = path;
   if (spec.name.empty()) spec.name = std::filesystem::path(path).stem().string();
   return spec;
 }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "problems/inverse_commands.hpp"
@@ -166,6 +167,22 @@ TEST(SplineScene, FittedMaterialFileDrivesAScene) {
       parse_scene(with(kLinearMaterial, R"("model": "spline", "curves": {"file": "material.json"})"),
                   "test.json", folder.str());
   EXPECT_EQ(scene.materials[0].spline_curves->controls(), run.result.z);  // written without loss
+  // The report holds the same curves (usable as a curves file) and the fields every report has.
+  const Scene from_report = parse_scene(
+      with(kLinearMaterial, R"("model": "spline", "curves": {"file": "report.json"})"), "test.json", folder.str());
+  EXPECT_EQ(from_report.materials[0].spline_curves->controls(), run.result.z);
+  std::ifstream report_file(run.report_path);
+  const nlohmann::json report = nlohmann::json::parse(report_file);
+  EXPECT_EQ(report["report_format"], 1);
+  EXPECT_EQ(report["kind"], "material_fit");
+  EXPECT_EQ(report["scene"]["name"], "round_trip");
+  EXPECT_EQ(report["converged"], run.result.converged());
+  EXPECT_EQ(report["material_file"], "material.json");
+  for (const char* key : {"tailor_version", "status", "message", "backend", "iterations", "evaluations",
+                          "history", "objective", "solves", "timings", "mesh", "load_cases", "curves"})
+    EXPECT_TRUE(report.contains(key)) << key;
+  for (const char* key : {"total", "setup", "optimization", "forward", "adjoint", "output"})
+    EXPECT_TRUE(report["timings"].contains(key)) << key;
   const auto load = [](const std::string& text) {
     return with("\"traction\": [1, 0, 0]", "\"traction\": [1.5, 0.2, 0]", text);
   };

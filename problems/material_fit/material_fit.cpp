@@ -90,34 +90,9 @@ void plot_case(const std::string& path, const LoadCase& c, const std::vector<dou
 
 std::vector<Constraint> convexity_constraints(const PrincipalStretchCurves& knots,
                                               const std::vector<std::string>& curves) {
-  std::vector<Constraint> constraints;
-  const int n = knots.num_controls();
-  const int sizes[3] = {knots.uniaxial.num_controls(), knots.biaxial.num_controls(),
-                        knots.volumetric.num_controls()};
-  const char* names[3] = {"uniaxial", "biaxial", "volumetric"};
-  int offset = 0;
-  for (int c = 0; c < 3; ++c) {
-    bool wanted = false;
-    for (const auto& name : curves) wanted = wanted || name == names[c];
-    if (wanted)
-      // y'' >= 0 on the whole range when every second difference of the controls is >= 0
-      // (y'' is their combination with the non-negative linear B-splines, over h^2).
-      for (int k = 1; k + 1 < sizes[c]; ++k) {
-        const int i = offset + k;
-        constraints.push_back({std::string(names[c]) + "_convex_" + std::to_string(k), false,
-                               [i, n](const Vector& z, Vector* gradient) {
-                                 if (gradient) {
-                                   gradient->setZero(n);
-                                   (*gradient)[i - 1] = -1.0;
-                                   (*gradient)[i] = 2.0;
-                                   (*gradient)[i + 1] = -1.0;
-                                 }
-                                 return -(z[i - 1] - 2.0 * z[i] + z[i + 1]);
-                               }});
-      }
-    offset += sizes[c];
-  }
-  return constraints;
+  std::vector<ShapeConstraint> shapes;
+  for (const std::string& curve : curves) shapes.push_back({curve, CurveShape::convex});
+  return shape_constraints(knots, shapes);
 }
 
 MaterialFitRun run_material_fit(const MaterialFitSpec& spec, const std::string& out_dir, std::ostream* log,
@@ -181,7 +156,7 @@ MaterialFitRun run_material_fit(const MaterialFitSpec& spec, const std::string& 
   if (log)
     *log << "material fit '" << spec.name << "': " << spec.cases.size() << " load cases, " << steps.size()
          << " steps, " << z0.size() << " control values, " << mesh.num_elements() << " tets per specimen\n";
-  const std::vector<Constraint> constraints = convexity_constraints(knots, spec.convex);
+  const std::vector<Constraint> constraints = shape_constraints(knots, spec.shapes);
   OptimizerOptions options = spec.optimizer;
   options.progress = progress;
   run.result = minimize(functional, z0, Bounds{}, constraints, options);

@@ -12,6 +12,7 @@
 #include "forward/fem/material.hpp"
 #include "optimizers/optimizer.hpp"
 #include "problems/material_fit/load_cases.hpp"
+#include "problems/material_fit/shape_constraints.hpp"
 
 namespace tailor {
 
@@ -32,8 +33,8 @@ struct MaterialFitSpec {
   SplinePreset initial_preset = SplinePreset::corotated;
   LameParameters initial_lame{0.0, 0.0};
 
-  double smoothness = 0.0;          // alpha of the curve smoothness term
-  std::vector<std::string> convex;  // curves constrained convex: "uniaxial", "biaxial", "volumetric"
+  double smoothness = 0.0;              // alpha of the curve smoothness term
+  std::vector<ShapeConstraint> shapes;  // e.g. convex f, h decreasing for J < 1
   OptimizerOptions optimizer;
 };
 
@@ -66,7 +67,8 @@ struct MaterialFitRun {
 MaterialFitRun run_material_fit(const MaterialFitSpec& spec, const std::string& out_dir, std::ostream* log,
                                 std::ostream* progress);
 
-// The convexity constraints (second differences of the controls >= 0) of the named curves.
+// The convexity constraints (second differences of the controls >= 0) of the named curves over
+// their whole range (shape_constraints with CurveShape::convex).
 std::vector<Constraint> convexity_constraints(const PrincipalStretchCurves& knots,
                                               const std::vector<std::string>& curves);
 

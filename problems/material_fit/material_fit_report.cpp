@@ -1,5 +1,6 @@
 #include "problems/material_fit/material_fit_report.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -59,7 +60,17 @@ void write_material_fit_report(const std::string& path, const MaterialFitSpec& s
                      {"plot", force_plot_name(lc)}});
   }
   report["load_cases"] = cases;
-  report["convex"] = spec.convex;
+  Json constraints = Json::array();
+  for (const ShapeConstraint& shape : spec.shapes)
+    constraints.push_back(
+        {{"curve", shape.curve},
+         {"kind", to_string(shape.shape)},
+         {"range", std::isfinite(shape.lower) || std::isfinite(shape.upper)
+                       ? Json::array({std::isfinite(shape.lower) ? Json(shape.lower) : Json(nullptr),
+                                      std::isfinite(shape.upper) ? Json(shape.upper) : Json(nullptr)})
+                       : Json(nullptr)},
+         {"count", shape_constraints(fitted, {shape}).size()}});
+  report["constraints"] = constraints;
   report["curves"] = principal_stretch_curves_json(fitted);
   report["material_file"] = "material.json";
 

@@ -28,6 +28,22 @@ SplinePreset parse_preset(const SceneNode& node) {
   return parse_spline_preset(node.choice({"corotated", "stvk", "neo_hookean"}));
 }
 
+// {"curve": name, "kind": "increasing" | "decreasing" | "convex" | "concave", "range": [lo, hi]}
+// (range optional: the whole curve).
+ShapeConstraint parse_shape(const SceneNode& node) {
+  node.expect_keys({"curve", "kind", "range"});
+  ShapeConstraint s;
+  s.curve = node.at("curve").choice({"uniaxial", "biaxial", "volumetric"});
+  s.shape = parse_curve_shape(node.at("kind").choice({"increasing", "decreasing", "convex", "concave"}));
+  if (auto range = node.find("range")) {
+    const Eigen::VectorXd r = range->vector(2);
+    if (!(r[0] < r[1])) range->fail("expected [lower, upper] with lower < upper");
+    s.lower = r[0];
+    s.upper = r[1];
+  }
+  return s;
+}
+
 }  // namespace
 
 bool is_material_fit_scene(const std::string& path) {
@@ -42,7 +58,7 @@ MaterialFitSpec parse_material_fit_scene(const std::string& json_text, const std
   if (document.is_discarded()) throw SceneError(source + ": invalid JSON");
   const SceneNode root(document, source, "");
   root.expect_keys({"name", "type", "description", "specimen", "curves", "load_cases", "reference", "initial",
-                    "smoothness", "convex", "optimizer"});
+                    "smoothness", "convex", "shape", "optimizer"});
   if (root.at("type").string() != "material_fit") root.at("type").fail("expected \"material_fit\"");
   MaterialFitSpec spec;
   if (auto n = root.find("name")) spec.name = n->string();
@@ -104,7 +120,9 @@ MaterialFitSpec parse_material_fit_scene(const std::string& json_text, const std
   if (auto s = root.find("smoothness")) spec.smoothness = s->non_negative();
   if (auto c = root.find("convex"))
     for (const SceneNode& item : c->items())
-      spec.convex.push_back(item.choice({"uniaxial", "biaxial", "volumetric"}));
+      spec.shapes.push_back({item.choice({"uniaxial", "biaxial", "volumetric"}), CurveShape::convex});
+  if (auto list = root.find("shape"))
+    for (const SceneNode& item : list->items()) spec.shapes.push_back(parse_shape(item));
   if (auto o = root.find("optimizer")) {
     o->expect_keys({"backend", "max_iterations", "gradient_tolerance"});
     if (auto b = o->find("backend")) {
@@ -119,12 +137,12 @@ MaterialFitSpec parse_material_fit_scene(const std::string& json_text, const std
   } else {
     spec.optimizer.backend = OptimizerBackend::ceres_least_squares;
   }
-  if (!spec.convex.empty() && (spec.optimizer.backend == OptimizerBackend::ceres_least_squares ||
+  if (!spec.shapes.empty() && (spec.optimizer.backend == OptimizerBackend::ceres_least_squares ||
                                spec.optimizer.backend == OptimizerBackend::nlopt_lbfgs ||
                                spec.optimizer.backend == OptimizerBackend::ceres_lbfgs ||
                                spec.optimizer.backend == OptimizerBackend::gradient_descent))
-    root.at("convex").fail(
-        "convexity constraints need a constrained optimizer (ipopt, nlopt_slsqp or nlopt_mma)");
+    root.at(root.has("convex") ? "convex" : "shape")
+        .fail("shape constraints need a constrained optimizer (ipopt, nlopt_slsqp or nlopt_mma)");
   return spec;
 }
 

@@ -71,6 +71,22 @@ TEST(MaterialFitScene, ReportsBadInputWithItsKeyPath) {
   expect_error(
       scene_with("\"type\": \"material_fit\",", "\"type\": \"material_fit\", \"convex\": [\"uniaxial\"],"),
       "constrained optimizer");
+  const std::string slsqp = "\"type\": \"material_fit\", \"optimizer\": {\"backend\": \"nlopt_slsqp\"}, ";
+  expect_error(scene_with("\"type\": \"material_fit\",",
+                          slsqp + "\"shape\": [{\"curve\": \"volumetric\", \"kind\": \"flat\"}],"),
+               "fit.json: shape[0].kind: expected one of");
+  expect_error(
+      scene_with("\"type\": \"material_fit\",", slsqp + "\"shape\": [{\"curve\": \"volumetric\", \"kind\": "
+                                                        "\"decreasing\", \"range\": [1, 0.5]}],"),
+      "fit.json: shape[0].range: expected [lower, upper] with lower < upper");
+  const MaterialFitSpec shaped = parse_material_fit_scene(
+      scene_with("\"type\": \"material_fit\",",
+                 slsqp + "\"convex\": [\"uniaxial\"], \"shape\": [{\"curve\": \"volumetric\", \"kind\": "
+                         "\"decreasing\", \"range\": [0.1, 1]}],"),
+      "fit.json");
+  ASSERT_EQ(shaped.shapes.size(), 2u);
+  EXPECT_EQ(shaped.shapes[1].shape, CurveShape::decreasing);
+  EXPECT_EQ(shaped.shapes[1].upper, 1.0);
   expect_error(scene_with("\"type\": \"material_fit\",", "\"type\": \"material_fit\", \"colour\": 1,"),
                "colour");
   expect_error("{", "invalid JSON");

@@ -120,6 +120,23 @@ void evaluate_spline_material(const PrincipalStretchCurves& curves, const Eigen:
   md::subtract_negative_modes<Dim>(svd, modes, T);
 }
 
+template <int Dim>
+void evaluate_spline_material_modes(const PrincipalStretchCurves& curves,
+                                    const Eigen::Matrix<double, Dim, Dim>& F, MaterialEvaluation<Dim>& out,
+                                    SplineTangentModes<Dim>& modes) {
+  md::RotationVariantSvd<Dim> svd;
+  md::rotation_variant_svd(F, svd);
+  StretchDerivatives d;
+  stretch_derivatives(curves, padded<Dim>(svd.sigma), 2, SplineTangentModes<Dim>::kPairs, d);
+  out.energy_density = d.energy;
+  out.stress.noalias() = svd.U * d.gradient.template head<Dim>().asDiagonal() * svd.V.transpose();
+  modes.U = svd.U;
+  modes.V = svd.V;
+  modes.stretch_hessian = d.hessian.template topLeftCorner<Dim, Dim>();
+  modes.twist = d.twist.template head<SplineTangentModes<Dim>::kPairs>();
+  modes.flip = d.flip.template head<SplineTangentModes<Dim>::kPairs>();
+}
+
 void add_control_derivatives(const PrincipalStretchCurves& curves, const Eigen::Vector3d& l,
                              double energy_weight, const Eigen::Vector3d& stress_weights,
                              Eigen::Ref<Eigen::VectorXd> out) {
@@ -156,6 +173,10 @@ template void evaluate_spline_material<2>(const PrincipalStretchCurves&, const E
                                           HessianMode, MaterialEvaluation<2>&);
 template void evaluate_spline_material<3>(const PrincipalStretchCurves&, const Eigen::Matrix3d&, bool, bool,
                                           HessianMode, MaterialEvaluation<3>&);
+template void evaluate_spline_material_modes<2>(const PrincipalStretchCurves&, const Eigen::Matrix2d&,
+                                                MaterialEvaluation<2>&, SplineTangentModes<2>&);
+template void evaluate_spline_material_modes<3>(const PrincipalStretchCurves&, const Eigen::Matrix3d&,
+                                                MaterialEvaluation<3>&, SplineTangentModes<3>&);
 template PrincipalFrame<2> principal_frame<2>(const Eigen::Matrix2d&);
 template PrincipalFrame<3> principal_frame<3>(const Eigen::Matrix3d&);
 template class SplineMaterial<2>;

@@ -37,6 +37,23 @@ void evaluate_spline_material(const PrincipalStretchCurves& curves, const Eigen:
                               bool want_stress, bool want_tangent, HessianMode mode,
                               MaterialEvaluation<Dim>& out);
 
+// The exact tangent as modes in the SVD basis, for callers that contract it with a linear map
+// (an element's B: B^T T B = sum over modes of (B^T m)(B^T m)^T, cheaper than forming T):
+//   T = sum_ab stretch_hessian_ab s_a s_b^T + sum_p (twist_p w_p w_p^T + flip_p q_p q_p^T),
+//   s_a = vec(u_a v_a^T), w_p, q_p = vec(u_i v_j^T -+ u_j v_i^T) / sqrt(2), pairs (0,1), (0,2), (1,2).
+template <int Dim>
+struct SplineTangentModes {
+  static constexpr int kPairs = Dim == 3 ? 3 : 1;
+  Eigen::Matrix<double, Dim, Dim> U, V;
+  Eigen::Matrix<double, Dim, Dim> stretch_hessian;
+  Eigen::Matrix<double, kPairs, 1> twist, flip;
+};
+// Energy density and stress into `out` (its tangent untouched) and the exact tangent's modes.
+template <int Dim>
+void evaluate_spline_material_modes(const PrincipalStretchCurves& curves,
+                                    const Eigen::Matrix<double, Dim, Dim>& F, MaterialEvaluation<Dim>& out,
+                                    SplineTangentModes<Dim>& modes);
+
 // The principal stretches and frames of F (rotation-variant SVD), as the control derivatives need.
 template <int Dim>
 struct PrincipalFrame {

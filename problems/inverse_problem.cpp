@@ -350,6 +350,14 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene) {
   problem->scene_source = scene.source;
   problem->spec = *scene.inverse;
   problem->setup = setup_static_scene(scene);
+  // Spline materials keep their curves (their elements' Young's modulus is not used), so at
+  // least one material must take E from the design.
+  bool designable = false;
+  for (const MaterialBlock& block : problem->setup.materials) designable = designable || !block.spline_curves;
+  if (!designable)
+    throw_scene_error(scene, "inverse.design",
+                      "every material is a spline material, whose stiffness is its curves: there is no "
+                      "Young's modulus to design");
 
   if (problem->spec.ground_truth)
     set_truth(scene, *problem, expand_field(scene, problem->setup, *problem->spec.ground_truth),

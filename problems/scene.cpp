@@ -9,6 +9,7 @@
 
 #include "problems/dynamic_scene.hpp"
 #include "problems/scene_parsing.hpp"
+#include "problems/spline_curves_json.hpp"
 
 namespace tailor {
 namespace {
@@ -158,13 +159,56 @@ MeshSpec parse_mesh(const SceneNode& node, const std::string& directory) {
   return m;
 }
 
+// "model": "spline" (README, "Spline materials in scenes"): exactly one of "preset" (with
+// youngs_modulus and poisson_ratio) and "curves" (inline or {"file": ...}, the moduli then
+// come from the curves).
+void parse_spline_material(const SceneNode& node, const std::string& directory, MaterialSpec& m) {
+  if (node.has("preset") == node.has("curves"))
+    node.fail(
+        "a spline material needs exactly one of \"preset\" (with youngs_modulus and poisson_ratio) and "
+        "\"curves\"");
+  if (node.has("youngs_modulus_file"))
+    node.at("youngs_modulus_file").fail("not supported by spline materials (their stiffness is the curves)");
+  if (auto preset = node.find("preset")) {
+    m.youngs_modulus = node.at("youngs_modulus").positive();
+    m.poisson_ratio = node.at("poisson_ratio").open_interval(-1.0, 0.5);
+    m.spline_curves = std::make_shared<const PrincipalStretchCurves>(
+        principal_stretch_preset(parse_spline_preset(preset->choice({"corotated", "stvk", "neo_hookean"})),
+                                 lame_from_young_poisson(m.youngs_modulus, m.poisson_ratio)));
+    return;
+  }
+  for (const char* key : {"youngs_modulus", "poisson_ratio"})
+    if (node.has(key))
+      node.at(key).fail(
+          "not used with explicit curves (the curves carry the stiffness; use \"preset\" to "
+          "build curves from E and nu)");
+  const SceneNode curves = node.at("curves");
+  m.spline_curves = std::make_shared<const PrincipalStretchCurves>(parse_curves_or_file(curves, directory));
+  const LameParameters lame = small_strain_lame(*m.spline_curves);
+  // Stable at rest: shear modulus > 0 and bulk modulus lambda + 2 mu / 3 > 0.
+  if (!(lame.mu > 0.0) || !(lame.lambda + 2.0 * lame.mu / 3.0 > 0.0))
+    curves.fail("the curves are not stable at rest: small-strain Lame parameters lambda = " +
+                std::to_string(lame.lambda) + ", mu = " + std::to_string(lame.mu) +
+                " (need mu > 0 and lambda + 2 mu / 3 > 0)");
+  m.youngs_modulus = lame.mu * (3.0 * lame.lambda + 2.0 * lame.mu) / (lame.lambda + lame.mu);
+  m.poisson_ratio = lame.lambda / (2.0 * (lame.lambda + lame.mu));
+}
+
 MaterialSpec parse_material(const SceneNode& node, const std::string& directory) {
-  node.expect_keys(
-      {"elements", "model", "youngs_modulus", "youngs_modulus_file", "poisson_ratio", "density"});
+  node.expect_keys({"elements", "model", "youngs_modulus", "youngs_modulus_file", "poisson_ratio", "density",
+                    "preset", "curves"});
   MaterialSpec m;
   m.key = node.path();
   m.elements = parse_element_selector(node.at("elements"));
-  m.model = parse_material_kind(node.at("model").choice({"linear", "corotated", "stvk", "neo_hookean"}));
+  const std::string model = node.at("model").choice({"linear", "corotated", "stvk", "neo_hookean", "spline"});
+  if (auto d = node.find("density")) m.density = d->non_negative();
+  if (model == "spline") {
+    parse_spline_material(node, directory, m);
+    return m;
+  }
+  for (const char* key : {"preset", "curves"})
+    if (node.has(key)) node.at(key).fail("only used by \"model\": \"spline\"");
+  m.model = parse_material_kind(model);
   if (node.has("youngs_modulus") == node.has("youngs_modulus_file"))
     node.fail(
         "give exactly one of \"youngs_modulus\" (a number) and \"youngs_modulus_file\" (one value per "
@@ -175,7 +219,6 @@ MaterialSpec parse_material(const SceneNode& node, const std::string& directory)
     m.youngs_modulus_values = read_positive_values(node.at("youngs_modulus_file"), directory);
   }
   m.poisson_ratio = node.at("poisson_ratio").open_interval(-1.0, 0.5);
-  if (auto d = node.find("density")) m.density = d->non_negative();
   return m;
 }
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "forward/fem/material.hpp"
+#include "forward/fem/materials/principal_stretch_curves.hpp"
 #include "forward/solve/newton.hpp"
 
 namespace tailor {
@@ -57,7 +58,11 @@ struct VertexSelector {
 
 struct MaterialSpec {
   ElementSelector elements;
-  MaterialKind model = MaterialKind::linear;
+  MaterialKind model = MaterialKind::linear;  // unused when spline_curves is set
+  // "model": "spline": the principal-stretch curves (from a preset with E and nu, inline, or a
+  // file). youngs_modulus and poisson_ratio then hold the curves' small-strain values (for
+  // outputs); the elastic energy ignores them.
+  std::shared_ptr<const PrincipalStretchCurves> spline_curves;
   double youngs_modulus = 0.0;                // used when youngs_modulus_values is empty
   std::vector<double> youngs_modulus_values;  // from youngs_modulus_file: one per mesh element
   double poisson_ratio = 0.0;

@@ -7,6 +7,7 @@
 
 #include "forward/fem/elastic_term.hpp"
 #include "forward/fem/loads.hpp"
+#include "forward/fem/materials/spline_material.hpp"
 #include "forward/mesh/generate.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/scene_selection.hpp"
@@ -45,7 +46,7 @@ void assign_materials(const Scene& scene, StaticSetup& setup) {
       throw_scene_error(scene, spec.key + ".youngs_modulus_file",
                         "expected one value per mesh element (" + std::to_string(ne) + "), got " +
                             std::to_string(spec.youngs_modulus_values.size()));
-    MaterialBlock block{spec.model, select_elements(scene, mesh, spec.elements)};
+    MaterialBlock block{spec.model, select_elements(scene, mesh, spec.elements), spec.spline_curves};
     for (int e : block.elements) {
       if (const int other = setup.element_material[e]; other >= 0)
         throw_scene_error(scene, spec.elements.key,
@@ -144,7 +145,9 @@ void assign_loads(const Scene& scene, StaticSetup& setup) {
 template <int Dim>
 void add_elastic_terms(const StaticSetup& setup, Model& model, int youngs_offset, int poisson_offset) {
   for (const MaterialBlock& block : setup.materials) {
-    std::shared_ptr<const Material<Dim>> material = make_material<Dim>(block.kind);
+    std::shared_ptr<const Material<Dim>> material =
+        block.spline_curves ? std::make_shared<const SplineMaterial<Dim>>(*block.spline_curves)
+                            : std::shared_ptr<const Material<Dim>>(make_material<Dim>(block.kind));
     model.add(std::make_unique<ElasticTerm<Dim>>(setup.mesh, material, youngs_offset, poisson_offset,
                                                  block.elements));
   }

@@ -20,7 +20,8 @@ namespace tailor {
 // One ElasticTerm to build: a material model over a subset of the mesh's elements.
 struct MaterialBlock {
   MaterialKind kind;
-  std::vector<int> elements;  // mesh element indices, increasing
+  std::vector<int> elements;                                    // mesh element indices, increasing
+  std::shared_ptr<const PrincipalStretchCurves> spline_curves;  // set: a SplineMaterial (kind unused)
 };
 
 // Everything a static solve needs, checked against the mesh. Vectors over DOFs are interleaved

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "forward/core/energy_term.hpp"
+#include "forward/fem/linear_simplices.hpp"
 #include "forward/fem/material.hpp"
 #include "forward/mesh/mesh.hpp"
 
@@ -16,9 +17,9 @@ namespace tailor {
 template <int Dim>
 class ElasticTerm final : public EnergyTerm {
  public:
-  static constexpr int kNodes = Dim + 1;
-  static constexpr int kLocal = Dim * kNodes;  // element DOFs
-  using ShapeGradients = Eigen::Matrix<double, kNodes, Dim>;  // row a: grad N_a at rest
+  static constexpr int kNodes = LinearSimplices<Dim>::kNodes;
+  static constexpr int kLocal = LinearSimplices<Dim>::kLocal;            // element DOFs
+  using ShapeGradients = typename LinearSimplices<Dim>::ShapeGradients;  // row a: grad N_a at rest
 
   // `elements`: the mesh elements this term covers (all when empty). Throws
   // std::invalid_argument when the mesh dimension is not Dim or an element is degenerate.
@@ -30,13 +31,14 @@ class ElasticTerm final : public EnergyTerm {
   void hessian_pattern(HessianPattern& pattern) const override;
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override;
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override;
-  void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w, Vector& gradient_p) const override;
+  void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
+                                 Vector& gradient_p) const override;
 
   // Deformation gradient of covered element k (index into elements()) at state x.
   Eigen::Matrix<double, Dim, Dim> deformation_gradient(const Vector& x, int k) const;
   // First Piola-Kirchhoff stress per covered element, row-major Dim*Dim columns.
   Eigen::MatrixXd stresses(const Vector& x, const Vector& p) const;
-  const std::vector<int>& elements() const { return elements_; }
+  const std::vector<int>& elements() const { return simplices_.elements; }
   const Material<Dim>& material() const { return *material_; }
   // Rest shape gradients, rest volume and Lame parameters (from p) of covered element k.
   const ShapeGradients& shape_gradients(int k) const { return gradients_[static_cast<std::size_t>(k)]; }
@@ -48,10 +50,7 @@ class ElasticTerm final : public EnergyTerm {
   LameParameters lame(const Vector& p, int element) const;
   std::shared_ptr<const Material<Dim>> material_;
   int youngs_offset_, poisson_offset_;
-  std::vector<int> elements_;
-  std::vector<Eigen::Matrix<int, kNodes, 1>> vertices_;
-  std::vector<ShapeGradients> gradients_;
-  std::vector<double> volumes_;
+  LinearSimplices<Dim> simplices_;
   mutable std::vector<double> local_gradients_;  // kLocal per element, reused between calls
 };
 

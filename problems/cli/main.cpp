@@ -16,6 +16,7 @@
 #include "problems/dynamic_scene.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/modes_command.hpp"
+#include "problems/material_fit/material_fit_scene.hpp"
 #include "tailor_version.hpp"
 
 namespace {
@@ -121,6 +122,11 @@ tailor::Scene load_scene(const Arguments& args) {
 }
 
 int run_verb(const std::string& verb, const Arguments& args) {
+  if (verb == "run" && args.scene && tailor::is_material_fit_scene(*args.scene)) {
+    const auto fit = tailor::run_material_fit_scene(*args.scene, args.out_dir.value_or(""), &std::cout,
+                                                    args.quiet ? nullptr : &std::cout);
+    return fit.result.converged() ? kSuccess : kFailure;
+  }
   const tailor::Scene scene = load_scene(args);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
   if (verb == "simulate" && scene.dynamics)

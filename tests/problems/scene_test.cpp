@@ -129,7 +129,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"missing_model", with("\"model\": \"linear\", ", ""),
                  "materials[0]: missing required key \"model\""},
         BadScene{"bad_model", with("\"model\": \"linear\"", "\"model\": \"rubber\""),
-                 "materials[0].model: expected one of linear, corotated, stvk, neo_hookean, got \"rubber\""},
+                 "materials[0].model: expected one of linear, corotated, stvk, neo_hookean, spline, got \"rubber\""},
         BadScene{
             "missing_mesh",
             with("\"mesh\": {\"box\": {\"min\": [0, 0, 0], \"max\": [2, 1, 1], \"cells\": [4, 2, 2]}},", ""),

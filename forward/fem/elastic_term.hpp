@@ -41,10 +41,16 @@ class ElasticTerm final : public EnergyTerm {
   const std::vector<int>& elements() const { return simplices_.elements; }
   const Material<Dim>& material() const { return *material_; }
   // Rest shape gradients, rest volume and Lame parameters (from p) of covered element k.
-  const ShapeGradients& shape_gradients(int k) const { return gradients_[static_cast<std::size_t>(k)]; }
-  double rest_volume(int k) const { return volumes_[static_cast<std::size_t>(k)]; }
-  const Eigen::Matrix<int, kNodes, 1>& element_vertices(int k) const { return vertices_[static_cast<std::size_t>(k)]; }
-  LameParameters element_lame(const Vector& p, int k) const { return lame(p, elements_[static_cast<std::size_t>(k)]); }
+  const ShapeGradients& shape_gradients(int k) const {
+    return simplices_.gradients[static_cast<std::size_t>(k)];
+  }
+  double rest_volume(int k) const { return simplices_.volumes[static_cast<std::size_t>(k)]; }
+  const Eigen::Matrix<int, kNodes, 1>& element_vertices(int k) const {
+    return simplices_.vertices[static_cast<std::size_t>(k)];
+  }
+  LameParameters element_lame(const Vector& p, int k) const {
+    return lame(p, simplices_.elements[static_cast<std::size_t>(k)]);
+  }
 
  private:
   LameParameters lame(const Vector& p, int element) const;

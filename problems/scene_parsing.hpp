@@ -33,5 +33,7 @@ VertexSelector parse_vertex_selector(const SceneNode& node, const std::string& d
 
 // The "inverse" section (inverse_scene.cpp).
 InverseSpec parse_inverse_section(const SceneNode& node, const std::string& directory);
+// The "dynamics" section (dynamic_scene.cpp).
+DynamicsSpec parse_dynamics_section(const SceneNode& node, const std::string& directory);
 
 }  // namespace tailor

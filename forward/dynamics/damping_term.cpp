@@ -12,7 +12,8 @@ void DampingTerm::set_velocity_map(double velocity_scale, Vector base) {
 
 Vector DampingTerm::velocity(const Vector& x) const {
   if (base_.size() == 0) return x / kappa_;
-  if (base_.size() != x.size()) throw std::invalid_argument("DampingTerm: the velocity base has the wrong size");
+  if (base_.size() != x.size())
+    throw std::invalid_argument("DampingTerm: the velocity base has the wrong size");
   return (x - base_) / kappa_;
 }
 

@@ -29,7 +29,8 @@ class DampingTerm : public EnergyTerm {
   void hessian_pattern(HessianPattern& pattern) const final { dissipation_pattern(pattern); }
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const final;
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const final;
-  void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w, Vector& gradient_p) const final;
+  void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
+                                 Vector& gradient_p) const final;
   void add_low_rank_hessian(const Vector& x, const Vector& p, LowRankHessian& update,
                             HessianMode mode = HessianMode::exact) const final;
 
@@ -37,7 +38,8 @@ class DampingTerm : public EnergyTerm {
   // request.value += D(v); request.gradient += dD/dv; request.hessian_values = d2D/dv2 on the pattern.
   virtual void evaluate_dissipation(const Vector& v, const Vector& p, const EnergyRequest& request) const = 0;
   virtual void dissipation_pattern(HessianPattern& pattern) const = 0;
-  virtual void add_dissipation_param_gradient(const Vector& v, const Vector& p, Vector& gradient_p) const = 0;  // += dD/dp
+  virtual void add_dissipation_param_gradient(const Vector& v, const Vector& p,
+                                              Vector& gradient_p) const = 0;  // += dD/dp
   // gradient_p += (d2D/dvdp)^T w.
   virtual void add_dissipation_mixed_transpose_times(const Vector& v, const Vector& p, const Vector& w,
                                                      Vector& gradient_p) const = 0;

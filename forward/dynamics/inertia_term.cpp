@@ -11,7 +11,8 @@ InertiaTerm::InertiaTerm(std::shared_ptr<const MassOperator> mass) : mass_(std::
 
 void InertiaTerm::set_step(double coefficient, Vector predictor, Vector carried_force) {
   if (!(coefficient >= 0.0)) throw std::invalid_argument("InertiaTerm: the inertia coefficient must be >= 0");
-  if (predictor.size() != mass_->num_dofs()) throw std::invalid_argument("InertiaTerm: predictor has the wrong size");
+  if (predictor.size() != mass_->num_dofs())
+    throw std::invalid_argument("InertiaTerm: predictor has the wrong size");
   if (carried_force.size() != 0 && carried_force.size() != mass_->num_dofs())
     throw std::invalid_argument("InertiaTerm: carried force has the wrong size");
   coefficient_ = coefficient;
@@ -26,7 +27,7 @@ void InertiaTerm::evaluate(const Vector& x, const Vector& p, const EnergyRequest
     mass_->add_times(p, d, Md, coefficient_);
     if (request.value) {
       *request.value += 0.5 * d.dot(Md);
-      if (carried_force_.size()) *request.value -= carried_force_.dot(x);
+      if (carried_force_.size()) *request.value -= carried_force_.dot(d);
     }
     if (request.gradient) {
       *request.gradient += Md;

@@ -41,7 +41,9 @@ void MassOperator::add_density_gradient(const Vector& a_vec, const Vector& b_vec
     for (int a = 0; a < nodes_; ++a)
       for (int b = 0; b < nodes_; ++b) {
         const double c = coefficient(a, b);
-        if (c != 0.0) s += c * a_vec.segment(dim_ * elements_(e, a), dim_).dot(b_vec.segment(dim_ * elements_(e, b), dim_));
+        if (c != 0.0)
+          s += c *
+               a_vec.segment(dim_ * elements_(e, a), dim_).dot(b_vec.segment(dim_ * elements_(e, b), dim_));
       }
     gradient_p[density_offset_ + e] += scale * volumes_[e] * s;
   }
@@ -53,7 +55,8 @@ void MassOperator::add_density_jacobian(const Vector& w, Triplets& triplets, dou
       for (int i = 0; i < dim_; ++i) {
         double s = 0.0;
         for (int b = 0; b < nodes_; ++b) s += coefficient(a, b) * w[dim_ * elements_(e, b) + i];
-        if (s != 0.0) triplets.emplace_back(dim_ * elements_(e, a) + i, density_offset_ + e, scale * volumes_[e] * s);
+        if (s != 0.0)
+          triplets.emplace_back(dim_ * elements_(e, a) + i, density_offset_ + e, scale * volumes_[e] * s);
       }
 }
 
@@ -68,7 +71,8 @@ void MassOperator::hessian_pattern(HessianPattern& pattern) const {
     for (int a = 0; a < nodes_; ++a)
       for (int b = 0; b < nodes_; ++b) {
         if (lumping_ == MassLumping::lumped && a != b) continue;
-        for (int i = 0; i < dim_; ++i) pattern.push_back({dim_ * elements_(e, a) + i, dim_ * elements_(e, b) + i});
+        for (int i = 0; i < dim_; ++i)
+          pattern.push_back({dim_ * elements_(e, a) + i, dim_ * elements_(e, b) + i});
       }
 }
 
@@ -92,7 +96,8 @@ SparseMatrix MassOperator::matrix(const Vector& p) const {
   hessian_values(p, 1.0, values.data());
   Triplets triplets;
   triplets.reserve(pattern.size());
-  for (std::size_t k = 0; k < pattern.size(); ++k) triplets.emplace_back(pattern[k].row, pattern[k].col, values[k]);
+  for (std::size_t k = 0; k < pattern.size(); ++k)
+    triplets.emplace_back(pattern[k].row, pattern[k].col, values[k]);
   SparseMatrix M(num_dofs_, num_dofs_);
   M.setFromTriplets(triplets.begin(), triplets.end());
   return M;

@@ -11,16 +11,22 @@ RayleighDamping::RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOpe
     : mass_(std::move(mass)), alpha_offset_(alpha_offset), beta_offset_(beta_offset) {
   if (!mass_) throw std::invalid_argument("RayleighDamping: no mass operator");
   if (mesh.dim() == 3)
-    stiffness_ = std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(MaterialKind::linear), youngs_offset, poisson_offset);
+    stiffness_ = std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(MaterialKind::linear), youngs_offset,
+                                                  poisson_offset);
   else
-    stiffness_ = std::make_unique<ElasticTerm<2>>(mesh, make_material<2>(MaterialKind::linear), youngs_offset, poisson_offset);
+    stiffness_ = std::make_unique<ElasticTerm<2>>(mesh, make_material<2>(MaterialKind::linear), youngs_offset,
+                                                  poisson_offset);
   rest_.resize(mesh.dim() * mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v)
     rest_.segment(mesh.dim() * v, mesh.dim()) = mesh.rest_positions.row(v).transpose();
   mass_slots_ = mass_->pattern_size();
+  HessianPattern k_pattern;
+  stiffness_->hessian_pattern(k_pattern);
+  stiffness_slots_ = k_pattern.size();
 }
 
-void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p, const EnergyRequest& request) const {
+void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p,
+                                           const EnergyRequest& request) const {
   const double alpha = p[alpha_offset_], beta = p[beta_offset_];
   const Vector X_plus_v = rest_ + v;
   if (request.value || request.gradient) {
@@ -40,9 +46,7 @@ void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p, con
     EnergyRequest k_request;
     k_request.hessian_values = k_values;
     stiffness_->evaluate(X_plus_v, p, k_request);
-    HessianPattern k_pattern;
-    stiffness_->hessian_pattern(k_pattern);
-    for (std::size_t k = 0; k < k_pattern.size(); ++k) k_values[k] *= beta;
+    for (std::size_t k = 0; k < stiffness_slots_; ++k) k_values[k] *= beta;
   }
 }
 
@@ -51,7 +55,8 @@ void RayleighDamping::dissipation_pattern(HessianPattern& pattern) const {
   stiffness_->hessian_pattern(pattern);
 }
 
-void RayleighDamping::add_dissipation_param_gradient(const Vector& v, const Vector& p, Vector& gradient_p) const {
+void RayleighDamping::add_dissipation_param_gradient(const Vector& v, const Vector& p,
+                                                     Vector& gradient_p) const {
   const double alpha = p[alpha_offset_], beta = p[beta_offset_];
   const Vector X_plus_v = rest_ + v;
   Vector Mv = Vector::Zero(v.size());

@@ -24,8 +24,8 @@ namespace tailor {
 
 class RayleighDamping final : public DampingTerm {
  public:
-  RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOperator> mass, int alpha_offset, int beta_offset,
-                  int youngs_offset, int poisson_offset);
+  RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOperator> mass, int alpha_offset,
+                  int beta_offset, int youngs_offset, int poisson_offset);
 
   std::string name() const override { return "rayleigh_damping"; }
   void evaluate_dissipation(const Vector& v, const Vector& p, const EnergyRequest& request) const override;
@@ -43,7 +43,7 @@ class RayleighDamping final : public DampingTerm {
   std::unique_ptr<EnergyTerm> stiffness_;  // the linear elastic energy E_lin
   Vector rest_;
   int alpha_offset_, beta_offset_;
-  std::size_t mass_slots_;
+  std::size_t mass_slots_, stiffness_slots_;
 };
 
 }  // namespace tailor

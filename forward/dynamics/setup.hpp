@@ -21,8 +21,8 @@ struct DynamicsSetup {
 
 struct DynamicTerms {
   InertiaTerm* inertia = nullptr;
-  GravityTerm* gravity = nullptr;       // null without gravity
-  RayleighDamping* damping = nullptr;   // null without Rayleigh damping
+  GravityTerm* gravity = nullptr;      // null without gravity
+  RayleighDamping* damping = nullptr;  // null without Rayleigh damping
   int density_offset = -1, alpha_offset = -1, beta_offset = -1;
 };
 

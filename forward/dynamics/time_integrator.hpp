@@ -43,6 +43,7 @@ struct TimeIntegratorOptions {
   NewtonOptions newton = [] {
     NewtonOptions o;
     o.relative_tolerance = 1e-10;
+    o.max_iterations = 40;  // a step from a good predictor needs a few; stalls at round-off end sooner
     return o;
   }();
   PrescribedMotion prescribed_motion;  // empty: the elimination's offset stays
@@ -52,11 +53,12 @@ struct TimeIntegratorOptions {
 struct DynamicState {
   int step = 0;
   double time = 0.0;
-  Vector y;                        // free unknowns of x
+  Vector y;  // free unknowns of x
   Vector x, v;
-  Vector x_previous, v_previous;   // bdf2: the state one step before (empty at step 0)
-  Vector carried_force;            // newmark: M a_n
-  double residual_scale = 0.0;     // largest initial step residual so far (Newton's reference)
+  Vector x_previous, v_previous;  // bdf2: the state one step before (empty at step 0)
+  Vector carried_force;           // newmark: M a_n
+  double residual_scale = 0.0;    // largest initial step residual so far (Newton's reference)
+  double residual_floor = 0.0;    // round-off level of the step residual (Newton's absolute tolerance)
 };
 
 // One step as linear maps of the history (see the table above).

@@ -43,8 +43,10 @@ struct Cantilever {
         for (int k = 0; k < 3; ++k) fixed_dofs.push_back(3 * v + k);
       if (mesh.rest_positions(v, 0) > o.length - 1e-9) tip_vertices.push_back(v);
     }
-    if (o.clamp) model->set_elimination(Elimination::dirichlet(fixed_dofs, rest));
-    else model->set_elimination(Elimination::identity(model->num_dofs()));
+    if (o.clamp)
+      model->set_elimination(Elimination::dirichlet(fixed_dofs, rest));
+    else
+      model->set_elimination(Elimination::identity(model->num_dofs()));
     p = Vector::Zero(model->parameter_layout().size());
     p.head(m).setConstant(o.youngs_modulus);
     p.segment(m, m).setConstant(o.poisson_ratio);

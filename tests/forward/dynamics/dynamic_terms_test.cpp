@@ -43,7 +43,8 @@ TEST(DynamicTerms, InertiaDerivativesConsistentAndLumped) {
     Cantilever c(o);
     const Vector p = varied(c, 5);
     const Vector x = c.rest + random_vector(c.rest.size(), 7, 0.2);
-    c.terms.inertia->set_step(37.0, c.rest + random_vector(c.rest.size(), 9, 0.2), random_vector(c.rest.size(), 11, 1.0));
+    c.terms.inertia->set_step(37.0, c.rest + random_vector(c.rest.size(), 9, 0.2),
+                              random_vector(c.rest.size(), 11, 1.0));
     expect_passes(*c.terms.inertia, x, p);
   }
 }
@@ -56,7 +57,8 @@ TEST(DynamicTerms, MassOperatorMatchesMassMatrix) {
     const Vector p = varied(c, 13);
     const Eigen::VectorXd density = p.segment(c.terms.density_offset, c.num_elements());
     const SparseMatrix reference = mass_matrix(c.mesh, density, lumping);
-    EXPECT_LT((Matrix(c.terms.inertia->mass().matrix(p)) - Matrix(reference)).norm(), 1e-12 * Matrix(reference).norm());
+    EXPECT_LT((Matrix(c.terms.inertia->mass().matrix(p)) - Matrix(reference)).norm(),
+              1e-12 * Matrix(reference).norm());
   }
 }
 
@@ -101,13 +103,16 @@ TEST(DynamicTerms, GravityWithDensityDerivatives) {
   // Linear in x: the Hessian check reports "vanishing", every other check must pass.
   const EnergyTermCheck check = check_energy_term(*c.terms.gravity, x, p);
   for (const DerivativeCheck& d : check.checks) {
-    if (d.quantity == "hessian") EXPECT_TRUE(d.vanishing) << check.table();
-    else EXPECT_TRUE(d.passed) << d.quantity << "\n" << check.table();
+    if (d.quantity == "hessian")
+      EXPECT_TRUE(d.vanishing) << check.table();
+    else
+      EXPECT_TRUE(d.passed) << d.quantity << "\n" << check.table();
   }
   // Same forces as gravity_forces() for the same densities.
   Vector g = Vector::Zero(x.size());
   c.terms.gravity->add_gradient(x, p, g);
-  const Vector f = gravity_forces(c.mesh, p.segment(c.terms.density_offset, c.num_elements()), Eigen::Vector3d(0.0, -1.0, -9.81));
+  const Vector f = gravity_forces(c.mesh, p.segment(c.terms.density_offset, c.num_elements()),
+                                  Eigen::Vector3d(0.0, -1.0, -9.81));
   EXPECT_LT((g + f).norm(), 1e-12 * f.norm());
 }
 
@@ -137,7 +142,9 @@ class CorruptedInertia final : public EnergyTerm {
     }
   }
   void hessian_pattern(HessianPattern& pattern) const override { inner_.hessian_pattern(pattern); }
-  void add_param_gradient(const Vector& x, const Vector& p, Vector& g) const override { inner_.add_param_gradient(x, p, g); }
+  void add_param_gradient(const Vector& x, const Vector& p, Vector& g) const override {
+    inner_.add_param_gradient(x, p, g);
+  }
   void add_mixed(const Vector& x, const Vector& p, Triplets& m) const override { inner_.add_mixed(x, p, m); }
 
  private:

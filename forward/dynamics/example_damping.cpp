@@ -50,6 +50,8 @@ void ExampleDamping::set_amplitudes(Vector chi) {
   if (chi.size() != num_examples())
     throw std::invalid_argument("ExampleDamping: one amplitude per example is needed");
   chi_ = std::move(chi);
+  x_start_.resize(0);
+  v_start_.resize(0);
 }
 
 double ExampleDamping::amplitude(int i, const Vector& x, const Vector& v, Vector* gradient_x,
@@ -67,6 +69,24 @@ double ExampleDamping::amplitude(int i, const Vector& x, const Vector& v, Vector
 
 void ExampleDamping::set_step_start(const Vector& x, const Vector& v) {
   for (int i = 0; i < num_examples(); ++i) chi_[i] = amplitude(i, x, v);
+  x_start_ = x;
+  v_start_ = v;
+}
+
+void ExampleDamping::add_step_start_transpose_times(const Vector& x, const Vector& p, const Vector& w,
+                                                    Vector& x_start_bar, Vector& v_start_bar) const {
+  if (x_start_.size() == 0) return;  // amplitudes set directly: no state dependence
+  const Scales s = scales(p);
+  const Vector mixed = scale_mixed(s, velocity(x), p, w);
+  for (int i = 0; i < num_examples(); ++i) {
+    double slope = 0.0;
+    scale(i, p, &slope);
+    if (slope == 0.0 || mixed[i] == 0.0) continue;
+    Vector gx, gv;
+    amplitude(i, x_start_, v_start_, &gx, &gv);
+    x_start_bar += (mixed[i] * slope) * gx;
+    v_start_bar += (mixed[i] * slope) * gv;
+  }
 }
 
 double ExampleDamping::curve(int i, const Vector& p, double chi) const {
@@ -190,26 +210,36 @@ void ExampleDamping::add_dissipation_param_gradient(const Vector& v, const Vecto
   }
 }
 
+Vector ExampleDamping::scale_mixed(const Scales& s, const Vector& v, const Vector& p, const Vector& w) const {
+  const int r = num_examples();
+  const Vector qd = mass_examples_.transpose() * v, qw = mass_examples_.transpose() * w;
+  const Vector Tv = transform(s, v), Tw = transform(s, w);
+  Vector out(r);
+  for (int i = 0; i < r; ++i) {
+    const auto u = examples_.col(i);
+    const Vector z = rayleigh_gradient(*base_, u, p);  // C u_i
+    // d/dgamma_i of (T w)^T C (T v) + sum_i 2 (gamma_i - kappa_i^2) D_R(u_i) qd_i (w_i^T w)
+    out[i] = s.dkappa[i] * (qw[i] * z.dot(Tv) + qd[i] * z.dot(Tw)) +
+             2.0 * (1.0 - 2.0 * s.kappa[i] * s.dkappa[i]) * rayleigh_value(*base_, u, p) * qd[i] * qw[i];
+  }
+  return out;
+}
+
 void ExampleDamping::add_dissipation_mixed_transpose_times(const Vector& v, const Vector& p, const Vector& w,
                                                            Vector& gradient_p) const {
   const int r = num_examples();
   const Scales s = scales(p);
   const Vector qd = mass_examples_.transpose() * v, qw = mass_examples_.transpose() * w;
-  const Vector Tv = transform(s, v), Tw = transform(s, w);
   // w^T dD/dv = (T w)^T g_R(T v) + sum_i 2 (gamma_i - kappa_i^2) D_R(u_i) qd_i (w_i^T w)
-  base_->add_dissipation_mixed_transpose_times(Tv, p, Tw, gradient_p);
+  base_->add_dissipation_mixed_transpose_times(transform(s, v), p, transform(s, w), gradient_p);
+  const Vector d_gamma = scale_mixed(s, v, p, w);
   for (int i = 0; i < r; ++i) {
-    const auto u = examples_.col(i);
     const double excess = s.gamma[i] - s.kappa[i] * s.kappa[i];
     Vector du = Vector::Zero(p.size());
-    base_->add_dissipation_param_gradient(u, p, du);
+    base_->add_dissipation_param_gradient(examples_.col(i), p, du);
     gradient_p += (2.0 * excess * qd[i] * qw[i]) * du;
-    const Vector z = rayleigh_gradient(*base_, u, p);  // C u_i
-    const double d_gamma =
-        s.dkappa[i] * (qw[i] * z.dot(Tv) + qd[i] * z.dot(Tw)) +
-        2.0 * (1.0 - 2.0 * s.kappa[i] * s.dkappa[i]) * rayleigh_value(*base_, u, p) * qd[i] * qw[i];
     const Vector& dg = s.control_gradient[static_cast<std::size_t>(i)];
-    gradient_p.segment(curve_offset_ + curve_begin_[i], dg.size()) += d_gamma * dg;
+    gradient_p.segment(curve_offset_ + curve_begin_[i], dg.size()) += d_gamma[i] * dg;
   }
 }
 

@@ -88,6 +88,8 @@ class ExampleDamping final : public DampingTerm {
   void add_dissipation_low_rank_hessian(const Vector& v, const Vector& p,
                                         LowRankHessian& update) const override;
   void set_step_start(const Vector& x, const Vector& v) override;
+  void add_step_start_transpose_times(const Vector& x, const Vector& p, const Vector& w, Vector& x_start_bar,
+                                      Vector& v_start_bar) const override;
 
   int num_examples() const { return static_cast<int>(examples_.cols()); }
   int curve_offset() const { return curve_offset_; }
@@ -113,6 +115,9 @@ class ExampleDamping final : public DampingTerm {
   struct Scales;  // gamma, kappa and their derivatives at the lagged amplitudes
   Scales scales(const Vector& p) const;
   Vector transform(const Scales& s, const Vector& v) const;  // T v
+  // d(w^T dD/dv)/dgamma_i for every example.
+  Vector scale_mixed(const Scales& s, const Vector& v, const Vector& p, const Vector& w) const;
+  Vector x_start_, v_start_;  // the lagged state (empty until set_step_start)
   std::unique_ptr<RayleighDamping> base_;
   Matrix examples_, mass_examples_;
   Vector frequencies_, rest_, amplitude_scale_, chi_;

@@ -41,11 +41,13 @@ VibrationHistory simulate_vibration(DampingPlate& plate, const Vector& p, const 
   return h;
 }
 
-double decay_rate(const std::vector<double>& time, const Vector& amplitude, double t_begin, double t_end) {
+double decay_rate(const std::vector<double>& time, const Vector& amplitude, double t_begin, double t_end,
+                  double relative_floor) {
   double n = 0, st = 0, sy = 0, stt = 0, sty = 0;
+  const double floor = amplitude.size() > 0 ? relative_floor * amplitude[0] : 0.0;
   for (std::size_t k = 0; k < time.size(); ++k) {
     const double t = time[k], a = amplitude[static_cast<Eigen::Index>(k)];
-    if (t < t_begin || t > t_end || !(a > 0.0)) continue;
+    if (t < t_begin || t > t_end || !(a > floor) || !(a > 0.0)) continue;
     const double y = std::log(a);
     n += 1, st += t, sy += y, stt += t * t, sty += t * y;
   }

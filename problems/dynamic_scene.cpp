@@ -11,6 +11,7 @@
 #include "adjoint/taylor_test.hpp"
 #include "adjoint/transient_functional.hpp"
 #include "forward/dynamics/setup.hpp"
+#include "forward/fem/loads.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/report.hpp"
 #include "problems/scene_node.hpp"
@@ -102,9 +103,14 @@ DynamicSceneModel build_dynamic_scene(const Scene& scene) {
   if (spec.initial_velocity && spec.initial_velocity->size() != dim)
     throw SceneError(scene.source + ": dynamics.initial_velocity: expected " + std::to_string(dim) +
                      " components");
+  // Gravity becomes a GravityTerm of the density parameters (so that designs of the density
+  // move the weight too) instead of part of the static setup's dead load.
+  if (scene.loads.gravity)
+    d.setup.nodal_forces -= gravity_forces(d.setup.mesh, d.setup.density, *scene.loads.gravity);
   d.model = build_static_model(d.setup, 1.0);
   d.rayleigh = spec.rayleigh_alpha > 0.0 || spec.rayleigh_beta > 0.0;
-  d.terms = add_dynamics_terms(*d.model, d.setup.mesh, DynamicsSetup{spec.lumping, std::nullopt, d.rayleigh});
+  d.terms = add_dynamics_terms(*d.model, d.setup.mesh,
+                               DynamicsSetup{spec.lumping, scene.loads.gravity, d.rayleigh});
   d.p.resize(d.model->parameter_layout().size());
   d.p.head(2 * m) = d.setup.parameters();
   d.p.segment(d.terms.density_offset, m) = d.setup.density;

@@ -73,7 +73,8 @@ struct StepMap {
 class TimeIntegrator {
  public:
   // The model must hold exactly one InertiaTerm and at most one DampingTerm; terms that are
-  // TimeDependent get the time of each step. The model must outlive the integrator.
+  // TimeDependent get the time of each step. The model must outlive the integrator, and its
+  // elimination must be set before (Newton's assembler is built from it here).
   TimeIntegrator(Model& model, TimeIntegratorOptions options);
 
   // The state at t = 0 from initial positions and velocities (full DOF space).

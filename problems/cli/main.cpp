@@ -13,6 +13,7 @@
 #include "forward/mesh/mesh.hpp"
 #include "problems/builtin_scenes.hpp"
 #include "problems/commands.hpp"
+#include "problems/damping_design/damping_design_scene.hpp"
 #include "problems/dynamic_scene.hpp"
 #include "problems/inverse_commands.hpp"
 #include "tailor_version.hpp"
@@ -108,6 +109,10 @@ tailor::Scene load_scene(const Arguments& args) {
 }
 
 int run_verb(const std::string& verb, const Arguments& args) {
+  if (verb == "run" && tailor::is_damping_design_scene(*args.scene))
+    return tailor::run_damping_design_scene(*args.scene, args.out_dir.value_or("out/damping_design"), std::cout)
+               ? kSuccess
+               : kFailure;
   const tailor::Scene scene = load_scene(args);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
   if (verb == "simulate" && scene.dynamics)

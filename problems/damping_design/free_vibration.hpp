@@ -29,9 +29,9 @@ VibrationHistory simulate_vibration(DampingPlate& plate, const Vector& p, const 
                                     const VibrationOptions& options);
 
 // -d log(a)/dt by least squares over records with time in [t_begin, t_end] and amplitude above
-// relative_floor times the first record's (below it, round-off dominates) [1/time].
+// relative_floor times the first record's (below it, the Newton tolerance's error dominates) [1/time].
 double decay_rate(const std::vector<double>& time, const Vector& amplitude, double t_begin = 0.0,
-                  double t_end = 1e300, double relative_floor = 1e-7);
+                  double t_end = 1e300, double relative_floor = 1e-4);
 
 struct CycleLoss {
   double time = 0.0;       // start of the cycle

@@ -42,6 +42,7 @@ const char* const kUsage =
     "  run scene.json [--out DIR] [--quiet]\n"
     "      Optimize the design of the scene's inverse problem; print one line per iteration\n"
     "      (none with --quiet); write DIR/report.json and DIR/result.vtu at the best design.\n"
+    "      A scene with a \"damping_design\" section runs the example-based damping study.\n"
     "\n"
     "options:\n"
     "  -h, --help     show this message\n"

@@ -119,7 +119,8 @@ DampingStudy run_damping_study(const DampingStudyOptions& o, std::ostream* progr
       n.achieved_loss = c.loss;
       n.designed_loss = designed_loss(curved, 0, curved.p, sigma, c.amplitude, c.period);
       n.achieved_gamma = -std::log(1.0 - c.loss) / (sigma * c.period);
-      n.designed_gamma = curved.term().curve(0, curved.p, c.amplitude * std::sqrt(1.0 - c.loss));
+      n.mean_amplitude = c.amplitude * std::sqrt(1.0 - c.loss);
+      n.designed_gamma = curved.term().curve(0, curved.p, n.mean_amplitude);
       study.cycles.push_back(n);
     }
     const double top = o.curve.knots[o.curve.knots.size() - 1] * 1.2;

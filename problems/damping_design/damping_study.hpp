@@ -45,10 +45,11 @@ struct ModeDecay {
 };
 
 struct NonlinearCycle {
-  double amplitude = 0.0;  // chi at the cycle's start [length]
+  double amplitude = 0.0;       // chi at the cycle's start [length]
+  double mean_amplitude = 0.0;  // geometric mean of chi at its start and end
   double achieved_loss = 0.0, designed_loss = 0.0;
   double achieved_gamma = 0.0;  // -log(1 - loss) / (sigma_R * period)
-  double designed_gamma = 0.0;  // the curve at the cycle's mean amplitude
+  double designed_gamma = 0.0;  // the curve at mean_amplitude
 };
 
 struct DampingStudy {

@@ -12,15 +12,23 @@ namespace {
 
 const Rgb kColours[] = {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189}, {255, 127, 14}};
 
-// Every k-th record, so plots stay light.
+// Every k-th record relative to the first, so plots stay light; values below 1e-4 of the first
+// (where the Newton tolerance shows, and outside the decay-rate fit) are left out.
 LineSeries series(const std::string& name, Rgb colour, const std::vector<double>& t, const Vector& y) {
   LineSeries s{name, colour, {}, {}};
   const std::size_t stride = std::max<std::size_t>(1, t.size() / 600);
   for (std::size_t k = 0; k < t.size(); k += stride) {
+    const double relative = y[static_cast<Eigen::Index>(k)] / y[0];
+    if (relative < 1e-4) break;
     s.x.push_back(t[k]);
-    s.y.push_back(y[static_cast<Eigen::Index>(k)]);
+    s.y.push_back(relative);
   }
   return s;
+}
+
+Rgb lighter(Rgb c) {
+  auto mix = [](std::uint8_t v) { return static_cast<std::uint8_t>((v + 2 * 255) / 3); };
+  return {mix(c.r), mix(c.g), mix(c.b)};
 }
 
 }  // namespace
@@ -52,6 +60,7 @@ std::string write_damping_study(const DampingStudy& study, const std::string& fo
                          {"predicted_h_omega2_over_2", study.implicit_euler_predicted_rate}};
   for (const NonlinearCycle& c : study.cycles)
     j["nonlinear_cycles"].push_back({{"amplitude", c.amplitude},
+                                     {"mean_amplitude", c.mean_amplitude},
                                      {"achieved_loss", c.achieved_loss},
                                      {"designed_loss", c.designed_loss},
                                      {"achieved_gamma", c.achieved_gamma},
@@ -61,9 +70,10 @@ std::string write_damping_study(const DampingStudy& study, const std::string& fo
   if (!(out << text << "\n")) throw std::runtime_error("cannot write " + folder + "/report.json");
 
   LinePlot envelope;
-  envelope.title = "modal amplitude: designed (lines) vs target exp(-gamma sigma_R t)";
+  envelope.title =
+      "amplitude / initial per mode: achieved, target exp(-gamma sigma_R t) (light), plain Rayleigh (grey)";
   envelope.x_label = "time";
-  envelope.y_label = "amplitude";
+  envelope.y_label = "relative amplitude";
   envelope.log_y = true;
   for (std::size_t k = 0; k < study.modes.size() && k < study.designed.size(); ++k) {
     const VibrationHistory& h = study.designed[k];
@@ -75,8 +85,7 @@ std::string write_damping_study(const DampingStudy& study, const std::string& fo
     for (Eigen::Index r = 0; r < target.size(); ++r)
       target[r] =
           h.amplitude(0, col) * std::exp(-study.modes[k].target_rate * h.time[static_cast<std::size_t>(r)]);
-    envelope.series.push_back(series("mode " + std::to_string(k) + " target",
-                                     Rgb{c.r, c.g, static_cast<std::uint8_t>(c.b / 2)}, h.time, target));
+    envelope.series.push_back(series("mode " + std::to_string(k) + " target", lighter(c), h.time, target));
     const VibrationHistory& plain = study.plain[k];
     envelope.series.push_back(series("mode " + std::to_string(k) + " plain Rayleigh", Rgb{120, 120, 120},
                                      plain.time, plain.amplitude.col(col)));
@@ -93,7 +102,7 @@ std::string write_damping_study(const DampingStudy& study, const std::string& fo
     LineSeries achieved{"achieved (per cycle)", kColours[1], {}, {}};
     LineSeries loss{"achieved loss", kColours[1], {}, {}}, designed{"designed loss", kColours[0], {}, {}};
     for (const NonlinearCycle& c : study.cycles) {
-      achieved.x.push_back(c.amplitude);
+      achieved.x.push_back(c.mean_amplitude);
       achieved.y.push_back(c.achieved_gamma);
       loss.x.push_back(c.amplitude);
       loss.y.push_back(c.achieved_loss);

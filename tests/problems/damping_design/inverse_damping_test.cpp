@@ -39,12 +39,12 @@ struct InverseDamping {
   int steps = 120;
   double time_step = 0.01;
 
-  InverseDamping() {
+  explicit InverseDamping(double amplitude = 0.04) {
     d.p[d.damping.alpha_offset] = 2.0;
     d.p[d.damping.beta_offset] = 1e-4;
     map = embed_blocks(d.p, {{d.damping.curve_offset, identity_map(4)}});
     const Matrix& U = d.term().examples();
-    x0 = d.bar.rest + 0.04 / U.col(0).cwiseAbs().maxCoeff() * U.col(0) +
+    x0 = d.bar.rest + amplitude / U.col(0).cwiseAbs().maxCoeff() * U.col(0) +
          0.01 / U.col(1).cwiseAbs().maxCoeff() * U.col(1);
     v0 = Vector::Zero(x0.size());
   }
@@ -122,6 +122,30 @@ TEST(InverseDamping, TaylorTestDecayRate) {
   const double rate[2] = {1.5, 1.0};  // [1/time]
   problem.expect_taylor(problem.example_amplitudes([&](int i, double t) { return std::exp(-rate[i] * t); }),
                         TimeScheme::implicit_euler, "decay rate");
+}
+
+TEST(InverseDamping, TaylorTestWithRayleighAndInitialState) {
+  // Rayleigh alpha, beta and the initial positions and velocities join the design: the Newmark start force
+  // g_0 then depends on the design through the lagged scales at (x_0, v_0) too (an initial
+  // amplitude inside the knot range, where the curve's slope is not zero).
+  InverseDamping problem(0.012);
+  const int np = static_cast<int>(problem.d.p.size()), n = static_cast<int>(problem.x0.size());
+  Vector base = Vector::Zero(np + 2 * n);
+  base.head(np) = problem.d.p;
+  const ParameterizationPtr map = embed_blocks(base, {{problem.d.damping.curve_offset, identity_map(4)},
+                                                      {problem.d.damping.alpha_offset, identity_map(2)},
+                                                      {np, identity_map(2 * n)}});
+  const Vector v0 = 20.0 * (problem.x0 - problem.d.bar.rest);  // strong initial damping force
+  Vector z(4 + 2 + 2 * n);
+  z << 2.0 * problem.truth, 20.0, 1e-4, problem.x0, v0;
+  TimeIntegrator integrator(*problem.d.bar.model, problem.integrator_options(TimeScheme::newmark));
+  TransientFunctionalOptions o = problem.functional_options();
+  o.design_initial_positions = o.design_initial_velocities = true;
+  TransientFunctional f(integrator, map, problem.recorded_trajectory(problem.truth), problem.x0, v0, o);
+  const TaylorTestResult r = taylor_test(f, z);
+  std::printf("trajectory, design with alpha, beta, x0, v0 (newmark):\n%s", r.table().c_str());
+  EXPECT_TRUE(r.passed()) << r.table();
+  EXPECT_GE(r.rate1, 1.9);
 }
 
 TEST(InverseDamping, RecoversCurvesFromATrajectory) {

@@ -57,6 +57,10 @@
 // damping unchanged. Use it for bodies that vibrate about a fixed rest frame (clamped plates,
 // leaves), as in the paper's examples.
 //
+// The examples, their frequencies and W are fixed at set-up (they are not differentiated when
+// density or moduli are designed; A_ii = u_i^T C(p) u_i is). add_dissipation_mixed is the
+// default column-by-column one (O(n^2)); the adjoint uses the transpose products.
+//
 // Parameters: those of the base Rayleigh damping, and the control values of all curves in
 // one block (curve_offset; example i's values follow example i-1's).
 #include <memory>

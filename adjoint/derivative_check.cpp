@@ -114,7 +114,10 @@ EnergyTermCheck check_energy_term(const EnergyTerm& term, const Vector& x, const
       "gradient", [&](double t) { return energy_at(x + t * d, p); }, analytic, options));
 
   const SparseMatrix H = term.hessian(x, p, options.hessian_mode);
-  const Vector Hd = H * d;
+  Vector Hd = H * d;
+  LowRankHessian low_rank;  // the part kept off the pattern, if any
+  term.add_low_rank_hessian(x, p, low_rank, options.hessian_mode);
+  low_rank.add_times(d, Hd);
   out.checks.push_back(check_directional_derivative(
       "hessian", [&](double t) { return gradient_at(x + t * d, p); }, Hd, options));
 

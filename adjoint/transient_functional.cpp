@@ -133,7 +133,8 @@ void TransientFunctional::add_objective_gradient(const DynamicState& s, Adjoint&
 }
 
 Vector TransientFunctional::solve_step(const Vector& rhs, bool first) {
-  if (options_.reuse_factorizations) {
+  // Low-rank Hessian parts (LowRankHessian) are not in hessian_: factorize with a Woodbury update.
+  if (options_.reuse_factorizations && low_rank_.empty()) {
     const SparseCholesky* preconditioner = nullptr;
     NewtonSolver& newton = integrator_.newton();
     if (have_factor_ && !factor_.is_ldlt())
@@ -158,6 +159,7 @@ Vector TransientFunctional::solve_step(const Vector& rhs, bool first) {
   }
   const FactorizationResult f = factor_.factorize(hessian_);
   if (!f.success) throw EvaluationError("transient adjoint: a step Hessian is singular (" + f.message + ")");
+  if (!low_rank_.empty()) factor_.set_low_rank_update(low_rank_.factors, low_rank_.core);
   have_factor_ = true;
   ++statistics_.factorizations;
   return factor_.solve(rhs);
@@ -187,15 +189,20 @@ void TransientFunctional::backward_step(const DynamicState& from, const DynamicS
     inertia.add_mixed_transpose_times(to.x, p_, a.force, gradient_p);  // c fb^T M_e (x - x~)
   }
   integrator_.newton().assembler().evaluate(to.y, p_, nullptr, nullptr, &hessian_, HessianMode::exact);
+  low_rank_ = integrator_.newton().assembler().low_rank_hessian(to.y, p_);
   const Vector lambda = elim.expand_direction(solve_step(elim.reduce(x_total), to.step == options_.steps));
   mass.add_times(p_, lambda, predictor_bar, c);
-  if (DampingTerm* damping = integrator_.damping()) damping->add_hessian_times(to.x, p_, lambda, base_bar);
+  Vector start_x_bar = Vector::Zero(n), start_v_bar = Vector::Zero(n);  // through lagged damping coefficients
+  if (DampingTerm* damping = integrator_.damping()) {
+    damping->add_hessian_times(to.x, p_, lambda, base_bar);
+    damping->add_step_start_transpose_times(to.x, p_, lambda, start_x_bar, start_v_bar);
+  }
   if (m.carries_force) force_bar += lambda;
   gradient_p -= model.mixed_transpose_times(to.x, p_, lambda);
 
   Adjoint previous(n);
-  previous.x = a.x_previous + m.predictor_x * predictor_bar + m.base_x * base_bar;
-  previous.v = a.v_previous + m.predictor_v * predictor_bar + m.base_v * base_bar;
+  previous.x = a.x_previous + m.predictor_x * predictor_bar + m.base_x * base_bar - start_x_bar;
+  previous.v = a.v_previous + m.predictor_v * predictor_bar + m.base_v * base_bar - start_v_bar;
   if (m.predictor_x_previous != 0.0 || m.base_x_previous != 0.0)
     previous.x_previous = m.predictor_x_previous * predictor_bar + m.base_x_previous * base_bar;
   if (m.predictor_v_previous != 0.0) previous.v_previous = m.predictor_v_previous * predictor_bar;
@@ -262,8 +269,13 @@ double TransientFunctional::value_and_gradient(const Vector& z, Vector& gradient
     integrator_.configure_initial_force(x_init_, v_init_);
     const Model& model = integrator_.model();
     Vector damping_times = Vector::Zero(n);
-    if (DampingTerm* damping = integrator_.damping())
+    Vector start_x_bar = Vector::Zero(n), start_v_bar = Vector::Zero(n);
+    if (DampingTerm* damping = integrator_.damping()) {
       damping->add_hessian_times(x_init_, p_, a.force, damping_times);
+      damping->add_step_start_transpose_times(x_init_, p_, a.force, start_x_bar, start_v_bar);
+    }
+    a.x -= start_x_bar;
+    a.v -= start_v_bar;
     a.x += damping_times - model.hessian_times(x_init_, p_, a.force);
     a.v -= integrator_.options().time_step * damping_times;
     gradient_p -= model.mixed_transpose_times(x_init_, p_, a.force);

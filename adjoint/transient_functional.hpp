@@ -95,6 +95,7 @@ class TransientFunctional final : public ReducedFunctional {
   std::vector<DynamicState> tail_;    // with checkpointing: the states after the last checkpoint
   // Backward pass.
   SparseMatrix hessian_;
+  LowRankHessian low_rank_;  // of the step Hessian being solved
   SparseCholesky factor_;
   bool factor_analyzed_ = false, have_factor_ = false;
   TransientStatistics statistics_;

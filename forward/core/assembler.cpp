@@ -121,4 +121,10 @@ void ReducedAssembler::evaluate(const Vector& y, const Vector& p, double* energy
   }
 }
 
+LowRankHessian ReducedAssembler::low_rank_hessian(const Vector& y, const Vector& p, HessianMode mode) const {
+  LowRankHessian full = model_.low_rank_hessian(model_.state(y, p), p, mode);
+  if (!full.empty()) full.factors = Matrix(model_.elimination().basis().transpose() * full.factors);
+  return full;
+}
+
 }  // namespace tailor

@@ -22,6 +22,9 @@ class ReducedAssembler {
   void evaluate(const Vector& y, const Vector& p, double* energy, Vector* gradient_y,
                 SparseMatrix* hessian_y, HessianMode mode = HessianMode::exact);
 
+  // The low-rank part of the reduced Hessian, S^T F G F^T S (see LowRankHessian), at y.
+  LowRankHessian low_rank_hessian(const Vector& y, const Vector& p, HessianMode mode = HessianMode::exact) const;
+
   // A zero-valued upper-triangular matrix with the reduced Hessian's pattern.
   SparseMatrix hessian_pattern_matrix() const { return pattern_; }
 

@@ -16,8 +16,30 @@ void EnergyTerm::add_gradient(const Vector& x, const Vector& p, Vector& gradient
   evaluate(x, p, request);
 }
 
+void LowRankHessian::append(const Matrix& F, const Matrix& G, double scale) {
+  if (F.cols() == 0) return;
+  const Eigen::Index k = factors.cols(), a = F.cols();
+  Matrix f(F.rows(), k + a), g = Matrix::Zero(k + a, k + a);
+  if (k > 0) {
+    f.leftCols(k) = factors;
+    g.topLeftCorner(k, k) = core;
+  }
+  f.rightCols(a) = F;
+  g.bottomRightCorner(a, a) = scale * G;
+  factors = std::move(f);
+  core = std::move(g);
+}
+
+void LowRankHessian::add_times(const Vector& w, Vector& out) const {
+  if (empty()) return;
+  out += factors * (core * (factors.transpose() * w));
+}
+
 void EnergyTerm::add_hessian_times(const Vector& x, const Vector& p, const Vector& w, Vector& out,
                                    HessianMode mode) const {
+  LowRankHessian low_rank;
+  add_low_rank_hessian(x, p, low_rank, mode);
+  low_rank.add_times(w, out);
   HessianPattern pattern;
   hessian_pattern(pattern);
   if (pattern.empty()) return;

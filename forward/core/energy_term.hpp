@@ -20,6 +20,22 @@ struct EnergyRequest {
   HessianMode hessian_mode = HessianMode::exact;
 };
 
+// A dense low-rank part of a term's Hessian, kept off the sparse pattern:
+//   d2E/dx2 = (values on hessian_pattern()) + factors * core * factors^T,
+// factors n x k with few columns, core k x k symmetric (may be indefinite). Terms whose
+// Hessian has a global low-rank part (damping along example deformations) report it here:
+// on the pattern it would fill every row of the sparse factorization. Newton and the adjoint
+// apply it to the sparse factor by the Sherman-Morrison-Woodbury identity.
+struct LowRankHessian {
+  Matrix factors;  // n x k
+  Matrix core;     // k x k
+  bool empty() const { return factors.cols() == 0; }
+  // Appends scale * F G F^T (block-diagonal core).
+  void append(const Matrix& F, const Matrix& G, double scale = 1.0);
+  // out += factors core factors^T w.
+  void add_times(const Vector& w, Vector& out) const;
+};
+
 class EnergyTerm {
  public:
   virtual ~EnergyTerm() = default;
@@ -44,8 +60,15 @@ class EnergyTerm {
     (void)x, (void)p, (void)mixed;
   }
 
+  // Appends the low-rank part of d2E/dx2 (see LowRankHessian). Default: none.
+  virtual void add_low_rank_hessian(const Vector& x, const Vector& p, LowRankHessian& update,
+                                    HessianMode mode = HessianMode::exact) const {
+    (void)x, (void)p, (void)update, (void)mode;
+  }
+
   // out += (d2E/dx2) w in full DOF space (the default evaluates the Hessian values on the
-  // pattern and multiplies slot by slot, without assembling a matrix).
+  // pattern and multiplies slot by slot, without assembling a matrix, then adds the low-rank
+  // part).
   virtual void add_hessian_times(const Vector& x, const Vector& p, const Vector& w, Vector& out,
                                  HessianMode mode = HessianMode::exact) const;
 
@@ -63,7 +86,8 @@ class EnergyTerm {
   // Convenience wrappers around evaluate().
   double value(const Vector& x, const Vector& p) const;
   void add_gradient(const Vector& x, const Vector& p, Vector& gradient) const;
-  // The term's Hessian assembled as a full (both triangles) sparse matrix of size n x n.
+  // The term's Hessian on its pattern assembled as a full (both triangles) sparse matrix of
+  // size n x n; it excludes the low-rank part (add_low_rank_hessian).
   SparseMatrix hessian(const Vector& x, const Vector& p, HessianMode mode) const;
 };
 

@@ -108,6 +108,12 @@ Vector Model::hessian_times(const Vector& x, const Vector& p, const Vector& w) c
   return out;
 }
 
+LowRankHessian Model::low_rank_hessian(const Vector& x, const Vector& p, HessianMode mode) const {
+  LowRankHessian update;
+  for (const auto& t : terms_) t->add_low_rank_hessian(x, p, update, mode);
+  return update;
+}
+
 Vector Model::mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w) const {
   Vector out = Vector::Zero(p.size());
   for (const auto& t : terms_) t->add_mixed_transpose_times(x, p, w, out);

@@ -72,6 +72,8 @@ class Model {
   Vector param_gradient(const Vector& x, const Vector& p) const;
   SparseMatrix mixed(const Vector& x, const Vector& p) const;  // n x |p|
   Vector hessian_times(const Vector& x, const Vector& p, const Vector& w) const;  // exact (d2E/dx2) w
+  // The terms' low-rank Hessian parts (see LowRankHessian), concatenated.
+  LowRankHessian low_rank_hessian(const Vector& x, const Vector& p, HessianMode mode = HessianMode::exact) const;
   Vector mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w) const;  // (d2E/dxdp)^T w
   double max_step(const Vector& x, const Vector& dx) const;
 

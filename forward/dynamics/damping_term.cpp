@@ -56,6 +56,14 @@ void DampingTerm::add_mixed_transpose_times(const Vector& x, const Vector& p, co
   add_dissipation_mixed_transpose_times(velocity(x), p, w, gradient_p);
 }
 
+void DampingTerm::add_low_rank_hessian(const Vector& x, const Vector& p, LowRankHessian& update,
+                                       HessianMode mode) const {
+  (void)mode;  // dissipation potentials are convex in v: exact and projected coincide
+  LowRankHessian inner;
+  add_dissipation_low_rank_hessian(velocity(x), p, inner);
+  update.append(inner.factors, inner.core, 1.0 / kappa_);
+}
+
 void DampingTerm::add_dissipation_mixed(const Vector& v, const Vector& p, Triplets& mixed) const {
   // Row i of (d2D/dvdp)^T e_i, for every DOF: only for small problems and tests.
   Vector unit = Vector::Zero(v.size());

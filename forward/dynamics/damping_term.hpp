@@ -31,6 +31,8 @@ class DampingTerm : public EnergyTerm {
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const final;
   void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
                                  Vector& gradient_p) const final;
+  void add_low_rank_hessian(const Vector& x, const Vector& p, LowRankHessian& update,
+                            HessianMode mode = HessianMode::exact) const final;
 
   // The dissipation interface, in the velocity v.
   // request.value += D(v); request.gradient += dD/dv; request.hessian_values = d2D/dv2 on the pattern.
@@ -43,6 +45,22 @@ class DampingTerm : public EnergyTerm {
                                                      Vector& gradient_p) const = 0;
   // Triplets (dof, parameter) of d2D/dvdp. Default: column by column through the transpose product.
   virtual void add_dissipation_mixed(const Vector& v, const Vector& p, Triplets& mixed) const;
+  // The low-rank part of d2D/dv2 kept off the pattern (see LowRankHessian). Default: none.
+  virtual void add_dissipation_low_rank_hessian(const Vector& v, const Vector& p,
+                                                LowRankHessian& update) const {
+    (void)v, (void)p, (void)update;
+  }
+  // Called by the time integrator with the state (x_n, v_n) at the start of each step, before
+  // the step's solve: models whose coefficients depend on the state lag them here, which keeps
+  // the step's potential convex in x_{n+1}. Default: nothing.
+  virtual void set_step_start(const Vector& x, const Vector& v) { (void)x, (void)v; }
+  // For such models: x_start_bar += (d(w^T dD/dv)/dx_n), v_start_bar += (d(w^T dD/dv)/dv_n) at x
+  // (v = velocity(x)) and the (x_n, v_n) last given to set_step_start (the adjoint's history
+  // term through the lagged coefficients). Default: no dependence.
+  virtual void add_step_start_transpose_times(const Vector& x, const Vector& p, const Vector& w,
+                                              Vector& x_start_bar, Vector& v_start_bar) const {
+    (void)x, (void)p, (void)w, (void)x_start_bar, (void)v_start_bar;
+  }
 
  private:
   std::size_t pattern_size() const;

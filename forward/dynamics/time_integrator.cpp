@@ -90,9 +90,11 @@ void TimeIntegrator::configure_step(const DynamicState& from, const Vector& p) {
       m.inertia,
       history_combination(from, m.predictor_x, m.predictor_v, m.predictor_x_previous, m.predictor_v_previous),
       m.carries_force ? from.carried_force : Vector());
-  if (damping_)
+  if (damping_) {
+    damping_->set_step_start(from.x, from.v);
     damping_->set_velocity_map(m.velocity_scale,
                                history_combination(from, m.base_x, m.base_v, m.base_x_previous, 0.0));
+  }
   for (TimeDependent* term : time_dependent_) term->set_time(t_next);
   if (options_.prescribed_motion) {
     Vector offset = options_.prescribed_motion(t_next);
@@ -107,7 +109,10 @@ void TimeIntegrator::configure_step(const DynamicState& from, const Vector& p) {
 void TimeIntegrator::configure_initial_force(const Vector& x0, const Vector& v0) {
   inertia_->set_step(0.0, x0);
   const double h = options_.time_step;
-  if (damping_) damping_->set_velocity_map(h, x0 - h * v0);  // v(x0) = v0
+  if (damping_) {
+    damping_->set_step_start(x0, v0);
+    damping_->set_velocity_map(h, x0 - h * v0);  // v(x0) = v0
+  }
   for (TimeDependent* term : time_dependent_) term->set_time(0.0);
 }
 

@@ -63,9 +63,14 @@ FactorizationResult NewtonSolver::factorize_hessian(const Vector& p, const Vecto
     analyzed_ = true;
   }
   const FactorizationResult result = cholesky_.factorize(hessian_);
+  if (result.success) apply_low_rank(assembler_.low_rank_hessian(y, p, mode));
   factor_is_exact_ = mode == HessianMode::exact && result.success;
   factor_matches_hessian_ = result.success;
   return result;
+}
+
+void NewtonSolver::apply_low_rank(const LowRankHessian& low_rank) {
+  if (!low_rank.empty()) cholesky_.set_low_rank_update(low_rank.factors, low_rank.core);
 }
 
 NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
@@ -153,8 +158,11 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     it.used_projected = mode == HessianMode::projected;
     Vector dy;
     double shift = 0.0;
+    // Terms' low-rank Hessian parts go on top of the sparse factor (Woodbury).
+    const LowRankHessian low_rank = assembler_.low_rank_hessian(y, p, mode);
     for (int attempt = 0;; ++attempt) {
       if (fact.success) {
+        apply_low_rank(low_rank);
         t0 = Clock::now();
         dy = cholesky_.solve(Vector(-gradient));
         it.solve_seconds += seconds_since(t0);

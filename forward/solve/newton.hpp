@@ -104,6 +104,7 @@ class NewtonSolver {
   FactorizationResult factorize_hessian(const Vector& p, const Vector& y, HessianMode mode);
 
  private:
+  void apply_low_rank(const LowRankHessian& low_rank);
   const Model& model_;
   NewtonOptions options_;
   ReducedAssembler assembler_;

@@ -88,6 +88,7 @@ void SparseCholesky::analyze(const SparseMatrix& upper) {
 }
 
 FactorizationResult SparseCholesky::factorize(const SparseMatrix& upper) {
+  low_rank_factors_.resize(rows_, 0);
   if (upper.rows() != rows_ || static_cast<std::size_t>(upper.nonZeros()) != impl_->analyzed_nnz ||
       !impl_->llt.factor)
     analyze(upper);
@@ -134,7 +135,29 @@ FactorizationResult SparseCholesky::factorize(const SparseMatrix& upper) {
 bool SparseCholesky::has_factor() const { return impl_->active != nullptr; }
 bool SparseCholesky::is_ldlt() const { return impl_->active == impl_->ldlt.get() && impl_->active; }
 
+void SparseCholesky::set_low_rank_update(const Matrix& F, const Matrix& G) {
+  if (!impl_->active) throw std::logic_error("SparseCholesky::set_low_rank_update: no successful factorization");
+  if (F.rows() != rows_ || G.rows() != F.cols() || G.cols() != F.cols())
+    throw std::invalid_argument("SparseCholesky::set_low_rank_update: F must be n x k and G k x k");
+  low_rank_factors_.resize(rows_, 0);
+  if (F.cols() == 0) return;
+  low_rank_solved_ = base_solve(F);
+  const Matrix capacitance = Matrix::Identity(F.cols(), F.cols()) + G * (F.transpose() * low_rank_solved_);
+  capacitance_.compute(capacitance);
+  if (!(capacitance_.rcond() > 1e-14))
+    throw std::runtime_error("SparseCholesky::set_low_rank_update: the capacitance matrix is singular");
+  low_rank_core_ = G;
+  low_rank_factors_ = F;
+}
+
 Matrix SparseCholesky::solve_columns(const Matrix& b) const {
+  Matrix x = base_solve(b);
+  if (has_low_rank_update())
+    x -= low_rank_solved_ * capacitance_.solve(low_rank_core_ * (low_rank_factors_.transpose() * x));
+  return x;
+}
+
+Matrix SparseCholesky::base_solve(const Matrix& b) const {
   if (!impl_->active) throw std::logic_error("SparseCholesky::solve: no successful factorization");
   if (b.rows() != rows_) throw std::invalid_argument("SparseCholesky::solve: right-hand side has the wrong size");
   Factor& f = *impl_->active;

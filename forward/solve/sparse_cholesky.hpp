@@ -7,6 +7,7 @@
 // tried first; when the matrix is not positive definite, a simplicial LDL^T of the same
 // matrix is computed instead (no pivoting: it succeeds for indefinite matrices with nonzero
 // leading minors), and the number of negative pivots is reported.
+#include <Eigen/LU>
 #include <memory>
 #include <string>
 
@@ -32,6 +33,13 @@ class SparseCholesky {
   // first factorize() and whenever the pattern's size or nonzero count changes.
   void analyze(const SparseMatrix& upper);
   FactorizationResult factorize(const SparseMatrix& upper);
+  // Makes solve() invert A + F G F^T instead of A (Sherman-Morrison-Woodbury, with the last
+  // factorization; k = F.cols() extra solves now, O(n k) per solve after):
+  //   (A + F G F^T)^-1 = A^-1 - A^-1 F (I + G F^T A^-1 F)^-1 G F^T A^-1.
+  // factorize() drops it. Throws std::logic_error without a factorization, and
+  // std::runtime_error when the capacitance matrix I + G F^T A^-1 F is singular.
+  void set_low_rank_update(const Matrix& F, const Matrix& G);
+  bool has_low_rank_update() const { return low_rank_factors_.cols() > 0; }
   // Solves A x = b with the last successful factorization; throws std::logic_error otherwise.
   Vector solve(const Vector& b) const;
   Matrix solve_columns(const Matrix& b) const;  // several right-hand sides
@@ -42,8 +50,11 @@ class SparseCholesky {
 
  private:
   struct Impl;
+  Matrix base_solve(const Matrix& b) const;
   std::unique_ptr<Impl> impl_;
   int rows_ = 0;
+  Matrix low_rank_factors_, low_rank_core_, low_rank_solved_;  // F, G, A^-1 F
+  Eigen::PartialPivLU<Matrix> capacitance_;                  // I + G F^T A^-1 F
 };
 
 }  // namespace tailor

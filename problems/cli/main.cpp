@@ -13,6 +13,7 @@
 #include "forward/mesh/mesh.hpp"
 #include "problems/builtin_scenes.hpp"
 #include "problems/commands.hpp"
+#include "problems/damping_design/damping_design_scene.hpp"
 #include "problems/dynamic_scene.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/modes_command.hpp"
@@ -43,6 +44,7 @@ const char* const kUsage =
     "  run scene.json [--out DIR] [--quiet]\n"
     "      Optimize the design of the scene's inverse problem; print one line per iteration\n"
     "      (none with --quiet); write DIR/report.json and DIR/result.vtu at the best design.\n"
+    "      A scene with a \"damping_design\" section runs the example-based damping study.\n"
     "  modes scene.json [--out DIR] [--count N]\n"
     "      Modal analysis at rest: the N lowest vibration modes (default 10), rigid-body modes\n"
     "      set apart; write DIR/report.json (frequencies in Hz) and DIR/modes.vtu.\n"
@@ -127,6 +129,10 @@ int run_verb(const std::string& verb, const Arguments& args) {
                                                     args.quiet ? nullptr : &std::cout);
     return fit.result.converged() ? kSuccess : kFailure;
   }
+  if (verb == "run" && args.scene && tailor::is_damping_design_scene(*args.scene))
+    return tailor::run_damping_design_scene(*args.scene, args.out_dir.value_or("out/damping_design"), std::cout)
+               ? kSuccess
+               : kFailure;
   const tailor::Scene scene = load_scene(args);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
   if (verb == "simulate" && scene.dynamics)

@@ -1,0 +1,24 @@
+#pragma once
+// Scenes with a "damping_design" section (see README, "Example-based damping"): the damping
+// study of damping_study.hpp configured from JSON and run by `tailor run`, which writes
+// DIR/report.json and the plots DIR/envelope.png, DIR/gamma_curve.png, DIR/cycle_loss.png.
+#include <iosfwd>
+#include <string>
+
+#include "problems/damping_design/damping_study.hpp"
+
+namespace tailor {
+
+// True when the file is a JSON object with a top-level "damping_design" member (false for
+// unreadable or other files: the ordinary scene reader reports those).
+bool is_damping_design_scene(const std::string& path);
+
+// Parses the section; throws SceneError naming the file and key path for bad input.
+DampingStudyOptions parse_damping_design(const std::string& json_text, const std::string& source);
+
+// Runs the study, prints a table to `log`, writes the outputs into out_dir. Returns true when
+// every example mode's measured decay rate is within 5% of its target, every other mode's within
+// 5% of plain Rayleigh, and the scheme's own damping below 5% of every target.
+bool run_damping_design_scene(const std::string& path, const std::string& out_dir, std::ostream& log);
+
+}  // namespace tailor

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "adjoint/preconditioned_cg.hpp"
+
 namespace tailor {
 namespace {
 
@@ -91,34 +93,14 @@ Vector StaticFunctional::solve_hessian(const Vector& rhs) {
     return v;
   }
   if (exact_matrix && newton_.factorization_is_exact() && factor.has_factor() && !factor.is_ldlt()) {
-    // Preconditioned CG on H (upper triangle stored), preconditioned by the factorization of
-    // the previous Newton iterate's exact Hessian, which differs from H by O(|dx|).
-    const auto H = newton_.hessian().selfadjointView<Eigen::Upper>();
-    const double rhs_norm = rhs.norm();
-    Vector v = factor.solve(rhs);
-    Vector r = rhs - H * v;
-    Vector s = factor.solve(r);
-    Vector d = s;
-    double rs = r.dot(s);
-    bool converged = r.norm() <= options_.linear_relative_tolerance * rhs_norm;
-    int it = 0;
-    for (; !converged && it < options_.max_cg_iterations; ++it) {
-      const Vector Hd = H * d;
-      const double curvature = d.dot(Hd);
-      if (!(curvature > 0.0)) break;  // indefinite: leave it to LDL^T
-      const double alpha = rs / curvature;
-      v += alpha * d;
-      r -= alpha * Hd;
-      converged = r.norm() <= options_.linear_relative_tolerance * rhs_norm;
-      if (converged) break;
-      s = factor.solve(r);
-      const double rs_next = r.dot(s);
-      d = s + (rs_next / rs) * d;
-      rs = rs_next;
-    }
-    if (converged) {
+    // Preconditioned CG on H, preconditioned by the factorization of the previous Newton
+    // iterate's exact Hessian, which differs from H by O(|dx|).
+    Vector v;
+    const PcgResult cg = preconditioned_cg(newton_.hessian(), factor, rhs, options_.linear_relative_tolerance,
+                                           options_.max_cg_iterations, v);
+    if (cg.converged) {
       last_solve_ = HessianSolve::preconditioned_cg;
-      last_cg_iterations_ = it + 1;
+      last_cg_iterations_ = cg.iterations;
       counters_.adjoint_seconds += seconds_since(t0);
       return v;
     }

@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "problems/dynamic_scene.hpp"
 #include "problems/scene_parsing.hpp"
 
 namespace tailor {
@@ -276,7 +277,8 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
   scene.source = source;
   scene.directory = directory;
   const SceneNode root(document, scene.source, "");
-  root.expect_keys({"name", "description", "mesh", "materials", "dirichlet", "loads", "solver", "inverse"});
+  root.expect_keys(
+      {"name", "description", "mesh", "materials", "dirichlet", "loads", "solver", "inverse", "dynamics"});
   if (auto n = root.find("name")) {
     scene.name = n->string();
     if (scene.name.empty()) n->fail("expected a non-empty string");
@@ -292,6 +294,8 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
   if (auto solver = root.find("solver")) scene.solver = parse_solver(*solver);
   if (auto inverse = root.find("inverse"))
     scene.inverse = std::make_shared<const InverseSpec>(parse_inverse_section(*inverse, directory));
+  if (auto dynamics = root.find("dynamics"))
+    scene.dynamics = std::make_shared<const DynamicsSpec>(parse_dynamics_section(*dynamics, directory));
   return scene;
 }
 

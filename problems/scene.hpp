@@ -105,7 +105,8 @@ struct SolverSpec {
   int load_steps = 1;    // loads and prescribed displacements ramp linearly over this many solves
 };
 
-struct InverseSpec;  // problems/inverse_scene.hpp
+struct InverseSpec;   // problems/inverse_scene.hpp
+struct DynamicsSpec;  // problems/dynamic_scene.hpp
 
 struct Scene {
   std::string name;       // defaults to the file's stem
@@ -119,6 +120,8 @@ struct Scene {
   // The optional "inverse" section (what to design, the objective, the optimizer), used by
   // `tailor run` and `tailor gradcheck`; shared because it is immutable once parsed.
   std::shared_ptr<const InverseSpec> inverse;
+  // The optional "dynamics" section: `tailor simulate` integrates in time instead.
+  std::shared_ptr<const DynamicsSpec> dynamics;
 };
 
 // Parses scene JSON text. `source` names the scene in messages, `directory` resolves relative

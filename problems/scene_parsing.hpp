@@ -36,5 +36,7 @@ HandlesTerm parse_handles_term(const SceneNode& node, const std::string& directo
 
 // The "inverse" section (inverse_scene.cpp).
 InverseSpec parse_inverse_section(const SceneNode& node, const std::string& directory);
+// The "dynamics" section (dynamic_scene.cpp).
+DynamicsSpec parse_dynamics_section(const SceneNode& node, const std::string& directory);
 
 }  // namespace tailor

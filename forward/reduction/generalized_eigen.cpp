@@ -68,7 +68,7 @@ GeneralizedEigenResult dense_solve(const SparseMatrix& A, const SparseMatrix& B,
   const Matrix a = Matrix(A), b = Matrix(B);
   // Symmetrize: the solvers read one triangle only; averaging makes both count.
   const Matrix as = 0.5 * (a + a.transpose()), bs = 0.5 * (b + b.transpose());
-  Eigen::GeneralizedSelfAdjointEigenSolver<Matrix> solver(as, bs, Eigen::ComputeEigenvectors | Eigen::ABx_lx);
+  Eigen::GeneralizedSelfAdjointEigenSolver<Matrix> solver(as, bs, Eigen::ComputeEigenvectors | Eigen::Ax_lBx);
   if (solver.info() != Eigen::Success) {
     result.message = "dense generalized eigensolver failed (" + why + "; B may not be positive definite)";
     return result;

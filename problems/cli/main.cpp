@@ -13,6 +13,7 @@
 #include "forward/mesh/mesh.hpp"
 #include "problems/builtin_scenes.hpp"
 #include "problems/commands.hpp"
+#include "problems/dynamic_scene.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/modes_command.hpp"
 #include "tailor_version.hpp"
@@ -36,6 +37,8 @@ const char* const kUsage =
     "  gradcheck scene.json [--out DIR] [--seed N] [--hessian]\n"
     "      Taylor test of the gradient (and with --hessian of the Hessian-vector products)\n"
     "      of the scene's inverse problem at its initial design; write DIR/gradcheck.json.\n"
+    "      For a dynamic scene (no inverse section): the time-dependent adjoint of its\n"
+    "      dynamics.objective.\n"
     "  run scene.json [--out DIR] [--quiet]\n"
     "      Optimize the design of the scene's inverse problem; print one line per iteration\n"
     "      (none with --quiet); write DIR/report.json and DIR/result.vtu at the best design.\n"
@@ -120,13 +123,17 @@ tailor::Scene load_scene(const Arguments& args) {
 int run_verb(const std::string& verb, const Arguments& args) {
   const tailor::Scene scene = load_scene(args);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
+  if (verb == "simulate" && scene.dynamics)
+    return tailor::simulate_dynamic_scene(scene, out_dir, &std::cout).completed ? kSuccess : kFailure;
   if (verb == "simulate") {
     const tailor::SimulateRun run = tailor::simulate_scene(scene, out_dir, &std::cout);
     return run.solution.converged ? kSuccess : kFailure;
   }
   if (verb == "gradcheck") {
     const tailor::GradcheckRun run =
-        tailor::gradcheck_scene(scene, out_dir, {args.seed, args.hessian}, &std::cout);
+        scene.dynamics && !scene.inverse
+            ? tailor::gradcheck_dynamic_scene(scene, out_dir, args.seed.value_or(1), &std::cout)
+            : tailor::gradcheck_scene(scene, out_dir, {args.seed, args.hessian}, &std::cout);
     if (!run.passed()) {
       const tailor::TaylorTestResult& failed = run.gradient.passed() ? *run.hessian : run.gradient;
       std::cout << (run.gradient.passed() ? "Hessian" : "gradient") << " check "

@@ -1,0 +1,284 @@
+#include "adjoint/transient_functional.hpp"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "adjoint/preconditioned_cg.hpp"
+
+namespace tailor {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double state_megabytes(const DynamicState& s) {
+  const auto doubles = s.y.size() + s.x.size() + s.v.size() + s.x_previous.size() + s.v_previous.size() +
+                       s.carried_force.size();
+  return 8.0 * static_cast<double>(doubles) / (1024.0 * 1024.0);
+}
+
+}  // namespace
+
+// Adjoints (dJ/d.) of the parts of one DynamicState.
+struct TransientFunctional::Adjoint {
+  Vector x, v, x_previous, v_previous, force;
+  explicit Adjoint(Eigen::Index n)
+      : x(Vector::Zero(n)),
+        v(Vector::Zero(n)),
+        x_previous(Vector::Zero(n)),
+        v_previous(Vector::Zero(n)),
+        force(Vector::Zero(n)) {}
+};
+
+TransientFunctional::TransientFunctional(TimeIntegrator& integrator, ParameterizationPtr parameterization,
+                                         TrajectoryObjectivePtr objective, Vector initial_positions,
+                                         Vector initial_velocities, TransientFunctionalOptions options)
+    : integrator_(integrator),
+      parameterization_(std::move(parameterization)),
+      objective_(std::move(objective)),
+      x0_(std::move(initial_positions)),
+      v0_(std::move(initial_velocities)),
+      options_(options) {
+  if (!parameterization_ || !objective_)
+    throw std::invalid_argument("TransientFunctional: parameterization and objective are required");
+  const int n = integrator_.model().num_dofs();
+  if (x0_.size() != n || v0_.size() != n)
+    throw std::invalid_argument("TransientFunctional: initial positions and velocities must have " +
+                                std::to_string(n) + " entries");
+  if (options_.steps < 1) throw std::invalid_argument("TransientFunctional: at least one step is required");
+  if (options_.checkpoint_interval < 0)
+    throw std::invalid_argument("TransientFunctional: negative checkpoint interval");
+  if (parameterization_->num_params() != num_extended_params())
+    throw std::invalid_argument("TransientFunctional: the parameterization produces " +
+                                std::to_string(parameterization_->num_params()) + " parameters, expected " +
+                                std::to_string(num_extended_params()) + " (model parameters" +
+                                (options_.design_initial_positions ? " + initial positions" : "") +
+                                (options_.design_initial_velocities ? " + initial velocities" : "") + ")");
+  hessian_ = integrator_.newton().assembler().hessian_pattern_matrix();
+}
+
+int TransientFunctional::num_extended_params() const {
+  const int n = integrator_.model().num_dofs();
+  return integrator_.model().parameter_layout().size() + (options_.design_initial_positions ? n : 0) +
+         (options_.design_initial_velocities ? n : 0);
+}
+
+void TransientFunctional::store(const DynamicState& state) {
+  const int k = options_.checkpoint_interval;
+  if (k <= 1) {
+    stored_.push_back(state);
+  } else if (state.step % k == 0 && state.step < options_.steps) {
+    stored_.push_back(state);
+    tail_.clear();
+  } else {
+    tail_.push_back(state);
+  }
+  const int count = static_cast<int>(stored_.size() + tail_.size());
+  if (count > statistics_.stored_states_peak) {
+    statistics_.stored_states_peak = count;
+    statistics_.stored_megabytes_peak = count * state_megabytes(state);
+  }
+}
+
+void TransientFunctional::forward(const Vector& z) {
+  if (z.size() != size())
+    throw std::invalid_argument("TransientFunctional: z has " + std::to_string(z.size()) +
+                                " entries, expected " + std::to_string(size()));
+  if (have_state_ && z == z_) return;
+  have_state_ = false;
+  const auto t0 = Clock::now();
+  const Vector P = parameterization_->apply(z);
+  const int np = integrator_.model().parameter_layout().size(), n = integrator_.model().num_dofs();
+  p_ = P.head(np);
+  int offset = np;
+  x_init_ = options_.design_initial_positions ? Vector(P.segment(offset, n)) : x0_;
+  if (options_.design_initial_positions) offset += n;
+  v_init_ = options_.design_initial_velocities ? Vector(P.segment(offset, n)) : v0_;
+
+  statistics_ = TransientStatistics{};
+  statistics_.steps = options_.steps;
+  stored_.clear();
+  tail_.clear();
+  DynamicState state = integrator_.initial_state(x_init_, v_init_, p_);
+  value_ = objective_->value(0, state.x, state.v, p_);
+  store(state);
+  for (int step = 0; step < options_.steps; ++step) {
+    const NewtonResult r = integrator_.step(state, p_);
+    ++statistics_.forward_steps;
+    statistics_.newton_iterations += r.iterations;
+    if (!r.converged())
+      throw EvaluationError("time step " + std::to_string(step + 1) + " failed: " + to_string(r.status) +
+                            " (" + r.message + ")");
+    value_ += objective_->value(state.step, state.x, state.v, p_);
+    store(state);
+  }
+  statistics_.forward_seconds = seconds_since(t0);
+  counters_.forward_solves += options_.steps;
+  counters_.forward_seconds += statistics_.forward_seconds;
+  ++counters_.evaluations;
+  z_ = z;
+  have_state_ = true;
+}
+
+double TransientFunctional::value(const Vector& z) {
+  forward(z);
+  return value_;
+}
+
+void TransientFunctional::add_objective_gradient(const DynamicState& s, Adjoint& adjoint,
+                                                 Vector& gradient_p) const {
+  objective_->add_gradient(s.step, s.x, s.v, p_, adjoint.x, adjoint.v, gradient_p);
+}
+
+Vector TransientFunctional::solve_step(const Vector& rhs, bool first) {
+  if (options_.reuse_factorizations) {
+    const SparseCholesky* preconditioner = nullptr;
+    NewtonSolver& newton = integrator_.newton();
+    if (have_factor_ && !factor_.is_ldlt())
+      preconditioner = &factor_;
+    else if (first && newton.factorization_is_exact() && newton.factorization().has_factor() &&
+             !newton.factorization().is_ldlt())
+      preconditioner = &newton.factorization();  // Newton's last exact factorization at step N
+    if (preconditioner) {
+      Vector v;
+      const PcgResult cg = preconditioned_cg(
+          hessian_, *preconditioner, rhs, options_.linear_relative_tolerance, options_.max_cg_iterations, v);
+      if (cg.converged) {
+        ++statistics_.cg_solves;
+        statistics_.cg_iterations += cg.iterations;
+        return v;
+      }
+    }
+  }
+  if (!factor_analyzed_) {
+    factor_.analyze(hessian_);
+    factor_analyzed_ = true;
+  }
+  const FactorizationResult f = factor_.factorize(hessian_);
+  if (!f.success) throw EvaluationError("transient adjoint: a step Hessian is singular (" + f.message + ")");
+  have_factor_ = true;
+  ++statistics_.factorizations;
+  return factor_.solve(rhs);
+}
+
+void TransientFunctional::backward_step(const DynamicState& from, const DynamicState& to, Adjoint& a,
+                                        Vector& gradient_p) {
+  // Step from -> to solved S^T dPi/dx = 0 with
+  //   dPi/dx = c M (x - x~) - g + dE/dx + dD/dv((x - x^)/kappa)
+  // and produced v = (x - x^)/kappa and (Newmark) f = c M (x - x~) - g. `a` holds the
+  // adjoints of `to`; on return, those of `from` (objective terms not included).
+  integrator_.configure_step(from, p_);
+  const StepMap m = integrator_.step_map(from);
+  const Model& model = integrator_.model();
+  const Elimination& elim = model.elimination();
+  InertiaTerm& inertia = integrator_.inertia();
+  const MassOperator& mass = inertia.mass();
+  const double c = m.inertia, kappa = m.velocity_scale;
+  const Eigen::Index n = to.x.size();
+
+  Vector x_total = a.x + a.v / kappa;  // total adjoint of x_{n+1}
+  Vector predictor_bar = Vector::Zero(n), base_bar = -a.v / kappa, force_bar;
+  if (m.carries_force) {
+    mass.add_times(p_, a.force, x_total, c);
+    mass.add_times(p_, a.force, predictor_bar, -c);
+    force_bar = -a.force;
+    inertia.add_mixed_transpose_times(to.x, p_, a.force, gradient_p);  // c fb^T M_e (x - x~)
+  }
+  integrator_.newton().assembler().evaluate(to.y, p_, nullptr, nullptr, &hessian_, HessianMode::exact);
+  const Vector lambda = elim.expand_direction(solve_step(elim.reduce(x_total), to.step == options_.steps));
+  mass.add_times(p_, lambda, predictor_bar, c);
+  if (DampingTerm* damping = integrator_.damping()) damping->add_hessian_times(to.x, p_, lambda, base_bar);
+  if (m.carries_force) force_bar += lambda;
+  gradient_p -= model.mixed_transpose_times(to.x, p_, lambda);
+
+  Adjoint previous(n);
+  previous.x = a.x_previous + m.predictor_x * predictor_bar + m.base_x * base_bar;
+  previous.v = a.v_previous + m.predictor_v * predictor_bar + m.base_v * base_bar;
+  if (m.predictor_x_previous != 0.0 || m.base_x_previous != 0.0)
+    previous.x_previous = m.predictor_x_previous * predictor_bar + m.base_x_previous * base_bar;
+  if (m.predictor_v_previous != 0.0) previous.v_previous = m.predictor_v_previous * predictor_bar;
+  if (m.carries_force) previous.force = force_bar;
+  a = std::move(previous);
+}
+
+double TransientFunctional::value_and_gradient(const Vector& z, Vector& gradient) {
+  forward(z);
+  const auto t0 = Clock::now();
+  const Eigen::Index n = x_init_.size();
+  const int N = options_.steps, k = options_.checkpoint_interval;
+  Vector gradient_p = Vector::Zero(p_.size());
+  Adjoint a(n);
+  have_factor_ = false;
+  statistics_.factorizations = statistics_.cg_solves = statistics_.cg_iterations = 0;
+  statistics_.recomputed_steps = 0;
+
+  // Walk back through consecutive pairs of states; `states` holds one segment.
+  auto backward_over = [&](const std::vector<const DynamicState*>& states) {
+    for (std::size_t i = states.size() - 1; i > 0; --i) {
+      backward_step(*states[i - 1], *states[i], a, gradient_p);
+      add_objective_gradient(*states[i - 1], a, gradient_p);
+    }
+  };
+  if (k <= 1) {
+    add_objective_gradient(stored_.back(), a, gradient_p);
+    std::vector<const DynamicState*> all;
+    for (const DynamicState& s : stored_) all.push_back(&s);
+    backward_over(all);
+  } else {
+    add_objective_gradient(tail_.back(), a, gradient_p);
+    std::vector<DynamicState> recomputed;
+    for (int j = static_cast<int>(stored_.size()) - 1; j >= 0; --j) {
+      std::vector<const DynamicState*> seg{&stored_[j]};
+      if (j == static_cast<int>(stored_.size()) - 1) {
+        for (const DynamicState& s : tail_) seg.push_back(&s);
+      } else {
+        recomputed.assign(1, stored_[j]);
+        recomputed.reserve(k + 1);
+        const int end = std::min((j + 1) * k, N);
+        for (int step = j * k; step < end; ++step) {
+          DynamicState s = recomputed.back();
+          const NewtonResult r = integrator_.step(s, p_);
+          if (!r.converged())
+            throw EvaluationError("recomputation of step " + std::to_string(step + 1) + " failed");
+          recomputed.push_back(std::move(s));
+          ++statistics_.recomputed_steps;
+          ++statistics_.forward_steps;
+        }
+        for (std::size_t i = 1; i < recomputed.size(); ++i) seg.push_back(&recomputed[i]);
+        const int count = static_cast<int>(stored_.size() + recomputed.size());
+        if (count > statistics_.stored_states_peak) {
+          statistics_.stored_states_peak = count;
+          statistics_.stored_megabytes_peak = count * state_megabytes(stored_[j]);
+        }
+      }
+      backward_over(seg);
+    }
+  }
+
+  // Newmark's memory starts at g_0 = -dPi_0/dx(x_0), Pi_0 = E + h D((x - x_0 + h v_0)/h).
+  if (integrator_.options().scheme == TimeScheme::newmark) {
+    integrator_.configure_initial_force(x_init_, v_init_);
+    const Model& model = integrator_.model();
+    Vector damping_times = Vector::Zero(n);
+    if (DampingTerm* damping = integrator_.damping())
+      damping->add_hessian_times(x_init_, p_, a.force, damping_times);
+    a.x += damping_times - model.hessian_times(x_init_, p_, a.force);
+    a.v -= integrator_.options().time_step * damping_times;
+    gradient_p -= model.mixed_transpose_times(x_init_, p_, a.force);
+  }
+
+  Vector extended(num_extended_params());
+  extended.head(p_.size()) = gradient_p;
+  Eigen::Index offset = p_.size();
+  if (options_.design_initial_positions) extended.segment(offset, n) = a.x, offset += n;
+  if (options_.design_initial_velocities) extended.segment(offset, n) = a.v;
+  gradient = parameterization_->jacobian_transpose_times(z, extended);
+  statistics_.adjoint_seconds = seconds_since(t0);
+  counters_.adjoint_solves += N;
+  counters_.adjoint_seconds += statistics_.adjoint_seconds;
+  return value_;
+}
+
+}  // namespace tailor

@@ -1,0 +1,103 @@
+#pragma once
+// TransientFunctional: the reduced functional of a time-dependent inverse problem,
+//   J(z) = sum_{n=0..N} J_n(x_n, v_n, p),  P = phi(z) = [p; x_0 (optional); v_0 (optional)],
+// where the states follow N implicit time steps (forward/dynamics/time_integrator.hpp), each
+// the minimiser of an incremental potential Pi_{n+1}(x; history, p). The gradient comes from
+// the discrete adjoint of the steps (METHODS.md section 2, "backwards in time"): going from
+// step N down to 1, with the adjoints (xb, vb, fb) of the state after the step,
+//   H_{n+1} lambda = S^T (xb + vb / kappa + c M fb)          (H: exact reduced step Hessian)
+//   x~b = c M (Lambda - fb),  x^b = -vb / kappa + H_D Lambda,  gb = Lambda - fb   (Lambda = S lambda)
+//   pb -= (d2 Pi/dx dp)^T Lambda - c (d2 Pi_inertia/dx dp)^T fb    ... (see the .cpp)
+// and the history adjoints collect x~b, x^b and gb through the scheme's linear maps (StepMap);
+// Newmark's start g_0 = -dPi_0/dx(x_0) adds one Hessian and one mixed product at the end. The
+// step residuals are differentiated exactly, so the gradient is exact up to the Newton and
+// linear tolerances (checked by Taylor tests).
+//
+// Linear solves reuse factorizations: the first backward step is preconditioned by Newton's
+// last factorization when it is exact (as StaticFunctional does); each later step by the last
+// factorization made in the backward pass (consecutive step Hessians differ by O(h)), with
+// conjugate gradients, and a step is factorized afresh only when CG does not converge in
+// max_cg_iterations.
+//
+// Memory: every state is stored by default. With checkpoint_interval = k > 1 only every k-th
+// state (and the last segment) is kept and the states in between are recomputed segment by
+// segment during the backward pass: about N/k + k states in memory for about N (1 - 1/k)
+// recomputed steps.
+#include "adjoint/parameterization.hpp"
+#include "adjoint/reduced_functional.hpp"
+#include "forward/dynamics/time_integrator.hpp"
+#include "objectives/trajectory_objective.hpp"
+
+namespace tailor {
+
+struct TransientFunctionalOptions {
+  int steps = 100;
+  int checkpoint_interval = 0;             // 0 or 1: store every state
+  bool design_initial_positions = false;   // P gets x_0 (num_dofs entries) after p
+  bool design_initial_velocities = false;  // P gets v_0 (num_dofs entries) after that
+  bool reuse_factorizations = true;        // false: factorize every backward step
+  double linear_relative_tolerance = 1e-12;
+  int max_cg_iterations = 20;
+};
+
+struct TransientStatistics {
+  int steps = 0;
+  int forward_steps = 0;      // Newton solves in the last evaluation (forward pass + recomputation)
+  int recomputed_steps = 0;   // of those, recomputed during the backward pass
+  int newton_iterations = 0;  // in the forward pass
+  int stored_states_peak = 0;
+  double stored_megabytes_peak = 0.0;
+  int factorizations = 0;  // backward pass
+  int cg_solves = 0, cg_iterations = 0;
+  double forward_seconds = 0.0;  // forward pass
+  double adjoint_seconds = 0.0;  // backward pass, including recomputation
+  double recompute_ratio() const { return steps ? static_cast<double>(recomputed_steps) / steps : 0.0; }
+};
+
+class TransientFunctional final : public ReducedFunctional {
+ public:
+  // The integrator (and its model) must outlive the functional. Initial positions and velocities
+  // are the values used when they are not designed.
+  TransientFunctional(TimeIntegrator& integrator, ParameterizationPtr parameterization,
+                      TrajectoryObjectivePtr objective, Vector initial_positions, Vector initial_velocities,
+                      TransientFunctionalOptions options = {});
+
+  int size() const override { return parameterization_->num_design(); }
+  double value(const Vector& z) override;
+  double value_and_gradient(const Vector& z, Vector& gradient) override;
+
+  // Size of P: |p| + num_dofs per designed initial condition.
+  int num_extended_params() const;
+  // The stored states of the last forward pass (all of them without checkpointing).
+  const std::vector<DynamicState>& stored_states() const { return stored_; }
+  const TransientStatistics& statistics() const { return statistics_; }
+
+ private:
+  struct Adjoint;  // adjoints of one DynamicState
+  void forward(const Vector& z);
+  void store(const DynamicState& state);
+  // The states n0..n1 (inclusive) of the current trajectory, recomputed when necessary.
+  std::vector<DynamicState> segment(int n0, int n1);
+  void backward_step(const DynamicState& from, const DynamicState& to, Adjoint& adjoint, Vector& gradient_p);
+  Vector solve_step(const Vector& rhs, bool first);
+  void add_objective_gradient(const DynamicState& s, Adjoint& adjoint, Vector& gradient_p) const;
+
+  TimeIntegrator& integrator_;
+  ParameterizationPtr parameterization_;
+  TrajectoryObjectivePtr objective_;
+  Vector x0_, v0_;
+  TransientFunctionalOptions options_;
+  // Evaluation state.
+  bool have_state_ = false;
+  Vector z_, p_, x_init_, v_init_;
+  double value_ = 0.0;
+  std::vector<DynamicState> stored_;  // all states, or the checkpoints
+  std::vector<DynamicState> tail_;    // with checkpointing: the states after the last checkpoint
+  // Backward pass.
+  SparseMatrix hessian_;
+  SparseCholesky factor_;
+  bool factor_analyzed_ = false, have_factor_ = false;
+  TransientStatistics statistics_;
+};
+
+}  // namespace tailor

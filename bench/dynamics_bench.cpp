@@ -1,0 +1,209 @@
+// Time per implicit step of a Neo-Hookean cantilever under gravity (full space), for implicit
+// Euler and Newmark (average acceleration), and the cost of the time-dependent adjoint.
+//
+// Scene: a 4 x 1 x 1 bar of nx x n x n cells (6 tets each; 57,798 tets by default), clamped at
+// x = 0, E = 1e6, nu = 0.3, density 1000, gravity 9.81 downwards, consistent mass, Rayleigh
+// damping alpha = 0.5, beta = 1e-3 (K at rest), h = 0.01, released from rest. For each scheme:
+// the median time per step over the run (and the min/max), Newton iterations per step, the
+// split into assembly / factorization / line search, and, for the same steps, one gradient of
+// the tip position at the last step with respect to per-element Young's moduli, density,
+// alpha and beta (TransientFunctional), as a ratio of the forward run.
+// Writes JSON (--out, default bench_dynamics.json) and prints a table.
+//
+// usage: dynamics_bench [--tets 58000] [--steps 10] [--out FILE]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "adjoint/transient_functional.hpp"
+#include "forward/dynamics/setup.hpp"
+#include "forward/fem/elastic_term.hpp"
+#include "forward/mesh/generate.hpp"
+#include "tailor_version.hpp"
+
+using namespace tailor;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Process CPU seconds (all threads): with OMP_NUM_THREADS=1 it measures the work of a step
+// without the waiting a loaded machine adds to wall-clock time.
+double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t k = v.size() / 2;
+  return v.size() % 2 ? v[k] : 0.5 * (v[k - 1] + v[k]);
+}
+
+struct Row {
+  std::string scheme;
+  int tets = 0, dofs = 0, steps = 0;
+  double median_step = 0, min_step = 0, max_step = 0, median_cpu = 0, newton_per_step = 0;
+  double assembly = 0, factorization = 0, line_search = 0;  // per step
+  double tip_drop = 0;
+  double forward = 0, adjoint = 0, forward_cpu = 0, adjoint_cpu = 0;
+  int factorizations = 0, cg_solves = 0;
+};
+
+Row run(TimeScheme scheme, int target_tets, int steps) {
+  // n x n cells across, as many along the length as bring the count nearest the target.
+  const int n = std::max(1, static_cast<int>(std::floor(std::cbrt(target_tets / (6.0 * 4.0)))));
+  const int along = std::max(1, static_cast<int>(std::lround(target_tets / (6.0 * n * n))));
+  const Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 1, 1), along, n, n);
+  const int m = mesh.num_elements();
+  Model model(3 * mesh.num_vertices());
+  model.parameter_layout().add("youngs_modulus", m);
+  model.parameter_layout().add("poisson_ratio", m);
+  model.add(std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(MaterialKind::neo_hookean), 0, m));
+  const DynamicTerms terms = add_dynamics_terms(
+      model, mesh, DynamicsSetup{MassLumping::consistent, Eigen::Vector3d(0, 0, -9.81), true});
+  Vector rest(3 * mesh.num_vertices());
+  std::vector<int> fixed, tip;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    rest.segment<3>(3 * v) = mesh.rest_positions.row(v).transpose();
+    if (mesh.rest_positions(v, 0) < 1e-9)
+      for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
+    if (mesh.rest_positions(v, 0) > 4 - 1e-9) tip.push_back(v);
+  }
+  model.set_elimination(Elimination::dirichlet(fixed, rest));
+  Vector p(model.parameter_layout().size());
+  p.head(m).setConstant(1e6);
+  p.segment(m, m).setConstant(0.3);
+  p.segment(terms.density_offset, m).setConstant(1000.0);
+  p[terms.alpha_offset] = 0.5;
+  p[terms.beta_offset] = 1e-3;
+
+  TimeIntegratorOptions options;
+  options.scheme = scheme;
+  options.time_step = 0.01;
+  TimeIntegrator integrator(model, options);
+  Row row;
+  row.scheme = to_string(scheme);
+  row.tets = m;
+  row.dofs = model.elimination().num_free();
+  row.steps = steps;
+  DynamicState state = integrator.initial_state(rest, Vector::Zero(rest.size()), p);
+  std::vector<double> times, cpu;
+  int iterations = 0;
+  for (int s = 0; s < steps; ++s) {
+    const auto t0 = Clock::now();
+    const double c0 = cpu_seconds();
+    const NewtonResult r = integrator.step(state, p);
+    times.push_back(seconds_since(t0));
+    cpu.push_back(cpu_seconds() - c0);
+    if (!r.converged()) throw std::runtime_error("step " + std::to_string(s + 1) + " failed: " + r.message);
+    iterations += r.iterations;
+    for (const auto& it : r.history) {
+      row.assembly += it.assembly_seconds / steps;
+      row.factorization += it.factorization_seconds / steps;
+      row.line_search += it.line_search_seconds / steps;
+    }
+    std::fprintf(stderr, "  %s step %d: %.3f s, %d Newton iterations\n", row.scheme.c_str(), s + 1,
+                 times.back(), r.iterations);
+  }
+  row.median_step = median(times);
+  row.median_cpu = median(cpu);
+  row.min_step = *std::min_element(times.begin(), times.end());
+  row.max_step = *std::max_element(times.begin(), times.end());
+  row.newton_per_step = static_cast<double>(iterations) / steps;
+  for (int v : tip) row.tip_drop = std::max(row.tip_drop, rest[3 * v + 2] - state.x[3 * v + 2]);
+
+  // One gradient over the same steps: tip position target at the last step.
+  Matrix targets(tip.size(), 3);
+  for (std::size_t k = 0; k < tip.size(); ++k) targets.row(k) = mesh.rest_positions.row(tip[k]);
+  auto objective = std::make_shared<KeyframeTargets>(3, tip, TrajectoryQuantity::position,
+                                                     std::vector<Keyframe>{{steps, targets, 1.0}});
+  TransientFunctionalOptions fo;
+  fo.steps = steps;
+  TransientFunctional functional(integrator, identity_map(static_cast<int>(p.size())), objective, rest,
+                                 Vector::Zero(rest.size()), fo);
+  Vector g;
+  const double c0 = cpu_seconds();
+  functional.value(p);
+  const double c1 = cpu_seconds();
+  functional.value_and_gradient(p, g);
+  row.forward_cpu = c1 - c0;
+  row.adjoint_cpu = cpu_seconds() - c1;
+  const TransientStatistics& st = functional.statistics();
+  row.forward = st.forward_seconds;
+  row.adjoint = st.adjoint_seconds;
+  row.factorizations = st.factorizations;
+  row.cg_solves = st.cg_solves;
+  return row;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int tets = 58000, steps = 10;
+  std::string out = "bench_dynamics.json";
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--tets" && i + 1 < argc)
+      tets = std::stoi(argv[++i]);
+    else if (arg == "--steps" && i + 1 < argc)
+      steps = std::stoi(argv[++i]);
+    else if (arg == "--out" && i + 1 < argc)
+      out = argv[++i];
+    else {
+      std::cerr << "usage: dynamics_bench [--tets 58000] [--steps 10] [--out FILE]\n";
+      return 2;
+    }
+  }
+  if (tets < 24 || steps < 1) {
+    std::cerr << "dynamics_bench: --tets must be >= 24 and --steps >= 1\n";
+    return 2;
+  }
+  std::printf("tailor %s: Neo-Hookean cantilever under gravity, h = 0.01, full space\n", version_string);
+  std::vector<Row> rows;
+  for (TimeScheme scheme : {TimeScheme::implicit_euler, TimeScheme::newmark})
+    rows.push_back(run(scheme, tets, steps));
+  std::printf("%-15s %6s %6s %5s %9s %9s %9s %9s %7s %9s %9s %9s %8s %9s %8s %5s %4s\n", "scheme", "tets",
+              "dofs", "steps", "median/s", "min", "max", "cpu med.", "newton", "assembly", "factor",
+              "line s.", "tip drop", "adjoint", "adj/fwd", "fact", "cg");
+  for (const Row& r : rows)
+    std::printf(
+        "%-15s %6d %6d %5d %9.3f %9.3f %9.3f %9.3f %7.2f %9.3f %9.3f %9.3f %8.4f %9.3f %8.3f %5d %4d\n",
+        r.scheme.c_str(), r.tets, r.dofs, r.steps, r.median_step, r.min_step, r.max_step, r.median_cpu,
+        r.newton_per_step, r.assembly, r.factorization, r.line_search, r.tip_drop, r.adjoint,
+        r.adjoint_cpu / r.forward_cpu, r.factorizations, r.cg_solves);
+  std::printf(
+      "(seconds per step, wall clock, except cpu med. = median process CPU time per step; "
+      "assembly/factor/line s.\n"
+      " are per-step wall-clock averages; adjoint = wall clock of one gradient over all steps; adj/fwd = its "
+      "CPU\n"
+      " time over the CPU time of the forward run of the same steps)\n");
+  std::ofstream json(out);
+  json << "{\n  \"benchmark\": \"dynamics_step\",\n  \"tailor_version\": \"" << version_string
+       << "\",\n  \"results\": [\n";
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const Row& r = rows[k];
+    json << "    {\"scheme\": \"" << r.scheme << "\", \"tets\": " << r.tets << ", \"dofs\": " << r.dofs
+         << ", \"steps\": " << r.steps << ", \"median_step_s\": " << r.median_step
+         << ", \"min_step_s\": " << r.min_step << ", \"max_step_s\": " << r.max_step
+         << ", \"median_step_cpu_s\": " << r.median_cpu
+         << ", \"newton_iterations_per_step\": " << r.newton_per_step
+         << ", \"assembly_s_per_step\": " << r.assembly
+         << ", \"factorization_s_per_step\": " << r.factorization
+         << ", \"line_search_s_per_step\": " << r.line_search << ", \"tip_drop\": " << r.tip_drop
+         << ", \"forward_s\": " << r.forward << ", \"adjoint_s\": " << r.adjoint
+         << ", \"forward_cpu_s\": " << r.forward_cpu << ", \"adjoint_cpu_s\": " << r.adjoint_cpu
+         << ", \"adjoint_over_forward_cpu\": " << r.adjoint_cpu / r.forward_cpu
+         << ", \"adjoint_factorizations\": " << r.factorizations << ", \"adjoint_cg_solves\": " << r.cg_solves
+         << "}" << (k + 1 < rows.size() ? "," : "") << "\n";
+  }
+  json << "  ]\n}\n";
+  std::printf("wrote %s\n", out.c_str());
+  return 0;
+}

@@ -1,0 +1,107 @@
+#include "forward/dynamics/rayleigh_damping.hpp"
+
+#include <stdexcept>
+
+#include "forward/fem/elastic_term.hpp"
+
+namespace tailor {
+
+RayleighDamping::RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOperator> mass, int alpha_offset,
+                                 int beta_offset, int youngs_offset, int poisson_offset)
+    : mass_(std::move(mass)), alpha_offset_(alpha_offset), beta_offset_(beta_offset) {
+  if (!mass_) throw std::invalid_argument("RayleighDamping: no mass operator");
+  if (mesh.dim() == 3)
+    stiffness_ = std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(MaterialKind::linear), youngs_offset,
+                                                  poisson_offset);
+  else
+    stiffness_ = std::make_unique<ElasticTerm<2>>(mesh, make_material<2>(MaterialKind::linear), youngs_offset,
+                                                  poisson_offset);
+  rest_.resize(mesh.dim() * mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    rest_.segment(mesh.dim() * v, mesh.dim()) = mesh.rest_positions.row(v).transpose();
+  mass_slots_ = mass_->pattern_size();
+  HessianPattern k_pattern;
+  stiffness_->hessian_pattern(k_pattern);
+  stiffness_slots_ = k_pattern.size();
+}
+
+void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p,
+                                           const EnergyRequest& request) const {
+  const double alpha = p[alpha_offset_], beta = p[beta_offset_];
+  const Vector X_plus_v = rest_ + v;
+  if (request.value || request.gradient) {
+    Vector Mv = Vector::Zero(v.size());
+    mass_->add_times(p, v, Mv, alpha);
+    if (request.value) *request.value += 0.5 * v.dot(Mv) + beta * stiffness_->value(X_plus_v, p);
+    if (request.gradient) {
+      *request.gradient += Mv;
+      Vector Kv = Vector::Zero(v.size());
+      stiffness_->add_gradient(X_plus_v, p, Kv);
+      *request.gradient += beta * Kv;
+    }
+  }
+  if (request.hessian_values) {
+    mass_->hessian_values(p, alpha, request.hessian_values);
+    double* k_values = request.hessian_values + mass_slots_;
+    EnergyRequest k_request;
+    k_request.hessian_values = k_values;
+    stiffness_->evaluate(X_plus_v, p, k_request);
+    for (std::size_t k = 0; k < stiffness_slots_; ++k) k_values[k] *= beta;
+  }
+}
+
+void RayleighDamping::dissipation_pattern(HessianPattern& pattern) const {
+  mass_->hessian_pattern(pattern);
+  stiffness_->hessian_pattern(pattern);
+}
+
+void RayleighDamping::add_dissipation_param_gradient(const Vector& v, const Vector& p,
+                                                     Vector& gradient_p) const {
+  const double alpha = p[alpha_offset_], beta = p[beta_offset_];
+  const Vector X_plus_v = rest_ + v;
+  Vector Mv = Vector::Zero(v.size());
+  mass_->add_times(p, v, Mv);
+  gradient_p[alpha_offset_] += 0.5 * v.dot(Mv);
+  gradient_p[beta_offset_] += stiffness_->value(X_plus_v, p);
+  mass_->add_density_gradient(v, v, gradient_p, 0.5 * alpha);
+  Vector gk = Vector::Zero(p.size());
+  stiffness_->add_param_gradient(X_plus_v, p, gk);
+  gradient_p += beta * gk;
+}
+
+void RayleighDamping::add_dissipation_mixed_transpose_times(const Vector& v, const Vector& p, const Vector& w,
+                                                            Vector& gradient_p) const {
+  const double alpha = p[alpha_offset_], beta = p[beta_offset_];
+  const Vector X_plus_v = rest_ + v;
+  Vector Mv = Vector::Zero(v.size()), Kv = Vector::Zero(v.size());
+  mass_->add_times(p, v, Mv);
+  stiffness_->add_gradient(X_plus_v, p, Kv);
+  gradient_p[alpha_offset_] += w.dot(Mv);
+  gradient_p[beta_offset_] += w.dot(Kv);
+  mass_->add_density_gradient(w, v, gradient_p, alpha);
+  Vector gk = Vector::Zero(p.size());
+  stiffness_->add_mixed_transpose_times(X_plus_v, p, w, gk);
+  gradient_p += beta * gk;
+}
+
+void RayleighDamping::add_dissipation_mixed(const Vector& v, const Vector& p, Triplets& mixed) const {
+  const double alpha = p[alpha_offset_], beta = p[beta_offset_];
+  const Vector X_plus_v = rest_ + v;
+  Vector Mv = Vector::Zero(v.size()), Kv = Vector::Zero(v.size());
+  mass_->add_times(p, v, Mv);
+  stiffness_->add_gradient(X_plus_v, p, Kv);
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    if (Mv[i] != 0.0) mixed.emplace_back(static_cast<int>(i), alpha_offset_, Mv[i]);
+    if (Kv[i] != 0.0) mixed.emplace_back(static_cast<int>(i), beta_offset_, Kv[i]);
+  }
+  mass_->add_density_jacobian(v, mixed, alpha);
+  Triplets k_mixed;
+  stiffness_->add_mixed(X_plus_v, p, k_mixed);
+  for (const auto& t : k_mixed) mixed.emplace_back(t.row(), t.col(), beta * t.value());
+}
+
+SparseMatrix RayleighDamping::rest_stiffness(const Vector& p) const {
+  return stiffness_->hessian(rest_, p, HessianMode::exact);
+}
+
+}  // namespace tailor

@@ -1,0 +1,49 @@
+#pragma once
+// Rayleigh damping C = alpha M(rho) + beta K as a dissipation potential (METHODS.md sections
+// 6 and 7):  D(v, p) = alpha/2 v^T M(rho) v + beta/2 v^T K v.
+//
+// K is the stiffness at the rest state: the Hessian at rest of the small-strain (linear)
+// elastic energy with the same per-element Young's modulus and Poisson ratio as the elastic
+// term, which every material here (linear, corotated, StVK, Neo-Hookean) shares at rest. As
+// the linear energy E_lin is quadratic in the displacement and zero at rest,
+// 1/2 v^T K v = E_lin(X + v), so D and all its derivatives in v, alpha, beta, rho, E and nu
+// come exactly from ElasticTerm (no third derivatives are needed, and C does not change along
+// the trajectory, so the time-dependent adjoint stays exact). Not implemented: K lagged at
+// the start of each step (tangent damping), whose dependence on x_n would add third
+// derivatives of the elastic energy to the adjoint.
+//
+// Parameters: alpha = p[alpha_offset] [1/time], beta = p[beta_offset] [time], density through
+// the mass operator, Young's modulus and Poisson ratio at the given offsets (per element).
+#include <memory>
+
+#include "forward/dynamics/damping_term.hpp"
+#include "forward/dynamics/mass_operator.hpp"
+#include "forward/mesh/mesh.hpp"
+
+namespace tailor {
+
+class RayleighDamping final : public DampingTerm {
+ public:
+  RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOperator> mass, int alpha_offset,
+                  int beta_offset, int youngs_offset, int poisson_offset);
+
+  std::string name() const override { return "rayleigh_damping"; }
+  void evaluate_dissipation(const Vector& v, const Vector& p, const EnergyRequest& request) const override;
+  void dissipation_pattern(HessianPattern& pattern) const override;
+  void add_dissipation_param_gradient(const Vector& v, const Vector& p, Vector& gradient_p) const override;
+  void add_dissipation_mixed_transpose_times(const Vector& v, const Vector& p, const Vector& w,
+                                             Vector& gradient_p) const override;
+  void add_dissipation_mixed(const Vector& v, const Vector& p, Triplets& mixed) const override;
+
+  // The rest stiffness K (for modal analysis and tests).
+  SparseMatrix rest_stiffness(const Vector& p) const;
+
+ private:
+  std::shared_ptr<const MassOperator> mass_;
+  std::unique_ptr<EnergyTerm> stiffness_;  // the linear elastic energy E_lin
+  Vector rest_;
+  int alpha_offset_, beta_offset_;
+  std::size_t mass_slots_, stiffness_slots_;
+};
+
+}  // namespace tailor

@@ -1,0 +1,261 @@
+// The time-dependent adjoint: Taylor tests (rate >= 1.9) of trajectory objectives over 100
+// steps of a Neo-Hookean cantilever swinging under gravity with Rayleigh damping, for every
+// scheme, with design variables per-element log E, per-element log density, Rayleigh alpha
+// and beta and the initial velocities; the same for reduction by projection (a modal basis
+// through Elimination::general); checkpointing against storing every state; and derivative
+// checks of the trajectory objectives.
+#include "adjoint/transient_functional.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+
+#include "../support/modal_fixtures.hpp"
+#include "adjoint/derivative_check.hpp"
+#include "adjoint/taylor_test.hpp"
+
+namespace tailor {
+namespace {
+
+using namespace tailor::testing;
+
+struct SwingProblem {
+  Cantilever c;
+  int m;
+  ParameterizationPtr map;
+  Vector z0, v0;
+  std::shared_ptr<TrajectorySum> objective = std::make_shared<TrajectorySum>();
+  int steps = 100;
+
+  static CantileverOptions options() {
+    CantileverOptions o;
+    o.gravity = Eigen::Vector3d(
+        0.0, -1.0, -4.0);  // static tip deflection ~1.5 (linear theory): large rotation of the end
+    o.rayleigh = true, o.alpha = 0.05, o.beta = 2e-3;
+    return o;
+  }
+
+  explicit SwingProblem(bool design_velocities) : c(options()), m(c.num_elements()) {
+    const int n = c.model->num_dofs(), np = c.model->parameter_layout().size();
+    Vector base = Vector::Zero(np + (design_velocities ? n : 0));
+    base.head(np) = c.p;
+    std::vector<ParameterBlock> blocks{
+        {0, exp_map(m)}, {c.terms.density_offset, exp_map(m)}, {c.terms.alpha_offset, identity_map(2)}};
+    if (design_velocities) blocks.push_back({np, identity_map(n)});
+    map = embed_blocks(base, blocks);
+    z0.resize(map->num_design());
+    z0.head(m) = c.p.head(m).array().log().matrix();
+    z0.segment(m, m) = c.p.segment(c.terms.density_offset, m).array().log().matrix();
+    z0.segment(2 * m, 2) << c.p[c.terms.alpha_offset], c.p[c.terms.beta_offset];
+    // A sideways initial velocity of the free end region (zero on the clamped face).
+    v0 = Vector::Zero(n);
+    for (int v = 0; v < c.mesh.num_vertices(); ++v) v0[3 * v + 1] = 0.3 * c.mesh.rest_positions(v, 0) / 4.0;
+    if (design_velocities) z0.tail(n) = v0;
+    // Tip position keyframes, a final tip velocity target and first-mode amplitudes.
+    std::vector<Keyframe> frames;
+    for (int s = 10; s <= steps; s += 10) {
+      Matrix t(c.tip_vertices.size(), 3);
+      for (std::size_t i = 0; i < c.tip_vertices.size(); ++i)
+        t.row(i) = c.mesh.rest_positions.row(c.tip_vertices[i]) + Eigen::RowVector3d(0.0, 0.1, -0.5);
+      frames.push_back({s, t, 1.0});
+    }
+    objective->add(
+        std::make_shared<KeyframeTargets>(3, c.tip_vertices, TrajectoryQuantity::position, frames));
+    objective->add(std::make_shared<KeyframeTargets>(
+        3, c.tip_vertices, TrajectoryQuantity::velocity,
+        std::vector<Keyframe>{{steps, Matrix::Zero(c.tip_vertices.size(), 3), 0.1}}));
+    const CantileverModes modes = cantilever_modes(c, c.p, 1);
+    std::vector<AmplitudeKeyframe> amplitudes;
+    for (int s = 25; s <= steps; s += 25) amplitudes.push_back({s, Vector::Constant(1, 0.05), 1.0});
+    objective->add(std::make_shared<ModeAmplitudes>(modes.shapes, modes.mass, c.rest, amplitudes), 10.0);
+  }
+};
+
+TransientFunctionalOptions functional_options(bool design_velocities, int steps, int checkpoint = 0) {
+  TransientFunctionalOptions o;
+  o.steps = steps;
+  o.design_initial_velocities = design_velocities;
+  o.checkpoint_interval = checkpoint;
+  return o;
+}
+
+TimeIntegratorOptions integrator_options(TimeScheme scheme) {
+  TimeIntegratorOptions o;
+  o.scheme = scheme;
+  o.time_step = 0.03;  // ~60 steps per first-mode period; 100 steps ~ 1.6 periods
+  o.newton.relative_tolerance = 1e-12;
+  if (std::getenv("TAILOR_DEBUG")) o.newton.progress = &std::cout;
+  return o;
+}
+
+class TransientTaylor : public ::testing::TestWithParam<TimeScheme> {};
+
+TEST_P(TransientTaylor, NeoHookeanSwingOver100Steps) {
+  SwingProblem problem(true);
+  TimeIntegrator integrator(*problem.c.model, integrator_options(GetParam()));
+  TransientFunctional f(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                        functional_options(true, problem.steps));
+  Vector g;
+  f.value_and_gradient(problem.z0, g);
+  double tip = 0.0;
+  for (const DynamicState& s : f.stored_states())
+    for (int v : problem.c.tip_vertices) tip = std::max(tip, (s.x - problem.c.rest).segment(3 * v, 3).norm());
+  EXPECT_GT(tip, 0.5);  // large deformation
+  const TransientStatistics st = f.statistics();
+  const TaylorTestResult t = taylor_test(f, problem.z0);
+  std::printf(
+      "%s: max tip displacement %.3f, forward %.3f s (%d Newton iterations), adjoint %.3f s (%.2f of "
+      "forward; %d "
+      "factorizations, %d CG solves)\n%s",
+      to_string(GetParam()).c_str(), tip, st.forward_seconds, st.newton_iterations, st.adjoint_seconds,
+      st.adjoint_seconds / st.forward_seconds, st.factorizations, st.cg_solves, t.table().c_str());
+  EXPECT_TRUE(t.passed()) << t.table();
+  EXPECT_GE(t.rate1, 1.9);
+}
+
+INSTANTIATE_TEST_SUITE_P(Schemes, TransientTaylor,
+                         ::testing::Values(TimeScheme::implicit_euler, TimeScheme::newmark, TimeScheme::bdf2),
+                         [](const auto& param_info) { return to_string(param_info.param); });
+
+TEST(TransientFunctional, ReductionByProjection) {
+  // u = Phi q with the 4 lowest modes: Elimination::general(X, Phi), a dense basis.
+  SwingProblem problem(false);
+  const CantileverModes modes = cantilever_modes(problem.c, problem.c.p, 4);
+  problem.c.model->set_elimination(Elimination(problem.c.rest, modes.shapes.sparseView()));
+  for (TimeScheme scheme : {TimeScheme::implicit_euler, TimeScheme::newmark}) {
+    TimeIntegrator integrator(*problem.c.model, integrator_options(scheme));
+    TransientFunctional f(integrator, problem.map, problem.objective, problem.c.rest,
+                          Vector::Zero(problem.c.rest.size()), functional_options(false, problem.steps));
+    Vector g;
+    f.value_and_gradient(problem.z0, g);
+    const TransientStatistics st = f.statistics();
+    const TaylorTestResult t = taylor_test(f, problem.z0);
+    std::printf("reduced (4 modes), %s: forward %.3f s (%d Newton iterations), adjoint %.3f s\n%s",
+                to_string(scheme).c_str(), st.forward_seconds, st.newton_iterations, st.adjoint_seconds,
+                t.table().c_str());
+    EXPECT_EQ(f.stored_states().back().y.size(), 4);
+    EXPECT_TRUE(t.passed()) << t.table();
+  }
+}
+
+TEST(TransientFunctional, CheckpointingGivesTheSameGradient) {
+  SwingProblem problem(true);
+  TimeIntegrator integrator(*problem.c.model, integrator_options(TimeScheme::bdf2));
+  TransientFunctional all(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                          functional_options(true, problem.steps));
+  Vector g_all, g_checkpointed;
+  const double j_all = all.value_and_gradient(problem.z0, g_all);
+  const TransientStatistics s_all = all.statistics();
+  TransientFunctional checkpointed(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                                   functional_options(true, problem.steps, 10));
+  const double j_checkpointed = checkpointed.value_and_gradient(problem.z0, g_checkpointed);
+  const TransientStatistics& s = checkpointed.statistics();
+  std::printf(
+      "store all: %d states (%.3f MB), adjoint %.3f s; every 10th: peak %d states (%.3f MB), %d recomputed "
+      "steps (ratio %.2f), adjoint %.3f s\n",
+      s_all.stored_states_peak, s_all.stored_megabytes_peak, s_all.adjoint_seconds, s.stored_states_peak,
+      s.stored_megabytes_peak, s.recomputed_steps, s.recompute_ratio(), s.adjoint_seconds);
+  EXPECT_EQ(j_all, j_checkpointed);
+  EXPECT_LT((g_all - g_checkpointed).norm(), 1e-9 * g_all.norm());
+  EXPECT_EQ(s_all.stored_states_peak, problem.steps + 1);
+  EXPECT_LE(s.stored_states_peak, 10 + 11);
+  EXPECT_EQ(s.recomputed_steps, 90);
+}
+
+TEST(TransientFunctional, FactorizationReuseDoesNotChangeTheGradient) {
+  SwingProblem problem(false);
+  TimeIntegrator integrator(*problem.c.model, integrator_options(TimeScheme::newmark));
+  TransientFunctionalOptions fresh_options = functional_options(false, 40);
+  fresh_options.reuse_factorizations = false;
+  TransientFunctional reuse(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                            functional_options(false, 40));
+  TransientFunctional fresh(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                            fresh_options);
+  Vector a, b;
+  reuse.value_and_gradient(problem.z0, a);
+  fresh.value_and_gradient(problem.z0, b);
+  EXPECT_LT((a - b).norm(), 1e-9 * b.norm());
+  EXPECT_LT(reuse.statistics().factorizations, fresh.statistics().factorizations);
+  EXPECT_EQ(fresh.statistics().factorizations, 40);
+}
+
+TEST(TransientFunctional, InitialPositionsAndVelocitiesAsDesign) {
+  // Only the initial state is designed (P = [p; x_0; v_0], p fixed): exercises the adjoint of
+  // the history at step 0, including Newmark's start g_0 = -dPi_0/dx(x_0) with damping.
+  SwingProblem problem(false);
+  const int n = problem.c.model->num_dofs(), np = problem.c.model->parameter_layout().size();
+  Vector base(np + 2 * n);
+  base << problem.c.p, problem.c.rest, problem.v0;
+  const ParameterizationPtr map = embed_blocks(base, {{np, identity_map(2 * n)}});
+  Vector z0(2 * n);
+  z0 << problem.c.rest, problem.v0;
+  for (TimeScheme scheme : {TimeScheme::newmark, TimeScheme::bdf2}) {
+    TimeIntegrator integrator(*problem.c.model, integrator_options(scheme));
+    TransientFunctionalOptions options = functional_options(true, 40);
+    options.design_initial_positions = true;
+    TransientFunctional f(integrator, map, problem.objective, problem.c.rest, problem.v0, options);
+    TaylorTestOptions taylor;
+    taylor.direction_floor = 0.05;
+    taylor.initial_step = 2e-3;
+    const TaylorTestResult t = taylor_test(f, z0, taylor);
+    std::printf("initial state as design, %s:\n%s", to_string(scheme).c_str(), t.table().c_str());
+    EXPECT_TRUE(t.passed()) << t.table();
+  }
+}
+
+TEST(TransientFunctional, BadInputIsRejected) {
+  SwingProblem problem(false);
+  TimeIntegrator integrator(*problem.c.model, integrator_options(TimeScheme::newmark));
+  // The parameterization does not cover the designed initial velocities.
+  EXPECT_THROW(TransientFunctional(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                                   functional_options(true, 10)),
+               std::invalid_argument);
+  EXPECT_THROW(TransientFunctional(integrator, problem.map, problem.objective, problem.c.rest,
+                                   Vector::Zero(3), functional_options(false, 10)),
+               std::invalid_argument);
+  EXPECT_THROW(KeyframeTargets(3, {0}, TrajectoryQuantity::position, {{1, Matrix::Zero(2, 3), 1.0}}),
+               std::invalid_argument);
+  EXPECT_THROW(KeyframeTargets(3, {0}, TrajectoryQuantity::position,
+                               {{1, Matrix::Zero(1, 3), 1.0}, {1, Matrix::Zero(1, 3), 1.0}}),
+               std::invalid_argument);
+}
+
+// Derivative checks of the trajectory objectives (value against the gradient, in x, v and p).
+TEST(TrajectoryObjectives, GradientsMatchDifferences) {
+  SwingProblem problem(false);
+  const Vector& p = problem.c.p;
+  const Eigen::Index n = problem.c.rest.size();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto random = [&](Eigen::Index size) {
+    Vector r(size);
+    for (Eigen::Index i = 0; i < size; ++i) r[i] = u(rng);
+    return r;
+  };
+  const Vector x = problem.c.rest + 0.3 * random(n), v = random(n), dx = random(n), dv = random(n);
+  for (int step : {0, 50, 100}) {
+    Vector gx = Vector::Zero(n), gv = Vector::Zero(n), gp = Vector::Zero(p.size());
+    problem.objective->add_gradient(step, x, v, p, gx, gv, gp);
+    const auto along = [&](double t) {
+      return Vector::Constant(1, problem.objective->value(step, x + t * dx, v + t * dv, p));
+    };
+    const DerivativeCheck check = check_directional_derivative(
+        "trajectory objective", along, Vector::Constant(1, gx.dot(dx) + gv.dot(dv)), {});
+    if (step == 0) {
+      EXPECT_TRUE(check.vanishing) << check.message;  // no keyframe at step 0
+    } else {
+      EXPECT_TRUE(check.passed) << "step " << step << ": " << check.message;
+    }
+    // A gradient off by 1e-4 relative is rejected.
+    if (step == 100) {
+      const DerivativeCheck bad = check_directional_derivative(
+          "skewed", along, Vector::Constant(1, (1 + 1e-4) * (gx.dot(dx) + gv.dot(dv))), {});
+      EXPECT_FALSE(bad.passed) << bad.message;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tailor

@@ -8,8 +8,10 @@
 // Newmark with h = 0.02 s for 1 s (50 steps) by default (the full-space run on 58k tets is
 // the costly part). Meshes: bench::cantilever_cells(--tets), 3,000 and 57,798 tets by default.
 //
-// Reduced settings: r = 10, 20, 40 linear modes, and m = 5, 10 linear modes with their modal
-// derivatives (m + m (m + 1) / 2 vectors, mass-orthonormalized). Reported per setting:
+// Reduced settings (same scheme and h): r = 10, 20, 40 linear modes (--modes), and m = 5, 10
+// linear modes with their modal derivatives (--derivative-modes; m + m (m + 1) / 2 vectors,
+// mass-orthonormalized: r = 20, 65). Gravity enters as the constant reduced force Phi^T M g. Reported per
+// setting:
 //  - median time per step (wall and process CPU; steps/s = 1 / wall median);
 //  - precomputation: modal analysis (once per mesh for the largest count, shared), modal
 //    derivatives, orthonormalization, StVK coefficients;
@@ -22,8 +24,9 @@
 // (--plot, default reduction_error.png: error against time per step; and *_tip.png: tip fall
 // over time on the last mesh, full and reduced).
 //
-// usage: reduction_error_bench [--quick] [--tets 3000,58000] [--duration 1] [--time-step 0.02]
-//                              [--out FILE] [--plot FILE]
+// usage: reduction_error_bench [--quick] [--tets 3000,58000] [--modes 10,20,40] [--derivative-modes 5,10]
+//                              [--duration 1] [--time-step 0.02] [--out FILE] [--plot FILE]
+// --quick: the 3,000-tet mesh only, 0.3 s of motion.
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -78,6 +81,7 @@ struct Row {
 struct MeshResult {
   int tets = 0, vertices = 0, free_dofs = 0, steps = 0, modal_count = 0;
   double modal_s = 0, full_step_s = 0, full_step_cpu_s = 0, full_newton_per_step = 0, full_total_s = 0;
+  double full_assembly_s = 0, full_factorization_s = 0, full_line_search_s = 0;  // per step, wall
   double peak_tip = 0;
   std::vector<double> tip_fall;
   std::vector<Row> rows;
@@ -97,7 +101,8 @@ Eigen::Vector3d tip_point(const Vector& u, const std::vector<int>& tip) {
   return t / static_cast<double>(tip.size());
 }
 
-MeshResult run_mesh(int target_tets, double h, int steps) {
+MeshResult run_mesh(int target_tets, double h, int steps, const std::vector<int>& mode_counts,
+                    const std::vector<int>& derivative_mode_counts) {
   MeshResult result;
   const bench::CantileverCells cells = bench::cantilever_cells(target_tets, kLength);
   // Full-space model: elastic + inertia + gravity + Rayleigh damping.
@@ -146,6 +151,11 @@ MeshResult run_mesh(int target_tets, double h, int steps) {
     if (!r.converged())
       throw std::runtime_error("full-space step " + std::to_string(s + 1) + " failed: " + r.message);
     iterations += r.iterations;
+    for (const NewtonIteration& it : r.history) {
+      result.full_assembly_s += it.assembly_seconds / steps;
+      result.full_factorization_s += it.factorization_seconds / steps;
+      result.full_line_search_s += it.line_search_seconds / steps;
+    }
     u_full.col(s + 1) = state.x - full.rest;
     if ((s + 1) % 10 == 0 || s + 1 == steps) {
       std::fprintf(stderr, "  full space: step %d/%d, %.3f s, %d Newton iterations, tip z %.3f\n", s + 1,
@@ -165,16 +175,18 @@ MeshResult run_mesh(int target_tets, double h, int steps) {
     if (n > 0) full_norm2 += u_full.col(n).dot(mass * u_full.col(n));
   }
   std::printf(
-      "  full space: median step %.4f s (CPU %.4f s), %.2f Newton/step, %.1f s in all; peak tip "
-      "displacement %.3f\n",
-      result.full_step_s, result.full_step_cpu_s, result.full_newton_per_step, result.full_total_s,
-      result.peak_tip);
+      "  full space: median step %.4f s (CPU %.4f s), %.2f Newton/step (per step: assembly %.3f s, "
+      "factorization %.3f s, line search %.3f s), %.1f s in all; peak tip displacement %.3f\n",
+      result.full_step_s, result.full_step_cpu_s, result.full_newton_per_step, result.full_assembly_s,
+      result.full_factorization_s, result.full_line_search_s, result.full_total_s, result.peak_tip);
   std::fflush(stdout);
 
   // Modal analysis once for the largest count.
-  const std::vector<Setting> settings = {
-      {"modes", 10}, {"modes", 20}, {"modes", 40}, {"modes+derivatives", 5}, {"modes+derivatives", 10}};
-  result.modal_count = 40;
+  std::vector<Setting> settings;
+  for (int k : mode_counts) settings.push_back({"modes", k});
+  for (int k : derivative_mode_counts) settings.push_back({"modes+derivatives", k});
+  result.modal_count = 0;
+  for (const Setting& s : settings) result.modal_count = std::max(result.modal_count, s.linear_modes);
   auto t = Clock::now();
   ModalAnalysisOptions modal_options;
   modal_options.count = result.modal_count;
@@ -316,13 +328,13 @@ void write_plots(const std::string& path, const std::vector<MeshResult>& meshes,
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<int> tets = {3000, 58000};
+  std::vector<int> tets = {3000, 58000}, mode_counts = {10, 20, 40}, derivative_mode_counts = {5, 10};
   double duration = 1.0, h = 0.02;
   std::string out = "bench_reduction_error.json", plot = "reduction_error.png";
   const char* usage =
-      "usage: reduction_error_bench [--quick] [--tets 3000,58000] [--duration 1] [--time-step 0.02] [--out "
-      "FILE] "
-      "[--plot FILE]\n";
+      "usage: reduction_error_bench [--quick] [--tets 3000,58000] [--modes 10,20,40] [--derivative-modes "
+      "5,10]\n"
+      "                             [--duration 1] [--time-step 0.02] [--out FILE] [--plot FILE]\n";
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string arg = argv[i];
@@ -331,6 +343,10 @@ int main(int argc, char** argv) {
         duration = 0.3;
       } else if (arg == "--tets" && i + 1 < argc) {
         tets = parse_list(argv[++i]);
+      } else if (arg == "--modes" && i + 1 < argc) {
+        mode_counts = parse_list(argv[++i]);
+      } else if (arg == "--derivative-modes" && i + 1 < argc) {
+        derivative_mode_counts = parse_list(argv[++i]);
       } else if (arg == "--duration" && i + 1 < argc) {
         duration = std::stod(argv[++i]);
       } else if (arg == "--time-step" && i + 1 < argc) {
@@ -348,9 +364,15 @@ int main(int argc, char** argv) {
     std::cerr << "reduction_error_bench: bad number\n" << usage;
     return 2;
   }
-  if (tets.empty() || *std::min_element(tets.begin(), tets.end()) < 24 || !(h > 0) || !(duration >= h)) {
+  const auto all_at_least = [](const std::vector<int>& v, int lowest) {
+    return std::all_of(v.begin(), v.end(), [lowest](int k) { return k >= lowest; });
+  };
+  if (tets.empty() || !all_at_least(tets, 24) || !all_at_least(mode_counts, 1) ||
+      !all_at_least(derivative_mode_counts, 1) || mode_counts.size() + derivative_mode_counts.size() == 0 ||
+      !(h > 0) || !(duration >= h)) {
     std::cerr
-        << "reduction_error_bench: --tets entries must be >= 24, --time-step > 0, --duration >= time step\n";
+        << "reduction_error_bench: --tets entries must be >= 24, mode counts >= 1 (at least one setting), "
+           "--time-step > 0, --duration >= time step\n";
     return 2;
   }
   const int steps = static_cast<int>(std::lround(duration / h));
@@ -367,7 +389,7 @@ int main(int argc, char** argv) {
       load[2]);
   std::vector<MeshResult> meshes;
   try {
-    for (int target : tets) meshes.push_back(run_mesh(target, h, steps));
+    for (int target : tets) meshes.push_back(run_mesh(target, h, steps, mode_counts, derivative_mode_counts));
   } catch (const std::exception& e) {
     std::cerr << "reduction_error_bench: " << e.what() << "\n";
     return 1;
@@ -377,7 +399,7 @@ int main(int argc, char** argv) {
               "s/step", "steps/s", "cpu s/st", "newton", "modal s", "deriv s", "coeff s", "traj err",
               "tip err", "tip err%");
   for (const MeshResult& mesh : meshes) {
-    std::printf("%7d %-18s %3s %3d %11.5f %10.1f %9.5f %9.2f %9s %9s %9s %10s %9s %8s\n", mesh.tets,
+    std::printf("%7d %-18s %3s %3d %11.5f %10.2f %9.5f %9.2f %9s %9s %9s %10s %9s %8s\n", mesh.tets,
                 "full space", "-", mesh.free_dofs, mesh.full_step_s, 1.0 / mesh.full_step_s,
                 mesh.full_step_cpu_s, mesh.full_newton_per_step, "-", "-", "-", "0", "0", "0");
     for (const Row& row : mesh.rows)
@@ -390,7 +412,8 @@ int main(int argc, char** argv) {
   std::printf(
       "(s/step: median wall time per Newmark step, steps/s = 1 / s/step; cpu s/st: median process CPU time "
       "per "
-      "step; r: basis size (free DOFs for full space); modal s: modal analysis of 40 modes, shared by all "
+      "step; r: basis size (free DOFs for full space); modal s: modal analysis of the largest mode count, "
+      "shared by all "
       "settings of a mesh; deriv s: modal derivatives + mass-orthonormalization; coeff s: reduced StVK "
       "coefficients; traj err: sqrt(sum_n |u_r - u_f|^2_M / sum_n |u_f|^2_M) over all steps and vertices; "
       "tip "
@@ -399,6 +422,10 @@ int main(int argc, char** argv) {
       "displacement of the full run)\n");
 
   std::ofstream json(out);
+  if (!json) {
+    std::cerr << "reduction_error_bench: cannot write " << out << "\n";
+    return 1;
+  }
   json
       << "{\n  \"benchmark\": \"reduction_error\",\n  \"tailor_version\": \"" << version_string
       << "\",\n  \"openmp_threads\": " << threads
@@ -420,8 +447,11 @@ int main(int argc, char** argv) {
          << ",\n     \"full_space\": {\"median_step_s\": " << mesh.full_step_s
          << ", \"median_step_cpu_s\": " << mesh.full_step_cpu_s
          << ", \"steps_per_s\": " << 1.0 / mesh.full_step_s
-         << ", \"newton_per_step\": " << mesh.full_newton_per_step << ", \"total_s\": " << mesh.full_total_s
-         << "},\n     \"reduced\": [\n";
+         << ", \"newton_per_step\": " << mesh.full_newton_per_step
+         << ", \"assembly_s_per_step\": " << mesh.full_assembly_s
+         << ", \"factorization_s_per_step\": " << mesh.full_factorization_s
+         << ", \"line_search_s_per_step\": " << mesh.full_line_search_s
+         << ", \"total_s\": " << mesh.full_total_s << "},\n     \"reduced\": [\n";
     for (std::size_t j = 0; j < mesh.rows.size(); ++j) {
       const Row& r = mesh.rows[j];
       json << "       {\"basis\": \"" << r.basis << "\", \"linear_modes\": " << r.linear_modes

@@ -29,9 +29,7 @@
 #endif
 
 #include "cantilever.hpp"
-#include "forward/fem/elastic_term.hpp"
 #include "forward/fem/mass.hpp"
-#include "forward/mesh/generate.hpp"
 #include "forward/reduction/mass_orthonormal_basis.hpp"
 #include "forward/reduction/modal_analysis.hpp"
 #include "forward/reduction/modal_derivatives.hpp"

@@ -21,7 +21,7 @@
 //    peak tip error = max_n |tip_r(t_n) - tip_f(t_n)| (length units), also relative to the
 //    peak tip displacement of the full run.
 // Writes JSON (--out, default bench_reduction_error.json), prints a table and writes PNG plots
-// (--plot, default reduction_error.png: error against time per step; and *_tip.png: tip fall
+// (--plot, default bench_reduction_error.png: error against time per step; and *_tip.png: tip fall
 // over time on the last mesh, full and reduced).
 //
 // usage: reduction_error_bench [--quick] [--tets 3000,58000] [--modes 10,20,40] [--derivative-modes 5,10]
@@ -101,6 +101,157 @@ Eigen::Vector3d tip_point(const Vector& u, const std::vector<int>& tip) {
   return t / static_cast<double>(tip.size());
 }
 
+// Full-space displacements u = x - X per state (num_dofs x (steps + 1)), the tip point per
+// state and sum_{n >= 1} |u_n|^2_M.
+struct FullSpaceReference {
+  Matrix u;
+  std::vector<Eigen::Vector3d> tip;
+  double norm2 = 0.0;
+  double tip_peak() const {
+    double peak = 0.0;
+    for (const Eigen::Vector3d& t : tip) peak = std::max(peak, t.norm());
+    return peak;
+  }
+};
+
+// The full-space reference: Newmark steps of the dynamic model from rest; fills the full-space
+// fields of `result` (timings, tip fall) and returns the displacement of every state.
+FullSpaceReference simulate_full_space(bench::Cantilever& full, const Vector& p_full,
+                                       const SparseMatrix& mass, const std::vector<int>& tip, double h,
+                                       int steps, MeshResult& result) {
+  TimeIntegratorOptions options;
+  options.scheme = TimeScheme::newmark;
+  options.time_step = h;
+  TimeIntegrator integrator(*full.model, options);
+  DynamicState state = integrator.initial_state(full.rest, Vector::Zero(full.rest.size()), p_full);
+  FullSpaceReference reference;
+  Matrix& u_full = reference.u;
+  u_full.resize(full.rest.size(), steps + 1);
+  u_full.col(0).setZero();
+  std::vector<double> wall, cpu;
+  int iterations = 0;
+  const auto t_full = Clock::now();
+  for (int s = 0; s < steps; ++s) {
+    const auto t0 = Clock::now();
+    const double c0 = cpu_seconds();
+    const NewtonResult r = integrator.step(state, p_full);
+    wall.push_back(seconds_since(t0));
+    cpu.push_back(cpu_seconds() - c0);
+    if (!r.converged())
+      throw std::runtime_error("full-space step " + std::to_string(s + 1) + " failed: " + r.message);
+    iterations += r.iterations;
+    for (const NewtonIteration& it : r.history) {
+      result.full_assembly_s += it.assembly_seconds / steps;
+      result.full_factorization_s += it.factorization_seconds / steps;
+      result.full_line_search_s += it.line_search_seconds / steps;
+    }
+    u_full.col(s + 1) = state.x - full.rest;
+    if ((s + 1) % 10 == 0 || s + 1 == steps) {
+      std::fprintf(stderr, "  full space: step %d/%d, %.3f s, %d Newton iterations, tip z %.3f\n", s + 1,
+                   steps, wall.back(), r.iterations, tip_point(u_full.col(s + 1), tip).z());
+    }
+  }
+  result.full_total_s = seconds_since(t_full);
+  result.full_step_s = median(wall);
+  result.full_step_cpu_s = median(cpu);
+  result.full_newton_per_step = static_cast<double>(iterations) / steps;
+  reference.tip.resize(steps + 1);
+  for (int n = 0; n <= steps; ++n) {
+    reference.tip[n] = tip_point(u_full.col(n), tip);
+    result.tip_fall.push_back(-reference.tip[n].z());
+    result.peak_tip = std::max(result.peak_tip, reference.tip[n].norm());
+    if (n > 0) reference.norm2 += u_full.col(n).dot(mass * u_full.col(n));
+  }
+  std::printf(
+      "  full space: median step %.4f s (CPU %.4f s), %.2f Newton/step (per step: assembly %.3f s, "
+      "factorization %.3f s, line search %.3f s), %.1f s in all; peak tip displacement %.3f\n",
+      result.full_step_s, result.full_step_cpu_s, result.full_newton_per_step, result.full_assembly_s,
+      result.full_factorization_s, result.full_line_search_s, result.full_total_s, result.peak_tip);
+  std::fflush(stdout);
+
+  return reference;
+}
+
+// One reduced setting: basis, StVK coefficients, Newmark steps from rest under the projected
+// gravity force, and its errors against the full-space reference.
+Row run_reduced(const Setting& setting, const ModalAnalysis& modes, const bench::Cantilever& elastic,
+                const Vector& p, const SparseMatrix& mass, const Vector& gravity_force, double h, int steps,
+                const FullSpaceReference& reference, const std::vector<int>& tip) {
+  Row row;
+  row.tets = elastic.mesh.num_elements();
+  row.basis = setting.basis;
+  row.linear_modes = setting.linear_modes;
+  Matrix basis;
+  if (setting.basis == "modes") {
+    basis = modes.modes.leftCols(setting.linear_modes);
+  } else {
+    const int k = setting.linear_modes;
+    auto t = Clock::now();
+    const Matrix psi = modal_derivatives(*elastic.model, elastic.rest, p, modes.modes.leftCols(k));
+    row.derivatives_s = seconds_since(t);
+    Matrix all(modes.modes.rows(), k + psi.cols());
+    all << modes.modes.leftCols(k), psi;
+    t = Clock::now();
+    basis = mass_orthonormal_basis(all, mass);
+    row.orthonormalize_s = seconds_since(t);
+  }
+  row.r = static_cast<int>(basis.cols());
+  const ReducedStvk reduced(*elastic.model, p, basis);
+  row.coefficients_s = reduced.precomputation_seconds();
+  row.precompute_s = row.derivatives_s + row.orthonormalize_s + row.coefficients_s;
+
+  ReducedDynamicsOptions reduced_options;
+  reduced_options.integrator = ReducedIntegrator::newmark;
+  reduced_options.time_step = h;
+  reduced_options.rayleigh_mass = 0.0;
+  reduced_options.rayleigh_stiffness = kBeta;
+  reduced_options.newton_tolerance = 1e-10;
+  const ReducedDynamics dynamics(reduced, reduced_options, Matrix(), basis.transpose() * gravity_force);
+  ReducedTrajectory trajectory;
+  trajectory.states.push_back(dynamics.initial_state(Vector::Zero(row.r), Vector::Zero(row.r)));
+  std::vector<double> step_wall, step_cpu;
+  for (int s = 0; s < steps; ++s) {
+    ReducedState next;
+    int newton = 0;
+    std::string message;
+    const auto t0 = Clock::now();
+    const double c0 = cpu_seconds();
+    const bool ok = dynamics.step(trajectory.states.back(), next, newton, message);
+    step_wall.push_back(seconds_since(t0));
+    step_cpu.push_back(cpu_seconds() - c0);
+    if (!ok)
+      throw std::runtime_error(row.basis + " r = " + std::to_string(row.r) + ": step " +
+                               std::to_string(s + 1) + " failed: " + message);
+    trajectory.newton_iterations += newton;
+    trajectory.states.push_back(std::move(next));
+  }
+  row.step_s = median(step_wall);
+  row.step_cpu_s = median(step_cpu);
+  row.steps_per_s = 1.0 / row.step_s;
+  row.newton_per_step = static_cast<double>(trajectory.newton_iterations) / steps;
+
+  double error2 = 0.0;
+  for (int n = 0; n <= steps; ++n) {
+    const Vector u = basis * trajectory.states[n].q;
+    const Eigen::Vector3d tip_r = tip_point(u, tip);
+    row.tip_fall.push_back(-tip_r.z());
+    row.peak_tip_error = std::max(row.peak_tip_error, (tip_r - reference.tip[n]).norm());
+    if (n > 0) {
+      const Vector e = u - reference.u.col(n);
+      error2 += e.dot(mass * e);
+    }
+  }
+  row.trajectory_error = std::sqrt(error2 / reference.norm2);
+  row.peak_tip_error_relative = row.peak_tip_error / reference.tip_peak();
+  std::printf(
+      "  %-17s m = %2d, r = %2d: %8.5f s/step (%.0f steps/s), %.2f Newton/step, precompute %.2f s, "
+      "trajectory error %.3e, peak tip error %.4f (%.2f%%)\n",
+      row.basis.c_str(), row.linear_modes, row.r, row.step_s, row.steps_per_s, row.newton_per_step,
+      row.precompute_s, row.trajectory_error, row.peak_tip_error, 100 * row.peak_tip_error_relative);
+  std::fflush(stdout);
+  return row;
+}
+
 MeshResult run_mesh(int target_tets, double h, int steps, const std::vector<int>& mode_counts,
                     const std::vector<int>& derivative_mode_counts) {
   MeshResult result;
@@ -131,55 +282,7 @@ MeshResult run_mesh(int target_tets, double h, int steps, const std::vector<int>
               result.free_dofs, steps, h);
   std::fflush(stdout);
 
-  // Full space.
-  TimeIntegratorOptions options;
-  options.scheme = TimeScheme::newmark;
-  options.time_step = h;
-  TimeIntegrator integrator(*full.model, options);
-  DynamicState state = integrator.initial_state(full.rest, Vector::Zero(full.rest.size()), p_full);
-  Matrix u_full(full.rest.size(), steps + 1);
-  u_full.col(0).setZero();
-  std::vector<double> wall, cpu;
-  int iterations = 0;
-  const auto t_full = Clock::now();
-  for (int s = 0; s < steps; ++s) {
-    const auto t0 = Clock::now();
-    const double c0 = cpu_seconds();
-    const NewtonResult r = integrator.step(state, p_full);
-    wall.push_back(seconds_since(t0));
-    cpu.push_back(cpu_seconds() - c0);
-    if (!r.converged())
-      throw std::runtime_error("full-space step " + std::to_string(s + 1) + " failed: " + r.message);
-    iterations += r.iterations;
-    for (const NewtonIteration& it : r.history) {
-      result.full_assembly_s += it.assembly_seconds / steps;
-      result.full_factorization_s += it.factorization_seconds / steps;
-      result.full_line_search_s += it.line_search_seconds / steps;
-    }
-    u_full.col(s + 1) = state.x - full.rest;
-    if ((s + 1) % 10 == 0 || s + 1 == steps) {
-      std::fprintf(stderr, "  full space: step %d/%d, %.3f s, %d Newton iterations, tip z %.3f\n", s + 1,
-                   steps, wall.back(), r.iterations, tip_point(u_full.col(s + 1), tip).z());
-    }
-  }
-  result.full_total_s = seconds_since(t_full);
-  result.full_step_s = median(wall);
-  result.full_step_cpu_s = median(cpu);
-  result.full_newton_per_step = static_cast<double>(iterations) / steps;
-  std::vector<Eigen::Vector3d> tip_full(steps + 1);
-  double full_norm2 = 0.0;
-  for (int n = 0; n <= steps; ++n) {
-    tip_full[n] = tip_point(u_full.col(n), tip);
-    result.tip_fall.push_back(-tip_full[n].z());
-    result.peak_tip = std::max(result.peak_tip, tip_full[n].norm());
-    if (n > 0) full_norm2 += u_full.col(n).dot(mass * u_full.col(n));
-  }
-  std::printf(
-      "  full space: median step %.4f s (CPU %.4f s), %.2f Newton/step (per step: assembly %.3f s, "
-      "factorization %.3f s, line search %.3f s), %.1f s in all; peak tip displacement %.3f\n",
-      result.full_step_s, result.full_step_cpu_s, result.full_newton_per_step, result.full_assembly_s,
-      result.full_factorization_s, result.full_line_search_s, result.full_total_s, result.peak_tip);
-  std::fflush(stdout);
+  const FullSpaceReference reference = simulate_full_space(full, p_full, mass, tip, h, steps, result);
 
   // Modal analysis once for the largest count.
   std::vector<Setting> settings;
@@ -199,81 +302,9 @@ MeshResult run_mesh(int target_tets, double h, int steps, const std::vector<int>
   for (int v = 0; v < result.vertices; ++v) g_field[3 * v + 2] = -kGravity;
   const Vector gravity_force = mass * g_field;
 
-  for (const Setting& setting : settings) {
-    Row row;
-    row.tets = m;
-    row.basis = setting.basis;
-    row.linear_modes = setting.linear_modes;
-    Matrix basis;
-    if (setting.basis == "modes") {
-      basis = modes.modes.leftCols(setting.linear_modes);
-    } else {
-      const int k = setting.linear_modes;
-      t = Clock::now();
-      const Matrix psi = modal_derivatives(*elastic.model, elastic.rest, p, modes.modes.leftCols(k));
-      row.derivatives_s = seconds_since(t);
-      Matrix all(modes.modes.rows(), k + psi.cols());
-      all << modes.modes.leftCols(k), psi;
-      t = Clock::now();
-      basis = mass_orthonormal_basis(all, mass);
-      row.orthonormalize_s = seconds_since(t);
-    }
-    row.r = static_cast<int>(basis.cols());
-    const ReducedStvk reduced(*elastic.model, p, basis);
-    row.coefficients_s = reduced.precomputation_seconds();
-    row.precompute_s = row.derivatives_s + row.orthonormalize_s + row.coefficients_s;
-
-    ReducedDynamicsOptions reduced_options;
-    reduced_options.integrator = ReducedIntegrator::newmark;
-    reduced_options.time_step = h;
-    reduced_options.rayleigh_mass = 0.0;
-    reduced_options.rayleigh_stiffness = kBeta;
-    reduced_options.newton_tolerance = 1e-10;
-    const ReducedDynamics dynamics(reduced, reduced_options, Matrix(), basis.transpose() * gravity_force);
-    ReducedTrajectory trajectory;
-    trajectory.states.push_back(dynamics.initial_state(Vector::Zero(row.r), Vector::Zero(row.r)));
-    std::vector<double> step_wall, step_cpu;
-    for (int s = 0; s < steps; ++s) {
-      ReducedState next;
-      int newton = 0;
-      std::string message;
-      const auto t0 = Clock::now();
-      const double c0 = cpu_seconds();
-      const bool ok = dynamics.step(trajectory.states.back(), next, newton, message);
-      step_wall.push_back(seconds_since(t0));
-      step_cpu.push_back(cpu_seconds() - c0);
-      if (!ok)
-        throw std::runtime_error(row.basis + " r = " + std::to_string(row.r) + ": step " +
-                                 std::to_string(s + 1) + " failed: " + message);
-      trajectory.newton_iterations += newton;
-      trajectory.states.push_back(std::move(next));
-    }
-    row.step_s = median(step_wall);
-    row.step_cpu_s = median(step_cpu);
-    row.steps_per_s = 1.0 / row.step_s;
-    row.newton_per_step = static_cast<double>(trajectory.newton_iterations) / steps;
-
-    double error2 = 0.0;
-    for (int n = 0; n <= steps; ++n) {
-      const Vector u = basis * trajectory.states[n].q;
-      const Eigen::Vector3d tip_r = tip_point(u, tip);
-      row.tip_fall.push_back(-tip_r.z());
-      row.peak_tip_error = std::max(row.peak_tip_error, (tip_r - tip_full[n]).norm());
-      if (n > 0) {
-        const Vector e = u - u_full.col(n);
-        error2 += e.dot(mass * e);
-      }
-    }
-    row.trajectory_error = std::sqrt(error2 / full_norm2);
-    row.peak_tip_error_relative = row.peak_tip_error / result.peak_tip;
-    std::printf(
-        "  %-17s m = %2d, r = %2d: %8.5f s/step (%.0f steps/s), %.2f Newton/step, precompute %.2f s, "
-        "trajectory error %.3e, peak tip error %.4f (%.2f%%)\n",
-        row.basis.c_str(), row.linear_modes, row.r, row.step_s, row.steps_per_s, row.newton_per_step,
-        row.precompute_s, row.trajectory_error, row.peak_tip_error, 100 * row.peak_tip_error_relative);
-    std::fflush(stdout);
-    result.rows.push_back(std::move(row));
-  }
+  for (const Setting& setting : settings)
+    result.rows.push_back(
+        run_reduced(setting, modes, elastic, p, mass, gravity_force, h, steps, reference, tip));
   return result;
 }
 
@@ -330,7 +361,7 @@ void write_plots(const std::string& path, const std::vector<MeshResult>& meshes,
 int main(int argc, char** argv) {
   std::vector<int> tets = {3000, 58000}, mode_counts = {10, 20, 40}, derivative_mode_counts = {5, 10};
   double duration = 1.0, h = 0.02;
-  std::string out = "bench_reduction_error.json", plot = "reduction_error.png";
+  std::string out = "bench_reduction_error.json", plot = "bench_reduction_error.png";
   const char* usage =
       "usage: reduction_error_bench [--quick] [--tets 3000,58000] [--modes 10,20,40] [--derivative-modes "
       "5,10]\n"

@@ -22,29 +22,18 @@
 #include <vector>
 
 #include "adjoint/transient_functional.hpp"
+#include "cantilever.hpp"
 #include "forward/dynamics/setup.hpp"
-#include "forward/fem/elastic_term.hpp"
-#include "forward/mesh/generate.hpp"
 #include "tailor_version.hpp"
 
 using namespace tailor;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// Process CPU seconds (all threads): with OMP_NUM_THREADS=1 it measures the work of a step
-// without the waiting a loaded machine adds to wall-clock time.
-double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t k = v.size() / 2;
-  return v.size() % 2 ? v[k] : 0.5 * (v[k - 1] + v[k]);
-}
+using bench::Clock;
+using bench::cpu_seconds;
+using bench::median;
+using bench::seconds_since;
 
 struct Row {
   std::string scheme;
@@ -57,29 +46,19 @@ struct Row {
 };
 
 Row run(TimeScheme scheme, int target_tets, int steps) {
-  // n x n cells across, as many along the length as bring the count nearest the target.
-  const int n = std::max(1, static_cast<int>(std::floor(std::cbrt(target_tets / (6.0 * 4.0)))));
-  const int along = std::max(1, static_cast<int>(std::lround(target_tets / (6.0 * n * n))));
-  const Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 1, 1), along, n, n);
+  DynamicTerms terms;
+  const bench::Cantilever bar = bench::make_cantilever(
+      4.0, bench::cantilever_cells(target_tets, 4.0), MaterialKind::neo_hookean,
+      [&](Model& model, const Mesh& mesh) {
+        terms = add_dynamics_terms(
+            model, mesh, DynamicsSetup{MassLumping::consistent, Eigen::Vector3d(0, 0, -9.81), true});
+      });
+  const Mesh& mesh = bar.mesh;
+  Model& model = *bar.model;
+  const Vector& rest = bar.rest;
+  const std::vector<int>& tip = bar.tip_vertices;
   const int m = mesh.num_elements();
-  Model model(3 * mesh.num_vertices());
-  model.parameter_layout().add("youngs_modulus", m);
-  model.parameter_layout().add("poisson_ratio", m);
-  model.add(std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(MaterialKind::neo_hookean), 0, m));
-  const DynamicTerms terms = add_dynamics_terms(
-      model, mesh, DynamicsSetup{MassLumping::consistent, Eigen::Vector3d(0, 0, -9.81), true});
-  Vector rest(3 * mesh.num_vertices());
-  std::vector<int> fixed, tip;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    rest.segment<3>(3 * v) = mesh.rest_positions.row(v).transpose();
-    if (mesh.rest_positions(v, 0) < 1e-9)
-      for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
-    if (mesh.rest_positions(v, 0) > 4 - 1e-9) tip.push_back(v);
-  }
-  model.set_elimination(Elimination::dirichlet(fixed, rest));
-  Vector p(model.parameter_layout().size());
-  p.head(m).setConstant(1e6);
-  p.segment(m, m).setConstant(0.3);
+  Vector p = bench::cantilever_parameters(bar, 1e6, 0.3);
   p.segment(terms.density_offset, m).setConstant(1000.0);
   p[terms.alpha_offset] = 0.5;
   p[terms.beta_offset] = 1e-3;

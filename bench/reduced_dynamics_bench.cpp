@@ -28,9 +28,8 @@
 #include <omp.h>
 #endif
 
-#include "forward/fem/elastic_term.hpp"
+#include "cantilever.hpp"
 #include "forward/fem/mass.hpp"
-#include "forward/mesh/generate.hpp"
 #include "forward/reduction/mass_orthonormal_basis.hpp"
 #include "forward/reduction/modal_analysis.hpp"
 #include "forward/reduction/modal_derivatives.hpp"
@@ -43,44 +42,22 @@ using namespace tailor;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
+using bench::Clock;
+using bench::median;
+double since(Clock::time_point t) { return bench::seconds_since(t); }
 
 struct Beam {
-  Mesh mesh;
-  std::unique_ptr<Model> model;
-  Vector rest, p;
+  bench::Cantilever bar;
+  Vector p;
   SparseMatrix mass;
-  std::vector<int> tip;
 };
 
 Beam make_beam(int n) {
   Beam b;
-  b.mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(10, 1, 1), 10 * n, n, n);
-  const int m = b.mesh.num_elements();
-  b.model = std::make_unique<Model>(3 * b.mesh.num_vertices());
-  const int youngs = b.model->parameter_layout().add("youngs_modulus", m);
-  const int poisson = b.model->parameter_layout().add("poisson_ratio", m);
-  b.model->add(
-      std::make_unique<ElasticTerm<3>>(b.mesh, make_material<3>(MaterialKind::stvk), youngs, poisson));
-  b.rest.resize(3 * b.mesh.num_vertices());
-  std::vector<int> fixed;
-  for (int v = 0; v < b.mesh.num_vertices(); ++v) {
-    b.rest.segment<3>(3 * v) = b.mesh.rest_positions.row(v).transpose();
-    if (b.mesh.rest_positions(v, 0) < 1e-9)
-      for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
-    if (b.mesh.rest_positions(v, 0) > 10 - 1e-9) b.tip.push_back(v);
-  }
-  b.model->set_elimination(Elimination::dirichlet(fixed, b.rest));
-  b.p.resize(2 * m);
-  b.p.head(m).setConstant(1e6);
-  b.p.tail(m).setConstant(0.3);
-  b.mass = mass_matrix(b.mesh, Eigen::VectorXd::Constant(m, 1000.0), MassLumping::consistent);
+  b.bar = bench::make_cantilever(10.0, {10 * n, n}, MaterialKind::stvk);
+  const int m = b.bar.mesh.num_elements();
+  b.p = bench::cantilever_parameters(b.bar, 1e6, 0.3);
+  b.mass = mass_matrix(b.bar.mesh, Eigen::VectorXd::Constant(m, 1000.0), MassLumping::consistent);
   return b;
 }
 
@@ -139,14 +116,15 @@ int main(int argc, char** argv) {
   std::vector<MeshInfo> meshes;
   for (int n : cells) {
     const Beam beam = make_beam(n);
-    const int tets = beam.mesh.num_elements();
-    std::printf("\nmesh: %d tets, %d vertices\n", tets, beam.mesh.num_vertices());
+    const int tets = beam.bar.mesh.num_elements();
+    std::printf("\nmesh: %d tets, %d vertices\n", tets, beam.bar.mesh.num_vertices());
     std::fflush(stdout);
     auto t = Clock::now();
     const std::clock_t modal_cpu = std::clock();
     ModalAnalysisOptions modal_options;
     modal_options.count = max_rank;
-    const ModalAnalysis modes = modal_analysis(*beam.model, 3, beam.rest, beam.p, beam.mass, modal_options);
+    const ModalAnalysis modes =
+        modal_analysis(*beam.bar.model, 3, beam.bar.rest, beam.p, beam.mass, modal_options);
     const double modal_s = since(t),
                  modal_cpu_s = static_cast<double>(std::clock() - modal_cpu) / CLOCKS_PER_SEC;
     std::printf("  modal analysis (%d modes): %.2f s (CPU %.2f s), first frequencies %.3f %.3f Hz\n",
@@ -160,11 +138,11 @@ int main(int argc, char** argv) {
     };
     const int max_m = modes_for(max_rank);
     t = Clock::now();
-    const Matrix psi = modal_derivatives(*beam.model, beam.rest, beam.p, modes.modes.leftCols(max_m));
+    const Matrix psi = modal_derivatives(*beam.bar.model, beam.bar.rest, beam.p, modes.modes.leftCols(max_m));
     const double derivative_s = since(t);
     std::printf("  modal derivatives of %d modes (%d vectors): %.2f s\n", max_m, static_cast<int>(psi.cols()),
                 derivative_s);
-    meshes.push_back({tets, beam.mesh.num_vertices(), modal_s, derivative_s, modal_cpu_s});
+    meshes.push_back({tets, beam.bar.mesh.num_vertices(), modal_s, derivative_s, modal_cpu_s});
     for (const bool with_derivatives : {false, true}) {
       for (int r : ranks) {
         Row row;
@@ -189,18 +167,18 @@ int main(int argc, char** argv) {
         }
         row.basis_s = since(t);
         const std::clock_t precompute_cpu = std::clock();
-        const ReducedStvk reduced(*beam.model, beam.p, basis);
+        const ReducedStvk reduced(*beam.bar.model, beam.p, basis);
         row.precompute_s = reduced.precomputation_seconds();
         row.precompute_cpu_s = static_cast<double>(std::clock() - precompute_cpu) / CLOCKS_PER_SEC;
         {
-          const ProjectedReducedModel projected(*beam.model, beam.p, beam.rest, basis);
+          const ProjectedReducedModel projected(*beam.bar.model, beam.p, beam.bar.rest, basis);
           Vector f;
           Matrix k;
           t = Clock::now();
           projected.evaluate(Vector::Constant(r, 1e-3), nullptr, &f, &k);
           row.projected_eval_s = since(t);
         }
-        const Matrix tip_rows = vertex_rows(basis, beam.tip, 3);
+        const Matrix tip_rows = vertex_rows(basis, beam.bar.tip_vertices, 3);
         for (int integrator = 0; integrator < 4;
              ++integrator) {  // Euler, Newmark, Newmark chord, Newmark 1 step
           ReducedDynamicsOptions options;

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "problems/optimizer_report.hpp"
 #include "problems/report.hpp"
 #include "tailor_version.hpp"
 
@@ -103,16 +104,7 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
   report["iterations"] = result.history.empty() ? 0 : result.history.back().iteration;
   report["evaluations"] = result.evaluations;
 
-  Json history = Json::array();
-  for (const OptimizerIteration& it : result.history)
-    history.push_back({{"iteration", it.iteration},
-                       {"objective", it.objective},
-                       {"gradient_norm", it.gradient_norm},
-                       {"step", it.step_norm},
-                       {"seconds", it.seconds},
-                       {"forward_solves", it.forward_solves},
-                       {"adjoint_solves", it.adjoint_solves}});
-  report["history"] = history;
+  report["history"] = optimizer_history_json(result);
 
   Json terms = Json::array();
   for (std::size_t k = 0; k < problem.terms.size(); ++k) {

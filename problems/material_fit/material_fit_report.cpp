@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "problems/optimizer_report.hpp"
 #include "problems/report.hpp"
 #include "problems/spline_curves_json.hpp"
 #include "tailor_version.hpp"
@@ -29,16 +30,7 @@ void write_material_fit_report(const std::string& path, const MaterialFitSpec& s
   report["backend"] = to_string(spec.optimizer.backend);
   report["iterations"] = result.history.empty() ? 0 : result.history.back().iteration;
   report["evaluations"] = run.evaluations;
-  Json history = Json::array();
-  for (const OptimizerIteration& it : result.history)
-    history.push_back({{"iteration", it.iteration},
-                       {"objective", it.objective},
-                       {"gradient_norm", it.gradient_norm},
-                       {"step", it.step_norm},
-                       {"seconds", it.seconds},
-                       {"forward_solves", it.forward_solves},
-                       {"adjoint_solves", it.adjoint_solves}});
-  report["history"] = history;
+  report["history"] = optimizer_history_json(result);
   report["objective"] = {
       {"initial", result.history.empty() ? Json(nullptr) : Json(result.history.front().objective)},
       {"final", result.objective}};

@@ -1,4 +1,4 @@
-#include "adjoint/preconditioned_cg.hpp"
+#include "forward/solve/preconditioned_cg.hpp"
 
 namespace tailor {
 

@@ -46,8 +46,9 @@ struct NewtonOptions {
   // across iterations and solve() calls; an iteration that would factorize the exact Hessian
   // first solves H dy = -g by conjugate gradients preconditioned with the kept factor, when
   // that factor is an exact, positive definite (LL^T) Hessian of a nearby state or nearby
-  // parameters. CG must reach the forcing tolerance (below) within reuse_max_cg_iterations
-  // and give a descent direction; otherwise the iteration factorizes as without reuse.
+  // parameters. CG aims at the forcing tolerance min(0.1, ||g|| / scale) within
+  // reuse_max_cg_iterations; when it ends above 0.1 or its step is not a descent direction,
+  // the iteration factorizes as without reuse (and keeps that fresh factor).
   // Worth it for sequences of nearby solves (an optimizer's warm-started forward solves),
   // where a factorization costs far more than a few triangular solves. The convergence test
   // is unchanged, so the equilibrium is the same to the tolerance.

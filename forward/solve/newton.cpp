@@ -179,6 +179,7 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
                                              options_.reuse_max_cg_iterations, dy);
       it.solve_seconds += seconds_since(t0);
       it.cg_iterations = cg.iterations;
+      it.cg_relative_residual = cg.relative_residual;
       it.reused_factorization = cg.relative_residual <= 0.1 && dy.allFinite() && dy.dot(gradient) < 0.0;
     }
     if (!it.reused_factorization) {

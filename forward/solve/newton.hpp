@@ -73,6 +73,7 @@ struct NewtonIteration {
   bool used_projected = false;         // the factorized Hessian was the PSD-projected one
   bool reused_factorization = false;   // the step came from CG preconditioned by a kept factor
   int cg_iterations = 0;               // CG iterations tried (also when CG then fell back)
+  double cg_relative_residual = 0.0;   // ||H dy + g|| / ||g|| where CG stopped
   int factorizations = 0;              // numeric factorizations in this iteration
   double assembly_seconds = 0.0;       // energy, gradient and Hessian assembly
   double factorization_seconds = 0.0;  // numeric factorization (analysis only once)

@@ -95,6 +95,7 @@ FactorizationResult NewtonSolver::factorize_hessian(const Vector& p, const Vecto
   }
   const FactorizationResult result = cholesky_.factorize(hessian_);
   factor_is_exact_ = mode == HessianMode::exact && result.success;
+  kept_factor_stale_ = false;
   factor_matches_hessian_ = result.success;
   return result;
 }
@@ -164,7 +165,7 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       return finish(NewtonStatus::max_iterations, "iteration limit " + std::to_string(k) + " reached");
 
     Vector dy;
-    if (options_.reuse_factorization && mode == HessianMode::exact && can_precondition()) {
+    if (options_.reuse_factorization && mode == HessianMode::exact && !kept_factor_stale_ && can_precondition()) {
       // Inexact Newton (Dembo, Eisenstat & Steihaug 1982): the step solves H dy = -g to a
       // relative residual eta. Aim for eta = min(0.1, ||g|| / scale), Eisenstat & Walker's
       // (1996) quadratic forcing, so that the Newton iterations are as few as with exact
@@ -180,12 +181,16 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       it.solve_seconds += seconds_since(t0);
       it.cg_iterations = cg.iterations;
       it.cg_relative_residual = cg.relative_residual;
+      // A factor that no longer gets CG to eta within the cap has gone stale: the step is still
+      // taken (if eta <= 0.1), but the next iteration factorizes afresh.
+      kept_factor_stale_ = !cg.converged;
       it.reused_factorization = cg.relative_residual <= 0.1 && dy.allFinite() && dy.dot(gradient) < 0.0;
     }
     if (!it.reused_factorization) {
       // Newton direction: H dy = -g; shift the diagonal when the direction is not descent.
       t0 = Clock::now();
       factor_is_exact_ = false;  // until a factorization below is known to be of the exact Hessian
+      kept_factor_stale_ = false;
       FactorizationResult fact = cholesky_.factorize(hessian_);
       ++it.factorizations;
       it.factorization_seconds = seconds_since(t0);

@@ -48,7 +48,8 @@ struct NewtonOptions {
   // that factor is an exact, positive definite (LL^T) Hessian of a nearby state or nearby
   // parameters. CG aims at the forcing tolerance min(0.1, ||g|| / scale) within
   // reuse_max_cg_iterations; when it ends above 0.1 or its step is not a descent direction,
-  // the iteration factorizes as without reuse (and keeps that fresh factor).
+  // the iteration factorizes as without reuse (and keeps that fresh factor); when it ends
+  // between the forcing tolerance and 0.1, the step is taken and the next iteration factorizes.
   // Worth it for sequences of nearby solves (an optimizer's warm-started forward solves),
   // where a factorization costs far more than a few triangular solves. The convergence test
   // is unchanged, so the equilibrium is the same to the tolerance.
@@ -133,6 +134,7 @@ class NewtonSolver {
   HessianMode assembled_mode_ = HessianMode::projected;
   bool factor_is_exact_ = false;
   bool factor_matches_hessian_ = false;
+  bool kept_factor_stale_ = false;  // reuse: the last CG missed its tolerance with the kept factor
   bool analyzed_ = false;
 };
 

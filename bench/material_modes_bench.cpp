@@ -19,8 +19,9 @@
 // then per reduced run its speed-up over the full design and how soon it reached the full
 // design's final error. Run with
 // OPENBLAS_NUM_THREADS=1 on a shared machine (BLAS threads fight over the cores otherwise).
-// --reuse-factorization on|off (default on) sets the scenes' solver.reuse_factorization: Newton
-// preconditions CG with its kept factorization instead of factorizing every iteration.
+// --reuse-factorization on|off overrides the scenes' solver.reuse_factorization (on in the large
+// scene, off in the small one, where a factorization is cheap and CG steps do not pay off):
+// Newton preconditions CG with its kept factorization instead of factorizing every iteration.
 // --no-full skips the full design (e.g. to time reduced runs on the large scene alone).
 //
 // usage: material_modes_bench [--quick] [--scenes small,large] [--modes 5,10,20,40,80]
@@ -75,7 +76,7 @@ struct Settings {
   int max_iterations = 200;
   double full_time_limit = 600.0;
   double time_limit = 0.0;          // of the reduced runs; 0 = none
-  bool reuse_factorization = true;  // solver.reuse_factorization of every run
+  std::optional<bool> reuse_factorization;  // overrides solver.reuse_factorization when set
   bool full = true;                 // run the full design
   std::string scene_dir = "scenes", out = "bench_material_modes.json", plot = "bench_material_modes.png";
 };
@@ -149,7 +150,7 @@ double time_to_error(const Row& row, double error) {
 
 Row run(const Settings& settings, const Setting& setting) {
   Scene scene = read_scene(scene_file(settings, setting.scene));
-  scene.solver.newton.reuse_factorization = settings.reuse_factorization;
+  if (settings.reuse_factorization) scene.solver.newton.reuse_factorization = *settings.reuse_factorization;
   auto spec = std::make_shared<InverseSpec>(*scene.inverse);
   spec->design.granularity = DesignGranularity::modes;
   spec->design.modes = setting.modes;
@@ -342,7 +343,8 @@ int main(int argc, char** argv) {
       "tailor %s: material modes vs full design (OPENBLAS_NUM_THREADS=%s; caps: %d iterations, full %g s; "
       "reuse_factorization %s)\n",
       version_string, std::getenv("OPENBLAS_NUM_THREADS") ? std::getenv("OPENBLAS_NUM_THREADS") : "unset",
-      settings.max_iterations, settings.full_time_limit, settings.reuse_factorization ? "on" : "off");
+      settings.max_iterations, settings.full_time_limit,
+      !settings.reuse_factorization ? "as in the scenes" : *settings.reuse_factorization ? "on" : "off");
   std::printf("%-6s %6s %5s %-17s %5s %5s %6s %6s %9s %8s %9s %9s %12s %8s %4s %s\n", "scene", "tets", "r",
               "backend", "iters", "evals", "nwt/ev", "fac/ev", "wall s", "modes s", "fwd ms/it", "adj ms/it",
               "objective", "E error", "load", "status");

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "adjoint/preconditioned_cg.hpp"
+#include "forward/solve/preconditioned_cg.hpp"
 
 namespace tailor {
 namespace {
@@ -92,7 +92,20 @@ Vector StaticFunctional::solve_hessian(const Vector& rhs) {
     counters_.adjoint_seconds += seconds_since(t0);
     return v;
   }
-  if (exact_matrix && newton_.factorization_is_exact() && factor.has_factor() && !factor.is_ldlt()) {
+  // With NewtonOptions::reuse_factorization the kept factor can be of another design. The
+  // contraction per iteration that Newton's last CG achieved with it predicts how many
+  // iterations this solve's tolerance needs; when more than the cap, factorize at once.
+  bool poor_preconditioner = false;
+  if (!newton_result_.history.empty()) {
+    const NewtonIteration& last = newton_result_.history.back();
+    if (last.reused_factorization && last.cg_iterations > 0 && last.cg_relative_residual > 0.0) {
+      const double rate = std::pow(last.cg_relative_residual, 1.0 / last.cg_iterations);
+      poor_preconditioner = rate >= 1.0 || std::log(options_.linear_relative_tolerance) / std::log(rate) >
+                                               options_.max_cg_iterations;
+    }
+  }
+  if (exact_matrix && !poor_preconditioner && newton_.factorization_is_exact() && factor.has_factor() &&
+      !factor.is_ldlt()) {
     // Preconditioned CG on H, preconditioned by the factorization of the previous Newton
     // iterate's exact Hessian, which differs from H by O(|dx|).
     Vector v;

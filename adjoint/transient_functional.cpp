@@ -3,7 +3,7 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "adjoint/preconditioned_cg.hpp"
+#include "forward/solve/preconditioned_cg.hpp"
 
 namespace tailor {
 namespace {

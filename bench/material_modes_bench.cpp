@@ -19,11 +19,15 @@
 // then per reduced run its speed-up over the full design and how soon it reached the full
 // design's final error. Run with
 // OPENBLAS_NUM_THREADS=1 on a shared machine (BLAS threads fight over the cores otherwise).
+// --reuse-factorization on|off overrides the scenes' solver.reuse_factorization (on in the large
+// scene, off in the small one, where a factorization is cheap and CG steps do not pay off):
+// Newton preconditions CG with its kept factorization instead of factorizing every iteration.
+// --no-full skips the full design (e.g. to time reduced runs on the large scene alone).
 //
 // usage: material_modes_bench [--quick] [--scenes small,large] [--modes 5,10,20,40,80]
 //          [--backends ipopt,ceres_lbfgs,gradient_descent] [--backend-modes 20] [--max-iterations 200]
 //          [--full-time-limit 600] [--time-limit 0] [--scene-dir scenes]
-//          [--out FILE] [--plot FILE]
+//          [--out FILE] [--plot FILE] [--reuse-factorization on|off] [--no-full]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -59,6 +63,7 @@ struct Row {
   bool capped = false;                           // stopped by an iteration or time cap
   std::vector<double> history_s, history_error;  // per evaluation: wall seconds (with modes), E error
   int newton_iterations = 0;                     // summed over the forward solves
+  int factorizations = 0;                        // Newton's numeric factorizations, summed likewise
   double load_average = 0.0;                     // 1-minute load average when the run ended
 };
 
@@ -70,7 +75,9 @@ struct Settings {
                                             OptimizerBackend::gradient_descent};
   int max_iterations = 200;
   double full_time_limit = 600.0;
-  double time_limit = 0.0;  // of the reduced runs; 0 = none
+  double time_limit = 0.0;          // of the reduced runs; 0 = none
+  std::optional<bool> reuse_factorization;  // overrides solver.reuse_factorization when set
+  bool full = true;                 // run the full design
   std::string scene_dir = "scenes", out = "bench_material_modes.json", plot = "bench_material_modes.png";
 };
 
@@ -107,6 +114,7 @@ class RecordingFunctional final : public ReducedFunctional {
     if (problem_.functional->counters().forward_solves != solves_) {
       solves_ = problem_.functional->counters().forward_solves;
       row_.newton_iterations += problem_.functional->last_newton().iterations;
+      row_.factorizations += problem_.functional->last_newton().factorizations();
     }
     // The error of the best design so far (lowest J): what stopping now would return; trial
     // points of line searches would otherwise show as spikes.
@@ -142,6 +150,7 @@ double time_to_error(const Row& row, double error) {
 
 Row run(const Settings& settings, const Setting& setting) {
   Scene scene = read_scene(scene_file(settings, setting.scene));
+  if (settings.reuse_factorization) scene.solver.newton.reuse_factorization = *settings.reuse_factorization;
   auto spec = std::make_shared<InverseSpec>(*scene.inverse);
   spec->design.granularity = DesignGranularity::modes;
   spec->design.modes = setting.modes;
@@ -182,9 +191,10 @@ Row run(const Settings& settings, const Setting& setting) {
 }
 
 void print_row(const Row& r) {
-  std::printf("%-6s %6d %5s %-17s %5d %5d %6.1f %9.2f %8.3f %9.1f %9.1f %12.5e %8.4f %4.1f %s\n",
+  std::printf("%-6s %6d %5s %-17s %5d %5d %6.1f %6.1f %9.2f %8.3f %9.1f %9.1f %12.5e %8.4f %4.1f %s\n",
               r.scene.c_str(), r.tets, r.modes.c_str(), r.backend.c_str(), r.iterations, r.evaluations,
-              static_cast<double>(r.newton_iterations) / std::max(1, r.evaluations), r.wall_s, r.modes_s,
+              static_cast<double>(r.newton_iterations) / std::max(1, r.evaluations),
+              static_cast<double>(r.factorizations) / std::max(1, r.evaluations), r.wall_s, r.modes_s,
               r.forward_ms, r.adjoint_ms, r.objective, r.error, r.load_average,
               (r.status + (r.capped ? " (capped)" : "")).c_str());
   std::fflush(stdout);
@@ -214,7 +224,8 @@ void write_json(const Settings& settings, const std::vector<Row>& rows) {
          << ", \"wall_s\": " << r.wall_s << ", \"modes_s\": " << r.modes_s
          << ", \"optimization_s\": " << r.optimization_s << ", \"forward_ms_per_iteration\": " << r.forward_ms
          << ", \"adjoint_ms_per_iteration\": " << r.adjoint_ms
-         << ", \"newton_iterations\": " << r.newton_iterations << ", \"load_average\": " << r.load_average
+         << ", \"newton_iterations\": " << r.newton_iterations
+         << ", \"newton_factorizations\": " << r.factorizations << ", \"load_average\": " << r.load_average
          << ", \"objective\": " << r.objective << ", \"relative_l2_error\": " << r.error
          << ", \"initial_relative_l2_error\": " << r.initial_error
          << ", \"history_s\": " << json_array(r.history_s)
@@ -295,11 +306,17 @@ int main(int argc, char** argv) {
       settings.out = argv[++i];
     } else if (arg == "--plot" && has_value) {
       settings.plot = argv[++i];
+    } else if (arg == "--reuse-factorization" && has_value &&
+               (std::string(argv[i + 1]) == "on" || std::string(argv[i + 1]) == "off")) {
+      settings.reuse_factorization = std::string(argv[++i]) == "on";
+    } else if (arg == "--no-full") {
+      settings.full = false;
     } else {
       std::cerr << "usage: material_modes_bench [--quick] [--scenes small,large] [--modes 5,10,20,40,80]\n"
                    "         [--backends ipopt,ceres_lbfgs,gradient_descent] [--backend-modes 20]\n"
                    "         [--max-iterations 200] [--full-time-limit 600] [--time-limit 0]\n"
-                   "         [--scene-dir scenes] [--out FILE] [--plot FILE]\n";
+                   "         [--scene-dir scenes] [--out FILE] [--plot FILE]\n"
+                   "         [--reuse-factorization on|off] [--no-full]\n";
       return 2;
     }
   }
@@ -316,18 +333,20 @@ int main(int argc, char** argv) {
 
   std::vector<Setting> plan;
   for (const std::string& scene : settings.scenes) {
-    plan.push_back({scene, std::nullopt, OptimizerBackend::nlopt_lbfgs});
+    if (settings.full) plan.push_back({scene, std::nullopt, OptimizerBackend::nlopt_lbfgs});
     for (int r : settings.modes) plan.push_back({scene, r, OptimizerBackend::nlopt_lbfgs});
     if (!quick)
       for (OptimizerBackend b : settings.backends) plan.push_back({scene, settings.backend_modes, b});
   }
 
   std::printf(
-      "tailor %s: material modes vs full design (OPENBLAS_NUM_THREADS=%s; caps: %d iterations, full %g s)\n",
+      "tailor %s: material modes vs full design (OPENBLAS_NUM_THREADS=%s; caps: %d iterations, full %g s; "
+      "reuse_factorization %s)\n",
       version_string, std::getenv("OPENBLAS_NUM_THREADS") ? std::getenv("OPENBLAS_NUM_THREADS") : "unset",
-      settings.max_iterations, settings.full_time_limit);
-  std::printf("%-6s %6s %5s %-17s %5s %5s %6s %9s %8s %9s %9s %12s %8s %4s %s\n", "scene", "tets", "r",
-              "backend", "iters", "evals", "nwt/ev", "wall s", "modes s", "fwd ms/it", "adj ms/it",
+      settings.max_iterations, settings.full_time_limit,
+      !settings.reuse_factorization ? "as in the scenes" : *settings.reuse_factorization ? "on" : "off");
+  std::printf("%-6s %6s %5s %-17s %5s %5s %6s %6s %9s %8s %9s %9s %12s %8s %4s %s\n", "scene", "tets", "r",
+              "backend", "iters", "evals", "nwt/ev", "fac/ev", "wall s", "modes s", "fwd ms/it", "adj ms/it",
               "objective", "E error", "load", "status");
   std::vector<Row> rows;
   for (const Setting& setting : plan) {

@@ -297,6 +297,7 @@ std::unique_ptr<StaticFunctional> make_functional(const InverseProblem& problem)
   const NewtonOptions& scene_newton = problem.setup.solver.newton;
   options.newton.max_iterations = scene_newton.max_iterations;
   options.newton.hessian = scene_newton.hessian;
+  options.newton.reuse_factorization = scene_newton.reuse_factorization;
   options.newton.relative_tolerance =
       std::min(options.newton.relative_tolerance, scene_newton.relative_tolerance);
   // StaticFunctional measures warm starts against the residual at its start state; with load

@@ -291,7 +291,8 @@ LoadSpec parse_loads(const SceneNode& node, const std::string& directory) {
 }
 
 SolverSpec parse_solver(const SceneNode& node) {
-  node.expect_keys({"max_iterations", "relative_tolerance", "absolute_tolerance", "hessian", "load_steps"});
+  node.expect_keys({"max_iterations", "relative_tolerance", "absolute_tolerance", "hessian", "load_steps",
+                    "reuse_factorization"});
   SolverSpec s;
   if (auto v = node.find("max_iterations")) s.newton.max_iterations = v->integer(1);
   if (auto v = node.find("relative_tolerance")) s.newton.relative_tolerance = v->open_interval(0.0, 1.0);
@@ -303,6 +304,7 @@ SolverSpec parse_solver(const SceneNode& node) {
                                                : NewtonHessian::adaptive;
   }
   if (auto v = node.find("load_steps")) s.load_steps = v->integer(1);
+  if (auto v = node.find("reuse_factorization")) s.newton.reuse_factorization = v->boolean();
   return s;
 }
 

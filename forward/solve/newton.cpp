@@ -6,30 +6,42 @@
 #include <ostream>
 #include <sstream>
 
+#include "forward/solve/preconditioned_cg.hpp"
+
 namespace tailor {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 }  // namespace
 
 std::string to_string(NewtonStatus status) {
   switch (status) {
-    case NewtonStatus::converged: return "converged";
-    case NewtonStatus::max_iterations: return "max_iterations";
-    case NewtonStatus::line_search_failed: return "line_search_failed";
-    case NewtonStatus::non_finite: return "non_finite";
-    case NewtonStatus::singular_matrix: return "singular_matrix";
+    case NewtonStatus::converged:
+      return "converged";
+    case NewtonStatus::max_iterations:
+      return "max_iterations";
+    case NewtonStatus::line_search_failed:
+      return "line_search_failed";
+    case NewtonStatus::non_finite:
+      return "non_finite";
+    case NewtonStatus::singular_matrix:
+      return "singular_matrix";
   }
   return "unknown";
 }
 
 std::string to_string(NewtonHessian hessian) {
   switch (hessian) {
-    case NewtonHessian::adaptive: return "adaptive";
-    case NewtonHessian::exact: return "exact";
-    case NewtonHessian::projected: return "projected";
+    case NewtonHessian::adaptive:
+      return "adaptive";
+    case NewtonHessian::exact:
+      return "exact";
+    case NewtonHessian::projected:
+      return "projected";
   }
   return "unknown";
 }
@@ -37,8 +49,8 @@ std::string to_string(NewtonHessian hessian) {
 std::string NewtonResult::report() const {
   std::ostringstream s;
   s << "Newton: " << to_string(status) << " after " << iterations << " iterations (" << message << ")\n"
-    << std::scientific << std::setprecision(3) << "  residual " << initial_residual << " -> " << final_residual
-    << ", energy " << final_energy << "\n";
+    << std::scientific << std::setprecision(3) << "  residual " << initial_residual << " -> "
+    << final_residual << ", energy " << final_energy << "\n";
   double assembly = 0, factor = 0, solve = 0, line = 0;
   for (const auto& it : history) {
     assembly += it.assembly_seconds;
@@ -46,10 +58,29 @@ std::string NewtonResult::report() const {
     solve += it.solve_seconds;
     line += it.line_search_seconds;
   }
+  int reused = 0, cg = 0;
+  for (const auto& it : history) {
+    reused += it.reused_factorization ? 1 : 0;
+    cg += it.cg_iterations;
+  }
+  if (reused > 0 || cg > 0)
+    s << "  factorizations " << factorizations() << ", steps by CG with a kept factor " << reused << " ("
+      << cg << " CG iterations)\n";
   s << std::fixed << std::setprecision(4) << "  time " << total_seconds << " s: analysis " << analysis_seconds
-    << ", assembly " << assembly << ", factorization " << factor << ", solve " << solve << ", line search " << line
-    << "\n";
+    << ", assembly " << assembly << ", factorization " << factor << ", solve " << solve << ", line search "
+    << line << "\n";
   return s.str();
+}
+
+int NewtonResult::factorizations() const {
+  int n = 0;
+  for (const auto& it : history) n += it.factorizations;
+  return n;
+}
+
+bool NewtonSolver::can_precondition() const {
+  return factor_is_exact_ && cholesky_.has_factor() && !cholesky_.is_ldlt() &&
+         !cholesky_.has_low_rank_update() && cholesky_.rows() == hessian_.rows();
 }
 
 NewtonSolver::NewtonSolver(const Model& model, NewtonOptions options)
@@ -65,6 +96,7 @@ FactorizationResult NewtonSolver::factorize_hessian(const Vector& p, const Vecto
   const FactorizationResult result = cholesky_.factorize(hessian_);
   if (result.success) apply_low_rank(assembler_.low_rank_hessian(y, p, mode));
   factor_is_exact_ = mode == HessianMode::exact && result.success;
+  kept_factor_stale_ = false;
   factor_matches_hessian_ = result.success;
   return result;
 }
@@ -106,7 +138,8 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     it.iteration = k;
     // Which Hessian to assemble: see NewtonHessian.
     HessianMode mode = options_.hessian == NewtonHessian::exact ? HessianMode::exact : HessianMode::projected;
-    if (options_.hessian == NewtonHessian::adaptive) mode = projected_left > 0 ? HessianMode::projected : HessianMode::exact;
+    if (options_.hessian == NewtonHessian::adaptive)
+      mode = projected_left > 0 ? HessianMode::projected : HessianMode::exact;
     auto t0 = Clock::now();
     assembler_.evaluate(y, p, &energy, &gradient, &hessian_, mode);
     it.assembly_seconds = seconds_since(t0);
@@ -120,7 +153,8 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     result.final_energy = energy;
     result.iterations = k;
     if (!std::isfinite(energy) || !std::isfinite(residual))
-      return finish(NewtonStatus::non_finite, "energy or gradient is not finite at iteration " + std::to_string(k));
+      return finish(NewtonStatus::non_finite,
+                    "energy or gradient is not finite at iteration " + std::to_string(k));
 
     const double scale = std::max(result.initial_residual, options_.reference_residual);
     const double target = std::max(options_.relative_tolerance * scale, options_.absolute_tolerance);
@@ -135,62 +169,95 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     if (k == options_.max_iterations)
       return finish(NewtonStatus::max_iterations, "iteration limit " + std::to_string(k) + " reached");
 
-    // Newton direction: H dy = -g; shift the diagonal when the direction is not descent.
-    t0 = Clock::now();
-    FactorizationResult fact = cholesky_.factorize(hessian_);
-    it.factorization_seconds = seconds_since(t0);
-    if (projected_left > 0) --projected_left;
-    if (mode == HessianMode::exact && fact.positive_definite) projected_backoff = 1;
-    if (options_.hessian == NewtonHessian::adaptive && mode == HessianMode::exact && !fact.positive_definite) {
-      // Indefinite exact Hessian: use the projected one now and in the next iteration.
-      t0 = Clock::now();
-      assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, HessianMode::projected);
-      it.assembly_seconds += seconds_since(t0);
-      mode = assembled_mode_ = HessianMode::projected;
-      // Back off exponentially: a failed exact attempt costs one factorization, so after
-      // consecutive failures wait 1, 2, 4, ... iterations before trying again.
-      projected_left = projected_backoff;
-      projected_backoff = std::min(2 * projected_backoff, 16);
-      t0 = Clock::now();
-      fact = cholesky_.factorize(hessian_);
-      it.factorization_seconds += seconds_since(t0);
-    }
-    it.used_projected = mode == HessianMode::projected;
     Vector dy;
-    double shift = 0.0;
-    // Terms' low-rank Hessian parts go on top of the sparse factor (Woodbury).
+    // Terms' low-rank Hessian parts go on top of the sparse factor (Woodbury); CG with the kept
+    // factor sees only the sparse part, so it is tried only without them.
     const LowRankHessian low_rank = assembler_.low_rank_hessian(y, p, mode);
-    for (int attempt = 0;; ++attempt) {
-      if (fact.success) {
-        apply_low_rank(low_rank);
-        t0 = Clock::now();
-        dy = cholesky_.solve(Vector(-gradient));
-        it.solve_seconds += seconds_since(t0);
-        if (dy.allFinite() && dy.dot(gradient) < 0.0) break;
-      }
-      if (attempt == 30)
-        return finish(NewtonStatus::singular_matrix,
-                      "no descent direction at iteration " + std::to_string(k) + ": " + fact.message);
-      // Levenberg-style diagonal shift, relative to the largest diagonal entry.
-      double max_diag = 0.0;
-      for (int j = 0; j < hessian_.outerSize(); ++j) max_diag = std::max(max_diag, std::abs(hessian_.coeff(j, j)));
-      const double next = shift == 0.0 ? 1e-8 * std::max(max_diag, 1e-300) : 10.0 * shift;
-      for (int j = 0; j < hessian_.outerSize(); ++j) hessian_.coeffRef(j, j) += next - shift;
-      shift = next;
+    if (options_.reuse_factorization && low_rank.empty() && mode == HessianMode::exact &&
+        !kept_factor_stale_ && can_precondition()) {
+      // Inexact Newton (Dembo, Eisenstat & Steihaug 1982): the step solves H dy = -g to a
+      // relative residual eta. Aim for eta = min(0.1, ||g|| / scale), Eisenstat & Walker's
+      // (1996) quadratic forcing, so that the Newton iterations are as few as with exact
+      // solves (an iteration's assembly and line search cost more than a CG iteration), but
+      // never tighter than half of what the convergence target needs. When the kept factor is
+      // too poor a preconditioner to get there within the CG cap, a step with eta <= 0.1 is
+      // still taken (it converges, only more slowly); a worse one makes this iteration
+      // factorize.
       t0 = Clock::now();
-      fact = cholesky_.factorize(hessian_);
-      it.factorization_seconds += seconds_since(t0);
+      const double eta = std::min(0.1, std::max(residual / scale, 0.5 * target / residual));
+      const PcgResult cg = preconditioned_cg(hessian_, cholesky_, Vector(-gradient), eta,
+                                             options_.reuse_max_cg_iterations, dy);
+      it.solve_seconds += seconds_since(t0);
+      it.cg_iterations = cg.iterations;
+      it.cg_relative_residual = cg.relative_residual;
+      // A factor that no longer gets CG to eta within the cap has gone stale: the step is still
+      // taken (if eta <= 0.1), but the next iteration factorizes afresh.
+      kept_factor_stale_ = !cg.converged;
+      it.reused_factorization = cg.relative_residual <= 0.1 && dy.allFinite() && dy.dot(gradient) < 0.0;
     }
-    it.used_ldlt = cholesky_.is_ldlt();
-    factor_is_exact_ = mode == HessianMode::exact && shift == 0.0;
-    factor_matches_hessian_ = true;
+    if (!it.reused_factorization) {
+      // Newton direction: H dy = -g; shift the diagonal when the direction is not descent.
+      t0 = Clock::now();
+      factor_is_exact_ = false;  // until a factorization below is known to be of the exact Hessian
+      kept_factor_stale_ = false;
+      FactorizationResult fact = cholesky_.factorize(hessian_);
+      ++it.factorizations;
+      it.factorization_seconds = seconds_since(t0);
+      if (projected_left > 0) --projected_left;
+      if (mode == HessianMode::exact && fact.positive_definite) projected_backoff = 1;
+      if (options_.hessian == NewtonHessian::adaptive && mode == HessianMode::exact &&
+          !fact.positive_definite) {
+        // Indefinite exact Hessian: use the projected one now and in the next iteration.
+        t0 = Clock::now();
+        assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, HessianMode::projected);
+        it.assembly_seconds += seconds_since(t0);
+        mode = assembled_mode_ = HessianMode::projected;
+        // Back off exponentially: a failed exact attempt costs one factorization, so after
+        // consecutive failures wait 1, 2, 4, ... iterations before trying again.
+        projected_left = projected_backoff;
+        projected_backoff = std::min(2 * projected_backoff, 16);
+        t0 = Clock::now();
+        fact = cholesky_.factorize(hessian_);
+        ++it.factorizations;
+        it.factorization_seconds += seconds_since(t0);
+      }
+      it.used_projected = mode == HessianMode::projected;
+      double shift = 0.0;
+      for (int attempt = 0;; ++attempt) {
+        if (fact.success) {
+          apply_low_rank(low_rank);
+          t0 = Clock::now();
+          dy = cholesky_.solve(Vector(-gradient));
+          it.solve_seconds += seconds_since(t0);
+          if (dy.allFinite() && dy.dot(gradient) < 0.0) break;
+        }
+        if (attempt == 30)
+          return finish(NewtonStatus::singular_matrix,
+                        "no descent direction at iteration " + std::to_string(k) + ": " + fact.message);
+        // Levenberg-style diagonal shift, relative to the largest diagonal entry.
+        double max_diag = 0.0;
+        for (int j = 0; j < hessian_.outerSize(); ++j)
+          max_diag = std::max(max_diag, std::abs(hessian_.coeff(j, j)));
+        const double next = shift == 0.0 ? 1e-8 * std::max(max_diag, 1e-300) : 10.0 * shift;
+        for (int j = 0; j < hessian_.outerSize(); ++j) hessian_.coeffRef(j, j) += next - shift;
+        shift = next;
+        t0 = Clock::now();
+        fact = cholesky_.factorize(hessian_);
+        ++it.factorizations;
+        it.factorization_seconds += seconds_since(t0);
+      }
+      it.used_ldlt = cholesky_.is_ldlt();
+      factor_is_exact_ = mode == HessianMode::exact && shift == 0.0;
+      factor_matches_hessian_ = true;
+    }
 
     // Backtracking line search on E, starting from the largest admissible step.
     t0 = Clock::now();
     const Vector dx = elim.expand_direction(dy);
     double alpha = std::min(1.0, model_.max_step(model_.state(y, p), dx));
     const double slope = gradient.dot(dy);
-    const double round_off = 64.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(energy), 1e-300);
+    const double round_off =
+        64.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(energy), 1e-300);
     bool accepted = false;
     for (int ls = 0; ls <= options_.max_line_search_steps; ++ls, alpha *= 0.5) {
       it.line_search_steps = ls;
@@ -222,9 +289,12 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     it.step_norm = alpha * dx.lpNorm<Eigen::Infinity>();
     result.history.push_back(it);
     if (options_.progress) {
-      *options_.progress << std::scientific << std::setprecision(3) << "  newton " << std::setw(3) << k << "  E "
-                         << std::setw(11) << energy << "  |g| " << residual << "  alpha " << std::defaultfloat
-                         << alpha << (it.used_projected ? "  projected" : "") << (it.used_ldlt ? "  (LDL^T)" : "") << "\n";
+      *options_.progress << std::scientific << std::setprecision(3) << "  newton " << std::setw(3) << k
+                         << "  E " << std::setw(11) << energy << "  |g| " << residual << "  alpha "
+                         << std::defaultfloat << alpha << (it.used_projected ? "  projected" : "")
+                         << (it.reused_factorization ? "  cg " + std::to_string(it.cg_iterations)
+                                                     : std::string())
+                         << (it.used_ldlt ? "  (LDL^T)" : "") << "\n";
     }
   }
 }

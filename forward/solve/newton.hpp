@@ -42,8 +42,21 @@ struct NewtonOptions {
   //            convergence where the exact Hessian differs (large rotations, compression).
   //  exact     always exact; an indefinite matrix is shifted until it is positive definite.
   NewtonHessian hessian = NewtonHessian::adaptive;
-  double armijo = 1e-4;         // sufficient-decrease constant
-  int max_line_search_steps = 40;  // halvings before the line search is declared stalled
+  // Inexact Newton with a kept factorization (opt-in). The numeric factorization is kept
+  // across iterations and solve() calls; an iteration that would factorize the exact Hessian
+  // first solves H dy = -g by conjugate gradients preconditioned with the kept factor, when
+  // that factor is an exact, positive definite (LL^T) Hessian of a nearby state or nearby
+  // parameters. CG aims at the forcing tolerance min(0.1, ||g|| / scale) within
+  // reuse_max_cg_iterations; when it ends above 0.1 or its step is not a descent direction,
+  // the iteration factorizes as without reuse (and keeps that fresh factor); when it ends
+  // between the forcing tolerance and 0.1, the step is taken and the next iteration factorizes.
+  // Worth it for sequences of nearby solves (an optimizer's warm-started forward solves),
+  // where a factorization costs far more than a few triangular solves. The convergence test
+  // is unchanged, so the equilibrium is the same to the tolerance.
+  bool reuse_factorization = false;
+  int reuse_max_cg_iterations = 20;
+  double armijo = 1e-4;              // sufficient-decrease constant
+  int max_line_search_steps = 40;    // halvings before the line search is declared stalled
   std::ostream* progress = nullptr;  // one line per iteration when set
 };
 
@@ -58,10 +71,14 @@ struct NewtonIteration {
   double step_length = 0.0;  // line-search factor alpha
   int line_search_steps = 0;
   bool used_ldlt = false;
-  bool used_projected = false;  // the factorized Hessian was the PSD-projected one
+  bool used_projected = false;         // the factorized Hessian was the PSD-projected one
+  bool reused_factorization = false;   // the step came from CG preconditioned by a kept factor
+  int cg_iterations = 0;               // CG iterations tried (also when CG then fell back)
+  double cg_relative_residual = 0.0;   // ||H dy + g|| / ||g|| where CG stopped
+  int factorizations = 0;              // numeric factorizations in this iteration
   double assembly_seconds = 0.0;       // energy, gradient and Hessian assembly
   double factorization_seconds = 0.0;  // numeric factorization (analysis only once)
-  double solve_seconds = 0.0;          // triangular solves
+  double solve_seconds = 0.0;          // triangular solves (and CG iterations)
   double line_search_seconds = 0.0;    // energy evaluations of the line search
 };
 
@@ -75,6 +92,7 @@ struct NewtonResult {
   double analysis_seconds = 0.0;
   double total_seconds = 0.0;
   std::vector<NewtonIteration> history;
+  int factorizations() const;  // numeric factorizations over all iterations
   bool converged() const { return status == NewtonStatus::converged; }
   // A human-readable summary in the spirit of Ceres' FullReport().
   std::string report() const;
@@ -95,7 +113,8 @@ class NewtonSolver {
   const SparseMatrix& hessian() const { return hessian_; }
   HessianMode assembled_mode() const { return assembled_mode_; }
   // The last factorization. After a converged solve() it belongs to the previous iterate (the
-  // last Newton step), not to hessian(): factorization_matches_hessian() is false then.
+  // last Newton step), not to hessian(): factorization_matches_hessian() is false then. With
+  // reuse_factorization it may belong to an earlier iterate or an earlier solve() (another p).
   // factorization_is_exact(): it factors an exact, unshifted Hessian (possibly by LDL^T).
   SparseCholesky& factorization() { return cholesky_; }
   bool factorization_is_exact() const { return factor_is_exact_; }
@@ -105,6 +124,9 @@ class NewtonSolver {
 
  private:
   void apply_low_rank(const LowRankHessian& low_rank);
+  // The kept factor can precondition CG on the exact Hessian: exact, unshifted, LL^T.
+  bool can_precondition() const;
+
   const Model& model_;
   NewtonOptions options_;
   ReducedAssembler assembler_;
@@ -113,6 +135,7 @@ class NewtonSolver {
   HessianMode assembled_mode_ = HessianMode::projected;
   bool factor_is_exact_ = false;
   bool factor_matches_hessian_ = false;
+  bool kept_factor_stale_ = false;  // reuse: the last CG missed its tolerance with the kept factor
   bool analyzed_ = false;
 };
 

@@ -44,13 +44,13 @@ struct BarProblem {
     p0 = heterogeneous_parameters(mesh, 1000.0, 0.3);
   }
 
-  StaticFunctional functional(double c = 0.0) {
+  StaticFunctional functional(double c = 0.0, StaticFunctionalOptions options = {}) {
     const int m = mesh.num_elements();
     Vector target(tip_dofs.size());
     for (std::size_t k = 0; k < tip_dofs.size(); ++k) target[k] = rest[tip_dofs[k]] + (k % 3 == 2 ? -0.3 : 0.05);
     auto map = std::make_shared<LogModuliMap>(p0, m);
     auto objective = std::make_shared<DofTargetObjective>(tip_dofs, target, c, m);
-    return StaticFunctional(*model, map, objective, model->elimination().restrict_state(rest));
+    return StaticFunctional(*model, map, objective, model->elimination().restrict_state(rest), options);
   }
   Vector z0() const { return p0.head(mesh.num_elements()).array().log().matrix(); }
 };
@@ -77,6 +77,22 @@ TEST(StaticFunctional, TaylorTestNeoHookeanLargeDeformation) {
   const TaylorTestResult t = taylor_test(f, bar.z0());
   std::printf("Neo-Hookean bar, tip displacement %.3f, per-element log E:\n%s", tip, t.table().c_str());
   EXPECT_TRUE(t.passed()) << t.table();
+}
+
+// With NewtonOptions::reuse_factorization the forward solves of the Taylor test's nearby designs
+// take CG steps preconditioned by a factor of another design; the gradient must stay exact.
+TEST(StaticFunctional, TaylorTestWithKeptFactorization) {
+  BarProblem bar(MaterialKind::neo_hookean, 60.0);
+  StaticFunctionalOptions options;
+  options.newton.reuse_factorization = true;
+  StaticFunctional f = bar.functional(1e-6, options);
+  const TaylorTestResult t = taylor_test(f, bar.z0());
+  std::printf("Neo-Hookean bar, forward solves reusing factorizations:\n%s", t.table().c_str());
+  EXPECT_TRUE(t.passed()) << t.table();
+  f.value(bar.z0() + Vector::Constant(bar.z0().size(), 1e-3));
+  bool reused = false;
+  for (const auto& it : f.last_newton().history) reused = reused || it.reused_factorization;
+  EXPECT_TRUE(reused) << f.last_newton().report();
 }
 
 TEST(StaticFunctional, AdjointSolveReusesNewtonWork) {

@@ -85,6 +85,12 @@ TEST(Scene, DefaultsComeFromNewtonOptions) {
   EXPECT_EQ(scene.solver.newton.max_iterations, defaults.max_iterations);
   EXPECT_EQ(scene.solver.newton.relative_tolerance, defaults.relative_tolerance);
   EXPECT_EQ(scene.solver.newton.hessian, defaults.hessian);
+  EXPECT_EQ(scene.solver.newton.reuse_factorization, defaults.reuse_factorization);
+  EXPECT_FALSE(defaults.reuse_factorization);
+  EXPECT_TRUE(
+      parse_scene(testing::with("\"load_steps\": 1", "\"load_steps\": 1, \"reuse_factorization\": true"),
+                  "test.json", "")
+          .solver.newton.reuse_factorization);
   EXPECT_EQ(scene.solver.load_steps, 1);
   EXPECT_EQ(scene.materials[0].density, 0.0);
   EXPECT_EQ(scene_error(testing::small_box_scene()), "");
@@ -176,6 +182,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "solver.hessian: expected one of adaptive, exact, projected, got \"full\""},
         BadScene{"bad_load_steps", with("\"load_steps\": 1", "\"load_steps\": 0"),
                  "solver.load_steps: expected an integer >= 1, got 0"},
+        BadScene{"bad_reuse", with("\"load_steps\": 1", "\"load_steps\": 1, \"reuse_factorization\": 1"),
+                 "solver.reuse_factorization: expected true or false, got 1"},
         BadScene{"bad_tolerance", with("\"load_steps\": 1", "\"load_steps\": 1, \"relative_tolerance\": 0"),
                  "solver.relative_tolerance: expected a number in (0, 1), got 0"},
         BadScene{"invalid_json", with("\"name\": \"box\",", "\"name\": \"box\""), "invalid JSON"},

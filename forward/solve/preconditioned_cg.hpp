@@ -7,8 +7,9 @@
 namespace tailor {
 
 struct PcgResult {
-  bool converged = false;  // ||rhs - H v|| <= relative_tolerance ||rhs||
-  int iterations = 0;      // preconditioner applications after the first
+  bool converged = false;          // ||rhs - H v|| <= relative_tolerance ||rhs||
+  int iterations = 0;              // preconditioner applications after the first
+  double relative_residual = 0.0;  // ||rhs - H v|| / ||rhs|| of the returned v
 };
 
 // `solution` is overwritten. Stops early (not converged) on non-positive curvature.

@@ -1,4 +1,4 @@
-#include "adjoint/preconditioned_cg.hpp"
+#include "forward/solve/preconditioned_cg.hpp"
 
 namespace tailor {
 
@@ -31,6 +31,7 @@ PcgResult preconditioned_cg(const SparseMatrix& upper, const SparseCholesky& pre
     rs = rs_next;
   }
   result.iterations = it + 1;
+  result.relative_residual = rhs_norm > 0.0 ? r.norm() / rhs_norm : 0.0;
   return result;
 }
 

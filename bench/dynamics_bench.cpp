@@ -10,7 +10,7 @@
 // alpha and beta (TransientFunctional), as a ratio of the forward run.
 // Writes JSON (--out, default bench_dynamics.json) and prints a table.
 //
-// usage: dynamics_bench [--tets 58000] [--steps 10] [--out FILE]
+// usage: dynamics_bench [--tets 58000] [--steps 10] [--reuse-factorization] [--out FILE]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -45,7 +45,7 @@ struct Row {
   int factorizations = 0, cg_solves = 0;
 };
 
-Row run(TimeScheme scheme, int target_tets, int steps) {
+Row run(TimeScheme scheme, int target_tets, int steps, bool reuse_factorization) {
   DynamicTerms terms;
   const bench::Cantilever bar = bench::make_cantilever(
       4.0, bench::cantilever_cells(target_tets, 4.0), MaterialKind::neo_hookean,
@@ -66,6 +66,7 @@ Row run(TimeScheme scheme, int target_tets, int steps) {
   TimeIntegratorOptions options;
   options.scheme = scheme;
   options.time_step = 0.01;
+  options.newton.reuse_factorization = reuse_factorization;  // CG preconditioned by the kept factor
   TimeIntegrator integrator(model, options);
   Row row;
   row.scheme = to_string(scheme);
@@ -126,6 +127,7 @@ Row run(TimeScheme scheme, int target_tets, int steps) {
 
 int main(int argc, char** argv) {
   int tets = 58000, steps = 10;
+  bool reuse_factorization = false;
   std::string out = "bench_dynamics.json";
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -133,10 +135,12 @@ int main(int argc, char** argv) {
       tets = std::stoi(argv[++i]);
     else if (arg == "--steps" && i + 1 < argc)
       steps = std::stoi(argv[++i]);
+    else if (arg == "--reuse-factorization")
+      reuse_factorization = true;
     else if (arg == "--out" && i + 1 < argc)
       out = argv[++i];
     else {
-      std::cerr << "usage: dynamics_bench [--tets 58000] [--steps 10] [--out FILE]\n";
+      std::cerr << "usage: dynamics_bench [--tets 58000] [--steps 10] [--reuse-factorization] [--out FILE]\n";
       return 2;
     }
   }
@@ -147,7 +151,7 @@ int main(int argc, char** argv) {
   std::printf("tailor %s: Neo-Hookean cantilever under gravity, h = 0.01, full space\n", version_string);
   std::vector<Row> rows;
   for (TimeScheme scheme : {TimeScheme::implicit_euler, TimeScheme::newmark})
-    rows.push_back(run(scheme, tets, steps));
+    rows.push_back(run(scheme, tets, steps, reuse_factorization));
   std::printf("%-15s %6s %6s %5s %9s %9s %9s %9s %7s %9s %9s %9s %8s %9s %8s %5s %4s\n", "scheme", "tets",
               "dofs", "steps", "median/s", "min", "max", "cpu med.", "newton", "assembly", "factor",
               "line s.", "tip drop", "adjoint", "adj/fwd", "fact", "cg");
@@ -165,7 +169,8 @@ int main(int argc, char** argv) {
       " time over the CPU time of the forward run of the same steps)\n");
   std::ofstream json(out);
   json << "{\n  \"benchmark\": \"dynamics_step\",\n  \"tailor_version\": \"" << version_string
-       << "\",\n  \"results\": [\n";
+       << "\",\n  \"reuse_factorization\": " << (reuse_factorization ? "true" : "false")
+       << ",\n  \"results\": [\n";
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const Row& r = rows[k];
     json << "    {\"scheme\": \"" << r.scheme << "\", \"tets\": " << r.tets << ", \"dofs\": " << r.dofs

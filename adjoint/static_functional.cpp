@@ -3,16 +3,10 @@
 #include <chrono>
 #include <cmath>
 
+#include "forward/core/timing.hpp"
 #include "forward/solve/preconditioned_cg.hpp"
 
 namespace tailor {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-}  // namespace
-
 std::string to_string(HessianSolve method) {
   switch (method) {
     case HessianSolve::reused_factorization: return "reused_factorization";

@@ -3,15 +3,11 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "forward/core/timing.hpp"
 #include "forward/solve/preconditioned_cg.hpp"
 
 namespace tailor {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 double state_megabytes(const DynamicState& s) {
   const auto doubles = s.y.size() + s.x.size() + s.v.size() + s.x_previous.size() + s.v_previous.size() +

@@ -5,13 +5,10 @@
 #include <iomanip>
 #include <ostream>
 
+#include "forward/core/timing.hpp"
+
 namespace tailor {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 void print_setup(std::ostream& log, const Scene& scene, const StaticSetup& setup) {
   log << "scene '" << scene.name << "' (" << scene.source << "): " << setup.dim() << "D mesh, "

@@ -10,6 +10,7 @@
 
 #include "adjoint/taylor_test.hpp"
 #include "adjoint/transient_functional.hpp"
+#include "forward/core/timing.hpp"
 #include "forward/dynamics/setup.hpp"
 #include "forward/fem/loads.hpp"
 #include "forward/mesh/mesh_io.hpp"
@@ -23,10 +24,6 @@
 namespace tailor {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 using Json = nlohmann::ordered_json;
 
 struct StepRecord {

@@ -5,16 +5,12 @@
 #include <iomanip>
 #include <ostream>
 
+#include "forward/core/timing.hpp"
 #include "problems/plot/convergence_plot.hpp"
 #include "problems/plot/field_image.hpp"
 
 namespace tailor {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 std::string output_path(const std::string& out_dir, const char* name) {
   std::error_code error;

@@ -5,6 +5,7 @@
 #include <ostream>
 #include <random>
 
+#include "forward/core/timing.hpp"
 #include "forward/fem/elastic_term.hpp"
 #include "forward/fem/loads.hpp"
 #include "forward/fem/materials/spline_material.hpp"
@@ -14,11 +15,6 @@
 
 namespace tailor {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 Mesh make_mesh(const MeshSpec& spec) {
   switch (spec.kind) {

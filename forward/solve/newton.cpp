@@ -6,18 +6,10 @@
 #include <ostream>
 #include <sstream>
 
+#include "forward/core/timing.hpp"
 #include "forward/solve/preconditioned_cg.hpp"
 
 namespace tailor {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-}  // namespace
-
 std::string to_string(NewtonStatus status) {
   switch (status) {
     case NewtonStatus::converged:

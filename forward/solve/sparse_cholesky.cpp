@@ -4,6 +4,8 @@
 
 #include <stdexcept>
 
+#include "forward/solve/threads.hpp"
+
 namespace tailor {
 namespace {
 
@@ -56,6 +58,7 @@ struct Factor {
     cholmod_finish(&common);
   }
   void analyze(cholmod_sparse* a) {
+    const FactorizationThreadsGuard threads;
     if (factor) cholmod_free_factor(&factor, &common);
     factor = cholmod_analyze(a, &common);
     if (!factor || common.status < CHOLMOD_OK)
@@ -95,6 +98,7 @@ FactorizationResult SparseCholesky::factorize(const SparseMatrix& upper) {
   FactorizationResult result;
   cholmod_sparse a = view(upper);
   impl_->active = nullptr;
+  const FactorizationThreadsGuard threads;
 
   Factor& llt = impl_->llt;
   cholmod_factorize(&a, llt.factor, &llt.common);
@@ -161,6 +165,7 @@ Matrix SparseCholesky::base_solve(const Matrix& b) const {
   if (!impl_->active) throw std::logic_error("SparseCholesky::solve: no successful factorization");
   if (b.rows() != rows_) throw std::invalid_argument("SparseCholesky::solve: right-hand side has the wrong size");
   Factor& f = *impl_->active;
+  const FactorizationThreadsGuard threads;
   cholmod_dense rhs = view(b.data(), b.rows(), b.cols());
   cholmod_dense* sol = cholmod_solve(CHOLMOD_A, f.factor, &rhs, &f.common);
   if (!sol) throw std::runtime_error("CHOLMOD solve failed (status " + std::to_string(f.common.status) + ")");

@@ -1,0 +1,101 @@
+// CHOLMOD's factorization must not run more threads than configured: Debian's CHOLMOD runs
+// its OpenMP loops with a compile-time num_threads(4), which only tailor's guard
+// (forward/solve/threads.hpp) keeps serial. Thread pools outlive their parallel regions, so
+// the number of threads the process gains during a first factorization counts the workers
+// CHOLMOD started. Each count is taken in a fresh child process (this test binary run with a
+// filter), since a pool started earlier in the same process would hide new workers.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "forward/solve/sparse_cholesky.hpp"
+#include "forward/solve/threads.hpp"
+
+namespace tailor {
+namespace {
+
+// Upper triangle of the 7-point Laplacian on an n^3 grid (+ identity): large supernodes.
+SparseMatrix grid_laplacian_upper(int n) {
+  auto index = [n](int i, int j, int k) { return i + n * (j + n * k); };
+  Triplets t;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const int a = index(i, j, k);
+        t.emplace_back(a, a, 7.0);
+        if (i + 1 < n) t.emplace_back(a, index(i + 1, j, k), -1.0);
+        if (j + 1 < n) t.emplace_back(a, index(i, j + 1, k), -1.0);
+        if (k + 1 < n) t.emplace_back(a, index(i, j, k + 1), -1.0);
+      }
+  SparseMatrix a(n * n * n, n * n * n);
+  a.setFromTriplets(t.begin(), t.end());
+  a.makeCompressed();
+  return a;
+}
+
+// Runs the probe below in a child process with factorization mode `mode`; returns the
+// number of threads the child gained while factorizing (-1 when it could not be read).
+int threads_added_in_child(int mode) {
+  const std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
+  const std::string command = "TAILOR_THREAD_PROBE=" + std::to_string(mode) + " '" + exe +
+                              "' --gtest_filter=FactorizationThreadsProbe.Run 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return -1;
+  std::array<char, 512> line{};
+  int added = -1;
+  while (std::fgets(line.data(), line.size(), pipe))
+    if (std::sscanf(line.data(), "threads_added=%d", &added) == 1) break;
+  while (std::fgets(line.data(), line.size(), pipe)) {
+  }
+  pclose(pipe);
+  return added;
+}
+
+TEST(FactorizationThreadsProbe, Run) {
+  const char* mode = std::getenv("TAILOR_THREAD_PROBE");
+  if (!mode) GTEST_SKIP() << "run in a child process by the FactorizationThreads tests";
+  ThreadSettings settings;
+  settings.assembly = 1;
+  settings.factorization = std::atoi(mode);
+  set_thread_settings(settings);
+  const SparseMatrix a = grid_laplacian_upper(24);
+  const int before = process_thread_count();
+  SparseCholesky cholesky;
+  ASSERT_TRUE(cholesky.factorize(a).positive_definite);
+  const int after = process_thread_count();
+  ASSERT_GT(before, 0);
+  std::printf("threads_added=%d\n", after - before);
+}
+
+TEST(FactorizationThreads, SerializedByDefaultAndTheCountCanSeeWorkers) {
+  EXPECT_EQ(ThreadSettings{}.factorization, 1);
+  // Default: CHOLMOD's loops run on the calling thread, no worker is started.
+  EXPECT_EQ(threads_added_in_child(1), 0);
+  // The same count sees CHOLMOD's own workers when they are allowed (Debian's build starts 3
+  // besides the caller), so the assertion above can fail.
+  EXPECT_GT(threads_added_in_child(0), 0);
+}
+
+TEST(FactorizationThreads, BadSettingsAreRejected) {
+  ThreadSettings bad;
+  bad.factorization = 2;
+  EXPECT_THROW(set_thread_settings(bad), std::invalid_argument);
+  bad = ThreadSettings{};
+  bad.blas = -1;
+  EXPECT_THROW(set_thread_settings(bad), std::invalid_argument);
+  EXPECT_EQ(thread_settings().factorization, 1);  // unchanged by a rejected call
+}
+
+TEST(FactorizationThreads, ReportNamesWhatRuns) {
+  const ThreadReport report = current_threads();
+  EXPECT_GE(report.assembly, 1);
+  EXPECT_EQ(report.factorization, 1);
+  EXPECT_FALSE(report.blas_library.empty());
+}
+
+}  // namespace
+}  // namespace tailor

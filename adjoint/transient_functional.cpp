@@ -184,9 +184,19 @@ void TransientFunctional::backward_step(const DynamicState& from, const DynamicS
     force_bar = -a.force;
     inertia.add_mixed_transpose_times(to.x, p_, a.force, gradient_p);  // c fb^T M_e (x - x~)
   }
-  integrator_.newton().assembler().evaluate(to.y, p_, nullptr, nullptr, &hessian_, HessianMode::exact);
-  low_rank_ = integrator_.newton().assembler().low_rank_hessian(to.y, p_);
-  const Vector lambda = elim.expand_direction(solve_step(elim.reduce(x_total), to.step == options_.steps));
+  Vector lambda;
+  NewtonSolver& newton = integrator_.newton();
+  if (model.hessian_is_constant()) {
+    // Every step has the same Hessian (at these parameters): Newton's kept factor solves it.
+    const FactorizationResult f = newton.factorize_hessian(p_, to.y, HessianMode::exact);
+    if (!f.success) throw EvaluationError("transient adjoint: the step Hessian is singular (" + f.message + ")");
+    if (f.kept) ++statistics_.kept_factor_solves; else ++statistics_.factorizations;
+    lambda = elim.expand_direction(newton.factorization().solve(elim.reduce(x_total)));
+  } else {
+    newton.assembler().evaluate(to.y, p_, nullptr, nullptr, &hessian_, HessianMode::exact);
+    low_rank_ = newton.assembler().low_rank_hessian(to.y, p_);
+    lambda = elim.expand_direction(solve_step(elim.reduce(x_total), to.step == options_.steps));
+  }
   mass.add_times(p_, lambda, predictor_bar, c);
   Vector start_x_bar = Vector::Zero(n), start_v_bar = Vector::Zero(n);  // through lagged damping coefficients
   if (DampingTerm* damping = integrator_.damping()) {

@@ -3,7 +3,7 @@
 //   J(z) = sum_{n=0..N} J_n(x_n, v_n, p),  P = phi(z) = [p; x_0 (optional); v_0 (optional)],
 // where the states follow N implicit time steps (forward/dynamics/time_integrator.hpp), each
 // the minimiser of an incremental potential Pi_{n+1}(x; history, p). The gradient comes from
-// the discrete adjoint of the steps (METHODS.md section 2, "backwards in time"): going from
+// the discrete adjoint of the steps (docs/methods.md section 2, "backwards in time"): going from
 // step N down to 1, with the adjoints (xb, vb, fb) of the state after the step,
 //   H_{n+1} lambda = S^T (xb + vb / kappa + c M fb)          (H: exact reduced step Hessian)
 //   x~b = c M (Lambda - fb),  x^b = -vb / kappa + H_D Lambda,  gb = Lambda - fb   (Lambda = S lambda)
@@ -49,6 +49,7 @@ struct TransientStatistics {
   double stored_megabytes_peak = 0.0;
   int factorizations = 0;  // backward pass
   int cg_solves = 0, cg_iterations = 0;
+  int kept_factor_solves = 0;  // backward steps solved with Newton's kept factor of a constant Hessian
   double forward_seconds = 0.0;  // forward pass
   double adjoint_seconds = 0.0;  // backward pass, including recomputation
   double recompute_ratio() const { return steps ? static_cast<double>(recomputed_steps) / steps : 0.0; }

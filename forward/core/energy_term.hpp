@@ -6,6 +6,7 @@
 // its (row, col) slots once (hessian_pattern) and then, on every evaluation, writes one value
 // per slot in the same order. The Model maps slots to the assembled matrix once, so Newton
 // never rebuilds a sparse matrix from triplets.
+#include <cstdint>
 #include <string>
 
 #include "forward/core/types.hpp"
@@ -75,6 +76,14 @@ class EnergyTerm {
   // gradient_p += (d2E/dxdp)^T w, for one adjoint vector w (size of x). The default goes
   // through add_mixed(); terms with many parameters override it to avoid the triplets.
   virtual void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w, Vector& gradient_p) const;
+
+  // Whether d2E/dx2 is independent of the state x (linear elasticity, inertia, loads). Newton
+  // then factorizes once per parameter vector and keeps that factor across its iterations,
+  // time steps and the adjoint (NewtonSolver). It may still depend on p and on the term's
+  // settings; a term whose settings outside p enter its constant Hessian (a time step's
+  // inertia coefficient) changes hessian_revision() whenever they change. Default: false.
+  virtual bool hessian_is_constant() const { return false; }
+  virtual std::uint64_t hessian_revision() const { return 0; }
 
   // Largest admissible fraction in (0, 1] of the step x -> x + dx (e.g. from continuous
   // collision detection or to keep elements from inverting). Default: no restriction.

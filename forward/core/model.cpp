@@ -126,4 +126,17 @@ double Model::max_step(const Vector& x, const Vector& dx) const {
   return alpha;
 }
 
+bool Model::hessian_is_constant() const {
+  for (const auto& term : terms_)
+    if (!term->hessian_is_constant()) return false;
+  return true;
+}
+
+std::vector<std::uint64_t> Model::hessian_revisions() const {
+  std::vector<std::uint64_t> revisions;
+  revisions.reserve(terms_.size());
+  for (const auto& term : terms_) revisions.push_back(term->hessian_revision());
+  return revisions;
+}
+
 }  // namespace tailor

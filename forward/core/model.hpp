@@ -76,6 +76,11 @@ class Model {
   LowRankHessian low_rank_hessian(const Vector& x, const Vector& p, HessianMode mode = HessianMode::exact) const;
   Vector mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w) const;  // (d2E/dxdp)^T w
   double max_step(const Vector& x, const Vector& dx) const;
+  // True when every term's Hessian is independent of x (EnergyTerm::hessian_is_constant).
+  bool hessian_is_constant() const;
+  // The terms' hessian_revision() values, in term order: a constant Hessian at fixed p is
+  // unchanged while these are.
+  std::vector<std::uint64_t> hessian_revisions() const;
 
  private:
   int num_dofs_;

@@ -1,5 +1,5 @@
 #pragma once
-// Example deformations for example-based damping (Xu & Barbic 2017; METHODS.md section 6):
+// Example deformations for example-based damping (Xu & Barbic 2017; docs/methods.md section 6):
 // displacement fields [length] in full DOF space (interleaved like x), from user arrays,
 // from eigenmodes of the rest stiffness (K phi = lambda M phi on the free DOFs), or as the
 // linear static response to given loads (K u = f on the free DOFs). They are mass-

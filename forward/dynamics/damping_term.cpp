@@ -6,6 +6,7 @@ namespace tailor {
 
 void DampingTerm::set_velocity_map(double velocity_scale, Vector base) {
   if (!(velocity_scale > 0.0)) throw std::invalid_argument("DampingTerm: the velocity scale must be > 0");
+  if (velocity_scale != kappa_) ++revision_;
   kappa_ = velocity_scale;
   base_ = std::move(base);
 }

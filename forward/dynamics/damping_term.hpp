@@ -33,6 +33,13 @@ class DampingTerm : public EnergyTerm {
                                  Vector& gradient_p) const final;
   void add_low_rank_hessian(const Vector& x, const Vector& p, LowRankHessian& update,
                             HessianMode mode = HessianMode::exact) const final;
+  // A quadratic dissipation gives the constant Hessian (d2D/dv2) / kappa; a new kappa is a
+  // new revision.
+  bool hessian_is_constant() const final { return dissipation_is_quadratic(); }
+  std::uint64_t hessian_revision() const final { return revision_; }
+
+  // True when D is quadratic in v with coefficients that depend on p only (Rayleigh).
+  virtual bool dissipation_is_quadratic() const { return false; }
 
   // The dissipation interface, in the velocity v.
   // request.value += D(v); request.gradient += dD/dv; request.hessian_values = d2D/dv2 on the pattern.
@@ -65,6 +72,7 @@ class DampingTerm : public EnergyTerm {
  private:
   std::size_t pattern_size() const;
   double kappa_ = 1.0;
+  std::uint64_t revision_ = 0;
   Vector base_;
   mutable std::size_t pattern_size_ = 0;
   mutable bool pattern_known_ = false;

@@ -1,6 +1,6 @@
 #pragma once
 // Example-based damping (Xu & Barbic, "Example-based damping design", SIGGRAPH 2017;
-// METHODS.md section 6) as a dissipation potential on top of Rayleigh damping C = aM + bK.
+// docs/methods.md section 6) as a dissipation potential on top of Rayleigh damping C = aM + bK.
 //
 // Examples. U = [u_1 .. u_r] (n x r, displacement fields) M-orthonormal: U^T M U = I, with M
 // the mass at set-up; W = M U. A velocity splits M-orthogonally into v = U qd + v_perp,

@@ -15,6 +15,7 @@ class GravityTerm final : public EnergyTerm {
   GravityTerm(const Mesh& mesh, Eigen::VectorXd gravity, int density_offset);
   std::string name() const override { return "gravity"; }
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override;
+  bool hessian_is_constant() const override { return true; }  // linear in x
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override;
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override;
   void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,

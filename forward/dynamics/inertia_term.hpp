@@ -1,5 +1,5 @@
 #pragma once
-// The inertia part of one implicit time step's incremental potential (METHODS.md section 1):
+// The inertia part of one implicit time step's incremental potential (docs/methods.md section 1):
 //   E(x) = c/2 (x - x~)^T M(rho) (x - x~) - g^T (x - x~),
 // c [1/time^2] the scheme's inertia coefficient (1/h^2 for implicit Euler), x~ the predictor
 // (positions), g an optional force carried over from the previous step (the trapezoidal
@@ -21,6 +21,9 @@ class InertiaTerm final : public EnergyTerm {
   std::string name() const override { return "inertia"; }
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override;
   void hessian_pattern(HessianPattern& pattern) const override { mass_->hessian_pattern(pattern); }
+  // c M(rho): constant in x; a new coefficient c is a new revision.
+  bool hessian_is_constant() const override { return true; }
+  std::uint64_t hessian_revision() const override { return revision_; }
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override;
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override;
   void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
@@ -37,6 +40,7 @@ class InertiaTerm final : public EnergyTerm {
  private:
   std::shared_ptr<const MassOperator> mass_;
   double coefficient_ = 0.0;
+  std::uint64_t revision_ = 0;
   Vector predictor_, carried_force_;
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// Rayleigh damping C = alpha M(rho) + beta K as a dissipation potential (METHODS.md sections
+// Rayleigh damping C = alpha M(rho) + beta K as a dissipation potential (docs/methods.md sections
 // 6 and 7):  D(v, p) = alpha/2 v^T M(rho) v + beta/2 v^T K v.
 //
 // K is the stiffness at the rest state: the Hessian at rest of the small-strain (linear)
@@ -28,6 +28,7 @@ class RayleighDamping final : public DampingTerm {
                   int beta_offset, int youngs_offset, int poisson_offset);
 
   std::string name() const override { return "rayleigh_damping"; }
+  bool dissipation_is_quadratic() const override { return true; }
   void evaluate_dissipation(const Vector& v, const Vector& p, const EnergyRequest& request) const override;
   void dissipation_pattern(HessianPattern& pattern) const override;
   void add_dissipation_param_gradient(const Vector& v, const Vector& p, Vector& gradient_p) const override;

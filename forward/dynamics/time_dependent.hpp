@@ -22,6 +22,7 @@ class TimeVaryingLoadTerm final : public EnergyTerm, public TimeDependent {
                       Vector reference = Vector(), std::string label = "time_varying_load");
   std::string name() const override { return label_; }
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override;
+  bool hessian_is_constant() const override { return true; }  // linear in x
   void set_time(double time) override;
   double magnitude() const { return magnitude_now_; }
 

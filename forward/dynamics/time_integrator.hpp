@@ -1,5 +1,5 @@
 #pragma once
-// Implicit time integration as a sequence of incremental potentials (METHODS.md section 1):
+// Implicit time integration as a sequence of incremental potentials (docs/methods.md section 1):
 // each step minimises
 //   Pi(x) = c/2 ||x - x~||^2_M - g^T x + E(x, p) + kappa D((x - x^)/kappa, p)
 // with NewtonSolver over the model's free unknowns (x = x0(t) + S y), where E is the sum of

@@ -29,6 +29,7 @@ class ElasticTerm final : public EnergyTerm {
   std::string name() const override { return "elastic(" + material_->name() + ")"; }
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override;
   void hessian_pattern(HessianPattern& pattern) const override;
+  bool hessian_is_constant() const override { return material_->tangent_is_constant(); }
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override;
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override;
   void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,

@@ -12,6 +12,7 @@ class ExternalForceTerm final : public EnergyTerm {
       : forces_(std::move(nodal_forces)), label_(std::move(label)) {}
   std::string name() const override { return label_; }
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override;
+  bool hessian_is_constant() const override { return true; }  // linear in x
   const Vector& forces() const { return forces_; }
 
  private:

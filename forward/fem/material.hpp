@@ -11,8 +11,10 @@
 //    every material agrees with linear elasticity to first order at F = I. A material that
 //    needs other internal constants (e.g. stable Neo-Hookean) maps them itself.
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "forward/core/types.hpp"
 
@@ -57,17 +59,33 @@ class Material {
   virtual void evaluate(const Mat& F, const LameParameters& lame, bool want_stress, bool want_tangent,
                         HessianMode mode, MaterialEvaluation<Dim>& out) const = 0;
 
+  // True when the tangent does not depend on F (linear elasticity): the energy is quadratic in
+  // the positions, and Newton keeps one factorization per parameter vector.
+  virtual bool tangent_is_constant() const { return false; }
+
   // Derivatives of Psi and P in (lambda, mu).
   virtual void lame_derivatives(const Mat& F, const LameParameters& lame,
                                 MaterialLameDerivatives<Dim>& out) const = 0;
 };
 
+// Adding a material: a value here, its name in kMaterialNames, and a case in make_material
+// (material_factory.cpp; the compiler flags a missing case). Every parser takes the names from
+// material_names().
 enum class MaterialKind { linear, corotated, stvk, neo_hookean };
 
-// Factory; names accepted by parse: "linear", "corotated", "stvk", "neo_hookean".
+struct MaterialName {
+  MaterialKind kind;
+  const char* name;
+};
+inline constexpr std::array<MaterialName, 4> kMaterialNames{{{MaterialKind::linear, "linear"},
+                                                             {MaterialKind::corotated, "corotated"},
+                                                             {MaterialKind::stvk, "stvk"},
+                                                             {MaterialKind::neo_hookean, "neo_hookean"}}};
+
 template <int Dim>
 std::unique_ptr<Material<Dim>> make_material(MaterialKind kind);
-MaterialKind parse_material_kind(const std::string& name);  // throws std::invalid_argument
+MaterialKind parse_material_kind(const std::string& name);  // throws std::invalid_argument naming the choices
 std::string to_string(MaterialKind kind);
+std::vector<std::string> material_names();  // in kMaterialNames order
 
 }  // namespace tailor

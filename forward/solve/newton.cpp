@@ -14,6 +14,8 @@ std::string to_string(NewtonStatus status) {
   switch (status) {
     case NewtonStatus::converged:
       return "converged";
+    case NewtonStatus::round_off_floor:
+      return "round_off_floor";
     case NewtonStatus::max_iterations:
       return "max_iterations";
     case NewtonStatus::line_search_failed:
@@ -50,11 +52,13 @@ std::string NewtonResult::report() const {
     solve += it.solve_seconds;
     line += it.line_search_seconds;
   }
-  int reused = 0, cg = 0;
+  int reused = 0, cg = 0, kept = 0;
   for (const auto& it : history) {
     reused += it.reused_factorization ? 1 : 0;
+    kept += it.kept_constant_factor ? 1 : 0;
     cg += it.cg_iterations;
   }
+  if (kept > 0) s << "  constant Hessian: " << kept << " steps with its kept factorization\n";
   if (reused > 0 || cg > 0)
     s << "  factorizations " << factorizations() << ", steps by CG with a kept factor " << reused << " ("
       << cg << " CG iterations)\n";
@@ -79,6 +83,16 @@ NewtonSolver::NewtonSolver(const Model& model, NewtonOptions options)
     : model_(model), options_(options), assembler_(model), hessian_(assembler_.hessian_pattern_matrix()) {}
 
 FactorizationResult NewtonSolver::factorize_hessian(const Vector& p, const Vector& y, HessianMode mode) {
+  if (mode == HessianMode::exact && constant_factor_matches(p)) {
+    // hessian_ and the factor already hold this (state-independent) Hessian.
+    assembled_mode_ = HessianMode::exact;
+    factor_matches_hessian_ = true;
+    FactorizationResult kept;
+    kept.success = kept.kept = true;
+    kept.positive_definite = !cholesky_.is_ldlt();
+    return kept;
+  }
+  constant_factor_ = false;
   assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, mode);
   assembled_mode_ = mode;
   if (!analyzed_) {
@@ -90,11 +104,161 @@ FactorizationResult NewtonSolver::factorize_hessian(const Vector& p, const Vecto
   factor_is_exact_ = mode == HessianMode::exact && result.success;
   kept_factor_stale_ = false;
   factor_matches_hessian_ = result.success;
+  if (factor_is_exact_) remember_constant_factor(p);
   return result;
 }
 
 void NewtonSolver::apply_low_rank(const LowRankHessian& low_rank) {
   if (!low_rank.empty()) cholesky_.set_low_rank_update(low_rank.factors, low_rank.core);
+}
+
+bool NewtonSolver::constant_factor_matches(const Vector& p) const {
+  return constant_factor_ && options_.keep_constant_factorization && cholesky_.has_factor() &&
+         constant_p_.size() == p.size() && constant_p_ == p && constant_revisions_ == model_.hessian_revisions();
+}
+
+void NewtonSolver::remember_constant_factor(const Vector& p) {
+  constant_factor_ = options_.keep_constant_factorization && model_.hessian_is_constant() &&
+                     !cholesky_.has_low_rank_update();
+  if (!constant_factor_) return;
+  constant_p_ = p;
+  constant_revisions_ = model_.hessian_revisions();
+}
+
+HessianMode NewtonSolver::choose_mode(const HessianChoice& choice) const {
+  switch (options_.hessian) {
+    case NewtonHessian::exact:
+      return HessianMode::exact;
+    case NewtonHessian::projected:
+      return HessianMode::projected;
+    case NewtonHessian::adaptive:
+      break;
+  }
+  return choice.projected_left > 0 ? HessianMode::projected : HessianMode::exact;
+}
+
+double NewtonSolver::residual_floor_estimate(const Vector& x) const {
+  // ||H||_inf of the symmetric matrix stored as its upper triangle: each off-diagonal entry
+  // counts in its row and in its column.
+  Vector row_sums = Vector::Zero(hessian_.rows());
+  for (int j = 0; j < hessian_.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator e(hessian_, j); e; ++e) {
+      row_sums[e.row()] += std::abs(e.value());
+      if (e.row() != j) row_sums[j] += std::abs(e.value());
+    }
+  const double h_norm = row_sums.size() ? row_sums.maxCoeff() : 0.0;
+  return std::numeric_limits<double>::epsilon() * h_norm * (1.0 + x.lpNorm<Eigen::Infinity>());
+}
+
+bool NewtonSolver::kept_factor_step(const Vector& gradient, double residual, double scale, double target,
+                                    NewtonIteration& it, Vector& dy) {
+  // Inexact Newton (Dembo, Eisenstat & Steihaug 1982): the step solves H dy = -g to a
+  // relative residual eta. Aim for eta = min(0.1, ||g|| / scale), Eisenstat & Walker's (1996)
+  // quadratic forcing, so that the Newton iterations are as few as with exact solves (an
+  // iteration's assembly and line search cost more than a CG iteration), but never tighter
+  // than half of what the convergence target needs. When the kept factor is too poor a
+  // preconditioner to get there within the CG cap, a step with eta <= 0.1 is still taken (it
+  // converges, only more slowly); a worse one makes this iteration factorize.
+  const auto t0 = Clock::now();
+  const double eta = std::min(0.1, std::max(residual / scale, 0.5 * target / residual));
+  const PcgResult cg =
+      preconditioned_cg(hessian_, cholesky_, Vector(-gradient), eta, options_.reuse_max_cg_iterations, dy);
+  it.solve_seconds += seconds_since(t0);
+  it.cg_iterations = cg.iterations;
+  it.cg_relative_residual = cg.relative_residual;
+  // A factor that no longer gets CG to eta within the cap has gone stale: the step is still
+  // taken (if eta <= 0.1), but the next iteration factorizes afresh.
+  kept_factor_stale_ = !cg.converged;
+  return cg.relative_residual <= 0.1 && dy.allFinite() && dy.dot(gradient) < 0.0;
+}
+
+std::string NewtonSolver::factorized_step(const Vector& p, const Vector& y, const Vector& gradient,
+                                          HessianMode& mode, HessianChoice& choice, const LowRankHessian& low_rank,
+                                          NewtonIteration& it, Vector& dy) {
+  auto t0 = Clock::now();
+  factor_is_exact_ = false;  // until a factorization below is known to be of the exact Hessian
+  constant_factor_ = false;
+  kept_factor_stale_ = false;
+  FactorizationResult fact = cholesky_.factorize(hessian_);
+  ++it.factorizations;
+  it.factorization_seconds = seconds_since(t0);
+  if (choice.projected_left > 0) --choice.projected_left;
+  if (mode == HessianMode::exact && fact.positive_definite) choice.projected_backoff = 1;
+  if (options_.hessian == NewtonHessian::adaptive && mode == HessianMode::exact && !fact.positive_definite) {
+    // Indefinite exact Hessian: use the projected one now and in the next iteration.
+    t0 = Clock::now();
+    assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, HessianMode::projected);
+    it.assembly_seconds += seconds_since(t0);
+    mode = assembled_mode_ = HessianMode::projected;
+    // Back off exponentially: a failed exact attempt costs one factorization, so after
+    // consecutive failures wait 1, 2, 4, ... iterations before trying again.
+    choice.projected_left = choice.projected_backoff;
+    choice.projected_backoff = std::min(2 * choice.projected_backoff, 16);
+    t0 = Clock::now();
+    fact = cholesky_.factorize(hessian_);
+    ++it.factorizations;
+    it.factorization_seconds += seconds_since(t0);
+  }
+  it.used_projected = mode == HessianMode::projected;
+  double shift = 0.0;
+  for (int attempt = 0;; ++attempt) {
+    if (fact.success) {
+      apply_low_rank(low_rank);
+      t0 = Clock::now();
+      dy = cholesky_.solve(Vector(-gradient));
+      it.solve_seconds += seconds_since(t0);
+      if (dy.allFinite() && dy.dot(gradient) < 0.0) break;
+    }
+    if (attempt == 30) return "no descent direction at iteration " + std::to_string(it.iteration) + ": " + fact.message;
+    // Levenberg-style diagonal shift, relative to the largest diagonal entry.
+    double max_diag = 0.0;
+    for (int j = 0; j < hessian_.outerSize(); ++j) max_diag = std::max(max_diag, std::abs(hessian_.coeff(j, j)));
+    const double next = shift == 0.0 ? 1e-8 * std::max(max_diag, 1e-300) : 10.0 * shift;
+    for (int j = 0; j < hessian_.outerSize(); ++j) hessian_.coeffRef(j, j) += next - shift;
+    shift = next;
+    t0 = Clock::now();
+    fact = cholesky_.factorize(hessian_);
+    ++it.factorizations;
+    it.factorization_seconds += seconds_since(t0);
+  }
+  it.used_ldlt = cholesky_.is_ldlt();
+  factor_is_exact_ = mode == HessianMode::exact && shift == 0.0;
+  factor_matches_hessian_ = true;
+  if (factor_is_exact_) remember_constant_factor(p);
+  return {};
+}
+
+bool NewtonSolver::line_search(const Vector& p, Vector& y, const Vector& dy, double energy, const Vector& gradient,
+                               double residual, NewtonIteration& it) {
+  const auto t0 = Clock::now();
+  const Vector dx = model_.elimination().expand_direction(dy);
+  double alpha = std::min(1.0, model_.max_step(model_.state(y, p), dx));
+  const double slope = gradient.dot(dy);
+  const double round_off = 64.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(energy), 1e-300);
+  bool accepted = false;
+  for (int ls = 0; ls <= options_.max_line_search_steps; ++ls, alpha *= 0.5) {
+    it.line_search_steps = ls;
+    const Vector trial = y + alpha * dy;
+    double trial_energy = 0.0;
+    assembler_.evaluate(trial, p, &trial_energy, nullptr, nullptr);
+    if (!std::isfinite(trial_energy)) continue;
+    if (trial_energy <= energy + options_.armijo * alpha * slope) {
+      accepted = true;
+    } else if (std::abs(trial_energy - energy) <= round_off) {
+      // Energy differences are at round-off: judge the step by the residual instead.
+      Vector trial_gradient;
+      assembler_.evaluate(trial, p, nullptr, &trial_gradient, nullptr);
+      accepted = trial_gradient.norm() < residual;
+    }
+    if (accepted) {
+      y = trial;
+      break;
+    }
+  }
+  it.line_search_seconds = seconds_since(t0);
+  it.step_length = accepted ? alpha : 0.0;
+  it.step_norm = accepted ? alpha * dx.lpNorm<Eigen::Infinity>() : 0.0;
+  return accepted;
 }
 
 NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
@@ -123,20 +287,24 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
 
   double energy = 0.0;
   Vector gradient;
-  int projected_left = 0;     // adaptive mode: iterations still to run with the projected Hessian
-  int projected_backoff = 1;  // ... and how many to run after the next failed exact attempt
+  HessianChoice choice;
   for (int k = 0;; ++k) {
     NewtonIteration it;
     it.iteration = k;
-    // Which Hessian to assemble: see NewtonHessian.
-    HessianMode mode = options_.hessian == NewtonHessian::exact ? HessianMode::exact : HessianMode::projected;
-    if (options_.hessian == NewtonHessian::adaptive)
-      mode = projected_left > 0 ? HessianMode::projected : HessianMode::exact;
+    HessianMode mode = choose_mode(choice);
+    // A kept factor of the constant Hessian at these parameters makes assembling it again
+    // (and factorizing it) unnecessary.
+    const bool kept_constant = mode == HessianMode::exact && constant_factor_matches(p);
     auto t0 = Clock::now();
-    assembler_.evaluate(y, p, &energy, &gradient, &hessian_, mode);
+    assembler_.evaluate(y, p, &energy, &gradient, kept_constant ? nullptr : &hessian_, mode);
     it.assembly_seconds = seconds_since(t0);
-    assembled_mode_ = mode;
-    factor_matches_hessian_ = false;
+    if (!kept_constant) {
+      assembled_mode_ = mode;
+      factor_matches_hessian_ = false;
+    } else {
+      assembled_mode_ = HessianMode::exact;
+      factor_matches_hessian_ = true;
+    }
     const double residual = gradient.norm();
     it.energy = energy;
     it.residual = residual;
@@ -145,148 +313,75 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     result.final_energy = energy;
     result.iterations = k;
     if (!std::isfinite(energy) || !std::isfinite(residual))
-      return finish(NewtonStatus::non_finite,
-                    "energy or gradient is not finite at iteration " + std::to_string(k));
+      return finish(NewtonStatus::non_finite, "energy or gradient is not finite at iteration " + std::to_string(k));
 
     const double scale = std::max(result.initial_residual, options_.reference_residual);
     const double target = std::max(options_.relative_tolerance * scale, options_.absolute_tolerance);
     if (residual <= target) return finish(NewtonStatus::converged, "residual below tolerance");
+    if (mode == HessianMode::exact && (k == 0 || result.residual_floor == 0.0))
+      result.residual_floor = residual_floor_estimate(model_.state(y, p));
+    if (residual <= result.residual_floor) {
+      std::ostringstream why;
+      why << std::scientific << std::setprecision(2) << "residual " << residual << " at its round-off floor (about "
+          << result.residual_floor << ")";
+      return finish(NewtonStatus::round_off_floor, why.str());
+    }
     if (k > 0) {
-      const auto& last = result.history.back();
+      const NewtonIteration& last = result.history.back();
       const double x_scale = 1.0 + model_.state(y, p).lpNorm<Eigen::Infinity>();
-      if (last.step_length == 1.0 && last.step_norm <= options_.step_tolerance * x_scale &&
+      const bool full_step = last.step_length == 1.0;
+      if (full_step && last.step_norm <= options_.step_tolerance * x_scale &&
           residual <= std::sqrt(options_.relative_tolerance) * scale)
         return finish(NewtonStatus::converged, "step at round-off level");
+      // A full step of an exact factorization that did not halve an already small residual:
+      // quadratic convergence has stopped at the round-off floor.
+      const bool exact_step = (last.factorizations > 0 && !last.used_projected && last.factorizations == 1) ||
+                              last.kept_constant_factor;
+      if (full_step && exact_step && residual > 0.5 * last.residual &&
+          residual <= std::sqrt(options_.relative_tolerance) * scale) {
+        std::ostringstream why;
+        why << std::scientific << std::setprecision(2) << "residual " << residual
+            << " stagnates at its round-off floor (requested " << target << ")";
+        return finish(NewtonStatus::round_off_floor, why.str());
+      }
     }
     if (k == options_.max_iterations)
       return finish(NewtonStatus::max_iterations, "iteration limit " + std::to_string(k) + " reached");
 
     Vector dy;
-    // Terms' low-rank Hessian parts go on top of the sparse factor (Woodbury); CG with the kept
-    // factor sees only the sparse part, so it is tried only without them.
-    const LowRankHessian low_rank = assembler_.low_rank_hessian(y, p, mode);
-    if (options_.reuse_factorization && low_rank.empty() && mode == HessianMode::exact &&
-        !kept_factor_stale_ && can_precondition()) {
-      // Inexact Newton (Dembo, Eisenstat & Steihaug 1982): the step solves H dy = -g to a
-      // relative residual eta. Aim for eta = min(0.1, ||g|| / scale), Eisenstat & Walker's
-      // (1996) quadratic forcing, so that the Newton iterations are as few as with exact
-      // solves (an iteration's assembly and line search cost more than a CG iteration), but
-      // never tighter than half of what the convergence target needs. When the kept factor is
-      // too poor a preconditioner to get there within the CG cap, a step with eta <= 0.1 is
-      // still taken (it converges, only more slowly); a worse one makes this iteration
-      // factorize.
+    if (kept_constant) {
       t0 = Clock::now();
-      const double eta = std::min(0.1, std::max(residual / scale, 0.5 * target / residual));
-      const PcgResult cg = preconditioned_cg(hessian_, cholesky_, Vector(-gradient), eta,
-                                             options_.reuse_max_cg_iterations, dy);
-      it.solve_seconds += seconds_since(t0);
-      it.cg_iterations = cg.iterations;
-      it.cg_relative_residual = cg.relative_residual;
-      // A factor that no longer gets CG to eta within the cap has gone stale: the step is still
-      // taken (if eta <= 0.1), but the next iteration factorizes afresh.
-      kept_factor_stale_ = !cg.converged;
-      it.reused_factorization = cg.relative_residual <= 0.1 && dy.allFinite() && dy.dot(gradient) < 0.0;
-    }
-    if (!it.reused_factorization) {
-      // Newton direction: H dy = -g; shift the diagonal when the direction is not descent.
-      t0 = Clock::now();
-      factor_is_exact_ = false;  // until a factorization below is known to be of the exact Hessian
-      kept_factor_stale_ = false;
-      FactorizationResult fact = cholesky_.factorize(hessian_);
-      ++it.factorizations;
-      it.factorization_seconds = seconds_since(t0);
-      if (projected_left > 0) --projected_left;
-      if (mode == HessianMode::exact && fact.positive_definite) projected_backoff = 1;
-      if (options_.hessian == NewtonHessian::adaptive && mode == HessianMode::exact &&
-          !fact.positive_definite) {
-        // Indefinite exact Hessian: use the projected one now and in the next iteration.
-        t0 = Clock::now();
-        assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, HessianMode::projected);
-        it.assembly_seconds += seconds_since(t0);
-        mode = assembled_mode_ = HessianMode::projected;
-        // Back off exponentially: a failed exact attempt costs one factorization, so after
-        // consecutive failures wait 1, 2, 4, ... iterations before trying again.
-        projected_left = projected_backoff;
-        projected_backoff = std::min(2 * projected_backoff, 16);
-        t0 = Clock::now();
-        fact = cholesky_.factorize(hessian_);
-        ++it.factorizations;
-        it.factorization_seconds += seconds_since(t0);
-      }
-      it.used_projected = mode == HessianMode::projected;
-      double shift = 0.0;
-      for (int attempt = 0;; ++attempt) {
-        if (fact.success) {
-          apply_low_rank(low_rank);
-          t0 = Clock::now();
-          dy = cholesky_.solve(Vector(-gradient));
-          it.solve_seconds += seconds_since(t0);
-          if (dy.allFinite() && dy.dot(gradient) < 0.0) break;
-        }
-        if (attempt == 30)
-          return finish(NewtonStatus::singular_matrix,
-                        "no descent direction at iteration " + std::to_string(k) + ": " + fact.message);
-        // Levenberg-style diagonal shift, relative to the largest diagonal entry.
-        double max_diag = 0.0;
-        for (int j = 0; j < hessian_.outerSize(); ++j)
-          max_diag = std::max(max_diag, std::abs(hessian_.coeff(j, j)));
-        const double next = shift == 0.0 ? 1e-8 * std::max(max_diag, 1e-300) : 10.0 * shift;
-        for (int j = 0; j < hessian_.outerSize(); ++j) hessian_.coeffRef(j, j) += next - shift;
-        shift = next;
-        t0 = Clock::now();
-        fact = cholesky_.factorize(hessian_);
-        ++it.factorizations;
-        it.factorization_seconds += seconds_since(t0);
-      }
+      dy = cholesky_.solve(Vector(-gradient));
+      it.solve_seconds = seconds_since(t0);
+      it.kept_constant_factor = true;
       it.used_ldlt = cholesky_.is_ldlt();
-      factor_is_exact_ = mode == HessianMode::exact && shift == 0.0;
-      factor_matches_hessian_ = true;
+    } else {
+      // Terms' low-rank Hessian parts go on top of the sparse factor (Woodbury); CG with the
+      // kept factor sees only the sparse part, so it is tried only without them.
+      const LowRankHessian low_rank = assembler_.low_rank_hessian(y, p, mode);
+      if (options_.reuse_factorization && low_rank.empty() && mode == HessianMode::exact && !kept_factor_stale_ &&
+          can_precondition())
+        it.reused_factorization = kept_factor_step(gradient, residual, scale, target, it, dy);
+      if (!it.reused_factorization) {
+        const std::string error = factorized_step(p, y, gradient, mode, choice, low_rank, it, dy);
+        if (!error.empty()) return finish(NewtonStatus::singular_matrix, error);
+      }
     }
 
-    // Backtracking line search on E, starting from the largest admissible step.
-    t0 = Clock::now();
-    const Vector dx = elim.expand_direction(dy);
-    double alpha = std::min(1.0, model_.max_step(model_.state(y, p), dx));
-    const double slope = gradient.dot(dy);
-    const double round_off =
-        64.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(energy), 1e-300);
-    bool accepted = false;
-    for (int ls = 0; ls <= options_.max_line_search_steps; ++ls, alpha *= 0.5) {
-      it.line_search_steps = ls;
-      const Vector trial = y + alpha * dy;
-      double trial_energy = 0.0;
-      assembler_.evaluate(trial, p, &trial_energy, nullptr, nullptr);
-      if (!std::isfinite(trial_energy)) continue;
-      if (trial_energy <= energy + options_.armijo * alpha * slope) {
-        accepted = true;
-      } else if (std::abs(trial_energy - energy) <= round_off) {
-        // Energy differences are at round-off: judge the step by the residual instead.
-        Vector trial_gradient;
-        assembler_.evaluate(trial, p, nullptr, &trial_gradient, nullptr);
-        accepted = trial_gradient.norm() < residual;
-      }
-      if (accepted) {
-        y = trial;
-        break;
-      }
-    }
-    it.line_search_seconds = seconds_since(t0);
-    if (!accepted) {
-      result.history.push_back(it);
-      return finish(NewtonStatus::line_search_failed,
-                    "line search found no decrease at iteration " + std::to_string(k) + " after " +
-                        std::to_string(options_.max_line_search_steps) + " halvings");
-    }
-    it.step_length = alpha;
-    it.step_norm = alpha * dx.lpNorm<Eigen::Infinity>();
+    const bool accepted = line_search(p, y, dy, energy, gradient, residual, it);
     result.history.push_back(it);
+    if (!accepted)
+      return finish(NewtonStatus::line_search_failed, "line search found no decrease at iteration " +
+                                                          std::to_string(k) + " after " +
+                                                          std::to_string(options_.max_line_search_steps) +
+                                                          " halvings");
     if (options_.progress) {
-      *options_.progress << std::scientific << std::setprecision(3) << "  newton " << std::setw(3) << k
-                         << "  E " << std::setw(11) << energy << "  |g| " << residual << "  alpha "
-                         << std::defaultfloat << alpha << (it.used_projected ? "  projected" : "")
-                         << (it.reused_factorization ? "  cg " + std::to_string(it.cg_iterations)
-                                                     : std::string())
-                         << (it.used_ldlt ? "  (LDL^T)" : "") << "\n";
+      *options_.progress << std::scientific << std::setprecision(3) << "  newton " << std::setw(3) << k << "  E "
+                         << std::setw(11) << energy << "  |g| " << residual << "  alpha " << std::defaultfloat
+                         << it.step_length << (it.used_projected ? "  projected" : "")
+                         << (it.reused_factorization ? "  cg " + std::to_string(it.cg_iterations) : std::string())
+                         << (it.kept_constant_factor ? "  kept factor" : "") << (it.used_ldlt ? "  (LDL^T)" : "")
+                         << "\n";
     }
   }
 }

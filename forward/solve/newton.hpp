@@ -11,6 +11,18 @@
 //   floating point, so the residual has reached its round-off floor (which scales with the
 //   stiffness times the coordinates and cannot be predicted by a fixed absolute number).
 // A start that is already in equilibrium (||g_0|| = 0) converges at once.
+// The residual's round-off floor (status round_off_floor, which counts as converged): Newton
+// stops when the residual is below the floor estimate eps * ||H||_inf * (1 + ||x||_inf) (the
+// error of forces computed from positions held to relative precision eps; this catches a
+// start at equilibrium to round-off), or when a full step of an exact factorization did not
+// halve a residual that is already below sqrt(relative_tolerance) * scale (Newton's
+// quadratic convergence has stopped: the floor was reached one iteration earlier).
+//
+// Constant Hessians: when every term declares hessian_is_constant() (linear elasticity,
+// inertia, loads), the exact Hessian is factorized once per parameter vector p (and per
+// revision of the terms' settings, EnergyTerm::hessian_revision) and that factor is kept
+// across iterations, solve() calls (time steps) and the adjoint: an iteration then costs a
+// gradient evaluation and a back-solve.
 #include <chrono>
 #include <iosfwd>
 #include <string>
@@ -54,13 +66,23 @@ struct NewtonOptions {
   // where a factorization costs far more than a few triangular solves. The convergence test
   // is unchanged, so the equilibrium is the same to the tolerance.
   bool reuse_factorization = false;
+  // With a constant Hessian (see above), keep its factorization while p is unchanged. Off only
+  // to measure what it saves.
+  bool keep_constant_factorization = true;
   int reuse_max_cg_iterations = 20;
   double armijo = 1e-4;              // sufficient-decrease constant
   int max_line_search_steps = 40;    // halvings before the line search is declared stalled
   std::ostream* progress = nullptr;  // one line per iteration when set
 };
 
-enum class NewtonStatus { converged, max_iterations, line_search_failed, non_finite, singular_matrix };
+enum class NewtonStatus {
+  converged,
+  round_off_floor,  // converged as far as floating point allows (see the top of this file)
+  max_iterations,
+  line_search_failed,
+  non_finite,
+  singular_matrix
+};
 std::string to_string(NewtonStatus status);
 
 struct NewtonIteration {
@@ -73,6 +95,7 @@ struct NewtonIteration {
   bool used_ldlt = false;
   bool used_projected = false;         // the factorized Hessian was the PSD-projected one
   bool reused_factorization = false;   // the step came from CG preconditioned by a kept factor
+  bool kept_constant_factor = false;   // the step solved with the kept factor of a constant Hessian
   int cg_iterations = 0;               // CG iterations tried (also when CG then fell back)
   double cg_relative_residual = 0.0;   // ||H dy + g|| / ||g|| where CG stopped
   int factorizations = 0;              // numeric factorizations in this iteration
@@ -89,11 +112,12 @@ struct NewtonResult {
   double initial_residual = 0.0;
   double final_residual = 0.0;
   double final_energy = 0.0;
+  double residual_floor = 0.0;  // the round-off floor estimate (0 when not estimated)
   double analysis_seconds = 0.0;
   double total_seconds = 0.0;
   std::vector<NewtonIteration> history;
   int factorizations() const;  // numeric factorizations over all iterations
-  bool converged() const { return status == NewtonStatus::converged; }
+  bool converged() const { return status == NewtonStatus::converged || status == NewtonStatus::round_off_floor; }
   // A human-readable summary in the spirit of Ceres' FullReport().
   std::string report() const;
 };
@@ -123,6 +147,29 @@ class NewtonSolver {
   FactorizationResult factorize_hessian(const Vector& p, const Vector& y, HessianMode mode);
 
  private:
+  // Adaptive Hessian choice across iterations (see NewtonHessian::adaptive).
+  struct HessianChoice {
+    int projected_left = 0;     // iterations still to run with the projected Hessian
+    int projected_backoff = 1;  // ... and how many to run after the next failed exact attempt
+  };
+  HessianMode choose_mode(const HessianChoice& choice) const;
+  // The kept factor is the exact constant Hessian's at these parameters (and term settings).
+  bool constant_factor_matches(const Vector& p) const;
+  void remember_constant_factor(const Vector& p);
+  // The step from CG preconditioned by the kept factor (NewtonOptions::reuse_factorization);
+  // false when CG did not give a usable descent step.
+  bool kept_factor_step(const Vector& gradient, double residual, double scale, double target, NewtonIteration& it,
+                        Vector& dy);
+  // The step from a fresh factorization of the Hessian (switching to the projected Hessian or
+  // shifting the diagonal until the direction is a descent direction). Returns an error
+  // message when no descent direction was found.
+  std::string factorized_step(const Vector& p, const Vector& y, const Vector& gradient, HessianMode& mode,
+                              HessianChoice& choice, const LowRankHessian& low_rank, NewtonIteration& it, Vector& dy);
+  // Backtracking line search on E from the largest admissible step; on success y is updated.
+  bool line_search(const Vector& p, Vector& y, const Vector& dy, double energy, const Vector& gradient,
+                   double residual, NewtonIteration& it);
+  // eps * ||H||_inf * (1 + ||x||_inf) for the assembled (exact) Hessian at x.
+  double residual_floor_estimate(const Vector& x) const;
   void apply_low_rank(const LowRankHessian& low_rank);
   // The kept factor can precondition CG on the exact Hessian: exact, unshifted, LL^T.
   bool can_precondition() const;
@@ -137,6 +184,10 @@ class NewtonSolver {
   bool factor_matches_hessian_ = false;
   bool kept_factor_stale_ = false;  // reuse: the last CG missed its tolerance with the kept factor
   bool analyzed_ = false;
+  // Key of the kept factor of a constant Hessian (valid while constant_factor_ is true).
+  bool constant_factor_ = false;
+  Vector constant_p_;
+  std::vector<std::uint64_t> constant_revisions_;
 };
 
 }  // namespace tailor

@@ -20,6 +20,7 @@ struct FactorizationResult {
   bool positive_definite = false; // LL^T succeeded
   int negative_pivots = 0;        // of LDL^T (0 when positive definite)
   std::string message;            // why not, when !success or when LDL^T was needed
+  bool kept = false;              // NewtonSolver::factorize_hessian: the kept factor of a constant Hessian
 };
 
 class SparseCholesky {

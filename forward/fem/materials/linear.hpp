@@ -14,6 +14,7 @@ class LinearMaterial final : public Material<Dim> {
  public:
   using typename Material<Dim>::Mat;
   std::string name() const override { return "linear"; }
+  bool tangent_is_constant() const override { return true; }
   // The tangent is constant. Its eigenvalues are 0 (skew modes), 2 mu (deviatoric symmetric)
   // and Dim lambda + 2 mu (trace mode); the projected tangent clamps the last two analytically.
   void evaluate(const Mat& F, const LameParameters& lame, bool want_stress, bool want_tangent,

@@ -18,19 +18,13 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
-std::string number(double v) {
-  if (std::isnan(v)) return "null";
-  std::ostringstream s;
-  s << std::setprecision(17) << v;
-  return s.str();
-}
-
 }  // namespace
 
 std::string to_string(TaylorStatus status) {
   switch (status) {
     case TaylorStatus::passed: return "passed";
     case TaylorStatus::failed: return "failed";
+    case TaylorStatus::not_asymptotic: return "not_asymptotic";
     case TaylorStatus::round_off: return "round_off";
     case TaylorStatus::vanishing: return "vanishing";
     case TaylorStatus::evaluation_failed: return "evaluation_failed";
@@ -52,49 +46,135 @@ Vector random_direction(const Vector& z, const TaylorTestOptions& options) {
   return dz;
 }
 
-// Fills rows, rates and status from remainders(h) -> (value, r0, r1); `first_order_size` is
-// |first-order term| at h0 and `noise` the evaluation noise floor of the remainders.
-void tabulate(TaylorTestResult& result, const TaylorTestOptions& options, double first_order_size, double noise,
-              const std::function<std::array<double, 3>(double)>& remainders) {
-  const int halvings = std::max(options.halvings, 4);
+// One evaluation at step h: (J(z + h dz), r0(h), r1(h)).
+using Remainders = std::function<std::array<double, 3>(double)>;
+
+double rate_between(const TaylorRow& a, const TaylorRow& b, double TaylorRow::*remainder) {
+  return std::log(a.*remainder / b.*remainder) / std::log(a.step / b.step);
+}
+
+// The search and the verdict described in taylor_test.hpp. `slope` is |first-order term| per
+// unit step (|dJ.dz| or ||H dz||), `noise` the evaluation noise floor of the remainders.
+void judge(TaylorTestResult& result, const TaylorTestOptions& options, double slope, double noise,
+           const Remainders& remainders) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  double h = options.initial_step;
-  std::vector<double> rates0, rates1;
-  for (int k = 0; k <= halvings; ++k, h *= 0.5) {
+  const int halvings = std::max(options.halvings, 4);
+  const double fraction = options.asymptotic_fraction;
+  // r1 falls 4x per halving: to stay 10x above the noise for three halvings it starts >= 640x.
+  const double resolvable = 10.0 * noise * 64.0;
+  auto evaluate = [&](double h, bool judged) {
     const auto [value, r0, r1] = remainders(h);
-    TaylorRow row{h, value, r0, r1, nan, nan, r1 <= 10.0 * noise};
-    if (!result.rows.empty()) {
-      const TaylorRow& prev = result.rows.back();
-      if (row.remainder0 > 10.0 * noise && prev.remainder0 > 10.0 * noise) {
-        row.rate0 = std::log2(prev.remainder0 / row.remainder0);
-        rates0.push_back(row.rate0);
-      }
-      if (!row.round_off && !prev.round_off) {
-        row.rate1 = std::log2(prev.remainder1 / row.remainder1);
-        rates1.push_back(row.rate1);
-      }
+    result.rows.push_back(TaylorRow{h, value, r0, r1, nan, nan, r1 <= 10.0 * noise, judged});
+    return result.rows.back();  // a copy: later pushes may move the rows
+  };
+  std::ostringstream msg;
+  if (slope * options.initial_step <= 10.0 * noise) {
+    result.status = TaylorStatus::vanishing;
+    msg << "the directional derivative vanishes (first-order term " << slope * options.initial_step
+        << " at h0 is at the noise floor " << noise << "): nothing was tested; choose another point or direction";
+    result.message = msg.str();
+    return;
+  }
+
+  // 1. The search for a step in the asymptotic regime with a resolvable remainder.
+  double h = options.initial_step;
+  double smallest_too_large = std::numeric_limits<double>::infinity();  // r1 > fraction * t
+  double largest_too_small = 0.0;                                       // r1 below `resolvable`
+  bool found = false;
+  for (int s = 0; s < std::max(options.max_search_steps, 1); ++s) {
+    const TaylorRow row = evaluate(h, false);
+    const double t = slope * h;
+    const bool asymptotic = row.remainder1 <= fraction * t;
+    if (asymptotic && row.remainder1 >= resolvable) {
+      found = true;
+      result.rows.back().judged = true;  // the first of the judged rows
+      break;
     }
-    result.rows.push_back(row);
+    if (asymptotic)
+      largest_too_small = std::max(largest_too_small, h);
+    else
+      smallest_too_large = std::min(smallest_too_large, h);
+    if (largest_too_small > 0.0 && std::isfinite(smallest_too_large)) {
+      if (smallest_too_large < 2.0 * largest_too_small) break;  // no window between the two
+      h = std::sqrt(smallest_too_large * largest_too_small);
+    } else if (!asymptotic) {
+      // For a right gradient r1 / t ~ h: jump to a quarter of the allowed fraction.
+      h *= std::clamp(0.25 * fraction * t / row.remainder1, 1e-3, 0.5);
+    } else {
+      // r1 ~ h^2: grow to four times the resolvable level.
+      h *= row.remainder1 > 0.0 ? std::clamp(std::sqrt(4.0 * resolvable / row.remainder1), 2.0, 1e3) : 1e3;
+    }
+  }
+  if (!found) {
+    // Did the remainder stay a fixed fraction of the first-order term as h shrank (a wrong
+    // derivative: r1 ~ h), or did it fall faster but meet the noise first?
+    std::vector<double> rates;
+    std::vector<TaylorRow> informative;
+    for (const TaylorRow& r : result.rows)
+      if (!r.round_off && r.remainder1 > fraction * slope * r.step) informative.push_back(r);
+    std::sort(informative.begin(), informative.end(), [](const auto& a, const auto& b) { return a.step > b.step; });
+    for (std::size_t k = 1; k < informative.size(); ++k)
+      if (informative[k - 1].step > 1.5 * informative[k].step)
+        rates.push_back(rate_between(informative[k - 1], informative[k], &TaylorRow::remainder1));
+    result.rate1 = median(rates);
+    if (!rates.empty() && result.rate1 < 1.5) {
+      result.status = TaylorStatus::failed;
+      msg << "the remainder stays a fixed fraction (about " << std::setprecision(2)
+          << informative.back().remainder1 / (slope * informative.back().step)
+          << ") of the first-order term as h shrinks (rate " << std::fixed << std::setprecision(2) << result.rate1
+          << "): the derivative is wrong";
+    } else if (largest_too_small == 0.0 && !std::isfinite(smallest_too_large)) {
+      result.status = TaylorStatus::round_off;
+      msg << "no step gave a remainder above the noise floor " << noise;
+    } else if (!std::isfinite(smallest_too_large)) {
+      result.status = TaylorStatus::round_off;
+      msg << "the second-order remainder stayed within 640x of the noise floor " << noise
+          << " up to h = " << largest_too_small << ": the functional is (nearly) linear along dz, or its "
+          << "evaluations are too noisy; tighten the forward solve";
+    } else {
+      result.status = TaylorStatus::not_asymptotic;
+      msg << "no step is both asymptotic (remainder <= " << fraction << " x first-order term, needs h < "
+          << smallest_too_large << ") and above the noise floor " << noise
+          << " (needs h > " << largest_too_small << "): tighten the forward solve or scale the design";
+    }
+    result.message = msg.str();
+    return;
+  }
+
+  // 2. The verdict over `halvings` halvings from the step found.
+  result.step = h;
+  std::vector<double> rates0, rates1;
+  for (int k = 1; k <= halvings; ++k) {
+    h *= 0.5;
+    const TaylorRow prev = result.rows.back();
+    TaylorRow& row = (evaluate(h, true), result.rows.back());
+    if (row.remainder0 > 10.0 * noise && prev.remainder0 > 10.0 * noise) {
+      row.rate0 = std::log2(prev.remainder0 / row.remainder0);
+      rates0.push_back(row.rate0);
+    }
+    if (!row.round_off && !prev.round_off) {
+      row.rate1 = std::log2(prev.remainder1 / row.remainder1);
+      rates1.push_back(row.rate1);
+    }
   }
   result.rate0 = median(rates0);
   result.rate1 = median(rates1);
-
-  std::ostringstream msg;
-  if (first_order_size <= 10.0 * noise) {
-    result.status = TaylorStatus::vanishing;
-    msg << "the directional derivative vanishes (first-order term " << first_order_size
-        << " at h0 is at the noise floor): nothing was tested; choose another point or direction";
-  } else if (rates1.size() < 3) {
-    result.status = TaylorStatus::round_off;
-    msg << "only " << rates1.size() << " rates above the noise floor " << noise
-        << ": the second-order remainder is at round-off; increase initial_step or tighten the forward solve";
+  msg << std::fixed << std::setprecision(2);
+  if (rates1.size() < 3) {
+    result.status = TaylorStatus::not_asymptotic;
+    msg << "only " << rates1.size() << " rates above the noise floor from h = " << std::scientific << result.step
+        << ": tighten the forward solve";
+  } else if (!(std::abs(result.rate0 - 1.0) <= options.first_rate_tolerance)) {
+    result.status = TaylorStatus::not_asymptotic;
+    msg << "the first-order difference falls at rate " << result.rate0 << ", not 1: not in the asymptotic regime";
   } else if (result.rate1 >= options.min_rate) {
     result.status = TaylorStatus::passed;
-    msg << "second-order remainder converges at rate " << std::fixed << std::setprecision(2) << result.rate1;
+    msg << "first-order difference at rate " << result.rate0 << ", second-order remainder at rate " << result.rate1
+        << " from h = " << std::scientific << std::setprecision(2) << result.step;
   } else {
     result.status = TaylorStatus::failed;
-    msg << "second-order remainder converges at rate " << std::fixed << std::setprecision(2) << result.rate1 << " < "
-        << options.min_rate << ": the derivative is wrong (or the functional is not smooth here)";
+    msg << "second-order remainder converges at rate " << result.rate1 << " < " << options.min_rate
+        << " (first-order rate " << result.rate0 << "): the derivative is wrong (or the functional is not smooth here)";
   }
   result.message = msg.str();
 }
@@ -112,7 +192,7 @@ TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z, con
     const double noise = options.noise_floor > 0.0
                              ? options.noise_floor
                              : 1e3 * std::numeric_limits<double>::epsilon() * std::max(std::abs(result.value), 1e-300);
-    tabulate(result, options, std::abs(result.directional_derivative) * options.initial_step, noise, [&](double h) {
+    judge(result, options, std::abs(result.directional_derivative), noise, [&](double h) {
       const double value = functional.value(z + h * dz);
       return std::array<double, 3>{value, std::abs(value - result.value),
                                    std::abs(value - result.value - h * result.directional_derivative)};
@@ -137,7 +217,7 @@ TaylorTestResult taylor_test_hessian(ReducedFunctional& functional, const Vector
     const double noise = options.noise_floor > 0.0
                              ? options.noise_floor
                              : 1e3 * std::numeric_limits<double>::epsilon() * std::max(gradient.norm(), 1e-300);
-    tabulate(result, options, hv.norm() * options.initial_step, noise, [&](double h) {
+    judge(result, options, hv.norm(), noise, [&](double h) {
       Vector g;
       const double value = functional.value_and_gradient(z + h * dz, g);
       return std::array<double, 3>{value, (g - gradient).norm(), (g - gradient - h * hv).norm()};
@@ -164,26 +244,9 @@ std::string TaylorTestResult::table() const {
     };
     s << "  " << std::scientific << std::setprecision(3) << std::setw(10) << r.step << "   " << std::setw(14)
       << r.remainder0 << "   " << rate(r.rate0) << "   " << std::setw(20) << r.remainder1 << "   " << rate(r.rate1)
-      << (r.round_off ? "  (round-off)" : "") << "\n";
+      << (r.round_off ? "  (round-off)" : "") << (r.judged ? "" : "  (search)") << "\n";
   }
   s << to_string(status) << ": " << message << "\n";
-  return s.str();
-}
-
-std::string TaylorTestResult::json() const {
-  std::ostringstream s;
-  s << "{\n  \"status\": \"" << to_string(status) << "\",\n  \"message\": \"";
-  for (char c : message) s << (c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c));
-  s << "\",\n  \"value\": " << number(value) << ",\n  \"directional_derivative\": " << number(directional_derivative)
-    << ",\n  \"rate0\": " << number(rate0) << ",\n  \"rate1\": " << number(rate1) << ",\n  \"rows\": [\n";
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const auto& r = rows[k];
-    s << "    {\"step\": " << number(r.step) << ", \"value\": " << number(r.value) << ", \"remainder0\": "
-      << number(r.remainder0) << ", \"remainder1\": " << number(r.remainder1) << ", \"rate0\": " << number(r.rate0)
-      << ", \"rate1\": " << number(r.rate1) << ", \"round_off\": " << (r.round_off ? "true" : "false") << "}"
-      << (k + 1 < rows.size() ? "," : "") << "\n";
-  }
-  s << "  ]\n}\n";
   return s.str();
 }
 

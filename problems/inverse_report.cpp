@@ -1,6 +1,7 @@
 #include "problems/inverse_report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -38,17 +39,33 @@ Json error_json(const FieldError& e) {
 }
 
 // A Taylor test result as JSON: its own layout, parsed back so it can be extended.
+// A NaN (a rate that was not measured) is written as null.
+Json finite_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
 Json taylor_json(const TaylorTestResult& result) {
-  try {
-    return Json::parse(result.json());
-  } catch (const nlohmann::json::exception&) {  // e.g. a control character in the message
-    return {{"status", to_string(result.status)}, {"message", result.message}};
-  }
+  Json rows = Json::array();
+  for (const TaylorRow& r : result.rows)
+    rows.push_back({{"step", r.step},
+                    {"value", finite_or_null(r.value)},
+                    {"remainder0", finite_or_null(r.remainder0)},
+                    {"remainder1", finite_or_null(r.remainder1)},
+                    {"rate0", finite_or_null(r.rate0)},
+                    {"rate1", finite_or_null(r.rate1)},
+                    {"round_off", r.round_off},
+                    {"judged", r.judged}});
+  return {{"status", to_string(result.status)},
+          {"message", result.message},
+          {"value", finite_or_null(result.value)},
+          {"directional_derivative", finite_or_null(result.directional_derivative)},
+          {"step", result.step},
+          {"rate0", finite_or_null(result.rate0)},
+          {"rate1", finite_or_null(result.rate1)},
+          {"rows", rows}};
 }
 
 Json optional_vector(const Vector& v) { return v.size() > 0 ? to_json(v) : Json(nullptr); }
 
-// The handles term's settings and, per handle, what it achieved (see the README).
+// The handles term's settings and, per handle, what it achieved (see docs/scenes.md).
 Json handles_json(const InverseProblem& problem, const std::vector<HandleResult>& results) {
   const HandlesTerm* term = find_handles_term(problem.spec);
   Json list = Json::array();
@@ -93,8 +110,7 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
   const OptimizerResult& result = run.result;
   const Mesh& mesh = problem.setup.mesh;
   Json report;
-  report["tailor_version"] = version_string;
-  report["report_format"] = kReportFormatVersion;
+  add_report_header(report);
   report["kind"] = "inverse";
   report["scene"] = {{"name", problem.scene_name}, {"source", problem.scene_source}};
   report["status"] = to_string(result.status);
@@ -103,6 +119,7 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
   report["backend"] = to_string(problem.spec.optimizer.backend);
   report["iterations"] = result.history.empty() ? 0 : result.history.back().iteration;
   report["evaluations"] = result.evaluations;
+  report["failed_evaluations"] = result.failed_evaluations;
 
   report["history"] = optimizer_history_json(result);
 

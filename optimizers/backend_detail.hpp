@@ -98,6 +98,7 @@ class Tracker {
   // Objective at z if evaluated (best point or the cached points).
   std::optional<double> known_value(const Vector& z) const;
   int evaluations() const { return evaluations_; }
+  int failed_evaluations() const { return failed_evaluations_; }
   double seconds() const;
 
  private:
@@ -115,6 +116,7 @@ class Tracker {
   int start_forward_ = 0, start_adjoint_ = 0;  // the functional's counters at the start
 
   int evaluations_ = 0;
+  int failed_evaluations_ = 0;
   // One-point caches: last value, last gradient, last residuals.
   std::optional<std::pair<Vector, double>> value_cache_;
   std::optional<Vector> gradient_z_;

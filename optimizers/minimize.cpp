@@ -120,6 +120,8 @@ std::string OptimizerResult::report() const {
   const int iterations = history.empty() ? 0 : history.back().iteration;
   out << "  iterations     : " << iterations << '\n';
   out << "  evaluations    : " << evaluations << '\n';
+  if (failed_evaluations > 0)
+    out << "  failed points  : " << failed_evaluations << " (forward solve failed; the step was shortened)\n";
   out << "  objective      : ";
   if (!history.empty()) out << format_number("%.6e", history.front().objective) << " -> ";
   out << format_number("%.6e", objective) << '\n';
@@ -184,7 +186,10 @@ double Tracker::value(const Vector& z) {
   } catch (...) {
     fail("unknown exception");
   }
-  if (!std::isfinite(f)) f = kInf;
+  if (!std::isfinite(f)) {
+    f = kInf;
+    ++failed_evaluations_;
+  }
   value_cache_.emplace(z, f);
   consider(z, f);
   return f;
@@ -209,6 +214,7 @@ double Tracker::value_and_gradient(const Vector& z, Vector& gradient) {
   }
   if (!std::isfinite(f) || gradient.size() != n_ || !gradient.allFinite()) {
     f = kInf;
+    ++failed_evaluations_;
     gradient.setZero(n_);
   } else {
     gradient_z_ = z;
@@ -237,6 +243,7 @@ bool Tracker::residuals(const Vector& z, Vector& r, Matrix* jacobian) {
     }
     residual_z_ = z;
     residual_ok_ = ok;
+    if (!ok) ++failed_evaluations_;
     if (jacobian && ok)
       residual_jacobian_ = std::move(J);
     else
@@ -481,6 +488,7 @@ OptimizerResult minimize(ReducedFunctional& functional, const Vector& z0, const 
   }
   result.history = tracker.history();
   result.evaluations = tracker.evaluations();
+  result.failed_evaluations = tracker.failed_evaluations();
   result.seconds = tracker.seconds();
   return result;
 }

@@ -72,6 +72,9 @@ struct OptimizerResult {
   double objective = 0.0;
   std::vector<OptimizerIteration> history;
   int evaluations = 0;
+  // Evaluations that failed (the forward solve did not converge at a trial point, or the value
+  // was not finite): treated as infinitely bad points, so the back-end shortened its step.
+  int failed_evaluations = 0;
   double seconds = 0.0;
   bool converged() const { return status == OptimizerStatus::converged; }
   std::string report() const;

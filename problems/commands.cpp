@@ -40,6 +40,7 @@ SimulateRun simulate_scene(const Scene& scene, const std::string& out_dir, std::
   const auto t_start = Clock::now();
   SimulateRun run;
   run.setup = setup_static_scene(scene);
+  require_supported(scene, run.setup);
   run.timings.setup = seconds_since(t_start);
   if (log) print_setup(*log, scene, run.setup);
 

@@ -19,7 +19,6 @@
 #include "problems/scene_parsing.hpp"
 #include "problems/scene_selection.hpp"
 #include "problems/static_scene.hpp"
-#include "tailor_version.hpp"
 
 namespace tailor {
 namespace {
@@ -204,8 +203,7 @@ DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir
     if (!pvd) throw std::runtime_error("cannot write '" + run.series_path + "'");
   }
   Json report;
-  report["tailor_version"] = version_string;
-  report["report_format"] = kReportFormatVersion;
+  add_report_header(report);
   report["scene"] = {{"name", scene.name}, {"source", scene.source}};
   report["kind"] = "dynamics";
   report["status"] = run.completed ? "completed" : "failed";

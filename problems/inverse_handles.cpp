@@ -7,6 +7,7 @@
 
 #include "forward/fem/elastic_term.hpp"
 #include "forward/fem/loads.hpp"
+#include "forward/reduction/free_space.hpp"
 #include "problems/scene_parsing.hpp"
 #include "problems/scene_selection.hpp"
 
@@ -50,40 +51,6 @@ const HandlesTerm* find_handles_term(const InverseSpec& spec, std::string* key) 
   return nullptr;
 }
 
-// Columns: the rigid motions of the mesh (translations, then rotations about the bounding-box
-// centre, lengths scaled by its diagonal), restricted to the listed DOFs. The body is pinned iff
-// these columns are linearly independent.
-int free_rigid_motions(const Mesh& mesh, const std::vector<int>& constrained_dofs) {
-  const int dim = mesh.dim();
-  const int modes = dim == 3 ? 6 : 3;
-  const Eigen::RowVectorXd lo = mesh.rest_positions.colwise().minCoeff(),
-                           hi = mesh.rest_positions.colwise().maxCoeff();
-  const Eigen::RowVectorXd centre = 0.5 * (lo + hi);
-  const double scale = std::max((hi - lo).norm(), std::numeric_limits<double>::min());
-  Matrix R = Matrix::Zero(static_cast<Eigen::Index>(constrained_dofs.size()), modes);
-  for (std::size_t i = 0; i < constrained_dofs.size(); ++i) {
-    const int v = constrained_dofs[i] / dim, k = constrained_dofs[i] % dim;
-    const Eigen::RowVectorXd X = (mesh.rest_positions.row(v) - centre) / scale;
-    const auto row = static_cast<Eigen::Index>(i);
-    R(row, k) = 1.0;
-    if (dim == 2) {
-      R(row, 2) = k == 0 ? -X[1] : X[0];  // e_z x X
-    } else {
-      for (int a = 0; a < 3; ++a) {  // (e_a x X)_k
-        const int b = (a + 1) % 3, c = (a + 2) % 3;
-        R(row, 3 + a) = k == c ? X[b] : (k == b ? -X[c] : 0.0);
-      }
-    }
-  }
-  const Eigen::SelfAdjointEigenSolver<Matrix> eigen(R.transpose() * R);
-  const Vector values = eigen.eigenvalues();
-  const double largest = std::max(values.maxCoeff(), 0.0);
-  int free = 0;
-  for (Eigen::Index i = 0; i < values.size(); ++i)
-    if (!(values[i] > 1e-10 * largest) || largest == 0.0) ++free;
-  return free;
-}
-
 std::vector<std::vector<int>> constrain_handles(const Scene& scene, InverseProblem& problem,
                                                 const HandlesTerm& term, const std::string& key) {
   StaticSetup& setup = problem.setup;
@@ -117,7 +84,7 @@ std::vector<std::vector<int>> constrain_handles(const Scene& scene, InverseProbl
       for (int k = 0; k < dim; ++k) setup.fixed_dofs.push_back(dim * v + k);
   std::sort(setup.fixed_dofs.begin(), setup.fixed_dofs.end());
 
-  if (const int free = free_rigid_motions(mesh, setup.fixed_dofs); free > 0)
+  if (const int free = static_cast<int>(unconstrained_rigid_motions(mesh, setup.fixed_dofs).size()); free > 0)
     throw_scene_error(scene, key,
                       "the dirichlet conditions and the handles leave the body free to move rigidly (" +
                           std::to_string(free) + " independent rigid motion" + (free == 1 ? "" : "s") +
@@ -186,7 +153,7 @@ Vector initial_handle_displacements(const InverseProblem& problem, const Handles
   Eigen::MatrixXd displacement = Eigen::MatrixXd::Zero(problem.setup.mesh.num_vertices(), dim);
   if (any_released) {
     std::erase_if(free_setup.fixed_dofs, [&](int d) { return released[static_cast<std::size_t>(d)]; });
-    if (free_rigid_motions(free_setup.mesh, free_setup.fixed_dofs) == 0) {
+    if (unconstrained_rigid_motions(free_setup.mesh, free_setup.fixed_dofs).empty()) {
       const StaticSolution solution = solve_static(free_setup);
       if (solution.converged) displacement = solution.displacement;
     }

@@ -11,7 +11,6 @@
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/report.hpp"
 #include "problems/static_scene.hpp"
-#include "tailor_version.hpp"
 
 namespace tailor {
 namespace {
@@ -73,8 +72,7 @@ ModesRun modes_scene(const Scene& scene, int count, const std::string& out_dir, 
   write_vtu(run.modes_path, setup.mesh, fields);
 
   Json report;
-  report["tailor_version"] = version_string;
-  report["report_format"] = kReportFormatVersion;
+  add_report_header(report);
   report["kind"] = "modes";
   report["scene"] = {{"name", scene.name}, {"source", scene.source}};
   report["count"] = m.eigenvalues.size();

@@ -5,7 +5,6 @@
 #include <stdexcept>
 
 #include "forward/mesh/mesh_io.hpp"
-#include "tailor_version.hpp"
 
 namespace tailor {
 namespace {
@@ -32,8 +31,7 @@ void append_history(const NewtonResult& r, Json& out, Get get, Final final_value
 void write_report_json(const std::string& path, const Scene& scene, const StaticSetup& setup,
                        const StaticSolution& solution, const RunTimings& timings) {
   Json report;
-  report["tailor_version"] = version_string;
-  report["report_format"] = kReportFormatVersion;
+  add_report_header(report);
   report["scene"] = {{"name", scene.name}, {"source", scene.source}};
   report["status"] = solution.status;
   report["message"] = solution.message;

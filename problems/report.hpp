@@ -1,10 +1,11 @@
 #pragma once
 // Outputs of a static run: DIR/report.json (the machine-readable summary that later tools
-// read; its format is documented field by field in the README and stays stable) and
+// read; its format is documented field by field in docs/scenes.md and stays stable) and
 // DIR/result.vtu (the deformed mesh with per-vertex and per-element fields, for ParaView).
 #include <string>
 
 #include "forward/mesh/mesh_io.hpp"
+#include "problems/report_header.hpp"
 #include "problems/scene.hpp"
 #include "problems/static_scene.hpp"
 
@@ -22,8 +23,6 @@ struct RunTimings {
   double output = 0.0;         // post-processing and writing result.vtu
 };
 
-// Version of the report layout; bumped only when a field changes meaning or is removed.
-inline constexpr int kReportFormatVersion = 1;
 
 // Throws std::runtime_error when the file cannot be written.
 void write_report_json(const std::string& path, const Scene& scene, const StaticSetup& setup,

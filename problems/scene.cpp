@@ -4,8 +4,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <sstream>
+#include <system_error>
+
+#include <unistd.h>
 
 #include "problems/dynamic_scene.hpp"
 #include "problems/scene_parsing.hpp"
@@ -116,6 +120,12 @@ VertexSelector parse_vertex_selector(const SceneNode& node, const std::string& d
 
 namespace {
 
+// Installed memory (0 when unknown).
+double physical_memory_bytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page_size > 0 ? static_cast<double>(pages) * static_cast<double>(page_size) : 0.0;
+}
+
 ElementSelector parse_element_selector(const SceneNode& node) {
   ElementSelector s;
   s.key = node.path();
@@ -156,10 +166,26 @@ MeshSpec parse_mesh(const SceneNode& node, const std::string& directory) {
   if (static_cast<int>(counts.size()) != dim)
     cells.fail("expected " + std::to_string(dim) + " cell counts, got " + std::to_string(counts.size()));
   m.cells = Eigen::Map<const Eigen::VectorXi>(counts.data(), dim);
+  // Refuse meshes that cannot fit before allocating them: the elements' count must fit int
+  // indices, and the model alone (element data and the Hessian pattern, ~3 KiB per tet,
+  // ~1 KiB per triangle) must fit in this machine's memory, before any factorization.
+  double elements = dim == 3 ? 6.0 : 2.0;
+  for (int k = 0; k < dim; ++k) elements *= counts[static_cast<std::size_t>(k)];
+  const double bytes = elements * (dim == 3 ? 3072.0 : 1024.0);
+  const double memory = physical_memory_bytes();
+  constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+  if (elements > 2e9 || (memory > 0 && bytes > memory)) {
+    std::ostringstream what;
+    what << std::setprecision(3) << elements << (dim == 3 ? " tets" : " triangles") << " would need at least "
+         << bytes / kGiB << " GiB for the model alone";
+    if (memory > 0) what << ", more than this machine's " << memory / kGiB << " GiB";
+    if (elements > 2e9) what << ", and more elements than int indices can count";
+    cells.fail(what.str() + ": use fewer cells");
+  }
   return m;
 }
 
-// "model": "spline" (README, "Spline materials in scenes"): exactly one of "preset" (with
+// "model": "spline" (docs/materials.md, "Spline materials in scenes"): exactly one of "preset" (with
 // youngs_modulus and poisson_ratio) and "curves" (inline or {"file": ...}, the moduli then
 // come from the curves).
 void parse_spline_material(const SceneNode& node, const std::string& directory, MaterialSpec& m) {
@@ -200,7 +226,9 @@ MaterialSpec parse_material(const SceneNode& node, const std::string& directory)
   MaterialSpec m;
   m.key = node.path();
   m.elements = parse_element_selector(node.at("elements"));
-  const std::string model = node.at("model").choice({"linear", "corotated", "stvk", "neo_hookean", "spline"});
+  std::vector<std::string> models = material_names();
+  models.emplace_back("spline");  // principal-stretch curves, parsed below
+  const std::string model = node.at("model").choice(models);
   if (auto d = node.find("density")) m.density = d->non_negative();
   if (model == "spline") {
     parse_spline_material(node, directory, m);
@@ -292,7 +320,7 @@ LoadSpec parse_loads(const SceneNode& node, const std::string& directory) {
 
 SolverSpec parse_solver(const SceneNode& node) {
   node.expect_keys({"max_iterations", "relative_tolerance", "absolute_tolerance", "hessian", "load_steps",
-                    "reuse_factorization"});
+                    "reuse_factorization", "threads"});
   SolverSpec s;
   if (auto v = node.find("max_iterations")) s.newton.max_iterations = v->integer(1);
   if (auto v = node.find("relative_tolerance")) s.newton.relative_tolerance = v->open_interval(0.0, 1.0);
@@ -305,6 +333,17 @@ SolverSpec parse_solver(const SceneNode& node) {
   }
   if (auto v = node.find("load_steps")) s.load_steps = v->integer(1);
   if (auto v = node.find("reuse_factorization")) s.newton.reuse_factorization = v->boolean();
+  if (auto threads = node.find("threads")) {
+    threads->expect_keys({"assembly", "blas", "factorization"});
+    ThreadSettings t;
+    if (auto v = threads->find("assembly")) t.assembly = v->integer(0);
+    if (auto v = threads->find("blas")) t.blas = v->integer(0);
+    if (auto v = threads->find("factorization")) {
+      t.factorization = v->integer(0);
+      if (t.factorization > 1) v->fail("expected 1 (CHOLMOD's OpenMP loops serialized) or 0 (as CHOLMOD was built)");
+    }
+    s.threads = t;
+  }
   return s;
 }
 
@@ -314,14 +353,26 @@ std::string axis_name(int axis) { return std::string(1, static_cast<char>('x' + 
 
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& directory) {
   nlohmann::json document;
+  // The last object key read, to say where a number that overflows double stands (nlohmann
+  // reports that without a position).
+  std::string last_key;
+  const auto track_keys = [&last_key](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    if (event == nlohmann::json::parse_event_t::key) last_key = parsed.get<std::string>();
+    return true;
+  };
   try {
-    document = nlohmann::json::parse(json_text);
+    document = nlohmann::json::parse(json_text, track_keys);
   } catch (const nlohmann::json::parse_error& e) {
     // e.what() reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
     std::string what = e.what();
     if (const auto bracket = what.find("] "); what.rfind("[json.", 0) == 0 && bracket != std::string::npos)
       what.erase(0, bracket + 2);
     throw SceneError(source + ": invalid JSON (byte " + std::to_string(e.byte) + "): " + what);
+  } catch (const nlohmann::json::exception& e) {
+    // out_of_range.406: a number beyond the range of double (e.g. 1e400).
+    throw SceneError(source + ": invalid JSON: a number is out of the range of double precision" +
+                     (last_key.empty() ? std::string() : " (at or after key \"" + last_key + "\")") +
+                     "; numbers must be finite and below about 1.8e308");
   }
   Scene scene;
   scene.source = source;
@@ -350,6 +401,8 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
 }
 
 Scene read_scene(const std::string& path) {
+  std::error_code error;
+  if (fs::is_directory(path, error)) throw SceneError(path + ": is a folder, not a scene file");
   std::ifstream in(path);
   if (!in) throw SceneError(path + ": cannot open the scene file");
   std::ostringstream text;

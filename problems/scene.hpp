@@ -1,7 +1,7 @@
 #pragma once
 // A static scene as typed data: the mesh, the materials over element subsets, Dirichlet
 // conditions, loads and solver settings. JSON is parsed and validated once, here, at the edge
-// (see the README for the format); everything downstream works on these structs.
+// (see docs/scenes.md for the format); everything downstream works on these structs.
 //
 // Checks that need the mesh (selectors that select nothing, element coverage, vector lengths
 // against a mesh read from a file) happen when the scene is built (static_scene.hpp); each
@@ -16,6 +16,7 @@
 #include "forward/fem/material.hpp"
 #include "forward/fem/materials/principal_stretch_curves.hpp"
 #include "forward/solve/newton.hpp"
+#include "forward/solve/threads.hpp"
 
 namespace tailor {
 
@@ -108,6 +109,7 @@ struct LoadSpec {
 struct SolverSpec {
   NewtonOptions newton;  // max_iterations, tolerances, hessian mode (progress is set by the caller)
   int load_steps = 1;    // loads and prescribed displacements ramp linearly over this many solves
+  std::optional<ThreadSettings> threads;  // solver.threads: applied by the CLI before the run
 };
 
 struct InverseSpec;   // problems/inverse_scene.hpp

@@ -125,6 +125,16 @@ std::string SceneNode::choice(std::initializer_list<const char*> choices) const 
   return s;
 }
 
+std::string SceneNode::choice(const std::vector<std::string>& choices) const {
+  const std::string s = string();
+  if (std::find(choices.begin(), choices.end(), s) == choices.end()) {
+    std::string list;
+    for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
+    fail("expected one of " + list + ", got \"" + s + "\"");
+  }
+  return s;
+}
+
 bool SceneNode::boolean() const {
   if (!value_->is_boolean()) fail("expected true or false, got " + describe_json(*value_));
   return value_->get<bool>();

@@ -37,6 +37,7 @@ class SceneNode {
   bool is_string() const { return value_->is_string(); }
   std::string string() const;
   std::string choice(std::initializer_list<const char*> choices) const;
+  std::string choice(const std::vector<std::string>& choices) const;
   bool boolean() const;
   double number() const;
   double positive() const;                           // > 0

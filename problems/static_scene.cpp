@@ -8,6 +8,7 @@
 #include "forward/core/timing.hpp"
 #include "forward/fem/elastic_term.hpp"
 #include "forward/fem/loads.hpp"
+#include "forward/reduction/free_space.hpp"
 #include "forward/fem/materials/spline_material.hpp"
 #include "forward/mesh/generate.hpp"
 #include "forward/mesh/mesh_io.hpp"
@@ -192,6 +193,18 @@ StaticSetup setup_static_scene(const Scene& scene) {
   assign_dirichlet(scene, setup);
   assign_loads(scene, setup);
   return setup;
+}
+
+void require_supported(const Scene& scene, const StaticSetup& setup) {
+  const std::vector<std::string> free = unconstrained_rigid_motions(setup.mesh, setup.fixed_dofs);
+  if (free.empty()) return;
+  std::string list;
+  for (const std::string& motion : free) list += (list.empty() ? "" : "; ") + motion;
+  throw_scene_error(scene, "dirichlet",
+                    "the supports leave the body free to move rigidly (" + list +
+                        "), so it has no static equilibrium: fix at least " +
+                        (setup.dim() == 3 ? "3 non-collinear vertices" : "2 distinct vertices") +
+                        " in all components (or simulate it with a \"dynamics\" section)");
 }
 
 std::unique_ptr<Model> build_static_model(const StaticSetup& setup, double load_factor) {

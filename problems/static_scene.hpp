@@ -48,6 +48,9 @@ struct StaticSetup {
 // Builds the mesh (generated or read) and resolves every selector and load. Throws SceneError
 // for scene problems found against the mesh, MeshError for mesh files.
 StaticSetup setup_static_scene(const Scene& scene);
+// A static equilibrium needs supports that leave no rigid motion free (its stiffness matrix is
+// singular otherwise): throws a SceneError at "dirichlet" naming the free motions.
+void require_supported(const Scene& scene, const StaticSetup& setup);
 
 // The Model at a load factor s in (0, 1]: one ElasticTerm per material block, one
 // ExternalForceTerm with s * nodal_forces when the scene has loads, and Dirichlet

@@ -2,6 +2,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "forward/core/assembler.hpp"
@@ -77,6 +79,46 @@ Matrix admissible_rigid_modes(const Model& model, const Vector& x, int dim,
   if (llt.info() != Eigen::Success)
     throw std::runtime_error("admissible_rigid_modes: the mass matrix is singular on the rigid motions");
   return llt.matrixU().solve<Eigen::OnTheRight>(modes);
+}
+
+std::vector<std::string> unconstrained_rigid_motions(const Mesh& mesh, const std::vector<int>& constrained_dofs) {
+  const int dim = mesh.dim();
+  const int modes = dim == 3 ? 6 : 3;
+  const Eigen::RowVectorXd lo = mesh.rest_positions.colwise().minCoeff(),
+                           hi = mesh.rest_positions.colwise().maxCoeff();
+  const Eigen::RowVectorXd centre = 0.5 * (lo + hi);
+  const double scale = std::max((hi - lo).norm(), std::numeric_limits<double>::min());
+  // Columns: translations, then rotations about the bounding-box centre (e_a x X).
+  Matrix R = Matrix::Zero(static_cast<Eigen::Index>(constrained_dofs.size()), modes);
+  for (std::size_t i = 0; i < constrained_dofs.size(); ++i) {
+    const int v = constrained_dofs[i] / dim, k = constrained_dofs[i] % dim;
+    const Eigen::RowVectorXd X = (mesh.rest_positions.row(v) - centre) / scale;
+    const auto row = static_cast<Eigen::Index>(i);
+    R(row, k) = 1.0;
+    if (dim == 2) {
+      R(row, 2) = k == 0 ? -X[1] : X[0];  // e_z x X
+    } else {
+      for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        R(row, 3 + a) = k == c ? X[b] : (k == b ? -X[c] : 0.0);
+      }
+    }
+  }
+  const Vector values = Eigen::SelfAdjointEigenSolver<Matrix>(R.transpose() * R, Eigen::EigenvaluesOnly).eigenvalues();
+  const double largest = std::max(values.maxCoeff(), 0.0);
+  const char* const names[6] = {"translation along x", "translation along y", "translation along z",
+                                 "rotation about x",    "rotation about y",    "rotation about z"};
+  auto name = [&](int j) { return names[dim == 2 && j == 2 ? 5 : j]; };
+  int free_count = 0;
+  for (Eigen::Index i = 0; i < values.size(); ++i)
+    if (!(values[i] > 1e-10 * largest) || largest == 0.0) ++free_count;
+  // Name the coordinate motions that leave every constrained DOF in place; the rest of the
+  // free space (e.g. rotations about a pinned vertex rather than the box centre) is counted.
+  std::vector<std::string> free;
+  for (int j = 0; j < modes && static_cast<int>(free.size()) < free_count; ++j)
+    if (!(R.col(j).squaredNorm() > 1e-10 * largest) || largest == 0.0) free.emplace_back(name(j));
+  while (static_cast<int>(free.size()) < free_count) free.emplace_back("a rigid motion combining translation and rotation");
+  return free;
 }
 
 }  // namespace tailor

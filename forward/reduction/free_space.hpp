@@ -2,7 +2,11 @@
 // Operators of a Model restricted to its free unknowns y (x = x0 + S y, see elimination.hpp):
 // the stiffness K_y = S^T (d2E/dx2) S and the mass M_y = S^T M S, as full symmetric sparse
 // matrices, and the rigid-body motions of the body that the constraints leave free.
+#include <string>
+#include <vector>
+
 #include "forward/core/model.hpp"
+#include "forward/mesh/mesh.hpp"
 
 namespace tailor {
 
@@ -22,5 +26,12 @@ Matrix rigid_body_motions(const Vector& x, int dim);
 // point k = 1 (2D) or 3 (3D).
 Matrix admissible_rigid_modes(const Model& model, const Vector& x, int dim,
                               const SparseMatrix& free_mass_matrix);
+
+// The rigid motions of the mesh at rest that leave every listed DOF (dim * vertex + component)
+// in place, one description per independent motion ("translation along x", "rotation about
+// z", or "a rigid motion combining ..."); empty when the DOFs pin the body. The test: the
+// rigid motions restricted to the DOFs (lengths scaled by the bounding-box diagonal) are
+// linearly independent.
+std::vector<std::string> unconstrained_rigid_motions(const Mesh& mesh, const std::vector<int>& constrained_dofs);
 
 }  // namespace tailor

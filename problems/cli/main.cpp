@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "forward/mesh/mesh.hpp"
+#include "forward/solve/threads.hpp"
 #include "problems/builtin_scenes.hpp"
 #include "problems/commands.hpp"
 #include "problems/damping_design/damping_design_scene.hpp"
@@ -50,12 +51,16 @@ const char* const kUsage =
     "      set apart; write DIR/report.json (frequencies in Hz) and DIR/modes.vtu.\n"
     "\n"
     "options:\n"
+    "  --threads N    threads for tailor's loops and for BLAS (default: one per core)\n"
+    "  --factorization-threads 1|0\n"
+    "                 CHOLMOD's own OpenMP loops: 1 serialized (default, fastest measured),\n"
+    "                 0 as CHOLMOD was built; overrides the scene's solver.threads\n"
     "  -h, --help     show this message\n"
     "  --version      print the version\n"
     "\n"
     "exit codes: 0 success, 1 solve, check or optimization failed (or did not converge),\n"
     "2 bad input or usage.\n"
-    "The scene format is described in README.md, section \"Scenes, verbs and reports\".\n";
+    "The scene format is described in docs/scenes.md.\n";
 
 int usage_error(const std::string& what) {
   std::cerr << "tailor: " << what << "\n\n" << kUsage;
@@ -70,7 +75,16 @@ struct Arguments {
   bool quiet = false;
   bool help = false;
   int count = 10;  // modes
+  std::optional<int> threads, factorization_threads;
 };
+
+// A whole non-negative integer within [0, max], or nullopt.
+std::optional<int> parse_count(const std::string& value, long max) {
+  char* end = nullptr;
+  const long n = std::strtol(value.c_str(), &end, 10);
+  if (value.empty() || *end != '\0' || n < 0 || n > max) return std::nullopt;
+  return static_cast<int>(n);
+}
 
 // Parses the arguments after the verb; returns an error message on bad usage.
 std::optional<std::string> parse_arguments(const std::string& verb, const std::vector<std::string>& args,
@@ -97,11 +111,19 @@ std::optional<std::string> parse_arguments(const std::string& verb, const std::v
     } else if (a == "--count" && verb == "modes") {
       if (!has_value) return "--count needs a number";
       const std::string& value = args[++i];
-      char* end = nullptr;
-      const long count = std::strtol(value.c_str(), &end, 10);
-      if (value.empty() || *end != '\0' || count < 1 || count > 100000)
-        return "--count needs a positive integer, got '" + value + "'";
-      out.count = static_cast<int>(count);
+      const std::optional<int> count = parse_count(value, 100000);
+      if (!count || *count < 1) return "--count needs a positive integer, got '" + value + "'";
+      out.count = *count;
+    } else if (a == "--threads") {
+      if (!has_value) return "--threads needs a number";
+      const std::string& value = args[++i];
+      out.threads = parse_count(value, 4096);
+      if (!out.threads || *out.threads < 1) return "--threads needs a positive integer, got '" + value + "'";
+    } else if (a == "--factorization-threads") {
+      if (!has_value) return "--factorization-threads needs 1 or 0";
+      const std::string& value = args[++i];
+      out.factorization_threads = parse_count(value, 1);
+      if (!out.factorization_threads) return "--factorization-threads needs 1 or 0, got '" + value + "'";
     } else if (!a.empty() && a[0] == '-') {
       return "unknown option '" + a + "' for '" + verb + "'";
     } else if (out.scene) {
@@ -123,7 +145,16 @@ tailor::Scene load_scene(const Arguments& args) {
   return tailor::builtin_cantilever();
 }
 
+// The scene's solver.threads (when given), then the command line's flags on top.
+void apply_threads(const Arguments& args, const std::optional<tailor::ThreadSettings>& scene_threads) {
+  tailor::ThreadSettings threads = scene_threads.value_or(tailor::thread_settings());
+  if (args.threads) threads.assembly = threads.blas = *args.threads;
+  if (args.factorization_threads) threads.factorization = *args.factorization_threads;
+  tailor::set_thread_settings(threads);
+}
+
 int run_verb(const std::string& verb, const Arguments& args) {
+  apply_threads(args, std::nullopt);
   if (verb == "run" && args.scene && tailor::is_material_fit_scene(*args.scene)) {
     const auto fit = tailor::run_material_fit_scene(*args.scene, args.out_dir.value_or(""), &std::cout,
                                                     args.quiet ? nullptr : &std::cout);
@@ -134,6 +165,7 @@ int run_verb(const std::string& verb, const Arguments& args) {
                ? kSuccess
                : kFailure;
   const tailor::Scene scene = load_scene(args);
+  apply_threads(args, scene.solver.threads);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
   if (verb == "simulate" && scene.dynamics)
     return tailor::simulate_dynamic_scene(scene, out_dir, &std::cout).completed ? kSuccess : kFailure;

@@ -8,7 +8,6 @@
 #include "problems/optimizer_report.hpp"
 #include "problems/report.hpp"
 #include "problems/spline_curves_json.hpp"
-#include "tailor_version.hpp"
 
 namespace tailor {
 
@@ -20,8 +19,7 @@ void write_material_fit_report(const std::string& path, const MaterialFitSpec& s
   using Json = nlohmann::ordered_json;  // keeps the documented key order in the file
   const OptimizerResult& result = run.result;
   Json report;
-  report["tailor_version"] = version_string;
-  report["report_format"] = kReportFormatVersion;
+  add_report_header(report);
   report["kind"] = "material_fit";
   report["scene"] = {{"name", spec.name}, {"source", spec.source}};
   report["status"] = to_string(result.status);

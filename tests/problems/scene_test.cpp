@@ -187,6 +187,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"bad_tolerance", with("\"load_steps\": 1", "\"load_steps\": 1, \"relative_tolerance\": 0"),
                  "solver.relative_tolerance: expected a number in (0, 1), got 0"},
         BadScene{"invalid_json", with("\"name\": \"box\",", "\"name\": \"box\""), "invalid JSON"},
+        BadScene{"huge_box", with("\"cells\": [4, 2, 2]", "\"cells\": [400, 400, 400]"),
+                 "mesh.box.cells: 3.84e+08 tets would need at least"},
+        BadScene{"int_overflow_box", with("\"cells\": [4, 2, 2]", "\"cells\": [100000, 100000, 100000]"),
+                 "more elements than int indices can count"},
+        BadScene{"number_overflow", with("\"youngs_modulus\": 1000", "\"youngs_modulus\": 1e400"),
+                 "a number is out of the range of double precision (at or after key \"youngs_modulus\")"},
+        BadScene{"bad_factorization_threads",
+                 with("\"load_steps\": 1", "\"load_steps\": 1, \"threads\": {\"factorization\": 2}"),
+                 "solver.threads.factorization: expected 1"},
         BadScene{"not_an_object", "[1, 2]", "(top level): expected an object, got an array of 2"}),
     [](const ::testing::TestParamInfo<BadScene>& param_info) { return std::string(param_info.param.what); });
 
@@ -203,6 +212,49 @@ TEST(Scene, MissingSceneFileIsASceneError) {
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/beam.json: cannot open"), std::string::npos)
         << e.what();
+  }
+}
+
+TEST(Scene, AFolderIsNotASceneFile) {
+  try {
+    read_scene(kScenes);
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a folder, not a scene file"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Scene, ThreadSettingsParse) {
+  const Scene scene =
+      parse_scene(with("\"load_steps\": 1", "\"load_steps\": 1, \"threads\": {\"assembly\": 2, \"factorization\": 0}"),
+                  "test.json", "");
+  ASSERT_TRUE(scene.solver.threads.has_value());
+  EXPECT_EQ(scene.solver.threads->assembly, 2);
+  EXPECT_EQ(scene.solver.threads->blas, 0);
+  EXPECT_EQ(scene.solver.threads->factorization, 0);
+  EXPECT_FALSE(parse_scene(small_box_scene(), "test.json", "").solver.threads.has_value());
+}
+
+TEST(Scene, UnsupportedBodyIsRefusedNamingItsFreeMotions) {
+  // The statically determinate supports of the small box pin it; a roller on x = 0 alone
+  // leaves two translations and a rotation free.
+  const Scene pinned = parse_scene(small_box_scene(), "test.json", "");
+  EXPECT_NO_THROW(require_supported(pinned, setup_static_scene(pinned)));
+  std::string text = small_box_scene();
+  const auto begin = text.find("    {\"vertices\": {\"list\": [0]}");
+  const auto end = text.find("  ],\n  \"loads\"");
+  ASSERT_NE(begin, std::string::npos);
+  text = text.substr(0, begin) + text.substr(end);
+  text = with("\"components\": [0]},", "\"components\": [0]}", text);
+  const Scene roller = parse_scene(text, "test.json", "");
+  try {
+    require_supported(roller, setup_static_scene(roller));
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("dirichlet: the supports leave the body free to move rigidly"), std::string::npos) << what;
+    EXPECT_NE(what.find("translation along y"), std::string::npos) << what;
+    EXPECT_NE(what.find("rotation about x"), std::string::npos) << what;
   }
 }
 

@@ -1,0 +1,16 @@
+#pragma once
+// The fields every report.json starts with: the tailor version, the report layout's version
+// (kReportFormatVersion) and the thread configuration the run used (OpenMP, BLAS and CHOLMOD's
+// factorization; see forward/solve/threads.hpp), so that timings in a report can be read.
+#include <nlohmann/json.hpp>
+
+namespace tailor {
+
+// Version of the report layout; bumped only when a field changes meaning or is removed.
+inline constexpr int kReportFormatVersion = 1;
+
+// report["tailor_version"], report["report_format"], report["threads"] = {assembly, blas,
+// factorization, blas_library}.
+void add_report_header(nlohmann::ordered_json& report);
+
+}  // namespace tailor

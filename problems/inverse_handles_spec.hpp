@@ -1,6 +1,6 @@
 #pragma once
 // The "handles" objective term of an inverse scene as typed data (heterogeneous material
-// design, Xu et al. 2015; see the README, "Material design with handles"). Parsed with the
+// design, Xu et al. 2015; see docs/scenes.md, "Material design with handles"). Parsed with the
 // inverse section; resolved against the mesh by problems/inverse_handles.hpp.
 #include <Eigen/Core>
 #include <optional>
@@ -24,6 +24,8 @@ struct HandleSpec {
 
 // alpha/2 sum_h W_h |f_h - fbar_h|^2 + alpha beta/2 sum_h |u~_h - ubar_h|^2.
 struct HandlesTerm {
+  static constexpr const char* kType = "handles";
+  static constexpr bool kIsData = true;
   std::vector<HandleSpec> handles;
   double alpha = 1.0;
   double beta = 1.0;

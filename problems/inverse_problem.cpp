@@ -237,49 +237,64 @@ ObjectiveTermInfo synthetic_term(const Scene& scene, InverseProblem& problem, co
   return data_term(problem, spec, vertices, observed);
 }
 
-ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec) {
+// One build_term overload per objective term type (ObjectiveTerm): the objective and its info.
+ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
+                             const TargetDisplacementsTerm& t) {
   const Mesh& mesh = problem.setup.mesh;
-  const int ne = mesh.num_elements();
-  if (const auto* t = std::get_if<TargetDisplacementsTerm>(&spec.term)) {
-    check_dimension(scene, mesh, t->displacement, spec.key + ".displacement");
-    const std::vector<int> vertices = select_vertices(scene, mesh, t->vertices);
-    const Eigen::MatrixXd targets =
-        t->displacement.transpose().replicate(static_cast<Eigen::Index>(vertices.size()), 1);
-    return data_term(problem, spec, vertices, targets);
-  }
-  if (const auto* t = std::get_if<ObservationsTerm>(&spec.term)) {
-    const std::string key = spec.key + ".file";
-    if (t->displacements.cols() != mesh.dim())
+  check_dimension(scene, mesh, t.displacement, spec.key + ".displacement");
+  const std::vector<int> vertices = select_vertices(scene, mesh, t.vertices);
+  const Eigen::MatrixXd targets = t.displacement.transpose().replicate(static_cast<Eigen::Index>(vertices.size()), 1);
+  return data_term(problem, spec, vertices, targets);
+}
+
+ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
+                             const ObservationsTerm& t) {
+  const Mesh& mesh = problem.setup.mesh;
+  const std::string key = spec.key + ".file";
+  if (t.displacements.cols() != mesh.dim())
+    throw_scene_error(scene, key,
+                      "'" + t.file + "': expected " + std::to_string(mesh.dim()) +
+                          " displacement components per line (the mesh is " + std::to_string(mesh.dim()) +
+                          "D), got " + std::to_string(t.displacements.cols()));
+  for (int v : t.vertices)
+    if (v >= mesh.num_vertices())
       throw_scene_error(scene, key,
-                        "'" + t->file + "': expected " + std::to_string(mesh.dim()) +
-                            " displacement components per line (the mesh is " + std::to_string(mesh.dim()) +
-                            "D), got " + std::to_string(t->displacements.cols()));
-    for (int v : t->vertices)
-      if (v >= mesh.num_vertices())
-        throw_scene_error(scene, key,
-                          "'" + t->file + "': vertex " + std::to_string(v) +
-                              " does not exist (the mesh has " + std::to_string(mesh.num_vertices()) +
-                              " vertices)");
-    return data_term(problem, spec, t->vertices, t->displacements);
+                        "'" + t.file + "': vertex " + std::to_string(v) + " does not exist (the mesh has " +
+                            std::to_string(mesh.num_vertices()) + " vertices)");
+  return data_term(problem, spec, t.vertices, t.displacements);
+}
+
+ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
+                             const SyntheticObservationsTerm& t) {
+  return synthetic_term(scene, problem, spec, t);
+}
+
+ObjectiveTermInfo build_term(const Scene&, InverseProblem& problem, const ObjectiveTermSpec& spec, const HandlesTerm&) {
+  return {spec.key, spec.type(), spec.weight, spec.weight, problem.handles};  // built by attach_handles
+}
+
+ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
+                             const SmoothnessTerm& t) {
+  try {
+    auto term = std::make_shared<MaterialSmoothness>(problem.setup.mesh, problem.youngs_offset, 1.0,
+                                                     MaterialSmoothnessOptions{t.weighting, t.logarithmic});
+    return {spec.key, spec.type(), spec.weight, spec.weight, term};
+  } catch (const std::invalid_argument& e) {
+    throw_scene_error(scene, spec.key, e.what());
   }
-  if (const auto* t = std::get_if<SyntheticObservationsTerm>(&spec.term))
-    return synthetic_term(scene, problem, spec, *t);
-  if (std::holds_alternative<HandlesTerm>(spec.term))  // built by attach_handles
-    return {spec.key, spec.type(), spec.weight, spec.weight, problem.handles};
-  if (const auto* t = std::get_if<SmoothnessTerm>(&spec.term)) {
-    try {
-      auto term = std::make_shared<MaterialSmoothness>(
-          mesh, problem.youngs_offset, 1.0, MaterialSmoothnessOptions{t->weighting, t->logarithmic});
-      return {spec.key, spec.type(), spec.weight, spec.weight, term};
-    } catch (const std::invalid_argument& e) {
-      throw_scene_error(scene, spec.key, e.what());
-    }
-  }
-  // Tikhonov relative to the prior: weights 1 / prior make each entry's misfit a ratio.
-  const double prior = std::get<TikhonovTerm>(spec.term).prior;
-  auto term = std::make_shared<Tikhonov>(problem.youngs_offset, ne, 1.0, Vector::Constant(ne, prior),
-                                         Vector::Constant(ne, 1.0 / prior));
+}
+
+ObjectiveTermInfo build_term(const Scene&, InverseProblem& problem, const ObjectiveTermSpec& spec,
+                             const TikhonovTerm& t) {
+  // Relative to the prior: weights 1 / prior make each entry's misfit a ratio.
+  const int ne = problem.setup.mesh.num_elements();
+  auto term = std::make_shared<Tikhonov>(problem.youngs_offset, ne, 1.0, Vector::Constant(ne, t.prior),
+                                         Vector::Constant(ne, 1.0 / t.prior));
   return {spec.key, spec.type(), spec.weight, spec.weight, term};
+}
+
+ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec) {
+  return std::visit([&](const auto& term) { return build_term(scene, problem, spec, term); }, spec.term);
 }
 
 // The reduced functional. Its first Newton solve starts from rest, unless the scene ramps its
@@ -344,7 +359,7 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene) {
     throw SceneError(
         scene.source +
         ": (top level): the scene has no \"inverse\" section (tailor run and tailor gradcheck need "
-        "one; see the README)");
+        "one; see docs/scenes.md)");
   const auto t0 = std::chrono::steady_clock::now();
   auto problem = std::make_unique<InverseProblem>();
   problem->scene_name = scene.name;
@@ -374,6 +389,7 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene) {
   const HandlesTerm* handles = find_handles_term(problem->spec, &handles_key);
   std::vector<std::vector<int>> handle_vertices;
   if (handles) handle_vertices = constrain_handles(scene, *problem, *handles, handles_key);
+  require_supported(scene, problem->setup);
 
   problem->model = build_static_model(problem->setup, 1.0);
   problem->youngs_offset = problem->model->parameter_layout().at("youngs_modulus").offset;

@@ -1,5 +1,7 @@
 #include "problems/inverse_scene.hpp"
 
+#include <utility>
+
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -25,15 +27,11 @@ std::string to_string(DesignGranularity granularity) {
 std::string to_string(DesignMap map) { return map == DesignMap::log ? "log" : "identity"; }
 
 std::string ObjectiveTermSpec::type() const {
-  static const char* const names[] = {"target_displacements", "observations", "synthetic_observations",
-                                      "smoothness",           "tikhonov",     "handles"};
-  return names[term.index()];
+  return std::visit([](const auto& t) { return std::string(std::decay_t<decltype(t)>::kType); }, term);
 }
 
 bool ObjectiveTermSpec::is_data() const {
-  return std::holds_alternative<TargetDisplacementsTerm>(term) ||
-         std::holds_alternative<ObservationsTerm>(term) ||
-         std::holds_alternative<SyntheticObservationsTerm>(term) || std::holds_alternative<HandlesTerm>(term);
+  return std::visit([](const auto& t) { return std::decay_t<decltype(t)>::kIsData; }, term);
 }
 
 namespace {
@@ -192,41 +190,66 @@ ObservationsTerm parse_observation_file(const SceneNode& node, const std::string
   return t;
 }
 
+// The keys of one objective term after "type" and "weight", by term type.
+void parse_term_body(const SceneNode& node, const std::string& directory, TargetDisplacementsTerm& t) {
+  node.expect_keys({"type", "weight", "vertices", "displacement"});
+  t.vertices = parse_vertex_selector(node.at("vertices"), directory);
+  t.displacement = node.at("displacement").vector();
+}
+
+void parse_term_body(const SceneNode& node, const std::string& directory, ObservationsTerm& t) {
+  node.expect_keys({"type", "weight", "file"});
+  t = parse_observation_file(node.at("file"), directory);
+}
+
+void parse_term_body(const SceneNode& node, const std::string& directory, SyntheticObservationsTerm& t) {
+  node.expect_keys({"type", "weight", "vertices", "youngs_modulus", "noise", "seed"});
+  t.vertices = parse_vertex_selector(node.at("vertices"), directory);
+  t.youngs_modulus = parse_modulus_field(node.at("youngs_modulus"), directory);
+  if (auto n = node.find("noise")) t.noise = n->non_negative();
+  if (auto s = node.find("seed")) t.seed = static_cast<unsigned>(s->integer(0));
+}
+
+void parse_term_body(const SceneNode& node, const std::string&, SmoothnessTerm& t) {
+  node.expect_keys({"type", "weight", "on", "weighting"});
+  if (auto on = node.find("on")) t.logarithmic = on->choice({"log", "value"}) == "log";
+  if (auto w = node.find("weighting"))
+    t.weighting =
+        w->choice({"unit", "facet"}) == "unit" ? AdjacencyWeighting::unit : AdjacencyWeighting::facet_over_distance;
+}
+
+void parse_term_body(const SceneNode& node, const std::string&, TikhonovTerm& t) {
+  node.expect_keys({"type", "weight", "prior"});
+  t.prior = node.at("prior").positive();
+}
+
+void parse_term_body(const SceneNode& node, const std::string& directory, HandlesTerm& t) {
+  t = parse_handles_term(node, directory);
+}
+
+template <std::size_t... I>
+std::vector<std::string> term_types(std::index_sequence<I...>) {
+  return {std::variant_alternative_t<I, ObjectiveTerm>::kType...};
+}
+
+// Parses the alternative whose kType is `type` (one exists: `type` is one of term_types).
+template <std::size_t I = 0>
+void parse_alternative(const std::string& type, const SceneNode& node, const std::string& directory,
+                       ObjectiveTerm& term) {
+  if constexpr (I < std::variant_size_v<ObjectiveTerm>) {
+    using Term = std::variant_alternative_t<I, ObjectiveTerm>;
+    if (type != Term::kType) return parse_alternative<I + 1>(type, node, directory, term);
+    Term parsed;
+    parse_term_body(node, directory, parsed);
+    term = std::move(parsed);
+  }
+}
+
 ObjectiveTermSpec parse_term(const SceneNode& node, const std::string& directory) {
   ObjectiveTermSpec spec;
   spec.key = node.path();
-  const std::string type =
-      node.at("type").choice({"target_displacements", "observations", "synthetic_observations", "smoothness",
-                              "tikhonov", "handles"});
-  if (type == "target_displacements") {
-    node.expect_keys({"type", "weight", "vertices", "displacement"});
-    spec.term = TargetDisplacementsTerm{parse_vertex_selector(node.at("vertices"), directory),
-                                        node.at("displacement").vector()};
-  } else if (type == "observations") {
-    node.expect_keys({"type", "weight", "file"});
-    spec.term = parse_observation_file(node.at("file"), directory);
-  } else if (type == "synthetic_observations") {
-    node.expect_keys({"type", "weight", "vertices", "youngs_modulus", "noise", "seed"});
-    SyntheticObservationsTerm t;
-    t.vertices = parse_vertex_selector(node.at("vertices"), directory);
-    t.youngs_modulus = parse_modulus_field(node.at("youngs_modulus"), directory);
-    if (auto n = node.find("noise")) t.noise = n->non_negative();
-    if (auto s = node.find("seed")) t.seed = static_cast<unsigned>(s->integer(0));
-    spec.term = std::move(t);
-  } else if (type == "smoothness") {
-    node.expect_keys({"type", "weight", "on", "weighting"});
-    SmoothnessTerm t;
-    if (auto on = node.find("on")) t.logarithmic = on->choice({"log", "value"}) == "log";
-    if (auto w = node.find("weighting"))
-      t.weighting = w->choice({"unit", "facet"}) == "unit" ? AdjacencyWeighting::unit
-                                                           : AdjacencyWeighting::facet_over_distance;
-    spec.term = t;
-  } else if (type == "handles") {
-    spec.term = parse_handles_term(node, directory);
-  } else {
-    node.expect_keys({"type", "weight", "prior"});
-    spec.term = TikhonovTerm{node.at("prior").positive()};
-  }
+  static const std::vector<std::string> types = term_types(std::make_index_sequence<std::variant_size_v<ObjectiveTerm>>());
+  parse_alternative(node.at("type").choice(types), node, directory, spec.term);
   if (auto w = node.find("weight")) spec.weight = w->non_negative();
   return spec;
 }

@@ -1,7 +1,7 @@
 #pragma once
 // The optional "inverse" section of a scene as typed data: which parameter is designed and
 // how it maps to design variables, the objective terms, the ground truth for error reports,
-// and the optimizer and gradient-check settings (see the README). Parsed and
+// and the optimizer and gradient-check settings (see docs/scenes.md). Parsed and
 // validated with the rest of the scene (parse_scene); checks that need the mesh happen when
 // the inverse problem is built (inverse_problem.hpp), naming the key path kept here.
 #include <Eigen/Core>
@@ -62,16 +62,26 @@ struct DesignSpec {
 
 // Data terms compare displacements u of some vertices with wanted ones u*; the term is the
 // relative misfit 1/2 |u - u*|^2 / |u*|^2 (see inverse_problem.hpp).
+//
+// Adding a term type: a struct here with its JSON "type" (kType) and whether it compares data
+// (kIsData), an alternative in ObjectiveTerm, a parse_term_body overload (inverse_scene.cpp)
+// and a build_term overload (inverse_problem.cpp). A missing overload fails to compile.
 struct TargetDisplacementsTerm {
+  static constexpr const char* kType = "target_displacements";
+  static constexpr bool kIsData = true;
   VertexSelector vertices;
   Eigen::VectorXd displacement;  // the same target for every selected vertex
 };
 struct ObservationsTerm {
+  static constexpr const char* kType = "observations";
+  static constexpr bool kIsData = true;
   std::string file;               // resolved path, for messages
   std::vector<int> vertices;      // one per line, distinct
   Eigen::MatrixXd displacements;  // one row per line, 2 or 3 columns
 };
 struct SyntheticObservationsTerm {
+  static constexpr const char* kType = "synthetic_observations";
+  static constexpr bool kIsData = true;
   VertexSelector vertices;
   ModulusField youngs_modulus;  // the truth the observations are simulated from
   double noise = 0.0;           // relative: std. deviation = noise * largest observed |u|
@@ -79,17 +89,22 @@ struct SyntheticObservationsTerm {
 };
 // Regularization of the designed per-element field E.
 struct SmoothnessTerm {
+  static constexpr const char* kType = "smoothness";
+  static constexpr bool kIsData = false;
   bool logarithmic = true;  // penalize jumps of log E (ratios) rather than of E
   AdjacencyWeighting weighting = AdjacencyWeighting::unit;
 };
 struct TikhonovTerm {
+  static constexpr const char* kType = "tikhonov";
+  static constexpr bool kIsData = false;
   double prior = 1.0;  // J = 1/2 sum_e ((E_e - prior) / prior)^2
 };
 
+using ObjectiveTerm = std::variant<TargetDisplacementsTerm, ObservationsTerm, SyntheticObservationsTerm,
+                                   SmoothnessTerm, TikhonovTerm, HandlesTerm>;
+
 struct ObjectiveTermSpec {
-  std::variant<TargetDisplacementsTerm, ObservationsTerm, SyntheticObservationsTerm, SmoothnessTerm,
-               TikhonovTerm, HandlesTerm>
-      term;
+  ObjectiveTerm term;
   double weight = 1.0;
   std::string key;           // "inverse.objective[i]"
   std::string type() const;  // the JSON "type"

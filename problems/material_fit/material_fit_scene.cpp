@@ -104,7 +104,7 @@ MaterialFitSpec parse_material_fit_scene(const std::string& json_text, const std
       r->fail("expected exactly one of \"material\" and \"preset\"");
     if (r->has("material"))
       spec.reference_material =
-          parse_material_kind(r->at("material").choice({"linear", "corotated", "stvk", "neo_hookean"}));
+          parse_material_kind(r->at("material").choice(material_names()));
     else
       spec.reference_preset = parse_preset(r->at("preset"));
     spec.reference_lame = parse_moduli(*r);

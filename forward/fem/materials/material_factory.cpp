@@ -30,27 +30,24 @@ std::unique_ptr<Material<Dim>> make_material(MaterialKind kind) {
 template std::unique_ptr<Material<2>> make_material<2>(MaterialKind);
 template std::unique_ptr<Material<3>> make_material<3>(MaterialKind);
 
+std::vector<std::string> material_names() {
+  std::vector<std::string> names;
+  for (const MaterialName& entry : kMaterialNames) names.emplace_back(entry.name);
+  return names;
+}
+
 MaterialKind parse_material_kind(const std::string& name) {
-  for (MaterialKind kind :
-       {MaterialKind::linear, MaterialKind::corotated, MaterialKind::stvk, MaterialKind::neo_hookean})
-    if (name == to_string(kind)) return kind;
-  throw std::invalid_argument("unknown material '" + name +
-                              "' (expected linear, corotated, stvk or neo_hookean)");
+  for (const MaterialName& entry : kMaterialNames)
+    if (name == entry.name) return entry.kind;
+  std::string list;
+  for (const MaterialName& entry : kMaterialNames) list += (list.empty() ? "" : ", ") + std::string(entry.name);
+  throw std::invalid_argument("unknown material '" + name + "' (expected one of " + list + ")");
 }
 
 std::string to_string(MaterialKind kind) {
-  switch (kind) {
-    case MaterialKind::linear:
-      return "linear";
-    case MaterialKind::corotated:
-      return "corotated";
-    case MaterialKind::stvk:
-      return "stvk";
-    case MaterialKind::neo_hookean:
-      return "neo_hookean";
-  }
-  throw std::invalid_argument("to_string: invalid MaterialKind value " +
-                              std::to_string(static_cast<int>(kind)));
+  for (const MaterialName& entry : kMaterialNames)
+    if (entry.kind == kind) return entry.name;
+  throw std::invalid_argument("to_string: invalid MaterialKind value " + std::to_string(static_cast<int>(kind)));
 }
 
 }  // namespace tailor

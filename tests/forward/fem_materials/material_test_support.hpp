@@ -23,14 +23,22 @@ namespace tailor::test {
 template <int Dim>
 using Mat = Eigen::Matrix<double, Dim, Dim>;
 
+// Every registered material (kMaterialNames), so that a new one is tested without listing it.
 inline const std::vector<MaterialKind>& all_kinds() {
-  static const std::vector<MaterialKind> kinds = {MaterialKind::linear, MaterialKind::corotated,
-                                                  MaterialKind::stvk, MaterialKind::neo_hookean};
+  static const std::vector<MaterialKind> kinds = [] {
+    std::vector<MaterialKind> out;
+    for (const MaterialName& entry : kMaterialNames) out.push_back(entry.kind);
+    return out;
+  }();
   return kinds;
 }
 inline const std::vector<MaterialKind>& nonlinear_kinds() {
-  static const std::vector<MaterialKind> kinds = {MaterialKind::corotated, MaterialKind::stvk,
-                                                  MaterialKind::neo_hookean};
+  static const std::vector<MaterialKind> kinds = [] {
+    std::vector<MaterialKind> out;
+    for (MaterialKind kind : all_kinds())
+      if (!make_material<3>(kind)->tangent_is_constant()) out.push_back(kind);
+    return out;
+  }();
   return kinds;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // StaticFunctional: the reduced functional of a static inverse problem,
 //   J(z) = T(x*(p), p),  p = phi(z),  x*(p) = argmin_x E(x, p)  (with x = x0 + S y),
-// with its gradient by the adjoint method (METHODS.md section 2):
+// with its gradient by the adjoint method (docs/methods.md section 2):
 //   H lambda = S^T dT/dx,   dJ/dp = dT/dp - (d2E/dxdp)^T (S lambda),   dJ/dz = phi'(z)^T dJ/dp,
 // where H = S^T (d2E/dx2) S is the exact Hessian at x*. The residual form (for least-squares
 // objectives) differentiates x* in direct mode: dy/dp = -H^-1 S^T (d2E/dxdp).

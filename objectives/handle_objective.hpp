@@ -1,6 +1,6 @@
 #pragma once
 // HandleObjective: the handle term of heterogeneous material design (Xu, Li, Chen, Barbic,
-// TOG 2015; METHODS.md section 5). Handles are vertex sets whose displacements u~ are design
+// TOG 2015; docs/methods.md section 5). Handles are vertex sets whose displacements u~ are design
 // parameters (prescribed DOFs, x = x0 + D p + S y, see Model::add_prescribed_displacements);
 // each handle asks for a force fbar (what it applies to the body) and a displacement ubar:
 //

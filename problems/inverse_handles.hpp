@@ -1,6 +1,6 @@
 #pragma once
 // The "handles" term of an inverse scene against the mesh (heterogeneous material design, Xu,
-// Li, Chen, Barbic 2015; METHODS.md section 5). Handle vertices become prescribed DOFs whose
+// Li, Chen, Barbic 2015; docs/methods.md section 5). Handle vertices become prescribed DOFs whose
 // displacements u~ are design variables appended after the material design, z = [z_E, u~];
 // the objective is a HandleObjective whose reactions come from copies of the elastic terms
 // restricted to the elements touching the handles (plus the loads on handle vertices).

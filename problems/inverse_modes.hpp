@@ -1,6 +1,6 @@
 #pragma once
 // Reduced material design with Laplacian material modes (Xu, Li, Chen, Barbic, "Interactive
-// material design using model reduction", TOG 2015; METHODS.md section 5): instead of one
+// material design using model reduction", TOG 2015; docs/methods.md section 5): instead of one
 // variable per element, the per-element field y is restricted to the span of the r lowest
 // eigenvectors of L y = lambda V y (forward/reduction/material_modes.hpp),
 //

@@ -1,7 +1,7 @@
 #pragma once
 // Outputs of the inverse verbs: what `tailor gradcheck` and `tailor run` found, and the files
 // they write: DIR/gradcheck.json, and DIR/report.json (inverse layout, documented field by
-// field in the README) with DIR/result.vtu.
+// field in docs/scenes.md) with DIR/result.vtu.
 #include <memory>
 #include <optional>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // The optimizer part that every optimizing verb's report.json shares: one entry per iteration
-// with the objective, gradient norm, step, cumulative seconds and solve counts (README,
+// with the objective, gradient norm, step, cumulative seconds and solve counts (docs/scenes.md,
 // "report.json of tailor run").
 #include <nlohmann/json.hpp>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Modal analysis of a Model (seed 002, "Modal analysis"; METHODS.md section 7): the lowest
+// Modal analysis of a Model (docs/methods.md section 7): the lowest
 // eigenpairs of
 //
 //   K phi = lambda M phi,   K = S^T (d2E/dx2)(x) S,  M = S^T M_full S,

@@ -1,5 +1,5 @@
 #pragma once
-// Nonlinear extensions of a linear modal basis (seed 001; Barbic & James 2005, "Real-time
+// Nonlinear extensions of a linear modal basis (Barbic & James 2005, "Real-time
 // subspace integration for St. Venant-Kirchhoff deformable models", section 4; Yang et al.
 // 2015, Krylov block subspaces).
 //

@@ -1,6 +1,6 @@
 #pragma once
 // Implicit time integration in reduced coordinates q (u = Phi q), dense Newton on r unknowns
-// (METHODS.md section 7; Barbic & James 2005, section 5):
+// (docs/methods.md section 7; Barbic & James 2005, section 5):
 //
 //   M_q q'' + C_q q' + s f(q) = f_ext,    f = dW/dq (ReducedElasticModel),
 //   C_q = alpha M_q + beta s K_q(0)      (Rayleigh damping; = alpha I + beta s Lambda for

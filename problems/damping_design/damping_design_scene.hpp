@@ -1,5 +1,5 @@
 #pragma once
-// Scenes with a "damping_design" section (see README, "Example-based damping"): the damping
+// Scenes with a "damping_design" section (see docs/dynamics.md, "Example-based damping"): the damping
 // study of damping_study.hpp configured from JSON and run by `tailor run`, which writes
 // DIR/report.json and the plots DIR/envelope.png, DIR/gamma_curve.png, DIR/cycle_loss.png.
 #include <iosfwd>

@@ -1,7 +1,7 @@
 #pragma once
 // DIR/report.json of a material fit (`kind`: `material_fit`), laid out like the other reports
 // (report.hpp, inverse_report.hpp: tailor_version, report_format, scene, status, history,
-// objective, solves, timings, mesh) plus the fit's own fields; documented in the README.
+// objective, solves, timings, mesh) plus the fit's own fields; documented in docs/materials.md.
 #include <string>
 
 #include "forward/mesh/mesh.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Scenes of type "material_fit" (README: "Spline materials and material fitting"): parsed here
+// Scenes of type "material_fit" (docs/materials.md): parsed here
 // into a MaterialFitSpec; the numerical code never sees JSON.
 #include <string>
 

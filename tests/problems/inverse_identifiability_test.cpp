@@ -36,7 +36,9 @@ TEST(InverseIdentifiability, MoreObservationsRecoverTheFieldBetter) {
   const double surface = recovery_error(false);
   const double everywhere = recovery_error(true);
   EXPECT_LT(everywhere, surface) << "surface only " << surface << ", all vertices " << everywhere;
-  EXPECT_LT(surface, 0.66);  // better than the initial uniform 1e5 (0.663)
+  // The initial uniform 1e5 has error 0.663 and the recovery about 0.58: a run that barely
+  // improves on the start must fail, so the bound asks for at least half of that gain.
+  EXPECT_LT(surface, 0.62);
   std::printf("relative L2 error of E: surface only %.4f, all vertices %.4f\n", surface, everywhere);
 }
 

@@ -1,5 +1,5 @@
 // A 200k-tetrahedron box through every reader, the VTU writer and the facet queries:
-// results must match the generated mesh exactly, in a few seconds each.
+// results must match the generated mesh exactly (the times are printed, not asserted: timings belong in bench/).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -15,10 +15,6 @@ namespace tailor {
 namespace {
 
 using test::ScratchDir;
-
-// Far above the expected fraction of a second, so that a busy machine does not fail the
-// test, but low enough to catch quadratic behaviour.
-constexpr double kSecondsAllowed = 20.0;
 
 template <class Work>
 double seconds(Work work) {
@@ -93,7 +89,6 @@ TEST(LargeMesh, ReadersWriterAndFacetQueriesScale) {
   std::printf(
       "202752 tets: read .msh %.2f s, read .mesh %.2f s, write .vtu %.2f s, facets+adjacency %.2f s\n", t_msh,
       t_medit, t_vtu, t_facets);
-  for (const double t : {t_msh, t_medit, t_vtu, t_facets}) EXPECT_LT(t, kSecondsAllowed);
 }
 
 }  // namespace

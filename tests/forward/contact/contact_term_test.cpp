@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <cstdio>
 
 #include "adjoint/derivative_check.hpp"
 
@@ -41,6 +42,7 @@ DerivativeCheckOptions small_steps() {
 
 void expect_passes(const EnergyTerm& term, const Vector& x) {
   const EnergyTermCheck check = check_energy_term(term, x, Vector(), small_steps());
+  std::printf("%s", check.table().c_str());
   EXPECT_TRUE(check.passed()) << check.table();
   for (const auto& c : check.checks) EXPECT_FALSE(c.vanishing) << c.quantity;
 }

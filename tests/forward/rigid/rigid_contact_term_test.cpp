@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <cstdio>
 
 #include "adjoint/derivative_check.hpp"
 #include "forward/rigid/rigid_gravity_term.hpp"
@@ -49,6 +50,7 @@ TEST(RigidContactTerm, StackedBoxesPassDerivativeChecksWithMollifiedEdges) {
   DerivativeCheckOptions options;
   options.state_scale = 1e-3;
   const EnergyTermCheck check = check_energy_term(term, q, Vector(), options);
+  std::printf("%s", check.table().c_str());
   EXPECT_TRUE(check.passed()) << check.table();
 
   const Eigen::MatrixXd projected = Eigen::MatrixXd(term.hessian(q, Vector(), HessianMode::projected));
@@ -71,6 +73,7 @@ TEST(RigidContactTerm, LargeRotationPassesDerivativeChecks) {
   DerivativeCheckOptions options;
   options.state_scale = 1e-3;
   const EnergyTermCheck check = check_energy_term(term, q, Vector(), options);
+  std::printf("%s", check.table().c_str());
   EXPECT_TRUE(check.passed()) << check.table();
 }
 

@@ -55,14 +55,16 @@ contact::ContactOptions contact_options(double d_hat, double kappa) {
   return o;
 }
 
-// Box (1 m, 1 kg) on a fixed 4 m ground; the box's lateral translation and spin about z are
+// Box (1 m, 1 kg) on a fixed ground (4 m unless given); the box's lateral translation and spin about z are
 // fixed (frictionless contact gives them no stiffness). d_hat = 1 cm.
 struct BoxOnGround {
-  RigidBodySystem system = testing::box_on_ground(Eigen::Vector3d(4, 4, 1), Eigen::Vector3d(1, 1, 1), 0.005,
-                                                  Eigen::Vector2d(0, 0), Eigen::Vector3d::Zero());
+  RigidBodySystem system;
   Model model{system.num_dofs()};
   RigidContactTerm* contact = nullptr;
-  explicit BoxOnGround(int mass_offset = -1) {
+  explicit BoxOnGround(int mass_offset = -1, const Eigen::Vector3d& ground = Eigen::Vector3d(4, 4, 1),
+                       const Eigen::Vector2d& offset = Eigen::Vector2d::Zero())
+      : system(testing::box_on_ground(ground, Eigen::Vector3d(1, 1, 1), 0.005, offset,
+                                      Eigen::Vector3d::Zero())) {
     if (mass_offset >= 0) model.parameter_layout().add("mass", 2);
     model.add(std::make_unique<RigidGravityTerm>(system, Eigen::Vector3d(0, 0, -kGravity), mass_offset));
     contact = &model.add(std::make_unique<RigidContactTerm>(system, contact_options(0.01, 1e5)));
@@ -139,8 +141,7 @@ TEST(RigidValidation, SphereSqueezedBetweenWallsNeverIntersects) {
   }
 }
 
-TEST(RigidValidation, StaticAdjointThroughActiveContactPassesTaylorTest) {
-  BoxOnGround scene(0);
+void taylor_test_box_height(BoxOnGround& scene, bool expect_mollified) {
   // J = 1/2 |T_box - t|^2 with T_box the DOFs 6..8 ("vertex" 2 of the 3-blocks of q).
   Matrix target(1, 3);
   target << 0.0, 0.0, 0.49;
@@ -156,6 +157,24 @@ TEST(RigidValidation, StaticAdjointThroughActiveContactPassesTaylorTest) {
   EXPECT_TRUE(t.passed()) << t.table();
   EXPECT_GE(t.rate1, 1.9);
   EXPECT_NEAR(t.rate0, 1.0, 0.2);
+  // Which pairs were active at the last equilibrium.
+  int mollified = 0, pairs = 0;
+  scene.contact->potential().for_each_active(scene.system.world_positions(functional.state()), true,
+                                             [&](const contact::ActivePair& pair) {
+                                               ++pairs;
+                                               if (pair.derivatives.mollified) ++mollified;
+                                             });
+  std::printf("active pairs at the equilibrium: %d, mollified edge-edge: %d\n", pairs, mollified);
+  EXPECT_GT(pairs, 0);
+  EXPECT_EQ(mollified > 0, expect_mollified);  // the Taylor test covered a mollified pair
+}
+
+// The box's bottom diagonal lies parallel to the ground's top diagonal (both triangulate
+// their square the same way), so a mollified edge-edge pair is active along with the
+// point-triangle pairs of the corners.
+TEST(RigidValidation, StaticAdjointThroughActiveContactPassesTaylorTest) {
+  BoxOnGround scene(0);
+  taylor_test_box_height(scene, true);
 }
 
 }  // namespace

@@ -167,3 +167,36 @@ TEST(ContactTerm, RejectsBadInput) {
 
 }  // namespace
 }  // namespace tailor
+
+namespace tailor {
+namespace {
+
+// The checks can fail: the same term with its Hessian scaled by 1 + 1e-4 is caught.
+class ScaledHessian final : public EnergyTerm {
+ public:
+  explicit ScaledHessian(const EnergyTerm& inner) : inner_(inner) { inner_.hessian_pattern(pattern_); }
+  std::string name() const override { return "scaled_hessian"; }
+  void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override {
+    inner_.evaluate(x, p, request);
+    if (request.hessian_values)
+      for (std::size_t i = 0; i < pattern_.size(); ++i) request.hessian_values[i] *= 1.0 + 1e-4;
+  }
+  void hessian_pattern(HessianPattern& pattern) const override {
+    pattern.insert(pattern.end(), pattern_.begin(), pattern_.end());
+  }
+
+ private:
+  const EnergyTerm& inner_;
+  HessianPattern pattern_;
+};
+
+TEST(ContactTerm, PerturbedHessianIsCaught) {
+  const CubeOnFloor scene;
+  ContactTerm term(scene.surface, interleaved_dofs(12), scene.state, options(0.1, 1.0));
+  const ScaledHessian wrong(term);
+  const EnergyTermCheck check = check_energy_term(wrong, scene.state, Vector(), small_steps());
+  EXPECT_FALSE(check.passed()) << check.table();
+}
+
+}  // namespace
+}  // namespace tailor

@@ -1,0 +1,44 @@
+#pragma once
+// Rigid-body contact scenes (`rigid_bodies`, `contact` sections) for `tailor simulate`: static
+// equilibrium of rigid bodies under gravity with IPC contact (forward/rigid, forward/contact).
+// Keys are documented in docs/contact.md. JSON is parsed here into typed structs; the
+// numerical code never sees it.
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "forward/contact/contact_potential.hpp"
+#include "forward/rigid/rigid_body_system.hpp"
+#include "forward/solve/newton.hpp"
+
+namespace tailor {
+
+struct RigidSceneSpec {
+  std::string name, description, source;
+  std::vector<rigid::RigidBody> bodies;
+  std::vector<std::vector<int>> fixed_body_dofs;  // per body: local DOFs 0..5 held fixed
+  Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.81);
+  contact::ContactOptions contact;
+  NewtonOptions newton;
+};
+
+// True when the file is a JSON object with a "rigid_bodies" member.
+bool is_rigid_scene(const std::string& path);
+// Throws SceneError naming the file and the JSON path of a bad value.
+RigidSceneSpec parse_rigid_scene(const std::string& json_text, const std::string& source);
+RigidSceneSpec read_rigid_scene(const std::string& path);
+
+struct RigidSimulateRun {
+  NewtonResult newton;
+  Vector state;             // (T_b, w_b) per body at the equilibrium
+  Vector contact_forces;    // -dB/dq per DOF (force on each body, generalized moment on w)
+  double min_distance = 0;  // smallest distance between bodies
+  int active_pairs = 0;
+};
+
+// Solves the static equilibrium; writes DIR/report.json and DIR/<body>.vtu (surfaces at the
+// equilibrium). Progress to `log` when given.
+RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::string& out_dir,
+                                      std::ostream* log);
+
+}  // namespace tailor

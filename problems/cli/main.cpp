@@ -17,8 +17,8 @@
 #include "problems/damping_design/damping_design_scene.hpp"
 #include "problems/dynamic_scene.hpp"
 #include "problems/inverse_commands.hpp"
-#include "problems/material_fit/material_fit_scene.hpp"
 #include "problems/modes_command.hpp"
+#include "problems/material_fit/material_fit_scene.hpp"
 #include "tailor_version.hpp"
 
 namespace {
@@ -131,16 +131,13 @@ int run_verb(const std::string& verb, const Arguments& args) {
     return fit.result.converged() ? kSuccess : kFailure;
   }
   if (verb == "run" && args.scene && tailor::is_damping_design_scene(*args.scene))
-    return tailor::run_damping_design_scene(*args.scene, args.out_dir.value_or("out/damping_design"),
-                                            std::cout)
+    return tailor::run_damping_design_scene(*args.scene, args.out_dir.value_or("out/damping_design"), std::cout)
                ? kSuccess
                : kFailure;
   if (verb == "simulate" && args.scene && tailor::is_rigid_scene(*args.scene)) {
     const tailor::RigidSceneSpec spec = tailor::read_rigid_scene(*args.scene);
-    return tailor::simulate_rigid_scene(spec, args.out_dir.value_or("out/" + spec.name), &std::cout)
-                   .newton.converged()
-               ? kSuccess
-               : kFailure;
+    const std::string out_dir = args.out_dir.value_or("out/" + spec.name);
+    return tailor::simulate_rigid_scene(spec, out_dir, &std::cout).newton.converged() ? kSuccess : kFailure;
   }
   const tailor::Scene scene = load_scene(args);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;

@@ -134,10 +134,14 @@ int run_verb(const std::string& verb, const Arguments& args) {
     return tailor::run_damping_design_scene(*args.scene, args.out_dir.value_or("out/damping_design"), std::cout)
                ? kSuccess
                : kFailure;
-  if (verb == "simulate" && args.scene && tailor::is_rigid_scene(*args.scene)) {
+  if ((verb == "simulate" || verb == "gradcheck") && args.scene && tailor::is_rigid_scene(*args.scene)) {
     const tailor::RigidSceneSpec spec = tailor::read_rigid_scene(*args.scene);
     const std::string out_dir = args.out_dir.value_or("out/" + spec.name);
-    return tailor::simulate_rigid_scene(spec, out_dir, &std::cout).newton.converged() ? kSuccess : kFailure;
+    const unsigned seed = args.seed.value_or(1);
+    const bool ok = verb == "gradcheck"
+                        ? tailor::gradcheck_rigid_scene(spec, out_dir, seed, &std::cout).passed()
+                        : tailor::simulate_rigid_scene(spec, out_dir, &std::cout).newton.converged();
+    return ok ? kSuccess : kFailure;
   }
   const tailor::Scene scene = load_scene(args);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;

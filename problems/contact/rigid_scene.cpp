@@ -7,10 +7,13 @@
 #include <ostream>
 #include <sstream>
 
+#include "adjoint/parameterization.hpp"
+#include "adjoint/static_functional.hpp"
 #include "forward/core/model.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "forward/rigid/rigid_contact_term.hpp"
 #include "forward/rigid/rigid_gravity_term.hpp"
+#include "objectives/target_positions.hpp"
 #include "problems/contact/surface_vtu.hpp"
 #include "problems/scene.hpp"
 #include "problems/scene_node.hpp"
@@ -138,23 +141,40 @@ RigidSceneSpec read_rigid_scene(const std::string& path) {
   return spec;
 }
 
+namespace {
+
+// Gravity and contact over the scene's bodies, fixed and held DOFs eliminated. With
+// `mass_parameters`, the masses are the parameter block "mass".
+struct RigidSceneModel {
+  rigid::RigidBodySystem system;
+  Model model;
+  const rigid::RigidContactTerm* contact = nullptr;
+  RigidSceneModel(const RigidSceneSpec& spec, bool mass_parameters)
+      : system(spec.bodies), model(system.num_dofs()) {
+    if (mass_parameters) model.parameter_layout().add("mass", system.num_bodies());
+    model.add(std::make_unique<rigid::RigidGravityTerm>(system, spec.gravity, mass_parameters ? 0 : -1));
+    contact = &model.add(std::make_unique<rigid::RigidContactTerm>(system, spec.contact));
+    std::vector<int> fixed = system.fixed_dofs();
+    for (int b = 0; b < system.num_bodies(); ++b)
+      if (!system.body(b).fixed)
+        for (int k : spec.fixed_body_dofs[static_cast<std::size_t>(b)]) fixed.push_back(6 * b + k);
+    model.set_elimination(Elimination::dirichlet(fixed, system.initial_state()));
+    const double start_distance = contact->min_distance(system.initial_state(), 1e30);
+    if (!(start_distance > 0.0))
+      throw SceneError(spec.source + ": bodies touch or intersect in the initial state (distance " +
+                       std::to_string(start_distance) + ")");
+  }
+};
+
+}  // namespace
+
 RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::string& out_dir,
                                       std::ostream* log) {
-  const rigid::RigidBodySystem system(spec.bodies);
-  Model model(system.num_dofs());
-  model.add(std::make_unique<rigid::RigidGravityTerm>(system, spec.gravity));
-  const rigid::RigidContactTerm& contact =
-      model.add(std::make_unique<rigid::RigidContactTerm>(system, spec.contact));
-  std::vector<int> fixed = system.fixed_dofs();
-  for (int b = 0; b < system.num_bodies(); ++b)
-    if (!system.body(b).fixed)
-      for (int k : spec.fixed_body_dofs[static_cast<std::size_t>(b)]) fixed.push_back(6 * b + k);
+  RigidSceneModel scene(spec, false);
+  const rigid::RigidBodySystem& system = scene.system;
+  const Model& model = scene.model;
+  const rigid::RigidContactTerm& contact = *scene.contact;
   const Vector q0 = system.initial_state();
-  model.set_elimination(Elimination::dirichlet(fixed, q0));
-  const double start_distance = contact.min_distance(q0, 1e30);
-  if (!(start_distance > 0.0))
-    throw SceneError(spec.source + ": bodies touch or intersect in the initial state (distance " +
-                     std::to_string(start_distance) + ")");
 
   RigidSimulateRun run;
   NewtonOptions options = spec.newton;
@@ -205,6 +225,35 @@ RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::str
   }
   std::ofstream(std::filesystem::path(out_dir) / "report.json") << report.dump(2) << "\n";
   return run;
+}
+
+TaylorTestResult gradcheck_rigid_scene(const RigidSceneSpec& spec, const std::string& out_dir, unsigned seed,
+                                       std::ostream* log) {
+  RigidSceneModel scene(spec, true);
+  const rigid::RigidBodySystem& system = scene.system;
+  std::vector<int> centres;
+  for (int b = 0; b < system.num_bodies(); ++b)
+    if (!system.body(b).fixed) centres.push_back(2 * b);  // block 2b of 3 DOFs is T_b
+  if (centres.empty())
+    throw SceneError(spec.source + ": gradcheck needs at least one body that is not fixed");
+  Matrix targets(static_cast<Eigen::Index>(centres.size()), 3);
+  for (std::size_t i = 0; i < centres.size(); ++i)
+    targets.row(static_cast<Eigen::Index>(i)) = system.body(centres[i] / 2).position.transpose();
+  auto objective = std::make_shared<TargetPositions>(3, centres, targets);
+  StaticFunctionalOptions options;
+  options.newton = spec.newton;
+  options.newton.relative_tolerance = std::min(spec.newton.relative_tolerance, 1e-11);
+  StaticFunctional functional(scene.model, identity_map(system.num_bodies()), objective,
+                              scene.model.elimination().restrict_state(system.initial_state()), options);
+  Vector masses(system.num_bodies());
+  for (int b = 0; b < system.num_bodies(); ++b) masses[b] = system.body(b).mass;
+  TaylorTestOptions taylor;
+  taylor.seed = seed;
+  const TaylorTestResult result = taylor_test(functional, masses, taylor);
+  if (log) *log << "gradient of 1/2 sum |T_b - T_b^0|^2 with respect to the body masses\n" << result.table();
+  std::filesystem::create_directories(out_dir);
+  std::ofstream(std::filesystem::path(out_dir) / "gradcheck.json") << result.json() << "\n";
+  return result;
 }
 
 }  // namespace tailor

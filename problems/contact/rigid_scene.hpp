@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "adjoint/taylor_test.hpp"
 #include "forward/contact/contact_potential.hpp"
 #include "forward/rigid/rigid_body_system.hpp"
 #include "forward/solve/newton.hpp"
@@ -40,5 +41,12 @@ struct RigidSimulateRun {
 // equilibrium). Progress to `log` when given.
 RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::string& out_dir,
                                       std::ostream* log);
+
+// `tailor gradcheck` on a rigid scene: a Taylor test of the static adjoint gradient of
+//   J(m) = 1/2 sum_b |T_b(m) - T_b^0|^2   (free bodies' centres against their initial places)
+// with respect to the body masses m (gravity's parameters), through the contact equilibrium.
+// Writes DIR/gradcheck.json. Throws SceneError when no body is free.
+TaylorTestResult gradcheck_rigid_scene(const RigidSceneSpec& spec, const std::string& out_dir, unsigned seed,
+                                       std::ostream* log);
 
 }  // namespace tailor

@@ -9,6 +9,7 @@
 
 #include "adjoint/parameterization.hpp"
 #include "adjoint/static_functional.hpp"
+#include "forward/contact/intersection.hpp"
 #include "forward/core/model.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "forward/rigid/rigid_contact_term.hpp"
@@ -160,9 +161,12 @@ struct RigidSceneModel {
         for (int k : spec.fixed_body_dofs[static_cast<std::size_t>(b)]) fixed.push_back(6 * b + k);
     model.set_elimination(Elimination::dirichlet(fixed, system.initial_state()));
     const double start_distance = contact->min_distance(system.initial_state(), 1e30);
-    if (!(start_distance > 0.0))
+    const int crossings = contact::count_edge_face_intersections(
+        system.surface(), system.world_positions(system.initial_state()));
+    if (!(start_distance > 0.0) || crossings > 0)
       throw SceneError(spec.source + ": bodies touch or intersect in the initial state (distance " +
-                       std::to_string(start_distance) + ")");
+                       std::to_string(start_distance) + ", " + std::to_string(crossings) +
+                       " edge-face crossings)");
   }
 };
 

@@ -80,6 +80,11 @@ TEST(RigidScene, BadInputIsReportedWithContext) {
   expect_scene_error(R"({"rigid_bodies": [)" + ground +
                          R"(, {"primitive": "box", "size": [1, 1, 1], "position": [0, 0, 0.2]}]})",
                      "intersect");
+  // A tilted box poking into the ground: all distances positive, but edges cross faces.
+  expect_scene_error(
+      R"({"rigid_bodies": [)" + ground +
+          R"(, {"primitive": "box", "size": [1, 1, 1], "position": [0, 0, 0.55], "rotation": [0.3, 0, 0]}]})",
+      "crossings");
   expect_scene_error("{not json", "invalid JSON");
 }
 

@@ -140,7 +140,7 @@ int run_verb(const std::string& verb, const Arguments& args) {
     const unsigned seed = args.seed.value_or(1);
     const bool ok = verb == "gradcheck"
                         ? tailor::gradcheck_rigid_scene(spec, out_dir, seed, &std::cout).passed()
-                        : tailor::simulate_rigid_scene(spec, out_dir, &std::cout).newton.converged();
+                        : tailor::simulate_rigid_scene(spec, out_dir, &std::cout).completed();
     return ok ? kSuccess : kFailure;
   }
   const tailor::Scene scene = load_scene(args);

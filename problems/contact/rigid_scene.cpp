@@ -1,8 +1,10 @@
 // Parsing and solving rigid-body contact scenes (see rigid_scene.hpp).
 #include "problems/contact/rigid_scene.hpp"
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <sstream>
@@ -14,6 +16,7 @@
 #include "forward/mesh/mesh_io.hpp"
 #include "forward/rigid/rigid_contact_term.hpp"
 #include "forward/rigid/rigid_gravity_term.hpp"
+#include "forward/rigid/rigid_time_stepper.hpp"
 #include "objectives/target_positions.hpp"
 #include "problems/contact/surface_vtu.hpp"
 #include "problems/scene.hpp"
@@ -24,7 +27,7 @@ namespace {
 
 rigid::RigidBody parse_body(const SceneNode& node, const std::string& source, std::vector<int>& fixed_dofs) {
   node.expect_keys({"name", "primitive", "mesh", "size", "radius", "subdivisions", "density", "position",
-                    "rotation", "fixed", "fixed_dofs"});
+                    "velocity", "angular_velocity", "rotation", "fixed", "fixed_dofs"});
   Eigen::MatrixX3d vertices;
   Eigen::MatrixX3i faces;
   if (node.has("mesh")) {
@@ -97,7 +100,7 @@ RigidSceneSpec parse_rigid_scene(const std::string& json_text, const std::string
   const nlohmann::json document = nlohmann::json::parse(json_text, nullptr, false);
   if (document.is_discarded()) throw SceneError(source + ": invalid JSON");
   const SceneNode root(document, source, "");
-  root.expect_keys({"name", "description", "rigid_bodies", "gravity", "contact", "newton"});
+  root.expect_keys({"name", "description", "rigid_bodies", "gravity", "contact", "newton", "dynamics"});
   RigidSceneSpec spec;
   spec.source = source;
   if (root.has("name")) spec.name = root.at("name").string();
@@ -109,6 +112,18 @@ RigidSceneSpec parse_rigid_scene(const std::string& json_text, const std::string
     spec.bodies.push_back(parse_body(bodies[b], source, fixed));
     if (spec.bodies.back().name.empty()) spec.bodies.back().name = "body" + std::to_string(b);
     spec.fixed_body_dofs.push_back(fixed);
+    spec.velocities.push_back(bodies[b].has("velocity") ? Eigen::Vector3d(bodies[b].at("velocity").vector(3))
+                                                        : Eigen::Vector3d::Zero());
+    spec.angular_velocities.push_back(bodies[b].has("angular_velocity")
+                                          ? Eigen::Vector3d(bodies[b].at("angular_velocity").vector(3))
+                                          : Eigen::Vector3d::Zero());
+  }
+  if (root.has("dynamics")) {
+    const SceneNode d = root.at("dynamics");
+    d.expect_keys({"time_step", "steps", "output_every"});
+    spec.time_step = d.at("time_step").positive();
+    spec.steps = d.at("steps").integer(1);
+    if (d.has("output_every")) spec.output_every = d.at("output_every").integer(1);
   }
   if (root.has("gravity")) spec.gravity = root.at("gravity").vector(3);
   if (root.has("contact")) {
@@ -150,9 +165,12 @@ struct RigidSceneModel {
   rigid::RigidBodySystem system;
   Model model;
   const rigid::RigidContactTerm* contact = nullptr;
+  rigid::RigidInertiaTerm* inertia = nullptr;  // dynamic scenes
   RigidSceneModel(const RigidSceneSpec& spec, bool mass_parameters)
       : system(spec.bodies), model(system.num_dofs()) {
     if (mass_parameters) model.parameter_layout().add("mass", system.num_bodies());
+    if (spec.time_step > 0.0)
+      inertia = &model.add(std::make_unique<rigid::RigidInertiaTerm>(system, spec.time_step));
     model.add(std::make_unique<rigid::RigidGravityTerm>(system, spec.gravity, mass_parameters ? 0 : -1));
     contact = &model.add(std::make_unique<rigid::RigidContactTerm>(system, spec.contact));
     std::vector<int> fixed = system.fixed_dofs();
@@ -170,11 +188,100 @@ struct RigidSceneModel {
   }
 };
 
+// Every body's surface at state q as DIR/<body><suffix>.vtu.
+void write_frames(const rigid::RigidBodySystem& system, const Vector& q, const std::string& out_dir,
+                  const std::string& suffix) {
+  const contact::Positions x = system.world_positions(q);
+  int first = 0;
+  for (int b = 0; b < system.num_bodies(); ++b) {
+    const auto rows = static_cast<Eigen::Index>(system.body(b).vertices.rows());
+    write_surface_vtu((std::filesystem::path(out_dir) / (system.body(b).name + suffix + ".vtu")).string(),
+                      x.middleRows(first, rows), system.body(b).faces);
+    first += static_cast<int>(rows);
+  }
+}
+
+nlohmann::json body_states(const rigid::RigidBodySystem& system, const Vector& q, const Vector& forces) {
+  nlohmann::json bodies = nlohmann::json::array();
+  auto triple = [](const Vector& v, int offset) {
+    return std::vector<double>{v[offset], v[offset + 1], v[offset + 2]};
+  };
+  for (int b = 0; b < system.num_bodies(); ++b)
+    bodies.push_back({{"name", system.body(b).name},
+                      {"mass", system.body(b).mass},
+                      {"position", triple(q, 6 * b)},
+                      {"rotation", triple(q, 6 * b + 3)},
+                      {"contact_force", triple(forces, 6 * b)},
+                      {"contact_moment", triple(forces, 6 * b + 3)}});
+  return bodies;
+}
+
+RigidSimulateRun simulate_dynamics(const RigidSceneSpec& spec, RigidSceneModel& scene,
+                                   const std::string& out_dir, std::ostream* log) {
+  const rigid::RigidBodySystem& system = scene.system;
+  rigid::RigidTimeStepper stepper(system, scene.model, *scene.inertia, spec.newton);
+  for (int b = 0; b < system.num_bodies(); ++b)
+    stepper.set_velocity(b, spec.velocities[static_cast<std::size_t>(b)],
+                         spec.angular_velocities[static_cast<std::size_t>(b)]);
+  std::filesystem::create_directories(out_dir);
+  auto frame_suffix = [](int n) {
+    char buffer[16];
+    std::snprintf(buffer, sizeof buffer, "_%04d", n);
+    return std::string(buffer);
+  };
+  write_frames(system, stepper.state(), out_dir, frame_suffix(0));
+  RigidSimulateRun run;
+  run.min_distance = std::numeric_limits<double>::infinity();
+  nlohmann::json steps = nlohmann::json::array();
+  int total_iterations = 0;
+  for (int n = 1; n <= spec.steps; ++n) {
+    run.newton = stepper.step();
+    if (!run.newton.converged()) {
+      if (log) *log << "step " << n << " failed:\n" << run.newton.report() << "\n";
+      break;
+    }
+    run.steps_completed = n;
+    total_iterations += run.newton.iterations;
+    const double distance = scene.contact->min_distance(stepper.state(), 1e30);
+    const int crossings =
+        contact::count_edge_face_intersections(system.surface(), system.world_positions(stepper.state()));
+    run.min_distance = std::min(run.min_distance, distance);
+    run.intersections += crossings;
+    steps.push_back({{"step", n},
+                     {"newton_iterations", run.newton.iterations},
+                     {"min_distance", distance},
+                     {"intersections", crossings}});
+    if (log)
+      *log << "step " << n << ": " << run.newton.iterations << " Newton iterations, min distance " << distance
+           << (crossings ? ", INTERSECTING" : "") << "\n";
+    if (n % spec.output_every == 0) write_frames(system, stepper.state(), out_dir, frame_suffix(n));
+  }
+  run.state = stepper.state();
+  run.contact_forces = Vector::Zero(run.state.size());
+  scene.contact->add_gradient(run.state, Vector(), run.contact_forces);
+  run.contact_forces = -run.contact_forces;
+  run.active_pairs = scene.contact->potential().num_active(system.world_positions(run.state));
+  nlohmann::json report;
+  report["scene"] = spec.name;
+  report["status"] = run.completed() && run.steps_completed == spec.steps ? "completed" : "failed";
+  report["time_step"] = spec.time_step;
+  report["steps"] = spec.steps;
+  report["steps_completed"] = run.steps_completed;
+  report["newton_iterations"] = total_iterations;
+  report["min_distance"] = run.min_distance;
+  report["intersections"] = run.intersections;
+  report["per_step"] = steps;
+  report["bodies"] = body_states(system, run.state, run.contact_forces);
+  std::ofstream(std::filesystem::path(out_dir) / "report.json") << report.dump(2) << "\n";
+  return run;
+}
+
 }  // namespace
 
 RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::string& out_dir,
                                       std::ostream* log) {
   RigidSceneModel scene(spec, false);
+  if (spec.time_step > 0.0) return simulate_dynamics(spec, scene, out_dir, log);
   const rigid::RigidBodySystem& system = scene.system;
   const Model& model = scene.model;
   const rigid::RigidContactTerm& contact = *scene.contact;
@@ -205,34 +312,17 @@ RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::str
   report["seconds"] = run.newton.total_seconds;
   report["min_distance"] = run.min_distance;
   report["active_pairs"] = run.active_pairs;
-  const contact::Positions x = system.world_positions(run.state);
-  int first = 0;
-  for (int b = 0; b < system.num_bodies(); ++b) {
-    const rigid::RigidBody& body = system.body(b);
-    auto triple = [&](int offset) {
-      return std::vector<double>{run.state[offset], run.state[offset + 1], run.state[offset + 2]};
-    };
-    auto force = [&](int offset) {
-      return std::vector<double>{run.contact_forces[offset], run.contact_forces[offset + 1],
-                                 run.contact_forces[offset + 2]};
-    };
-    report["bodies"].push_back({{"name", body.name},
-                                {"mass", body.mass},
-                                {"position", triple(6 * b)},
-                                {"rotation", triple(6 * b + 3)},
-                                {"contact_force", force(6 * b)},
-                                {"contact_moment", force(6 * b + 3)}});
-    const auto rows = static_cast<Eigen::Index>(body.vertices.rows());
-    write_surface_vtu((std::filesystem::path(out_dir) / (body.name + ".vtu")).string(),
-                      x.middleRows(first, rows), body.faces);
-    first += static_cast<int>(rows);
-  }
+  report["bodies"] = body_states(system, run.state, run.contact_forces);
+  write_frames(system, run.state, out_dir, "");
   std::ofstream(std::filesystem::path(out_dir) / "report.json") << report.dump(2) << "\n";
   return run;
 }
 
 TaylorTestResult gradcheck_rigid_scene(const RigidSceneSpec& spec, const std::string& out_dir, unsigned seed,
                                        std::ostream* log) {
+  if (spec.time_step > 0.0)
+    throw SceneError(spec.source +
+                     ": gradcheck of dynamic rigid scenes is not implemented (static scenes only)");
   RigidSceneModel scene(spec, true);
   const rigid::RigidBodySystem& system = scene.system;
   std::vector<int> centres;

@@ -21,6 +21,11 @@ struct RigidSceneSpec {
   Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.81);
   contact::ContactOptions contact;
   NewtonOptions newton;
+  // Dynamics (implicit Euler) when time_step > 0; initial velocities per body.
+  double time_step = 0.0;  // [time]
+  int steps = 0;
+  int output_every = 1;  // write .vtu frames every this many steps
+  std::vector<Eigen::Vector3d> velocities, angular_velocities;
 };
 
 // True when the file is a JSON object with a "rigid_bodies" member.
@@ -33,12 +38,16 @@ struct RigidSimulateRun {
   NewtonResult newton;
   Vector state;             // (T_b, w_b) per body at the equilibrium
   Vector contact_forces;    // -dB/dq per DOF (force on each body, generalized moment on w)
-  double min_distance = 0;  // smallest distance between bodies
+  double min_distance = 0;  // smallest distance between bodies (over all steps when dynamic)
   int active_pairs = 0;
+  int steps_completed = 0;  // dynamic: accepted steps
+  int intersections = 0;    // dynamic: edge-face crossings found after any step (must be 0)
+  bool completed() const { return newton.converged() && intersections == 0; }
 };
 
-// Solves the static equilibrium; writes DIR/report.json and DIR/<body>.vtu (surfaces at the
-// equilibrium). Progress to `log` when given.
+// Solves the static equilibrium, or with a time step runs the implicit Euler steps (checking
+// distances and edge-face crossings after each); writes DIR/report.json and DIR/<body>.vtu
+// (static) or DIR/<body>_<frame>.vtu (dynamic). Progress to `log` when given.
 RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::string& out_dir,
                                       std::ostream* log);
 

@@ -58,6 +58,22 @@ TEST(RigidScene, GradcheckThroughStackedContactPasses) {
   EXPECT_NEAR(t.rate0, 1.0, 0.1);
 }
 
+// A dynamic scene: every implicit Euler step converges, no step leaves an intersection, and
+// the box ends at rest on the ground carrying its weight.
+TEST(RigidScene, DroppedBoxSceneCompletesWithoutIntersections) {
+  const RigidSceneSpec spec = read_rigid_scene(kScenes + "box_drop.json");
+  const std::string out = temporary_directory("drop");
+  const RigidSimulateRun run = simulate_rigid_scene(spec, out, nullptr);
+  EXPECT_TRUE(run.completed());
+  EXPECT_EQ(run.steps_completed, spec.steps);
+  EXPECT_EQ(run.intersections, 0);
+  EXPECT_GT(run.min_distance, 0.0);
+  const double weight = spec.bodies[1].mass * 9.81;
+  EXPECT_NEAR(run.contact_forces[8], weight, 1e-3 * weight);
+  EXPECT_TRUE(std::filesystem::exists(out + "/box_0100.vtu"));
+  EXPECT_THROW(gradcheck_rigid_scene(spec, out, 1, nullptr), SceneError);
+}
+
 void expect_scene_error(const std::string& json, const std::string& fragment) {
   try {
     const RigidSceneSpec spec = parse_rigid_scene(json, "bad.json");

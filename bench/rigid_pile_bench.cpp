@@ -5,8 +5,9 @@
 // of active contact pairs; the smallest distance reached; edge-face crossings (must be 0).
 // Writes JSON (--out, default bench_rigid_pile.json) and prints a table.
 //
-// usage: rigid_pile_bench [--columns 5] [--layers 2] [--steps 100] [--dt 0.01] [--max-iterations 100] [--out
-// FILE]
+// usage: rigid_pile_bench [--columns 5] [--layers 2] [--steps 100] [--dt 0.01]
+//                         [--max-iterations 100] [--hessian adaptive|projected|exact]
+//                         [--force-tolerance F (Newton stops at |g| <= F x total weight)] [--out FILE]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -57,6 +58,8 @@ class TimedTerm final : public EnergyTerm {
 
 int main(int argc, char** argv) {
   int columns = 5, layers = 2, steps = 100, max_iterations = 100;
+  NewtonHessian hessian = NewtonHessian::adaptive;
+  double force_tolerance = 0.0;  // Newton's absolute tolerance as a fraction of the total weight
   double dt = 0.01;
   std::string out = "bench_rigid_pile.json";
   for (int i = 1; i < argc; ++i) {
@@ -67,6 +70,13 @@ int main(int argc, char** argv) {
       layers = std::stoi(argv[++i]);
     } else if (arg == "--steps" && i + 1 < argc) {
       steps = std::stoi(argv[++i]);
+    } else if (arg == "--hessian" && i + 1 < argc) {
+      const std::string mode = argv[++i];
+      hessian = mode == "projected" ? NewtonHessian::projected
+                : mode == "exact"   ? NewtonHessian::exact
+                                    : NewtonHessian::adaptive;
+    } else if (arg == "--force-tolerance" && i + 1 < argc) {
+      force_tolerance = std::stod(argv[++i]);
     } else if (arg == "--max-iterations" && i + 1 < argc) {
       max_iterations = std::stoi(argv[++i]);
     } else if (arg == "--dt" && i + 1 < argc) {
@@ -76,7 +86,8 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: rigid_pile_bench [--columns 5] [--layers 2] [--steps 100] [--dt 0.01] "
-                   "[--max-iterations 100] [--out FILE]\n");
+                   "[--max-iterations 100] [--hessian adaptive|projected|exact] [--force-tolerance F] "
+                   "[--out FILE]\n");
       return 2;
     }
   }
@@ -113,6 +124,8 @@ int main(int argc, char** argv) {
   model.set_elimination(Elimination::dirichlet(system.fixed_dofs(), system.initial_state()));
   NewtonOptions newton;
   newton.max_iterations = max_iterations;
+  newton.hessian = hessian;
+  newton.absolute_tolerance = force_tolerance * 500.0 * 9.81 * (system.num_bodies() - 1);
   RigidTimeStepper stepper(system, model, inertia, newton);
 
   std::ofstream json(out);

@@ -96,7 +96,7 @@ RigidBodySystem::RigidBodySystem(std::vector<RigidBody> bodies) : bodies_(std::m
     for (int i = 0; i < body.vertices.rows(); ++i) {
       vertex_body_.push_back(static_cast<int>(b));
       vertex_local_.push_back(i);
-      groups.push_back(static_cast<int>(b));
+      groups.push_back(body.fixed ? -1 : static_cast<int>(b));  // fixed bodies never meet each other
     }
     offset += static_cast<int>(body.vertices.rows());
   }

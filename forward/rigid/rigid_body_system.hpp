@@ -3,7 +3,8 @@
 // 6b..6b+5 (translation [length], rotation vector [rad]); its vertices are
 //   x = T_b + R(w_b) V,
 // V the body-frame position relative to the centre of mass. The surfaces of all bodies form
-// one ContactSurface whose groups are the bodies (a body never collides with itself).
+// one ContactSurface whose groups are the bodies (a body never collides with itself; fixed
+// bodies share one group: they never move, so they never meet each other).
 #include <string>
 #include <vector>
 

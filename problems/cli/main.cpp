@@ -14,6 +14,7 @@
 #include "forward/solve/threads.hpp"
 #include "problems/builtin_scenes.hpp"
 #include "problems/commands.hpp"
+#include "problems/contact/rigid_scene.hpp"
 #include "problems/damping_design/damping_design_scene.hpp"
 #include "problems/dynamic_scene.hpp"
 #include "problems/inverse_commands.hpp"
@@ -164,6 +165,15 @@ int run_verb(const std::string& verb, const Arguments& args) {
     return tailor::run_damping_design_scene(*args.scene, args.out_dir.value_or("out/damping_design"), std::cout)
                ? kSuccess
                : kFailure;
+  if ((verb == "simulate" || verb == "gradcheck") && args.scene && tailor::is_rigid_scene(*args.scene)) {
+    const tailor::RigidSceneSpec spec = tailor::read_rigid_scene(*args.scene);
+    const std::string out_dir = args.out_dir.value_or("out/" + spec.name);
+    const unsigned seed = args.seed.value_or(1);
+    const bool ok = verb == "gradcheck"
+                        ? tailor::gradcheck_rigid_scene(spec, out_dir, seed, &std::cout).passed()
+                        : tailor::simulate_rigid_scene(spec, out_dir, &std::cout).completed();
+    return ok ? kSuccess : kFailure;
+  }
   const tailor::Scene scene = load_scene(args);
   apply_threads(args, scene.solver.threads);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;

@@ -1,0 +1,30 @@
+#pragma once
+// Rotation by a rotation vector (Rodrigues' formula) with exact first and second derivatives:
+//   R(w) = I + a(s) [w] + b(s) [w]^2,   s = |w|^2 = theta^2,
+//   a = sin(theta) / theta,   b = (1 - cos(theta)) / theta^2,
+// ([w] the cross-product matrix; METHODS.md section 10 writes b = 2 sinc^2(theta / 2) / 2).
+// a and b are taken as functions of s, which are smooth (entire) in s: a Taylor series for
+// s < 1 keeps them and their s-derivatives accurate to round-off near w = 0, the closed
+// forms are used beyond. Exact for any angle; the parameterization itself degenerates at
+// theta = 2 pi (R = I for a whole sphere of w), so rigid bodies keep |w| < 2 pi.
+#include <Eigen/Core>
+#include <array>
+
+namespace tailor::rigid {
+
+struct RotationDerivatives {
+  Eigen::Matrix3d rotation;                              // R
+  std::array<Eigen::Matrix3d, 3> first;                  // dR / dw_k
+  std::array<std::array<Eigen::Matrix3d, 3>, 3> second;  // d2R / dw_k dw_l (symmetric in k, l)
+};
+
+Eigen::Matrix3d rotation_matrix(const Eigen::Vector3d& w);
+RotationDerivatives rotation_derivatives(const Eigen::Vector3d& w);
+
+// a(s), b(s) and their first and second derivatives in s (exposed for tests).
+struct RodriguesCoefficients {
+  double a, da, d2a, b, db, d2b;
+};
+RodriguesCoefficients rodrigues_coefficients(double s);
+
+}  // namespace tailor::rigid

@@ -1,0 +1,108 @@
+// Rigid-body contact scenes: the shipped scenes solve to equilibrium (reference: statics, the
+// contact force on each body equals its weight plus what rests on it), and bad input gets a
+// SceneError naming the file and the JSON path.
+#include "problems/contact/rigid_scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "problems/scene.hpp"
+
+namespace tailor {
+namespace {
+
+const std::string kScenes = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/contact/";
+
+std::string temporary_directory(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("tailor_contact_" + name);
+  std::filesystem::remove_all(dir);
+  return dir.string();
+}
+
+TEST(RigidScene, SphereOnBoxCarriesTheWeightsDownToTheGround) {
+  const RigidSceneSpec spec = read_rigid_scene(kScenes + "sphere_on_box.json");
+  ASSERT_EQ(spec.bodies.size(), 3u);
+  const std::string out = temporary_directory("sphere_on_box");
+  const RigidSimulateRun run = simulate_rigid_scene(spec, out, nullptr);
+  ASSERT_TRUE(run.newton.converged()) << run.newton.report();
+  const double g = 9.81, box = spec.bodies[1].mass, sphere = spec.bodies[2].mass;
+  EXPECT_NEAR(run.contact_forces[6 * 2 + 2], sphere * g, 1e-7 * sphere * g);           // sphere: its weight
+  EXPECT_NEAR(run.contact_forces[6 * 1 + 2], box * g, 1e-7 * box * g);                 // box: net of sphere
+  EXPECT_NEAR(run.contact_forces[2], -(box + sphere) * g, 1e-7 * (box + sphere) * g);  // ground: both
+  EXPECT_GT(run.min_distance, 0.0);
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["status"], "converged");
+  EXPECT_EQ(report["bodies"].size(), 3u);
+  for (const char* body : {"ground", "box", "sphere"})
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + body + ".vtu"));
+}
+
+TEST(RigidScene, BoxOnGroundConverges) {
+  const RigidSimulateRun run = simulate_rigid_scene(read_rigid_scene(kScenes + "box_on_ground.json"),
+                                                    temporary_directory("box"), nullptr);
+  EXPECT_TRUE(run.newton.converged()) << run.newton.report();
+  EXPECT_NEAR(run.contact_forces[8], 7800.0 * 9.81, 1e-6 * 7800.0 * 9.81);
+}
+
+// tailor gradcheck on a rigid scene: the adjoint gradient with respect to the masses through
+// the stacked contact equilibrium passes the Taylor test (rates ~1 without, ~2 with it).
+TEST(RigidScene, GradcheckThroughStackedContactPasses) {
+  const TaylorTestResult t = gradcheck_rigid_scene(read_rigid_scene(kScenes + "sphere_on_box.json"),
+                                                   temporary_directory("gc"), 1, nullptr);
+  EXPECT_TRUE(t.passed()) << t.table();
+  EXPECT_GE(t.rate1, 1.9);
+  EXPECT_NEAR(t.rate0, 1.0, 0.1);
+}
+
+// A dynamic scene: every implicit Euler step converges, no step leaves an intersection, and
+// the box ends at rest on the ground carrying its weight.
+TEST(RigidScene, DroppedBoxSceneCompletesWithoutIntersections) {
+  const RigidSceneSpec spec = read_rigid_scene(kScenes + "box_drop.json");
+  const std::string out = temporary_directory("drop");
+  const RigidSimulateRun run = simulate_rigid_scene(spec, out, nullptr);
+  EXPECT_TRUE(run.completed());
+  EXPECT_EQ(run.steps_completed, spec.steps);
+  EXPECT_EQ(run.intersections, 0);
+  EXPECT_GT(run.min_distance, 0.0);
+  const double weight = spec.bodies[1].mass * 9.81;
+  EXPECT_NEAR(run.contact_forces[8], weight, 1e-3 * weight);
+  EXPECT_TRUE(std::filesystem::exists(out + "/box_0100.vtu"));
+  EXPECT_THROW(gradcheck_rigid_scene(spec, out, 1, nullptr), SceneError);
+}
+
+void expect_scene_error(const std::string& json, const std::string& fragment) {
+  try {
+    const RigidSceneSpec spec = parse_rigid_scene(json, "bad.json");
+    simulate_rigid_scene(spec, temporary_directory("bad"), nullptr);
+    ADD_FAILURE() << "no error for " << json;
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(RigidScene, BadInputIsReportedWithContext) {
+  const std::string ground =
+      R"({"primitive": "box", "size": [4, 4, 1], "position": [0, 0, -0.5], "fixed": true})";
+  expect_scene_error(R"({"rigid_bodies": []})", "at least one body");
+  expect_scene_error(R"({"rigid_bodies": [{"primitive": "cone"}]})", "rigid_bodies[0]");
+  expect_scene_error(R"({"rigid_bodies": [{"primitive": "box", "size": [1, 1]}]})", "size");
+  expect_scene_error(R"({"rigid_bodies": [{"primitive": "box", "size": [1, 1, 1], "colour": 1}]})", "colour");
+  expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "contact": {"friction": 0.3}})", "friction");
+  expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "contact": {"stiffness": -1}})", "stiffness");
+  expect_scene_error(R"({"rigid_bodies": [)" + ground +
+                         R"(, {"primitive": "box", "size": [1, 1, 1], "position": [0, 0, 0.2]}]})",
+                     "intersect");
+  // A tilted box poking into the ground: all distances positive, but edges cross faces.
+  expect_scene_error(
+      R"({"rigid_bodies": [)" + ground +
+          R"(, {"primitive": "box", "size": [1, 1, 1], "position": [0, 0, 0.55], "rotation": [0.3, 0, 0]}]})",
+      "crossings");
+  expect_scene_error("{not json", "invalid JSON");
+}
+
+}  // namespace
+}  // namespace tailor

@@ -51,9 +51,4 @@ struct HandleResult {
 std::vector<HandleResult> handle_results(const InverseProblem& problem, const Vector& z,
                                          const Vector& positions);
 
-// Rigid motions (translations, rotations) of the mesh that leave every listed DOF unmoved: 0
-// when the constrained DOFs pin the body. In 3D this needs at least 3 non-collinear fully
-// constrained vertices (or an equivalent set of partial constraints), in 2D 2 distinct ones.
-int free_rigid_motions(const Mesh& mesh, const std::vector<int>& constrained_dofs);
-
 }  // namespace tailor

@@ -1,5 +1,6 @@
 #include "problems/report.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -48,6 +49,8 @@ void write_report_json(const std::string& path, const Scene& scene, const Static
                      {"iterations", r.iterations},
                      {"initial_residual", r.initial_residual},
                      {"final_residual", r.final_residual},
+                     {"residual_floor", r.residual_floor},
+                     {"condition_estimate", std::isfinite(r.condition_estimate) ? Json(r.condition_estimate) : Json(nullptr)},
                      {"energy", r.final_energy},
                      {"seconds", r.total_seconds}});
     append_history(

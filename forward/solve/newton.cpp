@@ -5,6 +5,7 @@
 #include <limits>
 #include <ostream>
 #include <sstream>
+#include <tuple>
 
 #include "forward/core/timing.hpp"
 #include "forward/solve/preconditioned_cg.hpp"
@@ -16,6 +17,8 @@ std::string to_string(NewtonStatus status) {
       return "converged";
     case NewtonStatus::round_off_floor:
       return "round_off_floor";
+    case NewtonStatus::ill_conditioned:
+      return "ill_conditioned";
     case NewtonStatus::max_iterations:
       return "max_iterations";
     case NewtonStatus::line_search_failed:
@@ -137,17 +140,26 @@ HessianMode NewtonSolver::choose_mode(const HessianChoice& choice) const {
   return choice.projected_left > 0 ? HessianMode::projected : HessianMode::exact;
 }
 
-double NewtonSolver::residual_floor_estimate(const Vector& x) const {
+std::pair<double, double> NewtonSolver::round_off_estimates(const Vector& x) const {
   // ||H||_inf of the symmetric matrix stored as its upper triangle: each off-diagonal entry
   // counts in its row and in its column.
   Vector row_sums = Vector::Zero(hessian_.rows());
+  double max_diagonal = 0.0, min_diagonal = std::numeric_limits<double>::infinity();
   for (int j = 0; j < hessian_.outerSize(); ++j)
     for (SparseMatrix::InnerIterator e(hessian_, j); e; ++e) {
       row_sums[e.row()] += std::abs(e.value());
-      if (e.row() != j) row_sums[j] += std::abs(e.value());
+      if (e.row() != j) {
+        row_sums[j] += std::abs(e.value());
+      } else {
+        max_diagonal = std::max(max_diagonal, std::abs(e.value()));
+        min_diagonal = std::min(min_diagonal, std::abs(e.value()));
+      }
     }
   const double h_norm = row_sums.size() ? row_sums.maxCoeff() : 0.0;
-  return std::numeric_limits<double>::epsilon() * h_norm * (1.0 + x.lpNorm<Eigen::Infinity>());
+  const double floor = std::numeric_limits<double>::epsilon() * h_norm * (1.0 + x.lpNorm<Eigen::Infinity>());
+  const double condition = min_diagonal > 0.0 && std::isfinite(min_diagonal) ? max_diagonal / min_diagonal
+                                                                              : std::numeric_limits<double>::infinity();
+  return {floor, condition};
 }
 
 bool NewtonSolver::kept_factor_step(const Vector& gradient, double residual, double scale, double target,
@@ -318,11 +330,13 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     const double scale = std::max(result.initial_residual, options_.reference_residual);
     const double target = std::max(options_.relative_tolerance * scale, options_.absolute_tolerance);
     if (residual <= target) return finish(NewtonStatus::converged, "residual below tolerance");
-    if (mode == HessianMode::exact && (k == 0 || result.residual_floor == 0.0))
-      result.residual_floor = residual_floor_estimate(model_.state(y, p));
-    if (residual <= result.residual_floor) {
-      std::ostringstream why;
-      why << std::scientific << std::setprecision(2) << "residual " << residual << " at its round-off floor (about "
+    if (mode == HessianMode::exact && result.residual_floor == 0.0)
+      std::tie(result.residual_floor, result.condition_estimate) = round_off_estimates(model_.state(y, p));
+    const double accurate = std::sqrt(options_.relative_tolerance) * scale;  // what a floor must be below
+    std::ostringstream why;
+    why << std::scientific << std::setprecision(2);
+    if (k == 0 && residual <= result.residual_floor) {
+      why << "the start is in equilibrium to round-off (residual " << residual << ", floor about "
           << result.residual_floor << ")";
       return finish(NewtonStatus::round_off_floor, why.str());
     }
@@ -330,19 +344,22 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       const NewtonIteration& last = result.history.back();
       const double x_scale = 1.0 + model_.state(y, p).lpNorm<Eigen::Infinity>();
       const bool full_step = last.step_length == 1.0;
-      if (full_step && last.step_norm <= options_.step_tolerance * x_scale &&
-          residual <= std::sqrt(options_.relative_tolerance) * scale)
+      if (full_step && last.step_norm <= options_.step_tolerance * x_scale && residual <= accurate)
         return finish(NewtonStatus::converged, "step at round-off level");
-      // A full step of an exact factorization that did not halve an already small residual:
-      // quadratic convergence has stopped at the round-off floor.
-      const bool exact_step = (last.factorizations > 0 && !last.used_projected && last.factorizations == 1) ||
-                              last.kept_constant_factor;
-      if (full_step && exact_step && residual > 0.5 * last.residual &&
-          residual <= std::sqrt(options_.relative_tolerance) * scale) {
-        std::ostringstream why;
-        why << std::scientific << std::setprecision(2) << "residual " << residual
-            << " stagnates at its round-off floor (requested " << target << ")";
-        return finish(NewtonStatus::round_off_floor, why.str());
+      // At the floor: below its estimate, or a full step of an exact factorization that did not
+      // halve the residual (quadratic convergence has stopped).
+      const bool exact_step = (last.factorizations == 1 && !last.used_projected) || last.kept_constant_factor;
+      const bool stalled = full_step && exact_step && residual > 0.5 * last.residual;
+      if (residual <= result.residual_floor || (stalled && residual <= accurate)) {
+        if (residual <= accurate) {
+          why << "residual " << residual << " at its round-off floor (requested " << target << ")";
+          return finish(NewtonStatus::round_off_floor, why.str());
+        }
+        why << "residual " << residual << " at its round-off floor (about " << result.residual_floor << ", "
+            << residual / scale << " of the initial residual): the stiffness matrix is too ill-conditioned for "
+            << "double precision (condition number at least " << result.condition_estimate
+            << "; a contrast of moduli?), the solution has no reliable digits";
+        return finish(NewtonStatus::ill_conditioned, why.str());
       }
     }
     if (k == options_.max_iterations)

@@ -11,12 +11,16 @@
 //   floating point, so the residual has reached its round-off floor (which scales with the
 //   stiffness times the coordinates and cannot be predicted by a fixed absolute number).
 // A start that is already in equilibrium (||g_0|| = 0) converges at once.
-// The residual's round-off floor (status round_off_floor, which counts as converged): Newton
-// stops when the residual is below the floor estimate eps * ||H||_inf * (1 + ||x||_inf) (the
-// error of forces computed from positions held to relative precision eps; this catches a
-// start at equilibrium to round-off), or when a full step of an exact factorization did not
-// halve a residual that is already below sqrt(relative_tolerance) * scale (Newton's
-// quadratic convergence has stopped: the floor was reached one iteration earlier).
+// The residual's round-off floor: the residual cannot fall below the error of forces computed
+// from positions held to relative precision eps, estimated as eps * ||H||_inf * (1 + ||x||_inf).
+// Newton stops with status round_off_floor (which counts as converged) when the residual is
+// below that estimate at the start (a state at equilibrium to round-off), or later when it is
+// below the estimate or a full step of an exact factorization did not halve it, provided it is
+// below sqrt(relative_tolerance) * scale (quadratic convergence has stopped at the floor).
+// When the floor is above that level, the matrix is too ill-conditioned for double precision
+// (e.g. a contrast of moduli of 1e15): status ill_conditioned (not converged), with the floor
+// and a condition estimate (the ratio of the Hessian's largest to smallest diagonal entry, a
+// lower bound) in the message and the result.
 //
 // Constant Hessians: when every term declares hessian_is_constant() (linear elasticity,
 // inertia, loads), the exact Hessian is factorized once per parameter vector p (and per
@@ -25,6 +29,7 @@
 // gradient evaluation and a back-solve.
 #include <chrono>
 #include <iosfwd>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -78,6 +83,7 @@ struct NewtonOptions {
 enum class NewtonStatus {
   converged,
   round_off_floor,  // converged as far as floating point allows (see the top of this file)
+  ill_conditioned,  // the round-off floor is above the accuracy the tolerance asks for
   max_iterations,
   line_search_failed,
   non_finite,
@@ -112,7 +118,8 @@ struct NewtonResult {
   double initial_residual = 0.0;
   double final_residual = 0.0;
   double final_energy = 0.0;
-  double residual_floor = 0.0;  // the round-off floor estimate (0 when not estimated)
+  double residual_floor = 0.0;      // the round-off floor estimate (0 when not estimated)
+  double condition_estimate = 0.0;  // max / min |diagonal| of the exact Hessian (a lower bound)
   double analysis_seconds = 0.0;
   double total_seconds = 0.0;
   std::vector<NewtonIteration> history;
@@ -168,8 +175,9 @@ class NewtonSolver {
   // Backtracking line search on E from the largest admissible step; on success y is updated.
   bool line_search(const Vector& p, Vector& y, const Vector& dy, double energy, const Vector& gradient,
                    double residual, NewtonIteration& it);
-  // eps * ||H||_inf * (1 + ||x||_inf) for the assembled (exact) Hessian at x.
-  double residual_floor_estimate(const Vector& x) const;
+  // For the assembled (exact) Hessian at x: eps * ||H||_inf * (1 + ||x||_inf), and the ratio of
+  // its largest to smallest absolute diagonal entry.
+  std::pair<double, double> round_off_estimates(const Vector& x) const;
   void apply_low_rank(const LowRankHessian& low_rank);
   // The kept factor can precondition CG on the exact Hessian: exact, unshifted, LL^T.
   bool can_precondition() const;

@@ -16,6 +16,7 @@
 #include "adjoint/static_functional.hpp"
 #include "forward/fem/elastic_term.hpp"
 #include "forward/mesh/generate.hpp"
+#include "forward/reduction/free_space.hpp"
 #include "optimizers/optimizer.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/inverse_handles.hpp"
@@ -169,6 +170,11 @@ TEST(HandlesHardCases, InconsistentTargetsConvergeToTheWeightedCompromise) {
     EXPECT_NEAR(tet.objective->total_force(0, tet.model->state(Vector(tet.rest.tail(3)), p), p)[0],
                 k * result.z[0], 1e-9 * k * std::abs(expected));
   }
+}
+
+// Rigid motions of the mesh that leave every listed DOF unmoved (forward/reduction/free_space.hpp).
+int free_rigid_motions(const Mesh& mesh, const std::vector<int>& constrained_dofs) {
+  return static_cast<int>(unconstrained_rigid_motions(mesh, constrained_dofs).size());
 }
 
 TEST(HandlesHardCases, RigidMotionLeftFreeIsRejected) {

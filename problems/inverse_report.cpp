@@ -8,6 +8,7 @@
 
 #include "problems/optimizer_report.hpp"
 #include "problems/report.hpp"
+#include "problems/taylor_report.hpp"
 #include "tailor_version.hpp"
 
 namespace tailor {
@@ -39,30 +40,6 @@ Json error_json(const FieldError& e) {
 }
 
 // A Taylor test result as JSON: its own layout, parsed back so it can be extended.
-// A NaN (a rate that was not measured) is written as null.
-Json finite_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
-
-Json taylor_json(const TaylorTestResult& result) {
-  Json rows = Json::array();
-  for (const TaylorRow& r : result.rows)
-    rows.push_back({{"step", r.step},
-                    {"value", finite_or_null(r.value)},
-                    {"remainder0", finite_or_null(r.remainder0)},
-                    {"remainder1", finite_or_null(r.remainder1)},
-                    {"rate0", finite_or_null(r.rate0)},
-                    {"rate1", finite_or_null(r.rate1)},
-                    {"round_off", r.round_off},
-                    {"judged", r.judged}});
-  return {{"status", to_string(result.status)},
-          {"message", result.message},
-          {"value", finite_or_null(result.value)},
-          {"directional_derivative", finite_or_null(result.directional_derivative)},
-          {"step", result.step},
-          {"rate0", finite_or_null(result.rate0)},
-          {"rate1", finite_or_null(result.rate1)},
-          {"rows", rows}};
-}
-
 Json optional_vector(const Vector& v) { return v.size() > 0 ? to_json(v) : Json(nullptr); }
 
 // The handles term's settings and, per handle, what it achieved (see docs/scenes.md).

@@ -19,6 +19,8 @@
 #include "forward/rigid/rigid_time_stepper.hpp"
 #include "objectives/target_positions.hpp"
 #include "problems/contact/surface_vtu.hpp"
+#include "problems/report_header.hpp"
+#include "problems/taylor_report.hpp"
 #include "problems/scene.hpp"
 #include "problems/scene_node.hpp"
 
@@ -261,7 +263,8 @@ RigidSimulateRun simulate_dynamics(const RigidSceneSpec& spec, RigidSceneModel& 
   scene.contact->add_gradient(run.state, Vector(), run.contact_forces);
   run.contact_forces = -run.contact_forces;
   run.active_pairs = scene.contact->potential().num_active(system.world_positions(run.state));
-  nlohmann::json report;
+  nlohmann::ordered_json report;
+  add_report_header(report);
   report["scene"] = spec.name;
   report["status"] = run.completed() && run.steps_completed == spec.steps ? "completed" : "failed";
   report["time_step"] = spec.time_step;
@@ -304,7 +307,8 @@ RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::str
          << ", active contact pairs " << run.active_pairs << "\n";
 
   std::filesystem::create_directories(out_dir);
-  nlohmann::json report;
+  nlohmann::ordered_json report;
+  add_report_header(report);
   report["scene"] = spec.name;
   report["status"] = to_string(run.newton.status);
   report["iterations"] = run.newton.iterations;
@@ -346,7 +350,10 @@ TaylorTestResult gradcheck_rigid_scene(const RigidSceneSpec& spec, const std::st
   const TaylorTestResult result = taylor_test(functional, masses, taylor);
   if (log) *log << "gradient of 1/2 sum |T_b - T_b^0|^2 with respect to the body masses\n" << result.table();
   std::filesystem::create_directories(out_dir);
-  std::ofstream(std::filesystem::path(out_dir) / "gradcheck.json") << result.json() << "\n";
+  nlohmann::ordered_json document = taylor_json(result);
+  add_report_header(document);
+  document["scene"] = {{"name", spec.name}, {"source", spec.source}};
+  std::ofstream(std::filesystem::path(out_dir) / "gradcheck.json") << document.dump(2) << "\n";
   return result;
 }
 

@@ -15,9 +15,11 @@
 #include "problems/commands.hpp"
 #include "problems/damping_design/damping_design_scene.hpp"
 #include "problems/dynamic_scene.hpp"
+#include "problems/homogenization/homogenize_command.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/modes_command.hpp"
 #include "problems/material_fit/material_fit_scene.hpp"
+#include "problems/metamaterial/metamaterial_scene.hpp"
 #include "tailor_version.hpp"
 
 namespace {
@@ -133,6 +135,13 @@ int run_verb(const std::string& verb, const Arguments& args) {
     return tailor::run_damping_design_scene(*args.scene, args.out_dir.value_or("out/damping_design"), std::cout)
                ? kSuccess
                : kFailure;
+  if (verb == "homogenize") {
+    const tailor::CellScene cell = tailor::read_cell_scene(*args.scene);
+    return (tailor::homogenize_scene(cell, args.out_dir.value_or("out/" + cell.name), &std::cout), kSuccess);
+  }
+  if (verb == "run" && args.scene && tailor::is_metamaterial_scene(*args.scene))
+    return tailor::run_metamaterial_scene(*args.scene, args.out_dir.value_or("out/metamaterial"), &std::cout,
+                                          args.quiet ? nullptr : &std::cout).result.converged() ? kSuccess : kFailure;
   const tailor::Scene scene = load_scene(args);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
   if (verb == "simulate" && scene.dynamics)
@@ -176,7 +185,7 @@ int main(int argc, char** argv) {
     std::cout << "tailor " << tailor::version_string << "\n";
     return kSuccess;
   }
-  if (verb != "simulate" && verb != "check" && verb != "modes" && !is_inverse_verb(verb))
+  if (verb != "simulate" && verb != "check" && verb != "modes" && verb != "homogenize" && !is_inverse_verb(verb))
     return usage_error("unknown verb '" + verb + "'");
 
   Arguments args;
@@ -186,7 +195,7 @@ int main(int argc, char** argv) {
     std::cout << kUsage;
     return kSuccess;
   }
-  if (verb == "modes" && !args.scene) return usage_error("'modes' needs a scene file");
+  if ((verb == "modes" || verb == "homogenize") && !args.scene) return usage_error("'" + verb + "' needs a scene file");
   if (is_inverse_verb(verb) && !args.scene)
     return usage_error("'" + verb + "' needs a scene file with an \"inverse\" section");
   try {

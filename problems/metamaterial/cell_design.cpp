@@ -17,6 +17,17 @@ Matrix chain_compliance(const Matrix& S, const Matrix& dJ_dS) {
 
 Vector voigt_of_outer(const Vector& d) { return voigt_stress(d.normalized() * d.normalized().transpose()); }
 
+// Heaviside projection with threshold 1/2 and its derivative (Wang, Lazarov & Sigmund 2011).
+double project(double t, double beta) {
+  if (beta == 0.0) return t;
+  return (std::tanh(0.5 * beta) + std::tanh(beta * (t - 0.5))) / (2.0 * std::tanh(0.5 * beta));
+}
+double project_derivative(double t, double beta) {
+  if (beta == 0.0) return 1.0;
+  const double th = std::tanh(beta * (t - 0.5));
+  return beta * (1.0 - th * th) / (2.0 * std::tanh(0.5 * beta));
+}
+
 }  // namespace
 
 double CellObjective::evaluate(const Matrix& C, Matrix* dJ_dC) const {
@@ -77,9 +88,22 @@ Vector CellDesignFunctional::youngs_moduli(const Vector& rho) const {
   return E;
 }
 
+void CellDesignFunctional::set_projection(double beta) {
+  if (!(beta >= 0.0) || !std::isfinite(beta))
+    throw std::invalid_argument("CellDesignFunctional: projection beta must be >= 0");
+  beta_ = beta;
+}
+
+Vector CellDesignFunctional::densities(const Vector& z) const {
+  Vector rho = filter_.apply(z);
+  for (auto& r : rho) r = project(r, beta_);
+  return rho;
+}
+
 double CellDesignFunctional::evaluate(const Vector& z, Vector* gradient) {
   if (z.size() != size()) throw std::invalid_argument("CellDesignFunctional: wrong design size");
-  const Vector rho = filter_.apply(z);
+  const Vector filtered = filter_.apply(z);
+  const Vector rho = densities(z);
   const auto t0 = Clock::now();
   try {
     last_ = cell_->solve(youngs_moduli(rho), Vector::Constant(size(), material_.poisson_ratio));
@@ -98,7 +122,8 @@ double CellDesignFunctional::evaluate(const Vector& z, Vector* gradient) {
     for (int e = 0; e < size(); ++e) {
       const double r = std::clamp(rho[e], 0.0, 1.0);
       dJ_drho[e] = dJ_dE[e] * material_.penalty * std::pow(r, material_.penalty - 1.0) *
-                   (material_.youngs_modulus - material_.min_youngs_modulus);
+                   (material_.youngs_modulus - material_.min_youngs_modulus) *
+                   project_derivative(filtered[e], beta_);
     }
     *gradient = filter_.apply_transpose(dJ_drho);
     ++counters_.adjoint_solves;
@@ -114,8 +139,13 @@ double CellDesignFunctional::value_and_gradient(const Vector& z, Vector& gradien
 
 double CellDesignFunctional::volume_fraction(const Vector& z, Vector* gradient) const {
   const double volume = volumes_.sum();
-  if (gradient) *gradient = filter_.apply_transpose(volumes_ / volume);
-  return volumes_.dot(filter_.apply(z)) / volume;
+  const Vector filtered = filter_.apply(z);
+  if (gradient) {
+    Vector g(size());
+    for (int e = 0; e < size(); ++e) g[e] = volumes_[e] / volume * project_derivative(filtered[e], beta_);
+    *gradient = filter_.apply_transpose(g);
+  }
+  return volumes_.dot(densities(z)) / volume;
 }
 
 }  // namespace tailor

@@ -1,9 +1,14 @@
 #pragma once
 // Density-based design of a periodic cell (docs/homogenization.md, "Inverse design"):
-//   z (per element, in [0, 1])  --filter-->  rho = W z  --SIMP-->  E_e = E_min + rho_e^p (E_0 - E_min)
+//   z (per element, in [0, 1])  --filter-->  rho~ = W z  --projection-->  rho = H_beta(rho~)
+//   --SIMP-->  E_e = E_min + rho_e^p (E_0 - E_min)
 //   --cell problems-->  C^H(E)  -->  J(C^H)
-// with a fixed Poisson's ratio nu_0 for every element. dJ/dz = W^T (dE/drho * dJ/dE), and
-// dJ/dE from the self-adjoint cell problems (LinearCell::youngs_modulus_gradient).
+// with a fixed Poisson's ratio nu_0 for every element. dJ/dz = W^T (H' dE/drho dJ/dE), and
+// dJ/dE from the self-adjoint cell problems (LinearCell::youngs_modulus_gradient). H_beta is
+// the smoothed Heaviside projection of Wang, Lazarov & Sigmund 2011 (Struct. Multidisc.
+// Optim. 43, eq. 9) with threshold 1/2,
+//   H(t) = (tanh(beta/2) + tanh(beta (t - 1/2))) / (2 tanh(beta/2)),
+// off (H(t) = t) when beta = 0; raising beta in stages drives the design to 0/1.
 #include <memory>
 #include <string>
 #include <vector>
@@ -53,7 +58,10 @@ class CellDesignFunctional final : public ReducedFunctional {
 
   // Volume fraction of the filtered density, sum V_e rho_e / |Y|, and its gradient in z.
   double volume_fraction(const Vector& z, Vector* gradient) const;
-  Vector densities(const Vector& z) const { return filter_.apply(z); }
+  // Physical (filtered, projected) densities.
+  Vector densities(const Vector& z) const;
+  void set_projection(double beta);  // beta >= 0; 0 switches the projection off
+  double projection() const { return beta_; }
   Vector youngs_moduli(const Vector& rho) const;
   const DensityFilter& filter() const { return filter_; }
   // The last solve's result (after value / value_and_gradient).
@@ -66,6 +74,7 @@ class CellDesignFunctional final : public ReducedFunctional {
   DensityFilter filter_;
   CellObjective objective_;
   Eigen::VectorXd volumes_;
+  double beta_ = 0.0;
   LinearHomogenization last_;
 };
 

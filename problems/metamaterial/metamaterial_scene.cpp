@@ -15,6 +15,7 @@
 #include "forward/homogenization/engineering_constants.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
+#include "problems/plot/field_image.hpp"
 #include "problems/scene.hpp"
 #include "problems/scene_node.hpp"
 #include "tailor_version.hpp"
@@ -25,7 +26,7 @@ namespace {
 MetamaterialDesignSpec parse_design(const SceneNode& root, const CellScene& scene) {
   const SceneNode design = root.at("design");
   design.expect_keys({"material", "filter_radius", "max_volume_fraction", "initial_density", "perturbation",
-                      "seed", "objective", "optimizer", "refine"});
+                      "projection", "seed", "objective", "optimizer", "refine"});
   MetamaterialDesignSpec spec;
   const SceneNode material = design.at("material");
   material.expect_keys({"youngs_modulus", "poisson_ratio", "min_youngs_modulus", "penalty"});
@@ -43,6 +44,11 @@ MetamaterialDesignSpec parse_design(const SceneNode& root, const CellScene& scen
   if (design.has("perturbation")) spec.perturbation = design.at("perturbation").non_negative();
   if (design.has("seed")) spec.seed = static_cast<unsigned>(design.at("seed").integer(0));
   if (design.has("refine")) spec.refine = design.at("refine").integer(1);
+  if (const auto projection = design.find("projection")) {
+    spec.projection_betas.clear();
+    for (const SceneNode& b : projection->items()) spec.projection_betas.push_back(b.non_negative());
+    if (spec.projection_betas.empty()) projection->fail("need at least one beta (0: no projection)");
+  }
 
   const int dim = scene.cell.dim();
   const SceneNode objective = design.at("objective");
@@ -213,9 +219,29 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
          << " (minimum length), volume fraction <= " << spec.max_volume_fraction << ", "
          << to_string(options.backend) << "\n";
   MetamaterialRun run;
-  run.result = minimize(functional, z0, bounds, {volume}, options);
+  // Continuation on the projection sharpness: one optimizer run per beta, each from the last.
+  Vector z = z0;
+  std::vector<OptimizerIteration> stages;
+  double seconds = 0.0;
+  for (const double beta : spec.projection_betas) {
+    functional.set_projection(beta);
+    run.result = minimize(functional, z, bounds, {volume}, options);
+    for (auto it : run.result.history) {
+      it.iteration = static_cast<int>(stages.size());
+      it.seconds += seconds;
+      stages.push_back(it);
+    }
+    seconds += run.result.seconds;
+    z = run.result.z;
+    if (log)
+      *log << "  beta " << beta << ": " << to_string(run.result.status) << " after "
+           << run.result.history.size() << " iterations, J = " << run.result.objective << "\n";
+  }
+  run.result.history = stages;
+  run.result.seconds = seconds;
 
-  // Gray (filtered SIMP) design, then thresholded at 1/2 on the design mesh and on a refined grid.
+  // Final (filtered, projected SIMP) design, then thresholded at 1/2 on the design mesh and on a refined
+  // grid.
   functional.value(run.result.z);
   run.stiffness_gray = functional.last().stiffness;
   const Vector rho = functional.densities(run.result.z);
@@ -254,6 +280,7 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
   report["scene"] = scene.name;
   report["backend"] = to_string(options.backend);
   report["filter_radius"] = spec.filter_radius;
+  report["projection_betas"] = spec.projection_betas;
   report["max_volume_fraction"] = spec.max_volume_fraction;
   report["volume_fraction"] = functional.volume_fraction(run.result.z, nullptr);
   report["gray"] = summary_json(spec.objective, run.stiffness_gray);
@@ -279,6 +306,11 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
   fields.cell["density"] = rho;
   fields.cell["thresholded"] = solid;
   write_vtu(out_dir + "/design.vtu", scene.cell.mesh, fields);
+  FieldImageOptions picture;
+  picture.title = scene.name + ": designed cell";
+  picture.bar_label = "density";
+  write_field_png(out_dir + "/design.png", scene.cell.mesh,
+                  {{"physical density", rho}, {"thresholded at 1/2", solid}}, picture);
   if (log)
     *log << "status " << to_string(run.result.status) << " after " << run.result.history.size()
          << " iterations (" << run.result.seconds << " s)\n"

@@ -21,6 +21,7 @@ struct MetamaterialDesignSpec {
   unsigned seed = 1;
   CellObjective objective;
   OptimizerOptions optimizer;
+  std::vector<double> projection_betas = {0.0};  // continuation stages (0: no projection)
   int refine = 2;         // re-check on a grid refined this many times (grid cells only)
   std::vector<int> grid;  // the cell's grid (empty for mesh files)
   std::string split = "forward";

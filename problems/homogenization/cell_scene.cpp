@@ -100,8 +100,8 @@ bool is_periodic_cell_scene(const std::string& path) {
 }
 
 CellScene parse_cell_scene(const SceneNode& root, const std::string& directory) {
-  root.expect_keys(
-      {"type", "name", "description", "cell", "plane", "materials", "phases", "directions", "design"});
+  root.expect_keys({"type", "name", "description", "cell", "plane", "materials", "phases", "directions",
+                    "design", "stress_strain"});
   if (root.at("type").string() != "periodic_cell") root.at("type").fail("expected \"periodic_cell\"");
   CellScene scene;
   if (const auto name = root.find("name")) scene.name = name->string();
@@ -164,6 +164,23 @@ CellScene parse_cell_scene(const SceneNode& root, const std::string& directory) 
       apply_phase_rule(rule, scene.cell, num_phases, scene.element_phase);
   if (const auto directions = root.find("directions")) scene.directions = directions->integer(4);
   scene.has_design = root.has("design");
+  if (const auto curves = root.find("stress_strain")) {
+    curves->expect_keys({"material", "max_strain", "steps", "directions"});
+    StressStrainSpec spec;
+    if (curves->has("material"))
+      spec.material =
+          parse_material_kind(curves->at("material").choice({"linear", "corotated", "stvk", "neo_hookean"}));
+    if (curves->has("max_strain")) spec.max_strain = curves->at("max_strain").open_interval(-0.9, 10.0);
+    if (curves->has("steps")) spec.steps = curves->at("steps").integer(1);
+    for (const SceneNode& d : curves->at("directions").items()) {
+      const Eigen::VectorXd v = d.vector(dim);
+      if (!(v.norm() > 0.0)) d.fail("a direction must be nonzero");
+      spec.directions.push_back(v.normalized());
+    }
+    if (spec.directions.empty()) curves->at("directions").fail("need at least one direction");
+    if (scene.plane == PlaneMode::plane_stress) curves->fail("nonlinear curves are plane strain only in 2D");
+    scene.stress_strain = spec;
+  }
   return scene;
 }
 

@@ -10,7 +10,9 @@
 //     "materials": [{"youngs_modulus": 1, "poisson_ratio": 0.3}, ...],  (phase 0, 1, ...)
 //     "phases": [{"phase": 1, "disc": {"center": [0.5, 0.5], "radius": 0.3}},
 //                {"phase": 1, "slab": {"axis": 1, "from": 0.0, "to": 0.5}}],
-//     "directions": 72,
+//     "directions": 360,
+//     "stress_strain": {"material": "neo_hookean", "max_strain": 0.3, "steps": 10,
+//                       "directions": [[1, 0], [0, 1]]},        (nonlinear curves)
 //     "design": {...}                                       (problems/metamaterial)
 //   }
 // Elements start in the phase of their mesh region (0 for generated meshes); each "phases" rule
@@ -21,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "forward/fem/material.hpp"
 #include "forward/homogenization/linear_homogenization.hpp"
 
 namespace tailor {
@@ -32,6 +35,14 @@ struct CellPhase {
   double poisson_ratio;
 };
 
+// Optional nonlinear curves: uniaxial macro strain F = I + t d d^T, t = 0..max_strain.
+struct StressStrainSpec {
+  MaterialKind material = MaterialKind::neo_hookean;
+  double max_strain = 0.2;
+  int steps = 10;
+  std::vector<Vector> directions;
+};
+
 struct CellScene {
   std::string name;
   std::string source;  // the file
@@ -41,6 +52,7 @@ struct CellScene {
   std::vector<int> element_phase;  // per element
   int directions = 360;            // samples of E(d) over 360 degrees per plane
   bool has_design = false;
+  std::optional<StressStrainSpec> stress_strain;
   Vector youngs_modulus() const;
   Vector poisson_ratio() const;
 };

@@ -1,6 +1,7 @@
 #include "problems/homogenization/homogenize_command.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -8,8 +9,10 @@
 #include <ostream>
 
 #include "forward/homogenization/engineering_constants.hpp"
+#include "forward/homogenization/nonlinear_homogenization.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/homogenization/directional_plots.hpp"
+#include "problems/plot/line_plot.hpp"
 #include "tailor_version.hpp"
 
 namespace tailor {
@@ -141,6 +144,45 @@ HomogenizeRun homogenize_scene(const CellScene& scene, const std::string& out_di
                        {"factorization_seconds", run.result.factorization_seconds},
                        {"solve_seconds", run.result.solve_seconds}};
   report["tailor_version"] = version_string;
+  if (scene.stress_strain) {
+    const StressStrainSpec& spec = *scene.stress_strain;
+    nlohmann::json curves = nlohmann::json::array();
+    LinePlot plot;
+    plot.title = scene.name + ": uniaxial macro strain (" + to_string(spec.material) + ")";
+    plot.x_label = "macro strain t, F = I + t d dT";
+    plot.y_label = "P : d dT";
+    const Rgb colours[4] = {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189}};
+    for (std::size_t k = 0; k < spec.directions.size(); ++k) {
+      const Vector& d = spec.directions[k];
+      NonlinearCell nonlinear(scene.cell, spec.material, E, nu);
+      const std::vector<MacroResponse> path =
+          macro_strain_path(nonlinear, d * d.transpose(), spec.max_strain, spec.steps);
+      nlohmann::json curve;
+      curve["direction"] = std::vector<double>(d.data(), d.data() + d.size());
+      char label[96];
+      std::snprintf(label, sizeof label, dim == 2 ? "d = (%.2f, %.2f)" : "d = (%.2f, %.2f, %.2f)", d[0], d[1],
+                    dim == 3 ? d[2] : 0.0);
+      LineSeries series{label, colours[k % 4], {}, {}};
+      for (std::size_t i = 0; i < path.size(); ++i) {
+        const double t = spec.max_strain * static_cast<double>(i) / spec.steps;
+        const double stress = d.dot(path[i].stress * d);
+        curve["strain"].push_back(t);
+        curve["stress"].push_back(stress);
+        curve["stress_tensor"].push_back(matrix_json(path[i].stress));
+        curve["energy_density"].push_back(path[i].energy_density);
+        curve["newton_iterations"].push_back(path[i].newton.iterations);
+        series.x.push_back(t);
+        series.y.push_back(stress);
+      }
+      curve["completed"] = path.size() == static_cast<std::size_t>(spec.steps) + 1;
+      curves.push_back(curve);
+      plot.series.push_back(std::move(series));
+    }
+    report["stress_strain"] = {{"material", to_string(spec.material)},
+                               {"loading", "F = I + t d d^T (uniaxial macro strain), stress = P:(d d^T)"},
+                               {"curves", curves}};
+    write_line_plot_png(out_dir + "/stress_strain.png", plot);
+  }
   const std::string report_path = out_dir + "/report.json";
   std::ofstream out(report_path);
   if (!out) throw std::runtime_error("cannot write " + report_path);

@@ -296,6 +296,12 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
                        {"seconds", it.seconds}});
   report["history"] = history;
   report["seconds"] = run.result.seconds;
+  const FunctionalCounters& counters = functional.counters();
+  report["timings"] = {{"evaluations", counters.evaluations},
+                       {"forward_seconds", counters.forward_seconds},
+                       {"adjoint_seconds", counters.adjoint_seconds},
+                       {"seconds_per_evaluation", (counters.forward_seconds + counters.adjoint_seconds) /
+                                                      std::max(1, counters.evaluations)}};
   report["tailor_version"] = version_string;
   std::ofstream out(out_dir + "/report.json");
   if (!out) throw std::runtime_error("cannot write " + out_dir + "/report.json");

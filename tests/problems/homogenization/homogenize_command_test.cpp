@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "forward/homogenization/engineering_constants.hpp"
+#include "problems/metamaterial/metamaterial_scene.hpp"
 #include "problems/scene.hpp"
 
 namespace tailor {
@@ -81,6 +82,37 @@ TEST(HomogenizeCommand, ErrorsNameTheKey) {
   expect_error(R"({"type": "periodic_cell", "cell": {"lattice": [[1, 0], [0, 1]], "mesh": "skew.mesh"},
                    "materials": [{"youngs_modulus": 1, "poisson_ratio": 0.3}]})",
                "vertex 2 at");
+}
+
+TEST(MetamaterialScene, SmallDesignRunsAndReportsTheRechecks) {
+  const std::string path = write_scene("design.json", R"({
+    "type": "periodic_cell",
+    "cell": {"lattice": [[1, 0], [0, 1]], "grid": [8, 8]},
+    "plane": "stress",
+    "materials": [{"youngs_modulus": 1, "poisson_ratio": 0.3}],
+    "design": {
+      "material": {"youngs_modulus": 1, "poisson_ratio": 0.3},
+      "filter_radius": 0.2, "max_volume_fraction": 0.5, "initial_density": [0.5], "perturbation": 0.2,
+      "objective": {"directional_stiffness": {"directions": [[1, 0], [0, 1]], "targets": [0.2, 0.05]}},
+      "projection": [0, 4],
+      "optimizer": {"max_iterations": 5}
+    }
+  })");
+  ASSERT_TRUE(is_metamaterial_scene(path));
+  const std::string out =
+      (std::filesystem::temp_directory_path() / "tailor_homogenize_test" / "design").string();
+  const MetamaterialRun run = run_metamaterial_scene(path, out, nullptr, nullptr);
+  EXPECT_EQ(run.stiffness_thresholded.rows(), 3);
+  EXPECT_EQ(run.stiffness_refined.rows(), 3);
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  for (const char* key :
+       {"gray", "thresholded", "refined_thresholded", "history", "timings", "filter_radius"})
+    EXPECT_TRUE(report.contains(key)) << key;
+  EXPECT_EQ(report["refined_thresholded"]["elements"], 4 * 128);
+  EXPECT_LE(report["volume_fraction"].get<double>(), 0.5 + 1e-6);
+  EXPECT_TRUE(std::filesystem::exists(out + "/design.png"));
+  EXPECT_FALSE(is_metamaterial_scene(write_scene("plain.json", kLayered)));
 }
 
 }  // namespace

@@ -50,6 +50,10 @@ const char* const kUsage =
     "  modes scene.json [--out DIR] [--count N]\n"
     "      Modal analysis at rest: the N lowest vibration modes (default 10), rigid-body modes\n"
     "      set apart; write DIR/report.json (frequencies in Hz) and DIR/modes.vtu.\n"
+    "  homogenize cell.json [--out DIR]\n"
+    "      Effective elasticity of a periodic cell (\"type\": \"periodic_cell\"); write\n"
+    "      DIR/report.json, PNG plots of E(d) and nu(d) and the cell fields per unit macro strain\n"
+    "      (.vtu). \"run\" on a periodic-cell scene with a \"design\" section designs the cell.\n"
     "\n"
     "options:\n"
     "  -h, --help     show this message\n"
@@ -139,9 +143,11 @@ int run_verb(const std::string& verb, const Arguments& args) {
     const tailor::CellScene cell = tailor::read_cell_scene(*args.scene);
     return (tailor::homogenize_scene(cell, args.out_dir.value_or("out/" + cell.name), &std::cout), kSuccess);
   }
-  if (verb == "run" && args.scene && tailor::is_metamaterial_scene(*args.scene))
-    return tailor::run_metamaterial_scene(*args.scene, args.out_dir.value_or("out/metamaterial"), &std::cout,
-                                          args.quiet ? nullptr : &std::cout).result.converged() ? kSuccess : kFailure;
+  if (verb == "run" && args.scene && tailor::is_metamaterial_scene(*args.scene)) {
+    const auto design = tailor::run_metamaterial_scene(*args.scene, args.out_dir.value_or("out/metamaterial"),
+                                                       &std::cout, args.quiet ? nullptr : &std::cout);
+    return design.result.converged() ? kSuccess : kFailure;
+  }
   const tailor::Scene scene = load_scene(args);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
   if (verb == "simulate" && scene.dynamics)
@@ -185,7 +191,8 @@ int main(int argc, char** argv) {
     std::cout << "tailor " << tailor::version_string << "\n";
     return kSuccess;
   }
-  if (verb != "simulate" && verb != "check" && verb != "modes" && verb != "homogenize" && !is_inverse_verb(verb))
+  if (verb != "simulate" && verb != "check" && verb != "modes" && verb != "homogenize" &&
+      !is_inverse_verb(verb))
     return usage_error("unknown verb '" + verb + "'");
 
   Arguments args;
@@ -195,7 +202,8 @@ int main(int argc, char** argv) {
     std::cout << kUsage;
     return kSuccess;
   }
-  if ((verb == "modes" || verb == "homogenize") && !args.scene) return usage_error("'" + verb + "' needs a scene file");
+  if ((verb == "modes" || verb == "homogenize") && !args.scene)
+    return usage_error("'" + verb + "' needs a scene file");
   if (is_inverse_verb(verb) && !args.scene)
     return usage_error("'" + verb + "' needs a scene file with an \"inverse\" section");
   try {

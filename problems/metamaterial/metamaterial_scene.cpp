@@ -14,6 +14,7 @@
 #include "forward/homogenization/cell_mesh.hpp"
 #include "forward/homogenization/engineering_constants.hpp"
 #include "forward/mesh/mesh_io.hpp"
+#include "problems/homogenization/directional_plots.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
 #include "problems/plot/field_image.hpp"
 #include "problems/scene.hpp"
@@ -312,6 +313,9 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
   fields.cell["density"] = rho;
   fields.cell["thresholded"] = solid;
   write_vtu(out_dir + "/design.vtu", scene.cell.mesh, fields);
+  // E(d) and nu(d) of the thresholded design on the design mesh.
+  write_directional_plots(out_dir, scene.name + " (thresholded)",
+                          sample_directions(compliance(run.stiffness_thresholded), scene.directions));
   FieldImageOptions picture;
   picture.title = scene.name + ": designed cell";
   picture.bar_label = "density";
@@ -323,7 +327,8 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
          << "gray design:        " << report["gray"].dump() << "\n"
          << "thresholded (1/2):  " << report["thresholded"].dump() << "\n"
          << "refined x" << spec.refine << ":        " << refined_json.dump() << "\n"
-         << "wrote " << out_dir << "/report.json and design.vtu\n";
+         << "wrote " << out_dir << "/report.json, design.vtu, design.png and the thresholded design's "
+         << "youngs_modulus_polar.png and poisson_ratio.png\n";
   return run;
 }
 

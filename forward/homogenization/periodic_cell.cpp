@@ -37,6 +37,12 @@ int PeriodicCell::num_periodic_nodes() const {
 
 PeriodicCell make_periodic_cell(const Mesh& mesh, const Eigen::MatrixXd& lattice,
                                 const Eigen::VectorXd& origin, double tolerance) {
+  return make_periodic_cell(mesh, lattice, origin, tolerance, std::vector<bool>(mesh.dim(), true));
+}
+
+PeriodicCell make_periodic_cell(const Mesh& mesh, const Eigen::MatrixXd& lattice,
+                                const Eigen::VectorXd& origin, double tolerance,
+                                const std::vector<bool>& periodic) {
   const int dim = mesh.dim();
   if (dim != 2 && dim != 3) throw std::invalid_argument("make_periodic_cell: the mesh must be 2D or 3D");
   if (lattice.rows() != dim || lattice.cols() != dim || origin.size() != dim)
@@ -44,6 +50,9 @@ PeriodicCell make_periodic_cell(const Mesh& mesh, const Eigen::MatrixXd& lattice
                                 std::to_string(dim) + " and the origin of size " + std::to_string(dim));
   if (!(lattice.determinant() > 0.0))
     throw std::invalid_argument("make_periodic_cell: the lattice vectors must be right-handed (det A > 0)");
+  if (static_cast<int>(periodic.size()) != dim || std::count(periodic.begin(), periodic.end(), true) == 0)
+    throw std::invalid_argument(
+        "make_periodic_cell: need one periodic flag per lattice vector, at least one set");
   if (!(tolerance > 0.0 && tolerance < 0.1))
     throw std::invalid_argument("make_periodic_cell: tolerance must lie in (0, 0.1)");
   validate_mesh(mesh, "periodic cell mesh");
@@ -80,8 +89,12 @@ PeriodicCell make_periodic_cell(const Mesh& mesh, const Eigen::MatrixXd& lattice
     Key key(dim);
     for (int k = 0; k < dim; ++k) {
       const double f = fractional(v, k);
-      boundary_count[v] += (std::abs(f) < tol || std::abs(f - 1.0) < tol);
-      wrapped(v, k) = wrap(f, tol);
+      if (periodic[k]) {
+        boundary_count[v] += (std::abs(f) < tol || std::abs(f - 1.0) < tol);
+        wrapped(v, k) = wrap(f, tol);
+      } else {
+        wrapped(v, k) = f;
+      }
       key[k] = static_cast<long long>(std::floor(wrapped(v, k) / h));
     }
     grid[key].push_back(v);
@@ -90,6 +103,7 @@ PeriodicCell make_periodic_cell(const Mesh& mesh, const Eigen::MatrixXd& lattice
   cell.mesh = mesh;
   cell.lattice = lattice;
   cell.origin = origin;
+  cell.periodic = periodic;
   cell.master.assign(n, -1);
   std::vector<int> group_size(n, 0);
   for (int v = 0; v < n; ++v) {

@@ -29,6 +29,9 @@ struct PeriodicCell {
   Eigen::VectorXd origin;   // dim; corner of the cell
   std::vector<int> master;  // per vertex: the representative vertex of its periodic node
   int anchor = 0;           // a master vertex whose fluctuation is fixed (removes rigid translation)
+  // Which lattice directions are periodic (all by default). A plate-like cell is periodic along
+  // a_1, a_2 only; its third "lattice vector" spans the thickness (free faces).
+  std::vector<bool> periodic;
 
   int dim() const { return mesh.dim(); }
   double volume() const { return std::abs(lattice.determinant()); }  // |det A| (area in 2D)
@@ -42,6 +45,11 @@ struct PeriodicCell {
 // std::invalid_argument for a lattice of the wrong size or with det A <= 0.
 PeriodicCell make_periodic_cell(const Mesh& mesh, const Eigen::MatrixXd& lattice,
                                 const Eigen::VectorXd& origin, double tolerance = 1e-8);
+// A cell periodic only along the lattice vectors k with periodic[k] (a plate: {true, true,
+// false}); the other faces are free and their vertices need no images.
+PeriodicCell make_periodic_cell(const Mesh& mesh, const Eigen::MatrixXd& lattice,
+                                const Eigen::VectorXd& origin, double tolerance,
+                                const std::vector<bool>& periodic);
 // Same with the lattice of the mesh's axis-aligned bounding box (a box cell).
 PeriodicCell make_box_periodic_cell(const Mesh& mesh, double tolerance = 1e-8);
 

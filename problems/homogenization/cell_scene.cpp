@@ -106,7 +106,7 @@ CellScene parse_cell_scene(const SceneNode& root, const std::string& directory) 
   CellScene scene;
   if (const auto name = root.find("name")) scene.name = name->string();
   const SceneNode cell = root.at("cell");
-  cell.expect_keys({"lattice", "origin", "grid", "split", "mesh", "tolerance"});
+  cell.expect_keys({"lattice", "origin", "grid", "split", "mesh", "tolerance", "periodic"});
   const Eigen::MatrixXd A = parse_lattice(cell.at("lattice"));
   const int dim = static_cast<int>(A.rows());
   const Eigen::VectorXd origin =
@@ -135,7 +135,15 @@ CellScene parse_cell_scene(const SceneNode& root, const std::string& directory) 
                            std::to_string(dim) + "D");
   }
   try {
-    scene.cell = make_periodic_cell(mesh, A, origin, tolerance);
+    std::vector<bool> periodic(dim, true);
+    if (cell.has("periodic")) {
+      const std::vector<SceneNode> flags = cell.at("periodic").items();
+      if (static_cast<int>(flags.size()) != dim) cell.at("periodic").fail("need one flag per lattice vector");
+      for (int k = 0; k < dim; ++k) periodic[k] = flags[k].boolean();
+      if (periodic != std::vector<bool>(dim, true) && periodic != std::vector<bool>{true, true, false})
+        cell.at("periodic").fail("either all periodic, or [true, true, false] (a plate-like 3D cell)");
+    }
+    scene.cell = make_periodic_cell(mesh, A, origin, tolerance, periodic);
   } catch (const PeriodicityError& e) {
     cell.fail(e.what());
   }

@@ -12,6 +12,7 @@
 #include "forward/homogenization/nonlinear_homogenization.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/homogenization/directional_plots.hpp"
+#include "problems/homogenization/plate_command.hpp"
 #include "problems/plot/line_plot.hpp"
 #include "tailor_version.hpp"
 
@@ -98,6 +99,8 @@ void write_cell_fields(const std::string& out_dir, const std::string& prefix, Li
 }
 
 HomogenizeRun homogenize_scene(const CellScene& scene, const std::string& out_dir, std::ostream* log) {
+  if (scene.cell.periodic == std::vector<bool>{true, true, false})
+    return homogenize_plate(scene, out_dir, log);
   const int dim = scene.cell.dim();
   LinearCell cell(scene.cell, scene.plane);
   const Vector E = scene.youngs_modulus(), nu = scene.poisson_ratio();

@@ -23,11 +23,13 @@ struct DirectionalSamples {
 std::vector<DirectionalSamples> sample_directions(const Matrix& compliance, int count);
 
 struct HomogenizeRun {
-  LinearHomogenization result;
+  LinearHomogenization result;  // for a plate-like cell: result.stiffness is the bending stiffness D
   Matrix compliance;
 };
 
-// Homogenizes and writes the outputs into out_dir (created); progress to `log` when set.
+// Homogenizes and writes the outputs into out_dir (created); progress to `log` when set. A
+// plate-like cell ("periodic": [true, true, false]) gets its bending stiffness instead
+// (plate_command.hpp).
 // Throws std::runtime_error naming the file when an output cannot be written.
 HomogenizeRun homogenize_scene(const CellScene& scene, const std::string& out_dir, std::ostream* log);
 

@@ -84,6 +84,32 @@ TEST(HomogenizeCommand, ErrorsNameTheKey) {
                "vertex 2 at");
 }
 
+TEST(HomogenizeCommand, PlateLikeCellReportsTheBendingStiffness) {
+  const std::string path = write_scene("plate.json", R"({
+    "type": "periodic_cell",
+    "cell": {"lattice": [[1, 0, 0], [0, 1, 0], [0, 0, 0.5]], "grid": [4, 4, 2], "periodic": [true, true, false]},
+    "materials": [{"youngs_modulus": 2, "poisson_ratio": 0.3}],
+    "directions": 8
+  })");
+  const std::string out =
+      (std::filesystem::temp_directory_path() / "tailor_homogenize_test" / "plate").string();
+  const HomogenizeRun run = homogenize_scene(read_cell_scene(path), out, nullptr);
+  // Same mesh as the coarsest of PlateBending.HomogeneousPlateConvergesToKirchhoffTheory: the
+  // Kirchhoff value 2 * 0.5^3 / (12 * 0.91) times (1 + its relative error there).
+  EXPECT_GT(run.result.stiffness(0, 0), 2.0 * 0.125 / (12.0 * 0.91));
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["mode"], "plate_bending");
+  EXPECT_EQ(report["directional_bending"]["bending_stiffness"].size(), 9u);
+  EXPECT_TRUE(std::filesystem::exists(out + "/bending_stiffness_polar.png"));
+  const std::string bad = write_scene("plate_bad.json", R"({
+    "type": "periodic_cell",
+    "cell": {"lattice": [[1, 0, 0], [0, 1, 0], [0, 0, 0.5]], "grid": [2, 2, 2], "periodic": [false, true, true]},
+    "materials": [{"youngs_modulus": 2, "poisson_ratio": 0.3}]
+  })");
+  EXPECT_THROW(read_cell_scene(bad), SceneError);
+}
+
 TEST(MetamaterialScene, SmallDesignRunsAndReportsTheRechecks) {
   const std::string path = write_scene("design.json", R"({
     "type": "periodic_cell",

@@ -1,7 +1,8 @@
 // Homogenization time against cell size, split into assembly, factorization and the solves
 // of all unit macro strains, with the error of C^H against the finest cell of the same
 // geometry (a disc or sphere inclusion of radius 0.3, E ratio 10, elements by centroid).
-//   homogenization_bench [--max2d N] [--max3d N] [--out FILE]
+//   homogenization_bench [--max2d N] [--max3d N] [--n2d a,b,...] [--n3d a,b,...] [--out FILE]
+// (--max: doubling from 32 (2D) / 8 (3D); --n: explicit grid sizes instead)
 // writes FILE (default homogenization_bench.json) and prints a table.
 #include <cmath>
 #include <cstdio>
@@ -58,6 +59,18 @@ Row run(int dim, int n) {
 int main(int argc, char** argv) {
   int max2d = 512, max3d = 32;
   std::string out = "homogenization_bench.json";
+  std::vector<int> n2d, n3d;
+  const auto parse_list = [](const std::string& text) {
+    std::vector<int> values;
+    std::size_t start = 0;
+    while (start < text.size()) {
+      const std::size_t end = text.find(',', start);
+      values.push_back(std::atoi(text.substr(start, end - start).c_str()));
+      if (end == std::string::npos) break;
+      start = end + 1;
+    }
+    return values;
+  };
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--max2d")
@@ -66,10 +79,20 @@ int main(int argc, char** argv) {
       max3d = std::atoi(argv[i + 1]);
     else if (a == "--out")
       out = argv[i + 1];
+    else if (a == "--n2d")
+      n2d = parse_list(argv[i + 1]);
+    else if (a == "--n3d")
+      n3d = parse_list(argv[i + 1]);
   }
   std::vector<Row> rows;
-  for (int n = 32; n <= max2d; n *= 2) rows.push_back(run(2, n));
-  for (int n = 8; n <= max3d; n *= 2) rows.push_back(run(3, n));
+  if (n2d.empty())
+    for (int n = 32; n <= max2d; n *= 2) n2d.push_back(n);
+  if (n3d.empty())
+    for (int n = 8; n <= max3d; n *= 2) n3d.push_back(n);
+  for (const int n : n2d)
+    if (n > 0) rows.push_back(run(2, n));
+  for (const int n : n3d)
+    if (n > 0) rows.push_back(run(3, n));
   std::ofstream json(out);
   json << "{\"rows\": [\n";
   std::printf("%3s %5s %9s %9s %8s %9s %8s %8s %10s\n", "dim", "n", "elements", "unknowns", "setup_s",

@@ -17,9 +17,11 @@
 #include "problems/contact/rigid_scene.hpp"
 #include "problems/damping_design/damping_design_scene.hpp"
 #include "problems/dynamic_scene.hpp"
+#include "problems/homogenization/homogenize_command.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/modes_command.hpp"
 #include "problems/material_fit/material_fit_scene.hpp"
+#include "problems/metamaterial/metamaterial_scene.hpp"
 #include "tailor_version.hpp"
 
 namespace {
@@ -50,6 +52,10 @@ const char* const kUsage =
     "  modes scene.json [--out DIR] [--count N]\n"
     "      Modal analysis at rest: the N lowest vibration modes (default 10), rigid-body modes\n"
     "      set apart; write DIR/report.json (frequencies in Hz) and DIR/modes.vtu.\n"
+    "  homogenize cell.json [--out DIR]\n"
+    "      Effective elasticity of a periodic cell (\"type\": \"periodic_cell\"); write\n"
+    "      DIR/report.json, PNG plots of E(d) and nu(d) and the cell fields per unit macro strain\n"
+    "      (.vtu). \"run\" on a periodic-cell scene with a \"design\" section designs the cell.\n"
     "\n"
     "options:\n"
     "  --threads N    threads for tailor's loops and for BLAS (default: one per core)\n"
@@ -174,6 +180,15 @@ int run_verb(const std::string& verb, const Arguments& args) {
                         : tailor::simulate_rigid_scene(spec, out_dir, &std::cout).completed();
     return ok ? kSuccess : kFailure;
   }
+  if (verb == "homogenize") {
+    const tailor::CellScene cell = tailor::read_cell_scene(*args.scene);
+    return (tailor::homogenize_scene(cell, args.out_dir.value_or("out/" + cell.name), &std::cout), kSuccess);
+  }
+  if (verb == "run" && args.scene && tailor::is_metamaterial_scene(*args.scene)) {
+    const auto design = tailor::run_metamaterial_scene(*args.scene, args.out_dir.value_or("out/metamaterial"),
+                                                       &std::cout, args.quiet ? nullptr : &std::cout);
+    return design.result.converged() ? kSuccess : kFailure;
+  }
   const tailor::Scene scene = load_scene(args);
   apply_threads(args, scene.solver.threads);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
@@ -218,7 +233,8 @@ int main(int argc, char** argv) {
     std::cout << "tailor " << tailor::version_string << "\n";
     return kSuccess;
   }
-  if (verb != "simulate" && verb != "check" && verb != "modes" && !is_inverse_verb(verb))
+  if (verb != "simulate" && verb != "check" && verb != "modes" && verb != "homogenize" &&
+      !is_inverse_verb(verb))
     return usage_error("unknown verb '" + verb + "'");
 
   Arguments args;
@@ -228,7 +244,8 @@ int main(int argc, char** argv) {
     std::cout << kUsage;
     return kSuccess;
   }
-  if (verb == "modes" && !args.scene) return usage_error("'modes' needs a scene file");
+  if ((verb == "modes" || verb == "homogenize") && !args.scene)
+    return usage_error("'" + verb + "' needs a scene file");
   if (is_inverse_verb(verb) && !args.scene)
     return usage_error("'" + verb + "' needs a scene file with an \"inverse\" section");
   try {

@@ -65,4 +65,9 @@ rod_detail::StencilEnergy<2, 8> RodBendingTerm::energy_density(const Eigen::Vect
   return W;
 }
 
+Eigen::Vector2d RodBendingTerm::strain_values(const Local& local, int interior) const {
+  const auto s = rod_detail::bend_twist_strains<1>(local, rod_detail::stored_frames(*rod_, interior));
+  return {s.kappa1.v, s.kappa2.v};
+}
+
 }  // namespace tailor

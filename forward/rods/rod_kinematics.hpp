@@ -40,25 +40,32 @@ struct StoredFrames {
   double reference_twist = 0.0;
 };
 
-struct BendTwistStrains {
-  BendTwistDual kappa1, kappa2;   // material curvatures (dimensionless: 2 tan(phi/2) scale)
-  BendTwistDual twist;            // m_i = theta^i - theta^{i-1} + m_ref [rad]
-  BendTwistDual reference_twist;  // m_ref, unwrapped
+template <int N>
+struct BendTwistStrainsOf {
+  Dual2<N> kappa1, kappa2;   // material curvatures (dimensionless: 2 tan(phi/2) scale)
+  Dual2<N> twist;            // m_i = theta^i - theta^{i-1} + m_ref [rad]
+  Dual2<N> reference_twist;  // m_ref, unwrapped
 };
+using BendTwistStrains = BendTwistStrainsOf<kBendTwistDofs>;
 
 // Bergou 2008 eq. (1) curvature binormal, the material curvatures of Bergou 2010 with the
 // frames of both edges averaged, and the reference twist (angle about t^i from the space-
 // parallel transport of a1^{i-1} to a1^i).
-inline BendTwistStrains bend_twist_strains(const BendTwistLocal& local, const StoredFrames& stored) {
-  using D = BendTwistDual;
-  using V = Dual2Vec3<kBendTwistDofs>;
+// N = kBendTwistDofs: with derivatives; N = 1: values only (no variable is marked).
+template <int N = kBendTwistDofs>
+BendTwistStrainsOf<N> bend_twist_strains(const BendTwistLocal& local, const StoredFrames& stored) {
+  using D = Dual2<N>;
+  using V = Dual2Vec3<N>;
+  auto var = [&](int index) {
+    return N == kBendTwistDofs ? D::variable(local[index], index) : D(local[index]);
+  };
   V x0, x1, x2;
   for (int k = 0; k < 3; ++k) {
-    x0[k] = D::variable(local[k], k);
-    x1[k] = D::variable(local[3 + k], 3 + k);
-    x2[k] = D::variable(local[6 + k], 6 + k);
+    x0[k] = var(k);
+    x1[k] = var(3 + k);
+    x2[k] = var(6 + k);
   }
-  const D theta0 = D::variable(local[9], 9), theta1 = D::variable(local[10], 10);
+  const D theta0 = var(9), theta1 = var(10);
   const V e0 = x1 - x0, e1 = x2 - x1;
   const D l0 = norm(e0), l1 = norm(e1);
   const V t0 = reciprocal(l0) * e0, t1 = reciprocal(l1) * e1;
@@ -76,7 +83,7 @@ inline BendTwistStrains bend_twist_strains(const BendTwistLocal& local, const St
   const V m1_0 = c0 * a10 + s0 * a20, m2_0 = c0 * a20 - s0 * a10;
   const V m1_1 = c1 * a11 + s1 * a21, m2_1 = c1 * a21 - s1 * a11;
 
-  BendTwistStrains out;
+  BendTwistStrainsOf<N> out;
   out.kappa1 = 0.5 * dot(kb, m2_0 + m2_1);
   out.kappa2 = -0.5 * dot(kb, m1_0 + m1_1);
 

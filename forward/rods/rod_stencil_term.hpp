@@ -10,6 +10,8 @@
 //   std::array<int, N> stencil_dofs(int k) const;
 //   std::array<int, Q> stencil_parameters(int k) const;
 //   std::array<Dual2<N>, S> strains(const Eigen::Matrix<double, N, 1>& local, int k) const;
+//   Eigen::Matrix<double, S, 1> strain_values(const Eigen::Matrix<double, N, 1>& local, int k) const;
+//     (the same strains without derivatives, for value-only requests such as line searches)
 //   StencilEnergy<S, Q> energy_density(const Eigen::Matrix<double, S, 1>& s,
 //                                      const Eigen::Matrix<double, Q, 1>& q, int k) const;
 #include <Eigen/Eigenvalues>
@@ -52,6 +54,10 @@ class RodStencilTerm : public EnergyTerm {
 #pragma omp parallel for schedule(static) reduction(+ : energy) if (num > 512)
     for (int k = 0; k < num; ++k) {
       const auto dofs = self().stencil_dofs(k);
+      if (!want_gradient && !want_hessian) {
+        energy += self().energy_density(self().strain_values(gather(x, dofs), k), parameters(p, k), k).value;
+        continue;
+      }
       const Strains s = self().strains(gather(x, dofs), k);
       const auto W = self().energy_density(values(s), parameters(p, k), k);
       energy += W.value;

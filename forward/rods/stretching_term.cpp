@@ -41,4 +41,9 @@ rod_detail::StencilEnergy<1, 3> RodStretchingTerm::energy_density(const Eigen::M
   return W;
 }
 
+Eigen::Matrix<double, 1, 1> RodStretchingTerm::strain_values(const Eigen::Matrix<double, 6, 1>& local,
+                                                             int) const {
+  return Eigen::Matrix<double, 1, 1>((local.tail<3>() - local.head<3>()).norm());
+}
+
 }  // namespace tailor

@@ -48,4 +48,9 @@ rod_detail::StencilEnergy<1, 7> RodTwistingTerm::energy_density(const Eigen::Mat
   return W;
 }
 
+Eigen::Matrix<double, 1, 1> RodTwistingTerm::strain_values(const Local& local, int interior) const {
+  const auto s = rod_detail::bend_twist_strains<1>(local, rod_detail::stored_frames(*rod_, interior));
+  return Eigen::Matrix<double, 1, 1>(s.twist.v);
+}
+
 }  // namespace tailor

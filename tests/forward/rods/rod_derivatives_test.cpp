@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "adjoint/derivative_check.hpp"
+#include "forward/rods/end_moment_term.hpp"
 #include "rod_fixtures.hpp"
 
 namespace tailor {
@@ -121,6 +122,20 @@ TEST(RodDerivatives, RestCurvatureFarAboveCurrent) {
   for (int i = 0; i < 2 * s.rod->num_interior(); ++i) p[s.blocks.rest_curvature + i] = 100.0 * (1 + i % 3);
   const Vector x = s.rest + 0.01 * uniform_noise(s.model->num_dofs(), 19);
   expect_all_terms_pass(s, x, p, "large rest curvature");
+}
+
+// The planar end moment E = -M phi(e): gradient and Hessian of the edge's angle.
+TEST(RodDerivatives, EndMomentTerm) {
+  RodSetup s = make_rod(helix(5, 1.0, 0.2, 0.5));
+  const RodEndMomentTerm term(*s.rod, 3, Eigen::Vector3d(0.2, 0.1, 1.0), 1.7);
+  const Vector x = s.rest + 0.1 * uniform_noise(s.model->num_dofs(), 21);
+  DerivativeCheckOptions o;
+  o.initial_step = 1e-4;
+  const EnergyTermCheck c = check_energy_term(term, x, s.p, o);
+  for (const auto& check : c.checks)
+    if (check.quantity == "gradient" || check.quantity == "hessian") {
+      EXPECT_TRUE(check.passed) << c.table();
+    }
 }
 
 // A check must be able to fail: a wrong stiffness in the gradient is caught.

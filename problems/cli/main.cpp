@@ -17,6 +17,7 @@
 #include "problems/dynamic_scene.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/modes_command.hpp"
+#include "problems/rods/rod_scene.hpp"
 #include "problems/material_fit/material_fit_scene.hpp"
 #include "tailor_version.hpp"
 
@@ -133,6 +134,9 @@ int run_verb(const std::string& verb, const Arguments& args) {
     return tailor::run_damping_design_scene(*args.scene, args.out_dir.value_or("out/damping_design"), std::cout)
                ? kSuccess
                : kFailure;
+  if (verb == "simulate" && args.scene && tailor::is_rod_scene(*args.scene))
+    return tailor::simulate_rod_scene_file(*args.scene, args.out_dir.value_or("out/rods"), std::cout) ? kSuccess
+                                                                                                      : kFailure;
   const tailor::Scene scene = load_scene(args);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
   if (verb == "simulate" && scene.dynamics)

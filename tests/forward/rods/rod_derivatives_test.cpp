@@ -5,6 +5,8 @@
 // stored at a state far from the evaluated one (the time-parallel transport's derivatives).
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include "adjoint/derivative_check.hpp"
 #include "forward/rods/end_moment_term.hpp"
 #include "rod_fixtures.hpp"
@@ -136,6 +138,23 @@ TEST(RodDerivatives, EndMomentTerm) {
     if (check.quantity == "gradient" || check.quantity == "hessian") {
       EXPECT_TRUE(check.passed) << c.table();
     }
+}
+
+// HessianMode::projected: every term's assembled Hessian is positive semidefinite, on a state
+// where the exact one is indefinite (compressed, strongly bent and twisted helix).
+TEST(RodDerivatives, ProjectedHessianIsPositiveSemidefinite) {
+  RodSetup s = make_rod(helix(8, 1.0, 0.2, 0.9));
+  Vector x = 0.8 * s.rest + 0.2 * uniform_noise(s.model->num_dofs(), 22);
+  bool some_exact_indefinite = false;
+  for (const auto& term : s.model->terms()) {
+    const Matrix exact = Matrix(term->hessian(x, s.p, HessianMode::exact));
+    const Matrix projected = Matrix(term->hessian(x, s.p, HessianMode::projected));
+    const auto lambda_exact = Eigen::SelfAdjointEigenSolver<Matrix>(exact).eigenvalues();
+    const auto lambda = Eigen::SelfAdjointEigenSolver<Matrix>(projected).eigenvalues();
+    EXPECT_GE(lambda.minCoeff(), -1e-10 * lambda.cwiseAbs().maxCoeff()) << term->name();
+    some_exact_indefinite |= lambda_exact.minCoeff() < -1e-6 * lambda_exact.cwiseAbs().maxCoeff();
+  }
+  EXPECT_TRUE(some_exact_indefinite);
 }
 
 // A check must be able to fail: a wrong stiffness in the gradient is caught.

@@ -20,6 +20,7 @@
 #include "problems/homogenization/homogenize_command.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/modes_command.hpp"
+#include "problems/rods/rod_scene.hpp"
 #include "problems/material_fit/material_fit_scene.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
 #include "tailor_version.hpp"
@@ -189,6 +190,9 @@ int run_verb(const std::string& verb, const Arguments& args) {
                                                        &std::cout, args.quiet ? nullptr : &std::cout);
     return design.result.converged() ? kSuccess : kFailure;
   }
+  if (verb == "simulate" && args.scene && tailor::is_rod_scene(*args.scene))
+    return tailor::simulate_rod_scene_file(*args.scene, args.out_dir.value_or("out/rods"), std::cout) ? kSuccess
+                                                                                                      : kFailure;
   const tailor::Scene scene = load_scene(args);
   apply_threads(args, scene.solver.threads);
   const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;

@@ -1,0 +1,73 @@
+#include "forward/rods/bending_term.hpp"
+
+#include <stdexcept>
+
+#include "forward/rods/rod_stencils.hpp"
+
+namespace tailor {
+
+RodBendingTerm::RodBendingTerm(std::shared_ptr<const DiscreteRod> rod, CrossSection section,
+                               RodParameterBlocks blocks)
+    : rod_(std::move(rod)), section_(section), blocks_(blocks) {
+  if (!rod_) throw std::invalid_argument("RodBendingTerm: no rod given");
+  section_.validate();
+}
+
+std::array<int, rod_detail::kBendTwistDofs> RodBendingTerm::stencil_dofs(int interior) const {
+  return rod_detail::bend_twist_dofs(*rod_, interior);
+}
+
+std::array<int, 8> RodBendingTerm::stencil_parameters(int i) const {
+  const auto& b = blocks_;
+  return {b.rest_curvature + 2 * i,
+          b.rest_curvature + 2 * i + 1,
+          b.youngs_modulus + i,
+          b.youngs_modulus + i + 1,
+          b.radius + i,
+          b.radius + i + 1,
+          b.rest_length + i,
+          b.rest_length + i + 1};
+}
+
+std::array<rod_detail::BendTwistDual, 2> RodBendingTerm::strains(const Local& local, int interior) const {
+  auto s = rod_detail::bend_twist_strains(local, rod_detail::stored_frames(*rod_, interior));
+  return {std::move(s.kappa1), std::move(s.kappa2)};
+}
+
+// W = sum_a B_a d_a^2 / lbar, d = kappa - kappabar; derivatives in s = kappa and q (see header).
+rod_detail::StencilEnergy<2, 8> RodBendingTerm::energy_density(const Eigen::Vector2d& kappa,
+                                                               const Eigen::Matrix<double, 8, 1>& q,
+                                                               int) const {
+  const Eigen::Vector2d d = kappa - q.head<2>();
+  const double E0 = q[2], E1 = q[3], r0 = q[4], r1 = q[5], lbar = q[6] + q[7];
+  const Eigen::Vector2d c(section_.bending_coefficient1(), section_.bending_coefficient2());
+  const double r04 = r0 * r0 * r0 * r0, r14 = r1 * r1 * r1 * r1;
+  const Eigen::Vector2d B = 0.5 * (E0 * r04 + E1 * r14) * c;
+  rod_detail::StencilEnergy<2, 8> W;
+  W.value = (B.array() * d.array().square()).sum() / lbar;
+  W.ds = 2.0 * B.cwiseProduct(d) / lbar;
+  W.dss = (2.0 * B / lbar).asDiagonal();
+  const Eigen::Vector2d d2 = d.cwiseProduct(d) / lbar;  // dW/dB_a
+  W.dq.head<2>() = -W.ds;
+  W.dq[2] = 0.5 * r04 * c.dot(d2);
+  W.dq[3] = 0.5 * r14 * c.dot(d2);
+  W.dq[4] = 2.0 * E0 * r0 * r0 * r0 * c.dot(d2);
+  W.dq[5] = 2.0 * E1 * r1 * r1 * r1 * c.dot(d2);
+  W.dq[6] = W.dq[7] = -W.value / lbar;
+  for (int a = 0; a < 2; ++a) {
+    W.dsq(a, a) = -2.0 * B[a] / lbar;
+    W.dsq(a, 2) = c[a] * r04 * d[a] / lbar;
+    W.dsq(a, 3) = c[a] * r14 * d[a] / lbar;
+    W.dsq(a, 4) = 4.0 * E0 * c[a] * r0 * r0 * r0 * d[a] / lbar;
+    W.dsq(a, 5) = 4.0 * E1 * c[a] * r1 * r1 * r1 * d[a] / lbar;
+    W.dsq(a, 6) = W.dsq(a, 7) = -2.0 * B[a] * d[a] / (lbar * lbar);
+  }
+  return W;
+}
+
+Eigen::Vector2d RodBendingTerm::strain_values(const Local& local, int interior) const {
+  const auto s = rod_detail::bend_twist_strains<1>(local, rod_detail::stored_frames(*rod_, interior));
+  return {s.kappa1.v, s.kappa2.v};
+}
+
+}  // namespace tailor

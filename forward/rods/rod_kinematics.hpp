@@ -1,0 +1,106 @@
+#pragma once
+// Strains of the discrete elastic rod as dual numbers (private to forward/rods): edge length,
+// material curvatures and twist of one stencil, with their exact gradients and Hessians in the
+// stencil's DOFs, including the dependence of the time-parallel reference frame and of the
+// reference twist on the positions (docs/rods.md, "Exact Hessian").
+#include <Eigen/Core>
+#include <cmath>
+#include <numbers>
+
+#include "forward/rods/dual2.hpp"
+
+namespace tailor::rod_detail {
+
+// Local DOFs of a bend-twist stencil at interior vertex i:
+//   0-2 x_{i-1}, 3-5 x_i, 6-8 x_{i+1}, 9 theta^{i-1}, 10 theta^i.
+inline constexpr int kBendTwistDofs = 11;
+using BendTwistDual = Dual2<kBendTwistDofs>;
+using BendTwistLocal = Eigen::Matrix<double, kBendTwistDofs, 1>;
+
+// Parallel transport of w from unit u to unit v: P w = c w + b x w + (b . w) / (1 + c) b with
+// b = u x v, c = u . v (Rodrigues' rotation about b by the angle between u and v, written
+// without dividing by |b| so it stays smooth at u = v; Bergou 2008 section 4.2). 1 + c is
+// evaluated as |u + v|^2 / 2, which keeps its relative precision when u and v nearly fold back.
+template <int N>
+Dual2Vec3<N> transport(const Dual2Vec3<N>& u, const Dual2Vec3<N>& v, const Dual2Vec3<N>& w) {
+  const Dual2Vec3<N> b = cross(u, v), sum = u + v;
+  const Dual2<N> c = dot(u, v);
+  return c * w + cross(b, w) + (2.0 * dot(b, w) / dot(sum, sum)) * b;
+}
+
+// The reference twist's branch: the value raw + 2 pi n nearest to `stored` [rad].
+inline double nearest_branch_shift(double raw, double stored) {
+  return 2.0 * std::numbers::pi * std::round((stored - raw) / (2.0 * std::numbers::pi));
+}
+
+// The stored frame data a stencil needs: per adjacent edge the last converged tangent and
+// director, and the stored reference twist of the vertex.
+struct StoredFrames {
+  Eigen::Vector3d tangent0, director0, tangent1, director1;
+  double reference_twist = 0.0;
+};
+
+template <int N>
+struct BendTwistStrainsOf {
+  Dual2<N> kappa1, kappa2;   // material curvatures (dimensionless: 2 tan(phi/2) scale)
+  Dual2<N> twist;            // m_i = theta^i - theta^{i-1} + m_ref [rad]
+  Dual2<N> reference_twist;  // m_ref, unwrapped
+};
+using BendTwistStrains = BendTwistStrainsOf<kBendTwistDofs>;
+
+// Bergou 2008 eq. (1) curvature binormal, the material curvatures of Bergou 2010 with the
+// frames of both edges averaged, and the reference twist (angle about t^i from the space-
+// parallel transport of a1^{i-1} to a1^i).
+// N = kBendTwistDofs: with derivatives; N = 1: values only (no variable is marked).
+template <int N = kBendTwistDofs>
+BendTwistStrainsOf<N> bend_twist_strains(const BendTwistLocal& local, const StoredFrames& stored) {
+  using D = Dual2<N>;
+  using V = Dual2Vec3<N>;
+  auto var = [&](int index) {
+    return N == kBendTwistDofs ? D::variable(local[index], index) : D(local[index]);
+  };
+  V x0, x1, x2;
+  for (int k = 0; k < 3; ++k) {
+    x0[k] = var(k);
+    x1[k] = var(3 + k);
+    x2[k] = var(6 + k);
+  }
+  const D theta0 = var(9), theta1 = var(10);
+  const V e0 = x1 - x0, e1 = x2 - x1;
+  const D l0 = norm(e0), l1 = norm(e1);
+  const V t0 = reciprocal(l0) * e0, t1 = reciprocal(l1) * e1;
+  // (kb) = 2 t0 x t1 / (1 + t0 . t1) = 4 t0 x t1 / |t0 + t1|^2 (the second form keeps its
+  // relative precision when the edges nearly fold back onto each other).
+  const V tsum = t0 + t1;
+  const V kb = (4.0 * reciprocal(dot(tsum, tsum))) * cross(t0, t1);
+
+  // Time-parallel reference frames: stored director transported to the current tangent.
+  const V a10 = transport(V::constant(stored.tangent0), t0, V::constant(stored.director0));
+  const V a11 = transport(V::constant(stored.tangent1), t1, V::constant(stored.director1));
+  const V a20 = cross(t0, a10), a21 = cross(t1, a11);
+  // Material frames: reference frames rotated by theta about the tangent.
+  const D c0 = cos(theta0), s0 = sin(theta0), c1 = cos(theta1), s1 = sin(theta1);
+  const V m1_0 = c0 * a10 + s0 * a20, m2_0 = c0 * a20 - s0 * a10;
+  const V m1_1 = c1 * a11 + s1 * a21, m2_1 = c1 * a21 - s1 * a11;
+
+  BendTwistStrainsOf<N> out;
+  out.kappa1 = 0.5 * dot(kb, m2_0 + m2_1);
+  out.kappa2 = -0.5 * dot(kb, m1_0 + m1_1);
+
+  const V u = transport(t0, t1, a10);
+  D raw = atan2(dot(cross(u, a11), t1), dot(u, a11));
+  raw.v += nearest_branch_shift(raw.v, stored.reference_twist);
+  out.reference_twist = raw;
+  out.twist = theta1 - theta0 + raw;
+  return out;
+}
+
+// Length of the edge between local DOFs 0-2 and 3-5, with its derivatives.
+inline Dual2<6> edge_length(const Eigen::Matrix<double, 6, 1>& local) {
+  Dual2Vec3<6> e;
+  for (int k = 0; k < 3; ++k)
+    e[k] = Dual2<6>::variable(local[3 + k], 3 + k) - Dual2<6>::variable(local[k], k);
+  return norm(e);
+}
+
+}  // namespace tailor::rod_detail

@@ -1,0 +1,164 @@
+#pragma once
+// RodStencilTerm: the assembly shared by the rod energies (private to forward/rods). Each term
+// is a sum over stencils k of W(s_k(x_k), q_k), where x_k are the stencil's N DOFs, s_k its S
+// strains (dual numbers: exact gradient and Hessian in x_k) and q_k its Q parameters. W is
+// given with its first and second derivatives in (s, q), so by the chain rule
+//   dE/dx   = W_s . ds/dx,           d2E/dx2 = ds/dx^T W_ss ds/dx + sum_a W_s[a] d2s_a/dx2,
+//   dE/dq   = W_q,                   d2E/dxdq = ds/dx^T W_sq.
+// Derived classes provide (CRTP, no virtual calls in the loops):
+//   int num_stencils() const;
+//   std::array<int, N> stencil_dofs(int k) const;
+//   std::array<int, Q> stencil_parameters(int k) const;
+//   std::array<Dual2<N>, S> strains(const Eigen::Matrix<double, N, 1>& local, int k) const;
+//   Eigen::Matrix<double, S, 1> strain_values(const Eigen::Matrix<double, N, 1>& local, int k) const;
+//     (the same strains without derivatives, for value-only requests such as line searches)
+//   StencilEnergy<S, Q> energy_density(const Eigen::Matrix<double, S, 1>& s,
+//                                      const Eigen::Matrix<double, Q, 1>& q, int k) const;
+#include <Eigen/Eigenvalues>
+#include <array>
+#include <vector>
+
+#include "forward/core/energy_term.hpp"
+#include "forward/rods/dual2.hpp"
+
+namespace tailor::rod_detail {
+
+template <int S, int Q>
+struct StencilEnergy {
+  double value = 0.0;
+  Eigen::Matrix<double, S, 1> ds = Eigen::Matrix<double, S, 1>::Zero();
+  Eigen::Matrix<double, S, S> dss = Eigen::Matrix<double, S, S>::Zero();
+  Eigen::Matrix<double, Q, 1> dq = Eigen::Matrix<double, Q, 1>::Zero();
+  Eigen::Matrix<double, S, Q> dsq = Eigen::Matrix<double, S, Q>::Zero();
+};
+
+// Nearest positive semidefinite matrix (eigenvalues clamped at zero).
+template <int N>
+void project_to_psd(Eigen::Matrix<double, N, N>& H) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(H);
+  if (eig.eigenvalues().minCoeff() >= 0.0) return;
+  H = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() * eig.eigenvectors().transpose();
+}
+
+template <class Derived, int N, int S, int Q>
+class RodStencilTerm : public EnergyTerm {
+ public:
+  using Local = Eigen::Matrix<double, N, 1>;
+  using Strains = std::array<Dual2<N>, S>;
+
+  void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override {
+    const int num = self().num_stencils();
+    const bool want_gradient = request.gradient != nullptr, want_hessian = request.hessian_values != nullptr;
+    if (want_gradient) local_gradients_.resize(static_cast<std::size_t>(num) * N);
+    double energy = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : energy) if (num > 512)
+    for (int k = 0; k < num; ++k) {
+      const auto dofs = self().stencil_dofs(k);
+      if (!want_gradient && !want_hessian) {
+        energy += self().energy_density(self().strain_values(gather(x, dofs), k), parameters(p, k), k).value;
+        continue;
+      }
+      const Strains s = self().strains(gather(x, dofs), k);
+      const auto W = self().energy_density(values(s), parameters(p, k), k);
+      energy += W.value;
+      if (want_gradient) {
+        Local g = Local::Zero();
+        for (int a = 0; a < S; ++a) g += W.ds[a] * s[a].g;
+        std::copy(g.data(), g.data() + N, local_gradients_.data() + static_cast<std::size_t>(k) * N);
+      }
+      if (want_hessian) {
+        Eigen::Matrix<double, N, N> H = Eigen::Matrix<double, N, N>::Zero();
+        Eigen::Matrix<double, S, N> J;
+        for (int a = 0; a < S; ++a) {
+          J.row(a) = s[a].g.transpose();
+          H += W.ds[a] * s[a].h;
+        }
+        H += J.transpose() * W.dss * J;
+        H = 0.5 * (H + H.transpose()).eval();
+        if (request.hessian_mode == HessianMode::projected) project_to_psd<N>(H);
+        std::copy(H.data(), H.data() + N * N, request.hessian_values + static_cast<std::size_t>(k) * N * N);
+      }
+    }
+    if (request.value) *request.value += energy;
+    if (want_gradient) {
+      Vector& g = *request.gradient;
+      for (int k = 0; k < num; ++k) {
+        const auto dofs = self().stencil_dofs(k);
+        for (int r = 0; r < N; ++r) g[dofs[r]] += local_gradients_[static_cast<std::size_t>(k) * N + r];
+      }
+    }
+  }
+
+  void hessian_pattern(HessianPattern& pattern) const override {
+    const int num = self().num_stencils();
+    pattern.reserve(pattern.size() + static_cast<std::size_t>(num) * N * N);
+    for (int k = 0; k < num; ++k) {
+      const auto dofs = self().stencil_dofs(k);
+      for (int c = 0; c < N; ++c)
+        for (int r = 0; r < N; ++r) pattern.push_back({dofs[r], dofs[c]});
+    }
+  }
+
+  void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override {
+    for (int k = 0; k < self().num_stencils(); ++k) {
+      const Strains s = self().strains(gather(x, self().stencil_dofs(k)), k);
+      const auto W = self().energy_density(values(s), parameters(p, k), k);
+      const auto params = self().stencil_parameters(k);
+      for (int j = 0; j < Q; ++j) gradient_p[params[j]] += W.dq[j];
+    }
+  }
+
+  void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override {
+    for (int k = 0; k < self().num_stencils(); ++k) {
+      const auto dofs = self().stencil_dofs(k);
+      const Strains s = self().strains(gather(x, dofs), k);
+      const auto W = self().energy_density(values(s), parameters(p, k), k);
+      const auto params = self().stencil_parameters(k);
+      const Eigen::Matrix<double, N, Q> local = jacobian(s).transpose() * W.dsq;
+      for (int r = 0; r < N; ++r)
+        for (int j = 0; j < Q; ++j)
+          if (local(r, j) != 0.0) mixed.emplace_back(dofs[r], params[j], local(r, j));
+    }
+  }
+
+  void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
+                                 Vector& gradient_p) const override {
+    for (int k = 0; k < self().num_stencils(); ++k) {
+      const auto dofs = self().stencil_dofs(k);
+      const Strains s = self().strains(gather(x, dofs), k);
+      const auto W = self().energy_density(values(s), parameters(p, k), k);
+      const auto params = self().stencil_parameters(k);
+      const Eigen::Matrix<double, Q, 1> local = W.dsq.transpose() * (jacobian(s) * gather(w, dofs));
+      for (int j = 0; j < Q; ++j) gradient_p[params[j]] += local[j];
+    }
+  }
+
+ protected:
+  static Local gather(const Vector& x, const std::array<int, N>& dofs) {
+    Local local;
+    for (int r = 0; r < N; ++r) local[r] = x[dofs[r]];
+    return local;
+  }
+  static Eigen::Matrix<double, S, 1> values(const Strains& s) {
+    Eigen::Matrix<double, S, 1> v;
+    for (int a = 0; a < S; ++a) v[a] = s[a].v;
+    return v;
+  }
+  static Eigen::Matrix<double, S, N> jacobian(const Strains& s) {
+    Eigen::Matrix<double, S, N> J;
+    for (int a = 0; a < S; ++a) J.row(a) = s[a].g.transpose();
+    return J;
+  }
+  Eigen::Matrix<double, Q, 1> parameters(const Vector& p, int k) const {
+    const auto params = self().stencil_parameters(k);
+    Eigen::Matrix<double, Q, 1> q;
+    for (int j = 0; j < Q; ++j) q[j] = p[params[j]];
+    return q;
+  }
+
+ private:
+  const Derived& self() const { return static_cast<const Derived&>(*this); }
+  mutable std::vector<double> local_gradients_;
+};
+
+}  // namespace tailor::rod_detail

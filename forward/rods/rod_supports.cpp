@@ -1,0 +1,61 @@
+#include "forward/rods/rod_supports.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace tailor {
+
+namespace {
+void check_vertex(const DiscreteRod& rod, int vertex) {
+  if (vertex < 0 || vertex >= rod.num_vertices())
+    throw std::out_of_range("rod vertex " + std::to_string(vertex) + " out of range [0, " +
+                            std::to_string(rod.num_vertices()) + ")");
+}
+}  // namespace
+
+std::vector<int> clamped_end_dofs(const DiscreteRod& rod, RodEnd end) {
+  const int v0 = end == RodEnd::first ? 0 : rod.num_vertices() - 2;
+  const int edge = end == RodEnd::first ? 0 : rod.num_edges() - 1;
+  std::vector<int> dofs;
+  for (int v = v0; v < v0 + 2; ++v)
+    for (int k = 0; k < 3; ++k) dofs.push_back(rod.position_dof(v, k));
+  dofs.push_back(rod.twist_dof(edge));
+  return dofs;
+}
+
+std::vector<int> pinned_vertex_dofs(const DiscreteRod& rod, int vertex) {
+  check_vertex(rod, vertex);
+  return {rod.position_dof(vertex, 0), rod.position_dof(vertex, 1), rod.position_dof(vertex, 2)};
+}
+
+Eigen::VectorXd lumped_vertex_masses(const DiscreteRod& rod, const CrossSection& section, double density,
+                                     const Eigen::VectorXd& radius, const Eigen::VectorXd& rest_length) {
+  if (radius.size() != rod.num_edges() || rest_length.size() != rod.num_edges())
+    throw std::invalid_argument("lumped_vertex_masses: radius and rest_length need one value per edge");
+  Eigen::VectorXd m = Eigen::VectorXd::Zero(rod.num_vertices());
+  for (int j = 0; j < rod.num_edges(); ++j) {
+    const double edge_mass = density * section.area_coefficient() * radius[j] * radius[j] * rest_length[j];
+    m[j] += 0.5 * edge_mass;
+    m[j + 1] += 0.5 * edge_mass;
+  }
+  return m;
+}
+
+void add_gravity_forces(const DiscreteRod& rod, const Eigen::VectorXd& vertex_masses,
+                        const Eigen::Vector3d& g, Vector& forces) {
+  for (int v = 0; v < rod.num_vertices(); ++v)
+    forces.segment<3>(rod.position_dof(v, 0)) += vertex_masses[v] * g;
+}
+
+void add_point_load(const DiscreteRod& rod, int vertex, const Eigen::Vector3d& force, Vector& forces) {
+  check_vertex(rod, vertex);
+  forces.segment<3>(rod.position_dof(vertex, 0)) += force;
+}
+
+void add_twisting_moment(const DiscreteRod& rod, int edge, double moment, Vector& forces) {
+  if (edge < 0 || edge >= rod.num_edges())
+    throw std::out_of_range("rod edge " + std::to_string(edge) + " out of range");
+  forces[rod.twist_dof(edge)] += moment;
+}
+
+}  // namespace tailor

@@ -1,0 +1,33 @@
+#pragma once
+// Supports, loads and masses of a discrete elastic rod, in the forms the existing Model takes:
+// lists of fixed DOFs for Elimination::dirichlet, and nodal force vectors (interleaved like the
+// state; a "force" on a twist DOF is a twisting moment about the edge's tangent) for
+// ExternalForceTerm (forward/fem/loads.hpp), whose potential is -f . x.
+#include <vector>
+
+#include "forward/rods/cross_section.hpp"
+#include "forward/rods/discrete_rod.hpp"
+
+namespace tailor {
+
+enum class RodEnd { first, last };
+
+// Clamp: the two end vertices and the end edge's twist (position and frame held).
+std::vector<int> clamped_end_dofs(const DiscreteRod& rod, RodEnd end);
+// Pin: the three coordinates of one vertex (rotation free). Throws std::out_of_range.
+std::vector<int> pinned_vertex_dofs(const DiscreteRod& rod, int vertex);
+
+// Lumped vertex masses [mass]: each edge's rho A(r_j) L_j split equally between its vertices.
+// density [mass / length^3]; radius and rest_length per edge.
+Eigen::VectorXd lumped_vertex_masses(const DiscreteRod& rod, const CrossSection& section, double density,
+                                     const Eigen::VectorXd& radius, const Eigen::VectorXd& rest_length);
+
+// forces += m_v g on every vertex (g [length / time^2], masses from lumped_vertex_masses).
+void add_gravity_forces(const DiscreteRod& rod, const Eigen::VectorXd& vertex_masses,
+                        const Eigen::Vector3d& g, Vector& forces);
+// forces += F on one vertex [force].
+void add_point_load(const DiscreteRod& rod, int vertex, const Eigen::Vector3d& force, Vector& forces);
+// forces += M on one edge's twist DOF: a twisting moment about the tangent [force length].
+void add_twisting_moment(const DiscreteRod& rod, int edge, double moment, Vector& forces);
+
+}  // namespace tailor

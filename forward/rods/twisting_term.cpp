@@ -1,0 +1,56 @@
+#include "forward/rods/twisting_term.hpp"
+
+#include <stdexcept>
+
+#include "forward/rods/rod_stencils.hpp"
+
+namespace tailor {
+
+RodTwistingTerm::RodTwistingTerm(std::shared_ptr<const DiscreteRod> rod, CrossSection section,
+                                 RodParameterBlocks blocks)
+    : rod_(std::move(rod)), section_(section), blocks_(blocks) {
+  if (!rod_) throw std::invalid_argument("RodTwistingTerm: no rod given");
+  section_.validate();
+}
+
+std::array<int, rod_detail::kBendTwistDofs> RodTwistingTerm::stencil_dofs(int interior) const {
+  return rod_detail::bend_twist_dofs(*rod_, interior);
+}
+
+std::array<int, 7> RodTwistingTerm::stencil_parameters(int i) const {
+  const auto& b = blocks_;
+  return {b.rest_twist + i, b.shear_modulus + i, b.shear_modulus + i + 1, b.radius + i,
+          b.radius + i + 1, b.rest_length + i,   b.rest_length + i + 1};
+}
+
+std::array<rod_detail::BendTwistDual, 1> RodTwistingTerm::strains(const Local& local, int interior) const {
+  auto s = rod_detail::bend_twist_strains(local, rod_detail::stored_frames(*rod_, interior));
+  return {std::move(s.twist)};
+}
+
+// W = GJ d^2 / lbar, d = m - mbar; derivatives in s = m and q (see header).
+rod_detail::StencilEnergy<1, 7> RodTwistingTerm::energy_density(const Eigen::Matrix<double, 1, 1>& twist,
+                                                                const Eigen::Matrix<double, 7, 1>& q,
+                                                                int) const {
+  const double d = twist[0] - q[0], G0 = q[1], G1 = q[2], r0 = q[3], r1 = q[4], lbar = q[5] + q[6];
+  const double c = section_.torsion_coefficient();
+  const double r03 = r0 * r0 * r0, r13 = r1 * r1 * r1;
+  const double GJ = 0.5 * c * (G0 * r03 * r0 + G1 * r13 * r1);
+  rod_detail::StencilEnergy<1, 7> W;
+  W.value = GJ * d * d / lbar;
+  W.ds[0] = 2.0 * GJ * d / lbar;
+  W.dss(0, 0) = 2.0 * GJ / lbar;
+  const double dd = d * d / lbar;  // dW/dGJ
+  W.dq << -W.ds[0], 0.5 * c * r03 * r0 * dd, 0.5 * c * r13 * r1 * dd, 2.0 * c * G0 * r03 * dd,
+      2.0 * c * G1 * r13 * dd, -W.value / lbar, -W.value / lbar;
+  W.dsq << -2.0 * GJ / lbar, c * r03 * r0 * d / lbar, c * r13 * r1 * d / lbar, 4.0 * c * G0 * r03 * d / lbar,
+      4.0 * c * G1 * r13 * d / lbar, -2.0 * GJ * d / (lbar * lbar), -2.0 * GJ * d / (lbar * lbar);
+  return W;
+}
+
+Eigen::Matrix<double, 1, 1> RodTwistingTerm::strain_values(const Local& local, int interior) const {
+  const auto s = rod_detail::bend_twist_strains<1>(local, rod_detail::stored_frames(*rod_, interior));
+  return Eigen::Matrix<double, 1, 1>(s.twist.v);
+}
+
+}  // namespace tailor

@@ -1,0 +1,238 @@
+#include "problems/rods/rod_scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <ostream>
+#include <stdexcept>
+
+#include "forward/core/elimination.hpp"
+#include "forward/rods/bending_term.hpp"
+#include "forward/rods/stretching_term.hpp"
+#include "forward/rods/twisting_term.hpp"
+#include "forward/solve/newton.hpp"
+#include "problems/rods/rod_vtu.hpp"
+#include "problems/scene.hpp"
+
+namespace tailor {
+
+namespace {
+
+using nlohmann::json;
+
+// The rods' dead loads scaled by the load factor of the current step: E = -factor f . x.
+class ScaledForces final : public EnergyTerm {
+ public:
+  explicit ScaledForces(Vector forces) : forces_(std::move(forces)) {}
+  std::string name() const override { return "rod_loads"; }
+  void evaluate(const Vector& x, const Vector&, const EnergyRequest& request) const override {
+    if (request.value) *request.value -= factor * forces_.dot(x);
+    if (request.gradient) *request.gradient -= factor * forces_;
+  }
+  double factor = 1.0;
+
+ private:
+  Vector forces_;
+};
+
+[[noreturn]] void fail(const std::string& where, const std::string& what) {
+  throw SceneError("rods scene: " + where + ": " + what);
+}
+
+Eigen::Vector3d vec3(const json& j, const std::string& where) {
+  if (!j.is_array() || j.size() != 3) fail(where, "expected an array of 3 numbers");
+  Eigen::Vector3d v;
+  for (int k = 0; k < 3; ++k) {
+    if (!j[static_cast<std::size_t>(k)].is_number()) fail(where, "expected numbers");
+    v[k] = j[static_cast<std::size_t>(k)].get<double>();
+  }
+  return v;
+}
+
+double number(const json& j, const std::string& key, const std::string& where,
+              std::optional<double> fallback = {}) {
+  if (!j.contains(key)) {
+    if (fallback) return *fallback;
+    fail(where, "missing '" + key + "'");
+  }
+  if (!j[key].is_number()) fail(where + "." + key, "expected a number");
+  return j[key].get<double>();
+}
+
+Eigen::MatrixX3d points_of(const json& r, const std::string& where) {
+  if (r.contains("points")) {
+    const json& pts = r["points"];
+    if (!pts.is_array() || pts.size() < 3) fail(where + ".points", "expected at least 3 points");
+    Eigen::MatrixX3d x(static_cast<Eigen::Index>(pts.size()), 3);
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      x.row(static_cast<Eigen::Index>(i)) =
+          vec3(pts[i], where + ".points[" + std::to_string(i) + "]").transpose();
+    return x;
+  }
+  if (r.contains("line")) {
+    const json& l = r["line"];
+    const Eigen::Vector3d a = vec3(l.value("from", json()), where + ".line.from");
+    const Eigen::Vector3d b = vec3(l.value("to", json()), where + ".line.to");
+    const double n = number(l, "vertices", where + ".line");
+    if (n < 3 || n != std::floor(n)) fail(where + ".line.vertices", "expected an integer >= 3");
+    Eigen::MatrixX3d x(static_cast<Eigen::Index>(n), 3);
+    for (int i = 0; i < n; ++i) x.row(i) = (a + (b - a) * (i / (n - 1))).transpose();
+    return x;
+  }
+  fail(where, "needs 'points' or 'line'");
+}
+
+}  // namespace
+
+bool is_rod_scene(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) return false;
+  const json j = json::parse(f, nullptr, false);
+  return j.is_object() && j.contains("rods");
+}
+
+RodSceneSpec parse_rod_scene(const json& scene) {
+  RodSceneSpec spec;
+  if (!scene.contains("rods") || !scene["rods"].is_array() || scene["rods"].empty())
+    fail("rods", "expected a non-empty array of rods");
+  if (scene.contains("gravity")) spec.gravity = vec3(scene["gravity"], "gravity");
+  spec.load_steps = static_cast<int>(number(scene, "load_steps", "scene", 1.0));
+  if (spec.load_steps < 1) fail("load_steps", "must be >= 1");
+  spec.max_newton_iterations = static_cast<int>(number(scene, "max_newton_iterations", "scene", 200.0));
+  for (std::size_t k = 0; k < scene["rods"].size(); ++k) {
+    const json& r = scene["rods"][k];
+    const std::string where = "rods[" + std::to_string(k) + "]";
+    RodSpec rod;
+    rod.name = r.value("name", "rod" + std::to_string(k));
+    rod.points = points_of(r, where);
+    const json cs = r.value("cross_section", json::object());
+    rod.material.section.shape = cross_section_shape_from_string(cs.value("shape", std::string("circle")));
+    rod.material.section.aspect = number(cs, "aspect", where + ".cross_section", 1.0);
+    rod.material.radius = number(cs, "radius", where + ".cross_section");
+    const json mat = r.value("material", json::object());
+    rod.material.youngs_modulus = number(mat, "youngs_modulus", where + ".material");
+    rod.material.shear_modulus =
+        number(mat, "shear_modulus", where + ".material", rod.material.youngs_modulus / (2.0 * 1.3));
+    rod.density = number(mat, "density", where + ".material", 0.0);
+    try {
+      rod.material.validate();
+    } catch (const std::invalid_argument& e) {
+      fail(where, e.what());
+    }
+    for (const auto& c : r.value("clamp", json::array())) {
+      if (c == "first")
+        rod.clamped.push_back(RodEnd::first);
+      else if (c == "last")
+        rod.clamped.push_back(RodEnd::last);
+      else
+        fail(where + ".clamp", "expected \"first\" or \"last\"");
+    }
+    const int nv = static_cast<int>(rod.points.rows());
+    for (const auto& v : r.value("pin", json::array())) {
+      if (!v.is_number_integer() || v.get<int>() < 0 || v.get<int>() >= nv)
+        fail(where + ".pin", "vertex out of range");
+      rod.pinned.push_back(v.get<int>());
+    }
+    for (const auto& l : r.value("point_loads", json::array())) {
+      const int v = static_cast<int>(number(l, "vertex", where + ".point_loads"));
+      if (v < 0 || v >= nv) fail(where + ".point_loads.vertex", "out of range");
+      rod.point_loads.push_back({v, vec3(l.value("force", json()), where + ".point_loads.force")});
+    }
+    for (const auto& m : r.value("twisting_moments", json::array())) {
+      const int e = static_cast<int>(number(m, "edge", where + ".twisting_moments"));
+      if (e < 0 || e >= nv - 1) fail(where + ".twisting_moments.edge", "out of range");
+      rod.twisting_moments.emplace_back(e, number(m, "moment", where + ".twisting_moments"));
+    }
+    spec.rods.push_back(std::move(rod));
+  }
+  return spec;
+}
+
+RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
+  int num_positions = 0, num_twists = 0;
+  for (const auto& r : spec.rods)
+    num_positions += 3 * static_cast<int>(r.points.rows()),
+        num_twists += static_cast<int>(r.points.rows()) - 1;
+  Model model(num_positions + num_twists);
+  std::vector<std::shared_ptr<DiscreteRod>> rods;
+  std::vector<RodOutput> outputs;
+  Vector p, rest = Vector::Zero(model.num_dofs()), forces = Vector::Zero(model.num_dofs());
+  std::vector<int> fixed;
+  int position_offset = 0, twist_offset = num_positions;
+  std::vector<RodParameterBlocks> blocks;
+  for (const auto& r : spec.rods) {
+    auto rod = std::make_shared<DiscreteRod>(r.points, position_offset, twist_offset);
+    position_offset += 3 * rod->num_vertices();
+    twist_offset += rod->num_edges();
+    blocks.push_back(add_rod_parameters(model.parameter_layout(), *rod, r.name));
+    rod->write_rest_state(rest);
+    rods.push_back(rod);
+  }
+  p = Vector::Zero(model.parameter_layout().size());
+  for (std::size_t k = 0; k < rods.size(); ++k) {
+    const RodSpec& r = spec.rods[k];
+    const auto& rod = rods[k];
+    write_rod_parameters(*rod, blocks[k], r.material, p);
+    model.add(std::make_unique<RodStretchingTerm>(rod, r.material.section, blocks[k]));
+    model.add(std::make_unique<RodBendingTerm>(rod, r.material.section, blocks[k]));
+    model.add(std::make_unique<RodTwistingTerm>(rod, r.material.section, blocks[k]));
+    if (r.density > 0.0)
+      add_gravity_forces(*rod,
+                         lumped_vertex_masses(*rod, r.material.section, r.density,
+                                              p.segment(blocks[k].radius, rod->num_edges()),
+                                              p.segment(blocks[k].rest_length, rod->num_edges())),
+                         spec.gravity, forces);
+    for (const auto& l : r.point_loads) add_point_load(*rod, l.vertex, l.force, forces);
+    for (const auto& [edge, moment] : r.twisting_moments) add_twisting_moment(*rod, edge, moment, forces);
+    for (RodEnd end : r.clamped)
+      for (int d : clamped_end_dofs(*rod, end)) fixed.push_back(d);
+    for (int v : r.pinned)
+      for (int d : pinned_vertex_dofs(*rod, v)) fixed.push_back(d);
+    outputs.push_back({rod.get(), blocks[k]});
+  }
+  std::sort(fixed.begin(), fixed.end());
+  fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
+  model.set_elimination(Elimination::dirichlet(fixed, rest));
+  auto& load = model.add(std::make_unique<ScaledForces>(forces));
+
+  RodSimulation result;
+  NewtonOptions options;
+  options.max_iterations = spec.max_newton_iterations;
+  NewtonSolver newton(model, options);
+  Vector y = model.elimination().restrict_state(rest);
+  result.converged = true;
+  // Load steps; the reference frames move to each converged state (time-parallel transport).
+  for (int step = 1; step <= spec.load_steps && result.converged; ++step) {
+    load.factor = static_cast<double>(step) / spec.load_steps;
+    const NewtonResult r = newton.solve(p, y);
+    result.converged = r.converged();
+    result.newton_iterations += r.iterations;
+    result.state = model.state(y, p);
+    for (auto& rod : rods) rod->update_reference_frames(result.state);
+    if (log) *log << "load step " << step << "/" << spec.load_steps << ": " << r.report() << "\n";
+  }
+  std::filesystem::create_directories(out_dir);
+  result.vtu_path = (std::filesystem::path(out_dir) / "rods.vtu").string();
+  write_rods_vtu(result.vtu_path, outputs, result.state, p);
+  if (log) *log << "wrote " << result.vtu_path << "\n";
+  return result;
+}
+
+bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log) {
+  std::ifstream f(path);
+  if (!f) throw SceneError(path + ": cannot open the scene file");
+  json document;
+  try {
+    document = json::parse(f);
+  } catch (const json::exception& e) {
+    throw SceneError(path + ": invalid JSON: " + e.what());
+  }
+  const RodSceneSpec spec = parse_rod_scene(document);
+  return simulate_rods(spec, out_dir, &log).converged;
+}
+
+}  // namespace tailor

@@ -43,6 +43,9 @@ class StaticFunctional final : public ReducedFunctional {
                    Vector rest_y, StaticFunctionalOptions options = {});
 
   int size() const override { return parameterization_->num_design(); }
+  // The forward solves' settings (e.g. a tighter tolerance for a gradient check; they apply
+  // from the next new z on).
+  NewtonOptions& newton_options() { return newton_.options(); }
   double value(const Vector& z) override;
   double value_and_gradient(const Vector& z, Vector& gradient) override;
 

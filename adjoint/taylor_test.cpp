@@ -47,31 +47,39 @@ Vector random_direction(const Vector& z, const TaylorTestOptions& options) {
 }
 
 // One evaluation at step h: (J(z + h dz), r0(h), r1(h)).
-using Remainders = std::function<std::array<double, 3>(double)>;
+// The fourth entry is the magnitude of what was evaluated (|J(z + h dz)| or ||g(z + h dz)||):
+// the noise floor grows with it (round-off of large values far from z).
+using Remainders = std::function<std::array<double, 4>(double)>;
 
 double rate_between(const TaylorRow& a, const TaylorRow& b, double TaylorRow::*remainder) {
   return std::log(a.*remainder / b.*remainder) / std::log(a.step / b.step);
 }
 
 // The search and the verdict described in taylor_test.hpp. `slope` is |first-order term| per
-// unit step (|dJ.dz| or ||H dz||), `noise` the evaluation noise floor of the remainders.
+// unit step (|dJ.dz| or ||H dz||), `noise` the evaluation noise floor of the remainders at z
+// (fixed when options.noise_floor is set, else grown with the evaluated magnitude).
 void judge(TaylorTestResult& result, const TaylorTestOptions& options, double slope, double noise,
            const Remainders& remainders) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const int halvings = std::max(options.halvings, 4);
   const double fraction = options.asymptotic_fraction;
   // r1 falls 4x per halving: to stay 10x above the noise for three halvings it starts >= 640x.
-  const double resolvable = 10.0 * noise * 64.0;
+  constexpr double kResolvable = 10.0 * 64.0;
+  // Steps are relative to dz, which is scaled like z: beyond h = 1 the test would leave z's scale.
+  const double max_step = std::max(1.0, options.initial_step);
   auto evaluate = [&](double h, bool judged) {
-    const auto [value, r0, r1] = remainders(h);
-    result.rows.push_back(TaylorRow{h, value, r0, r1, nan, nan, r1 <= 10.0 * noise, judged});
+    const auto [value, r0, r1, magnitude] = remainders(h);
+    const double row_noise = options.noise_floor > 0.0
+                                 ? noise
+                                 : std::max(noise, 1e3 * std::numeric_limits<double>::epsilon() * magnitude);
+    result.rows.push_back(TaylorRow{h, value, r0, r1, nan, nan, r1 <= 10.0 * row_noise, row_noise, judged});
     return result.rows.back();  // a copy: later pushes may move the rows
   };
   std::ostringstream msg;
-  if (slope * options.initial_step <= 10.0 * noise) {
+  if (slope * max_step <= 10.0 * noise) {
     result.status = TaylorStatus::vanishing;
-    msg << "the directional derivative vanishes (first-order term " << slope * options.initial_step
-        << " at h0 is at the noise floor " << noise << "): nothing was tested; choose another point or direction";
+    msg << "the directional derivative vanishes (first-order term " << slope * max_step << " at h = " << max_step
+        << " is at the noise floor " << noise << "): nothing was tested; choose another point or direction";
     result.message = msg.str();
     return;
   }
@@ -85,7 +93,7 @@ void judge(TaylorTestResult& result, const TaylorTestOptions& options, double sl
     const TaylorRow row = evaluate(h, false);
     const double t = slope * h;
     const bool asymptotic = row.remainder1 <= fraction * t;
-    if (asymptotic && row.remainder1 >= resolvable) {
+    if (asymptotic && row.remainder1 >= kResolvable * row.noise) {
       found = true;
       result.rows.back().judged = true;  // the first of the judged rows
       break;
@@ -95,14 +103,17 @@ void judge(TaylorTestResult& result, const TaylorTestOptions& options, double sl
     else
       smallest_too_large = std::min(smallest_too_large, h);
     if (largest_too_small > 0.0 && std::isfinite(smallest_too_large)) {
-      if (smallest_too_large < 2.0 * largest_too_small) break;  // no window between the two
+      if (smallest_too_large < 1.2 * largest_too_small) break;  // no window between the two
       h = std::sqrt(smallest_too_large * largest_too_small);
     } else if (!asymptotic) {
       // For a right gradient r1 / t ~ h: jump to a quarter of the allowed fraction.
       h *= std::clamp(0.25 * fraction * t / row.remainder1, 1e-3, 0.5);
     } else {
-      // r1 ~ h^2: grow to four times the resolvable level.
-      h *= row.remainder1 > 0.0 ? std::clamp(std::sqrt(4.0 * resolvable / row.remainder1), 2.0, 1e3) : 1e3;
+      // r1 ~ h^2: grow to four times the resolvable level, but not beyond z's scale.
+      if (h >= max_step) break;
+      const double needed = 4.0 * kResolvable * row.noise;
+      h = std::min(max_step, h * (row.remainder1 > 0.0 ? std::clamp(std::sqrt(needed / row.remainder1), 2.0, 1e3)
+                                                       : 1e3));
     }
   }
   if (!found) {
@@ -125,7 +136,7 @@ void judge(TaylorTestResult& result, const TaylorTestOptions& options, double sl
           << "): the derivative is wrong";
     } else if (largest_too_small == 0.0 && !std::isfinite(smallest_too_large)) {
       result.status = TaylorStatus::round_off;
-      msg << "no step gave a remainder above the noise floor " << noise;
+      msg << "no step gave a remainder above the noise floor " << noise << " (up to h = " << max_step << ")";
     } else if (!std::isfinite(smallest_too_large)) {
       result.status = TaylorStatus::round_off;
       msg << "the second-order remainder stayed within 640x of the noise floor " << noise
@@ -148,7 +159,7 @@ void judge(TaylorTestResult& result, const TaylorTestOptions& options, double sl
     h *= 0.5;
     const TaylorRow prev = result.rows.back();
     TaylorRow& row = (evaluate(h, true), result.rows.back());
-    if (row.remainder0 > 10.0 * noise && prev.remainder0 > 10.0 * noise) {
+    if (row.remainder0 > 10.0 * row.noise && prev.remainder0 > 10.0 * prev.noise) {
       row.rate0 = std::log2(prev.remainder0 / row.remainder0);
       rates0.push_back(row.rate0);
     }
@@ -194,8 +205,9 @@ TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z, con
                              : 1e3 * std::numeric_limits<double>::epsilon() * std::max(std::abs(result.value), 1e-300);
     judge(result, options, std::abs(result.directional_derivative), noise, [&](double h) {
       const double value = functional.value(z + h * dz);
-      return std::array<double, 3>{value, std::abs(value - result.value),
-                                   std::abs(value - result.value - h * result.directional_derivative)};
+      return std::array<double, 4>{value, std::abs(value - result.value),
+                                   std::abs(value - result.value - h * result.directional_derivative),
+                                   std::abs(value)};
     });
   } catch (const std::exception& e) {
     result.status = TaylorStatus::evaluation_failed;
@@ -220,7 +232,7 @@ TaylorTestResult taylor_test_hessian(ReducedFunctional& functional, const Vector
     judge(result, options, hv.norm(), noise, [&](double h) {
       Vector g;
       const double value = functional.value_and_gradient(z + h * dz, g);
-      return std::array<double, 3>{value, (g - gradient).norm(), (g - gradient - h * hv).norm()};
+      return std::array<double, 4>{value, (g - gradient).norm(), (g - gradient - h * hv).norm(), g.norm()};
     });
   } catch (const std::exception& e) {
     result.status = TaylorStatus::evaluation_failed;

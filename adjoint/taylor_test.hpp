@@ -48,6 +48,7 @@ struct TaylorRow {
   double remainder0, remainder1;
   double rate0, rate1;  // NaN for the first row and for rows next to round-off
   bool round_off;       // remainder1 is at the noise floor
+  double noise;         // the noise floor of this row's remainders
   bool judged;          // one of the rows the verdict rests on (false: a search row)
 };
 

@@ -21,6 +21,7 @@ Json taylor_json(const TaylorTestResult& result) {
                     {"rate0", finite_or_null(r.rate0)},
                     {"rate1", finite_or_null(r.rate1)},
                     {"round_off", r.round_off},
+                    {"noise", r.noise},
                     {"judged", r.judged}});
   return {{"status", to_string(result.status)},
           {"message", result.message},

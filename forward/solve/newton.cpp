@@ -194,6 +194,18 @@ std::string NewtonSolver::factorized_step(const Vector& p, const Vector& y, cons
   FactorizationResult fact = cholesky_.factorize(hessian_);
   ++it.factorizations;
   it.factorization_seconds = seconds_since(t0);
+  if (mode == HessianMode::exact && !fact.positive_definite && model_.hessian_is_constant()) {
+    // A constant Hessian of our terms is positive semidefinite by construction, and definite
+    // once the supports hold the body: a failed Cholesky means it is singular or beyond double
+    // precision. Shifting it would only creep towards a wrong answer.
+    ill_conditioned_ = true;
+    std::ostringstream why;
+    why << std::scientific << std::setprecision(1)
+        << "the stiffness matrix is not positive definite in double precision although every term is quadratic: "
+           "it is singular (a free motion) or too ill-conditioned (condition number at least "
+        << condition_hint_ << "; a contrast of moduli?)";
+    return why.str();
+  }
   if (choice.projected_left > 0) --choice.projected_left;
   if (mode == HessianMode::exact && fact.positive_definite) choice.projected_backoff = 1;
   if (options_.hessian == NewtonHessian::adaptive && mode == HessianMode::exact && !fact.positive_definite) {
@@ -380,8 +392,11 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
           can_precondition())
         it.reused_factorization = kept_factor_step(gradient, residual, scale, target, it, dy);
       if (!it.reused_factorization) {
+        condition_hint_ = result.condition_estimate;
+        ill_conditioned_ = false;
         const std::string error = factorized_step(p, y, gradient, mode, choice, low_rank, it, dy);
-        if (!error.empty()) return finish(NewtonStatus::singular_matrix, error);
+        if (!error.empty())
+          return finish(ill_conditioned_ ? NewtonStatus::ill_conditioned : NewtonStatus::singular_matrix, error);
       }
     }
 

@@ -196,6 +196,10 @@ class NewtonSolver {
   bool constant_factor_ = false;
   Vector constant_p_;
   std::vector<std::uint64_t> constant_revisions_;
+  // factorized_step's report that a constant Hessian failed to factorize, and the condition
+  // estimate it quotes.
+  bool ill_conditioned_ = false;
+  double condition_hint_ = 0.0;
 };
 
 }  // namespace tailor

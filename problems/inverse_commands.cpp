@@ -97,7 +97,10 @@ GradcheckRun gradcheck_scene(const Scene& scene, const std::string& out_dir,
   }
   // J(z + h dz) is only as accurate as the equilibrium; the Taylor test resolves remainders
   // down to its round-off, so solve to the floor (Newton stops there, round_off_floor).
-  problem->functional->newton_options().relative_tolerance = 1e-14;
+  NewtonOptions& newton = problem->functional->newton_options();
+  const double tighter = 1e-14 / newton.relative_tolerance;
+  newton.relative_tolerance *= tighter;
+  newton.absolute_tolerance *= tighter;
   run.gradient = taylor_test(*problem->functional, problem->z0, options);
   if (log) *log << run.gradient.table();
   if (settings.hessian) {

@@ -344,7 +344,11 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     if (residual <= target) return finish(NewtonStatus::converged, "residual below tolerance");
     if (mode == HessianMode::exact && result.residual_floor == 0.0)
       std::tie(result.residual_floor, result.condition_estimate) = round_off_estimates(model_.state(y, p));
-    const double accurate = std::sqrt(options_.relative_tolerance) * scale;  // what a floor must be below
+    // What a floor must be below to count as converged: sqrt(relative tolerance) of the load
+    // scale, which an absolute tolerance implies too (absolute / relative, e.g. when a warm start
+    // from a ramped equilibrium makes ||g_0|| tiny).
+    const double load_scale = std::max(scale, options_.absolute_tolerance / options_.relative_tolerance);
+    const double accurate = std::sqrt(options_.relative_tolerance) * load_scale;
     std::ostringstream why;
     why << std::scientific << std::setprecision(2);
     if (k == 0 && residual <= result.residual_floor) {

@@ -16,7 +16,8 @@
 // Newton stops with status round_off_floor (which counts as converged) when the residual is
 // below that estimate at the start (a state at equilibrium to round-off), or later when it is
 // below the estimate or a full step of an exact factorization did not halve it, provided it is
-// below sqrt(relative_tolerance) * scale (quadratic convergence has stopped at the floor).
+// below sqrt(relative_tolerance) * scale (quadratic convergence has stopped at the floor); the
+// scale is the larger of the initial residual and absolute_tolerance / relative_tolerance.
 // When the floor is above that level, the matrix is too ill-conditioned for double precision
 // (e.g. a contrast of moduli of 1e15): status ill_conditioned (not converged), with the floor
 // and a condition estimate (the ratio of the Hessian's largest to smallest diagonal entry, a

@@ -110,7 +110,11 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     rod.name = r.value("name", "rod" + std::to_string(k));
     rod.points = points_of(r, where);
     const json cs = r.value("cross_section", json::object());
-    rod.material.section.shape = cross_section_shape_from_string(cs.value("shape", std::string("circle")));
+    try {
+      rod.material.section.shape = cross_section_shape_from_string(cs.value("shape", std::string("circle")));
+    } catch (const std::invalid_argument& e) {
+      fail(where + ".cross_section.shape", e.what());
+    }
     rod.material.section.aspect = number(cs, "aspect", where + ".cross_section", 1.0);
     rod.material.radius = number(cs, "radius", where + ".cross_section");
     const json mat = r.value("material", json::object());

@@ -9,4 +9,13 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 bash scripts/configure.sh
 cmake --build build -j"$(nproc)"
-build/bin/tailor run scenes/cantilever_handle.json --out out/quickstart
+# Exit code 1 means the optimizer stopped before its convergence test (here: its 400-iteration
+# limit, with the handle's force and displacement within 0.3% of their targets); the results
+# are written either way. Bad input (2) or a crash still fails the script.
+status=0
+build/bin/tailor run scenes/cantilever_handle.json --out out/quickstart || status=$?
+if ((status == 1)); then
+  echo "quickstart: the optimizer stopped at its iteration limit; the design and report are in out/quickstart"
+elif ((status != 0)); then
+  exit "${status}"
+fi

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <array>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <random>
@@ -22,12 +22,18 @@ double median(std::vector<double> v) {
 
 std::string to_string(TaylorStatus status) {
   switch (status) {
-    case TaylorStatus::passed: return "passed";
-    case TaylorStatus::failed: return "failed";
-    case TaylorStatus::not_asymptotic: return "not_asymptotic";
-    case TaylorStatus::round_off: return "round_off";
-    case TaylorStatus::vanishing: return "vanishing";
-    case TaylorStatus::evaluation_failed: return "evaluation_failed";
+    case TaylorStatus::passed:
+      return "passed";
+    case TaylorStatus::failed:
+      return "failed";
+    case TaylorStatus::not_asymptotic:
+      return "not_asymptotic";
+    case TaylorStatus::round_off:
+      return "round_off";
+    case TaylorStatus::vanishing:
+      return "vanishing";
+    case TaylorStatus::evaluation_failed:
+      return "evaluation_failed";
   }
   return "unknown";
 }
@@ -36,13 +42,15 @@ namespace {
 
 Vector random_direction(const Vector& z, const TaylorTestOptions& options) {
   if (options.direction.size() > 0) {
-    if (options.direction.size() != z.size()) throw std::invalid_argument("taylor_test: direction has the wrong size");
+    if (options.direction.size() != z.size())
+      throw std::invalid_argument("taylor_test: direction has the wrong size");
     return options.direction;
   }
   std::mt19937 rng(options.seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Vector dz(z.size());
-  for (Eigen::Index i = 0; i < z.size(); ++i) dz[i] = u(rng) * std::max(std::abs(z[i]), options.direction_floor);
+  for (Eigen::Index i = 0; i < z.size(); ++i)
+    dz[i] = u(rng) * std::max(std::abs(z[i]), options.direction_floor);
   return dz;
 }
 
@@ -78,8 +86,9 @@ void judge(TaylorTestResult& result, const TaylorTestOptions& options, double sl
   std::ostringstream msg;
   if (slope * max_step <= 10.0 * noise) {
     result.status = TaylorStatus::vanishing;
-    msg << "the directional derivative vanishes (first-order term " << slope * max_step << " at h = " << max_step
-        << " is at the noise floor " << noise << "): nothing was tested; choose another point or direction";
+    msg << "the directional derivative vanishes (first-order term " << slope * max_step
+        << " at h = " << max_step << " is at the noise floor " << noise
+        << "): nothing was tested; choose another point or direction";
     result.message = msg.str();
     return;
   }
@@ -112,8 +121,9 @@ void judge(TaylorTestResult& result, const TaylorTestOptions& options, double sl
       // r1 ~ h^2: grow to four times the resolvable level, but not beyond z's scale.
       if (h >= max_step) break;
       const double needed = 4.0 * kResolvable * row.noise;
-      h = std::min(max_step, h * (row.remainder1 > 0.0 ? std::clamp(std::sqrt(needed / row.remainder1), 2.0, 1e3)
-                                                       : 1e3));
+      h = std::min(
+          max_step,
+          h * (row.remainder1 > 0.0 ? std::clamp(std::sqrt(needed / row.remainder1), 2.0, 1e3) : 1e3));
     }
   }
   if (!found) {
@@ -123,7 +133,8 @@ void judge(TaylorTestResult& result, const TaylorTestOptions& options, double sl
     std::vector<TaylorRow> informative;
     for (const TaylorRow& r : result.rows)
       if (!r.round_off && r.remainder1 > fraction * slope * r.step) informative.push_back(r);
-    std::sort(informative.begin(), informative.end(), [](const auto& a, const auto& b) { return a.step > b.step; });
+    std::sort(informative.begin(), informative.end(),
+              [](const auto& a, const auto& b) { return a.step > b.step; });
     for (std::size_t k = 1; k < informative.size(); ++k)
       if (informative[k - 1].step > 1.5 * informative[k].step)
         rates.push_back(rate_between(informative[k - 1], informative[k], &TaylorRow::remainder1));
@@ -132,8 +143,8 @@ void judge(TaylorTestResult& result, const TaylorTestOptions& options, double sl
       result.status = TaylorStatus::failed;
       msg << "the remainder stays a fixed fraction (about " << std::setprecision(2)
           << informative.back().remainder1 / (slope * informative.back().step)
-          << ") of the first-order term as h shrinks (rate " << std::fixed << std::setprecision(2) << result.rate1
-          << "): the derivative is wrong";
+          << ") of the first-order term as h shrinks (rate " << std::fixed << std::setprecision(2)
+          << result.rate1 << "): the derivative is wrong";
     } else if (largest_too_small == 0.0 && !std::isfinite(smallest_too_large)) {
       result.status = TaylorStatus::round_off;
       msg << "no step gave a remainder above the noise floor " << noise << " (up to h = " << max_step << ")";
@@ -145,8 +156,8 @@ void judge(TaylorTestResult& result, const TaylorTestOptions& options, double sl
     } else {
       result.status = TaylorStatus::not_asymptotic;
       msg << "no step is both asymptotic (remainder <= " << fraction << " x first-order term, needs h < "
-          << smallest_too_large << ") and above the noise floor " << noise
-          << " (needs h > " << largest_too_small << "): tighten the forward solve or scale the design";
+          << smallest_too_large << ") and above the noise floor " << noise << " (needs h > "
+          << largest_too_small << "): tighten the forward solve or scale the design";
     }
     result.message = msg.str();
     return;
@@ -173,26 +184,29 @@ void judge(TaylorTestResult& result, const TaylorTestOptions& options, double sl
   msg << std::fixed << std::setprecision(2);
   if (rates1.size() < 3) {
     result.status = TaylorStatus::not_asymptotic;
-    msg << "only " << rates1.size() << " rates above the noise floor from h = " << std::scientific << result.step
-        << ": tighten the forward solve";
+    msg << "only " << rates1.size() << " rates above the noise floor from h = " << std::scientific
+        << result.step << ": tighten the forward solve";
   } else if (!(std::abs(result.rate0 - 1.0) <= options.first_rate_tolerance)) {
     result.status = TaylorStatus::not_asymptotic;
-    msg << "the first-order difference falls at rate " << result.rate0 << ", not 1: not in the asymptotic regime";
+    msg << "the first-order difference falls at rate " << result.rate0
+        << ", not 1: not in the asymptotic regime";
   } else if (result.rate1 >= options.min_rate) {
     result.status = TaylorStatus::passed;
-    msg << "first-order difference at rate " << result.rate0 << ", second-order remainder at rate " << result.rate1
-        << " from h = " << std::scientific << std::setprecision(2) << result.step;
+    msg << "first-order difference at rate " << result.rate0 << ", second-order remainder at rate "
+        << result.rate1 << " from h = " << std::scientific << std::setprecision(2) << result.step;
   } else {
     result.status = TaylorStatus::failed;
     msg << "second-order remainder converges at rate " << result.rate1 << " < " << options.min_rate
-        << " (first-order rate " << result.rate0 << "): the derivative is wrong (or the functional is not smooth here)";
+        << " (first-order rate " << result.rate0
+        << "): the derivative is wrong (or the functional is not smooth here)";
   }
   result.message = msg.str();
 }
 
 }  // namespace
 
-TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z, const TaylorTestOptions& options) {
+TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z,
+                             const TaylorTestOptions& options) {
   TaylorTestResult result;
   try {
     result.direction = random_direction(z, options);
@@ -200,9 +214,9 @@ TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z, con
     Vector gradient;
     result.value = functional.value_and_gradient(z, gradient);
     result.directional_derivative = gradient.dot(dz);
-    const double noise = options.noise_floor > 0.0
-                             ? options.noise_floor
-                             : 1e3 * std::numeric_limits<double>::epsilon() * std::max(std::abs(result.value), 1e-300);
+    const double noise = options.noise_floor > 0.0 ? options.noise_floor
+                                                   : 1e3 * std::numeric_limits<double>::epsilon() *
+                                                         std::max(std::abs(result.value), 1e-300);
     judge(result, options, std::abs(result.directional_derivative), noise, [&](double h) {
       const double value = functional.value(z + h * dz);
       return std::array<double, 4>{value, std::abs(value - result.value),
@@ -216,19 +230,21 @@ TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z, con
   return result;
 }
 
-TaylorTestResult taylor_test_hessian(ReducedFunctional& functional, const Vector& z, const TaylorTestOptions& options) {
+TaylorTestResult taylor_test_hessian(ReducedFunctional& functional, const Vector& z,
+                                     const TaylorTestOptions& options) {
   TaylorTestResult result;
   try {
-    if (!functional.has_hessian_vector()) throw std::logic_error("the functional offers no Hessian-vector products");
+    if (!functional.has_hessian_vector())
+      throw std::logic_error("the functional offers no Hessian-vector products");
     result.direction = random_direction(z, options);
     const Vector& dz = result.direction;
     Vector gradient;
     result.value = functional.value_and_gradient(z, gradient);
     const Vector hv = functional.hessian_vector(z, dz);
     result.directional_derivative = hv.norm();
-    const double noise = options.noise_floor > 0.0
-                             ? options.noise_floor
-                             : 1e3 * std::numeric_limits<double>::epsilon() * std::max(gradient.norm(), 1e-300);
+    const double noise = options.noise_floor > 0.0 ? options.noise_floor
+                                                   : 1e3 * std::numeric_limits<double>::epsilon() *
+                                                         std::max(gradient.norm(), 1e-300);
     judge(result, options, hv.norm(), noise, [&](double h) {
       Vector g;
       const double value = functional.value_and_gradient(z + h * dz, g);
@@ -243,7 +259,8 @@ TaylorTestResult taylor_test_hessian(ReducedFunctional& functional, const Vector
 
 std::string TaylorTestResult::table() const {
   std::ostringstream s;
-  s << "Taylor test: J = " << std::setprecision(10) << value << ", dJ.dz = " << directional_derivative << "\n";
+  s << "Taylor test: J = " << std::setprecision(10) << value << ", dJ.dz = " << directional_derivative
+    << "\n";
   s << "        h          |J(z+h dz)-J(z)|   rate   |J(z+h dz)-J(z)-h dJ.dz|   rate\n";
   for (const auto& r : rows) {
     auto rate = [](double v) {
@@ -255,8 +272,8 @@ std::string TaylorTestResult::table() const {
       return t.str();
     };
     s << "  " << std::scientific << std::setprecision(3) << std::setw(10) << r.step << "   " << std::setw(14)
-      << r.remainder0 << "   " << rate(r.rate0) << "   " << std::setw(20) << r.remainder1 << "   " << rate(r.rate1)
-      << (r.round_off ? "  (round-off)" : "") << (r.judged ? "" : "  (search)") << "\n";
+      << r.remainder0 << "   " << rate(r.rate0) << "   " << std::setw(20) << r.remainder1 << "   "
+      << rate(r.rate1) << (r.round_off ? "  (round-off)" : "") << (r.judged ? "" : "  (search)") << "\n";
   }
   s << to_string(status) << ": " << message << "\n";
   return s.str();

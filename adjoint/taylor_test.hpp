@@ -30,16 +30,17 @@ namespace tailor {
 
 struct TaylorTestOptions {
   unsigned seed = 1;
-  int halvings = 5;             // at least 4, in the judged rows
-  double initial_step = 1e-2;   // where the search starts; the direction has entries u_i * max(|z_i|, direction_floor)
+  int halvings = 5;  // at least 4, in the judged rows
+  double initial_step =
+      1e-2;  // where the search starts; the direction has entries u_i * max(|z_i|, direction_floor)
   double direction_floor = 1e-2;
-  double min_rate = 1.9;        // on the second-order remainder
+  double min_rate = 1.9;              // on the second-order remainder
   double asymptotic_fraction = 0.1;   // r1 <= this * t(h) at the judged step
   double first_rate_tolerance = 0.1;  // |median first-order rate - 1| allowed
   int max_search_steps = 12;          // evaluations spent on finding the step
   // Absolute noise floor of J evaluations; 0 = estimate as 1e3 * eps * |J(z)|.
   double noise_floor = 0.0;
-  Vector direction;             // optional: use this dz instead of a random one
+  Vector direction;  // optional: use this dz instead of a random one
 };
 
 struct TaylorRow {
@@ -68,7 +69,8 @@ struct TaylorTestResult {
   std::string table() const;
 };
 
-TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z, const TaylorTestOptions& options = {});
+TaylorTestResult taylor_test(ReducedFunctional& functional, const Vector& z,
+                             const TaylorTestOptions& options = {});
 
 // The same test one order up, for Hessian-vector products: with g the gradient,
 //   r0(h) = ||g(z + h dz) - g(z)||,   r1(h) = ||g(z + h dz) - g(z) - h H dz||   (rate ~2).

@@ -63,7 +63,8 @@ std::pair<double, double> factor_and_solve(const SparseMatrix& upper, int repeat
   const Vector rhs = Vector::Ones(upper.rows());
   for (int r = 0; r < repeats; ++r) {
     auto t0 = Clock::now();
-    if (!cholesky.factorize(upper).positive_definite) throw std::runtime_error("bench matrix is not positive definite");
+    if (!cholesky.factorize(upper).positive_definite)
+      throw std::runtime_error("bench matrix is not positive definite");
     factor.push_back(seconds_since(t0));
     t0 = Clock::now();
     const Vector x = cholesky.solve(rhs);
@@ -90,11 +91,13 @@ InverseFigures inverse_problem(const bench::LoadedBlock& block, const Config& co
   const int m = block.mesh.num_elements();
   Matrix targets(block.top_vertices.size(), 3);
   for (std::size_t k = 0; k < block.top_vertices.size(); ++k)
-    targets.row(k) = block.mesh.rest_positions.row(block.top_vertices[k]) + Eigen::RowVector3d(0.02, 0.0, -0.03);
+    targets.row(k) =
+        block.mesh.rest_positions.row(block.top_vertices[k]) + Eigen::RowVector3d(0.02, 0.0, -0.03);
   StaticFunctionalOptions options;
   options.newton.keep_constant_factorization = config.keep_constant;
   StaticFunctional f(*block.model, embed_blocks(block.parameters, {{0, exp_map(m)}}),
-                     std::make_shared<TargetPositions>(3, block.top_vertices, targets), block.rest_unknowns(), options);
+                     std::make_shared<TargetPositions>(3, block.top_vertices, targets), block.rest_unknowns(),
+                     options);
   const Vector z0 = block.parameters.head(m).array().log().matrix();
   Vector g;
   f.value_and_gradient(z0, g);  // symbolic analysis and first touch, not timed
@@ -106,7 +109,8 @@ InverseFigures inverse_problem(const bench::LoadedBlock& block, const Config& co
     const auto t0 = Clock::now();
     f.value_and_gradient(z, g);
     times.push_back(seconds_since(t0));
-    factorizations += f.last_newton().factorizations() + (f.last_hessian_solve() == HessianSolve::fresh_factorization);
+    factorizations +=
+        f.last_newton().factorizations() + (f.last_hessian_solve() == HessianSolve::fresh_factorization);
   }
   out.forward_gradient = median(times);
   out.factorizations = static_cast<double>(factorizations) / repeats;
@@ -125,9 +129,10 @@ DynamicsFigures linear_dynamics(int target_tets, int steps, const Config& config
   use(config);
   DynamicTerms terms;
   const bench::Cantilever bar = bench::make_cantilever(
-      4.0, bench::cantilever_cells(target_tets, 4.0), MaterialKind::linear, [&](Model& model, const Mesh& mesh) {
-        terms = add_dynamics_terms(model, mesh,
-                                   DynamicsSetup{MassLumping::consistent, Eigen::Vector3d(0, 0, -9.81), true});
+      4.0, bench::cantilever_cells(target_tets, 4.0), MaterialKind::linear,
+      [&](Model& model, const Mesh& mesh) {
+        terms = add_dynamics_terms(
+            model, mesh, DynamicsSetup{MassLumping::consistent, Eigen::Vector3d(0, 0, -9.81), true});
       });
   const int m = bar.mesh.num_elements();
   Vector p = bench::cantilever_parameters(bar, 1e6, 0.3);
@@ -185,16 +190,23 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
       const std::string arg = argv[i];
       const bool value = i + 1 < argc;
-      if (arg == "--sizes" && value) sizes = parse_sizes(argv[++i]);
-      else if (arg == "--steps" && value) steps = std::stoi(argv[++i]);
-      else if (arg == "--repeats" && value) repeats = std::stoi(argv[++i]);
-      else if (arg == "--out" && value) out = argv[++i];
-      else throw std::invalid_argument("unknown argument '" + arg + "'");
+      if (arg == "--sizes" && value)
+        sizes = parse_sizes(argv[++i]);
+      else if (arg == "--steps" && value)
+        steps = std::stoi(argv[++i]);
+      else if (arg == "--repeats" && value)
+        repeats = std::stoi(argv[++i]);
+      else if (arg == "--out" && value)
+        out = argv[++i];
+      else
+        throw std::invalid_argument("unknown argument '" + arg + "'");
     }
-    if (sizes.empty() || steps < 1 || repeats < 1) throw std::invalid_argument("sizes, steps and repeats must be positive");
+    if (sizes.empty() || steps < 1 || repeats < 1)
+      throw std::invalid_argument("sizes, steps and repeats must be positive");
   } catch (const std::exception& e) {
-    std::cerr << "solver_defaults_bench: " << e.what()
-              << "\nusage: solver_defaults_bench [--sizes 6000,47000] [--steps 20] [--repeats 5] [--out FILE]\n";
+    std::cerr
+        << "solver_defaults_bench: " << e.what()
+        << "\nusage: solver_defaults_bench [--sizes 6000,47000] [--steps 20] [--repeats 5] [--out FILE]\n";
     return 2;
   }
 
@@ -221,9 +233,10 @@ int main(int argc, char** argv) {
       trajectory[k] = dynamics.final_state;
       const double dynamics_ratio = dynamics.step / (dynamics.factor + dynamics.solve);
       const double newton_ratio = iteration / (factor + solve);
-      std::printf("%7d | %-6s %9.4f %9.4f | %11.4f %7.1f | %9.4f %7.2f %7.2f | %8.2f\n", linear.mesh.num_elements(),
-                  config->name, factor, solve, inverse.forward_gradient, inverse.factorizations, dynamics.step,
-                  dynamics.factorizations_per_step, dynamics_ratio, newton_ratio);
+      std::printf("%7d | %-6s %9.4f %9.4f | %11.4f %7.1f | %9.4f %7.2f %7.2f | %8.2f\n",
+                  linear.mesh.num_elements(), config->name, factor, solve, inverse.forward_gradient,
+                  inverse.factorizations, dynamics.step, dynamics.factorizations_per_step, dynamics_ratio,
+                  newton_ratio);
       rows.push_back({{"tets", linear.mesh.num_elements()},
                       {"config", config->name},
                       {"factorization_seconds", factor},

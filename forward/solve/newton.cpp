@@ -117,7 +117,8 @@ void NewtonSolver::apply_low_rank(const LowRankHessian& low_rank) {
 
 bool NewtonSolver::constant_factor_matches(const Vector& p) const {
   return constant_factor_ && options_.keep_constant_factorization && cholesky_.has_factor() &&
-         constant_p_.size() == p.size() && constant_p_ == p && constant_revisions_ == model_.hessian_revisions();
+         constant_p_.size() == p.size() && constant_p_ == p &&
+         constant_revisions_ == model_.hessian_revisions();
 }
 
 void NewtonSolver::remember_constant_factor(const Vector& p) {
@@ -157,8 +158,9 @@ std::pair<double, double> NewtonSolver::round_off_estimates(const Vector& x) con
     }
   const double h_norm = row_sums.size() ? row_sums.maxCoeff() : 0.0;
   const double floor = std::numeric_limits<double>::epsilon() * h_norm * (1.0 + x.lpNorm<Eigen::Infinity>());
-  const double condition = min_diagonal > 0.0 && std::isfinite(min_diagonal) ? max_diagonal / min_diagonal
-                                                                              : std::numeric_limits<double>::infinity();
+  const double condition = min_diagonal > 0.0 && std::isfinite(min_diagonal)
+                               ? max_diagonal / min_diagonal
+                               : std::numeric_limits<double>::infinity();
   return {floor, condition};
 }
 
@@ -185,8 +187,8 @@ bool NewtonSolver::kept_factor_step(const Vector& gradient, double residual, dou
 }
 
 std::string NewtonSolver::factorized_step(const Vector& p, const Vector& y, const Vector& gradient,
-                                          HessianMode& mode, HessianChoice& choice, const LowRankHessian& low_rank,
-                                          NewtonIteration& it, Vector& dy) {
+                                          HessianMode& mode, HessianChoice& choice,
+                                          const LowRankHessian& low_rank, NewtonIteration& it, Vector& dy) {
   auto t0 = Clock::now();
   factor_is_exact_ = false;  // until a factorization below is known to be of the exact Hessian
   constant_factor_ = false;
@@ -201,7 +203,8 @@ std::string NewtonSolver::factorized_step(const Vector& p, const Vector& y, cons
     ill_conditioned_ = true;
     std::ostringstream why;
     why << std::scientific << std::setprecision(1)
-        << "the stiffness matrix is not positive definite in double precision although every term is quadratic: "
+        << "the stiffness matrix is not positive definite in double precision although every term is "
+           "quadratic: "
            "it is singular (a free motion) or too ill-conditioned (condition number at least "
         << condition_hint_ << "; a contrast of moduli?)";
     return why.str();
@@ -233,10 +236,12 @@ std::string NewtonSolver::factorized_step(const Vector& p, const Vector& y, cons
       it.solve_seconds += seconds_since(t0);
       if (dy.allFinite() && dy.dot(gradient) < 0.0) break;
     }
-    if (attempt == 30) return "no descent direction at iteration " + std::to_string(it.iteration) + ": " + fact.message;
+    if (attempt == 30)
+      return "no descent direction at iteration " + std::to_string(it.iteration) + ": " + fact.message;
     // Levenberg-style diagonal shift, relative to the largest diagonal entry.
     double max_diag = 0.0;
-    for (int j = 0; j < hessian_.outerSize(); ++j) max_diag = std::max(max_diag, std::abs(hessian_.coeff(j, j)));
+    for (int j = 0; j < hessian_.outerSize(); ++j)
+      max_diag = std::max(max_diag, std::abs(hessian_.coeff(j, j)));
     const double next = shift == 0.0 ? 1e-8 * std::max(max_diag, 1e-300) : 10.0 * shift;
     for (int j = 0; j < hessian_.outerSize(); ++j) hessian_.coeffRef(j, j) += next - shift;
     shift = next;
@@ -252,8 +257,8 @@ std::string NewtonSolver::factorized_step(const Vector& p, const Vector& y, cons
   return {};
 }
 
-bool NewtonSolver::line_search(const Vector& p, Vector& y, const Vector& dy, double energy, const Vector& gradient,
-                               double residual, NewtonIteration& it) {
+bool NewtonSolver::line_search(const Vector& p, Vector& y, const Vector& dy, double energy,
+                               const Vector& gradient, double residual, NewtonIteration& it) {
   const auto t0 = Clock::now();
   const Vector dx = model_.elimination().expand_direction(dy);
   double alpha = std::min(1.0, model_.max_step(model_.state(y, p), dx));
@@ -337,7 +342,8 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     result.final_energy = energy;
     result.iterations = k;
     if (!std::isfinite(energy) || !std::isfinite(residual))
-      return finish(NewtonStatus::non_finite, "energy or gradient is not finite at iteration " + std::to_string(k));
+      return finish(NewtonStatus::non_finite,
+                    "energy or gradient is not finite at iteration " + std::to_string(k));
 
     const double scale = std::max(result.initial_residual, options_.reference_residual);
     const double target = std::max(options_.relative_tolerance * scale, options_.absolute_tolerance);
@@ -372,7 +378,8 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
           return finish(NewtonStatus::round_off_floor, why.str());
         }
         why << "residual " << residual << " at its round-off floor (about " << result.residual_floor << ", "
-            << residual / scale << " of the initial residual): the stiffness matrix is too ill-conditioned for "
+            << residual / scale
+            << " of the initial residual): the stiffness matrix is too ill-conditioned for "
             << "double precision (condition number at least " << result.condition_estimate
             << "; a contrast of moduli?), the solution has no reliable digits";
         return finish(NewtonStatus::ill_conditioned, why.str());
@@ -392,32 +399,33 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       // Terms' low-rank Hessian parts go on top of the sparse factor (Woodbury); CG with the
       // kept factor sees only the sparse part, so it is tried only without them.
       const LowRankHessian low_rank = assembler_.low_rank_hessian(y, p, mode);
-      if (options_.reuse_factorization && low_rank.empty() && mode == HessianMode::exact && !kept_factor_stale_ &&
-          can_precondition())
+      if (options_.reuse_factorization && low_rank.empty() && mode == HessianMode::exact &&
+          !kept_factor_stale_ && can_precondition())
         it.reused_factorization = kept_factor_step(gradient, residual, scale, target, it, dy);
       if (!it.reused_factorization) {
         condition_hint_ = result.condition_estimate;
         ill_conditioned_ = false;
         const std::string error = factorized_step(p, y, gradient, mode, choice, low_rank, it, dy);
         if (!error.empty())
-          return finish(ill_conditioned_ ? NewtonStatus::ill_conditioned : NewtonStatus::singular_matrix, error);
+          return finish(ill_conditioned_ ? NewtonStatus::ill_conditioned : NewtonStatus::singular_matrix,
+                        error);
       }
     }
 
     const bool accepted = line_search(p, y, dy, energy, gradient, residual, it);
     result.history.push_back(it);
     if (!accepted)
-      return finish(NewtonStatus::line_search_failed, "line search found no decrease at iteration " +
-                                                          std::to_string(k) + " after " +
-                                                          std::to_string(options_.max_line_search_steps) +
-                                                          " halvings");
+      return finish(NewtonStatus::line_search_failed,
+                    "line search found no decrease at iteration " + std::to_string(k) + " after " +
+                        std::to_string(options_.max_line_search_steps) + " halvings");
     if (options_.progress) {
-      *options_.progress << std::scientific << std::setprecision(3) << "  newton " << std::setw(3) << k << "  E "
-                         << std::setw(11) << energy << "  |g| " << residual << "  alpha " << std::defaultfloat
-                         << it.step_length << (it.used_projected ? "  projected" : "")
-                         << (it.reused_factorization ? "  cg " + std::to_string(it.cg_iterations) : std::string())
-                         << (it.kept_constant_factor ? "  kept factor" : "") << (it.used_ldlt ? "  (LDL^T)" : "")
-                         << "\n";
+      *options_.progress << std::scientific << std::setprecision(3) << "  newton " << std::setw(3) << k
+                         << "  E " << std::setw(11) << energy << "  |g| " << residual << "  alpha "
+                         << std::defaultfloat << it.step_length << (it.used_projected ? "  projected" : "")
+                         << (it.reused_factorization ? "  cg " + std::to_string(it.cg_iterations)
+                                                     : std::string())
+                         << (it.kept_constant_factor ? "  kept factor" : "")
+                         << (it.used_ldlt ? "  (LDL^T)" : "") << "\n";
     }
   }
 }

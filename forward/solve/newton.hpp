@@ -30,8 +30,8 @@
 // gradient evaluation and a back-solve.
 #include <chrono>
 #include <iosfwd>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "forward/core/assembler.hpp"
@@ -125,7 +125,9 @@ struct NewtonResult {
   double total_seconds = 0.0;
   std::vector<NewtonIteration> history;
   int factorizations() const;  // numeric factorizations over all iterations
-  bool converged() const { return status == NewtonStatus::converged || status == NewtonStatus::round_off_floor; }
+  bool converged() const {
+    return status == NewtonStatus::converged || status == NewtonStatus::round_off_floor;
+  }
   // A human-readable summary in the spirit of Ceres' FullReport().
   std::string report() const;
 };
@@ -166,13 +168,14 @@ class NewtonSolver {
   void remember_constant_factor(const Vector& p);
   // The step from CG preconditioned by the kept factor (NewtonOptions::reuse_factorization);
   // false when CG did not give a usable descent step.
-  bool kept_factor_step(const Vector& gradient, double residual, double scale, double target, NewtonIteration& it,
-                        Vector& dy);
+  bool kept_factor_step(const Vector& gradient, double residual, double scale, double target,
+                        NewtonIteration& it, Vector& dy);
   // The step from a fresh factorization of the Hessian (switching to the projected Hessian or
   // shifting the diagonal until the direction is a descent direction). Returns an error
   // message when no descent direction was found.
   std::string factorized_step(const Vector& p, const Vector& y, const Vector& gradient, HessianMode& mode,
-                              HessianChoice& choice, const LowRankHessian& low_rank, NewtonIteration& it, Vector& dy);
+                              HessianChoice& choice, const LowRankHessian& low_rank, NewtonIteration& it,
+                              Vector& dy);
   // Backtracking line search on E from the largest admissible step; on success y is updated.
   bool line_search(const Vector& p, Vector& y, const Vector& dy, double energy, const Vector& gradient,
                    double residual, NewtonIteration& it);

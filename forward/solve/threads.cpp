@@ -21,8 +21,12 @@ ThreadSettings& settings_storage() {
 // libblas.so.3 in this process (see blas_info.hpp), so they may be absent.
 using SetThreads = void (*)(int);
 using GetThreads = int (*)();
-SetThreads openblas_set() { return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")); }
-GetThreads openblas_get() { return reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads")); }
+SetThreads openblas_set() {
+  return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+}
+GetThreads openblas_get() {
+  return reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+}
 
 // The num_threads clause Debian's CHOLMOD 5.12 was compiled with (CHOLMOD_OMP_NUM_THREADS).
 constexpr int kCholmodCompiledThreads = 4;
@@ -33,8 +37,10 @@ void set_thread_settings(const ThreadSettings& settings) {
   if (settings.assembly < 0 || settings.blas < 0)
     throw std::invalid_argument("thread counts must be >= 0 (0 = the library's default)");
   if (settings.factorization != 0 && settings.factorization != 1)
-    throw std::invalid_argument("factorization threads must be 1 (CHOLMOD's OpenMP regions serialized) or 0 "
-                                "(as CHOLMOD was built); got " + std::to_string(settings.factorization));
+    throw std::invalid_argument(
+        "factorization threads must be 1 (CHOLMOD's OpenMP regions serialized) or 0 "
+        "(as CHOLMOD was built); got " +
+        std::to_string(settings.factorization));
   omp_set_num_threads(settings.assembly > 0 ? settings.assembly : omp_get_num_procs());
   if (const SetThreads set = openblas_set()) set(settings.blas > 0 ? settings.blas : omp_get_num_procs());
   settings_storage() = settings;

@@ -30,7 +30,8 @@ struct BentBar {
     model.parameter_layout().add("youngs_modulus", m);
     model.parameter_layout().add("poisson_ratio", m);
     model.add(elastic_term<3>(mesh, MaterialKind::neo_hookean));
-    const Eigen::MatrixXi end = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > 6 - 1e-9; });
+    const Eigen::MatrixXi end =
+        boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > 6 - 1e-9; });
     model.add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, end, Eigen::Vector3d(0, 2e3, -1e4))));
     rest = rest_state(mesh);
     std::vector<int> fixed;
@@ -53,7 +54,8 @@ struct BentBar {
   StaticFunctional functional() {
     const int m = mesh.num_elements();
     return StaticFunctional(model, std::make_shared<LogModuliMap>(p0, m),
-                            std::make_shared<DofTargetObjective>(observed, target), model.elimination().restrict_state(rest));
+                            std::make_shared<DofTargetObjective>(observed, target),
+                            model.elimination().restrict_state(rest));
   }
   Vector z0() const { return p0.head(mesh.num_elements()).array().log().matrix(); }
 };
@@ -62,7 +64,8 @@ struct BentBar {
 // in [zero_begin, zero_end).
 class Distorted final : public ReducedFunctional {
  public:
-  Distorted(ReducedFunctional& inner, double scale, int zero_begin = 0, int zero_end = 0, bool hessian_only = false)
+  Distorted(ReducedFunctional& inner, double scale, int zero_begin = 0, int zero_end = 0,
+            bool hessian_only = false)
       : inner_(inner), scale_(scale), begin_(zero_begin), end_(zero_end), hessian_only_(hessian_only) {}
   int size() const override { return inner_.size(); }
   double value(const Vector& z) override { return inner_.value(z); }
@@ -119,11 +122,13 @@ TEST_F(TaylorRegime, AFixedStepWouldHavePassedAWrongGradient) {
 
 TEST_F(TaylorRegime, ScaledOrPartlyZeroedGradientsFail) {
   const int m = bar().mesh.num_elements();
-  for (const auto& [scale, begin, end] : {std::tuple{0.5, 0, 0}, std::tuple{1.5, 0, 0}, std::tuple{1.0, 0, m / 2}}) {
+  for (const auto& [scale, begin, end] :
+       {std::tuple{0.5, 0, 0}, std::tuple{1.5, 0, 0}, std::tuple{1.0, 0, m / 2}}) {
     StaticFunctional f = bar().functional();
     Distorted wrong(f, scale, begin, end);
     const TaylorTestResult t = taylor_test(wrong, bar().z0());
-    EXPECT_FALSE(t.passed()) << "scale " << scale << ", zeroed [" << begin << ", " << end << ")\n" << t.table();
+    EXPECT_FALSE(t.passed()) << "scale " << scale << ", zeroed [" << begin << ", " << end << ")\n"
+                             << t.table();
   }
 }
 

@@ -94,7 +94,7 @@ TEST(NewtonConstantHessian, NonlinearMaterialIsNotConstant) {
 TEST(NewtonRoundOffFloor, UnreachableToleranceStopsAtTheFloor) {
   LinearBar bar;
   NewtonOptions options;
-  options.relative_tolerance = 1e-18;  // far below what double precision can reach
+  options.relative_tolerance = 1e-18;           // far below what double precision can reach
   options.keep_constant_factorization = false;  // each iteration refactorizes, as before
   NewtonSolver newton(bar.model, options);
   Vector y = bar.rest;

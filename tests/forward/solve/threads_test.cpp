@@ -4,6 +4,8 @@
 // the number of threads the process gains during a first factorization counts the workers
 // CHOLMOD started. Each count is taken in a fresh child process (this test binary run with a
 // filter), since a pool started earlier in the same process would hide new workers.
+#include "forward/solve/threads.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -13,7 +15,6 @@
 #include <string>
 
 #include "forward/solve/sparse_cholesky.hpp"
-#include "forward/solve/threads.hpp"
 
 namespace tailor {
 namespace {

@@ -1,6 +1,6 @@
 #pragma once
-// Least-squares fit of a compliance from sampled macro (stress, strain) pairs (METHODS section
-// 12, seed 003):  S = argmin over symmetric S of  sum_i ||S sigma_i - eps_i||^2 / ||eps_i||^2,
+// Least-squares fit of a compliance from sampled macro (stress, strain) pairs (docs/methods.md
+// section 12):  S = argmin over symmetric S of  sum_i ||S sigma_i - eps_i||^2 / ||eps_i||^2,
 // Voigt vectors in the convention of linear_homogenization.hpp (engineering shear strains).
 // The problem is linear in the m(m+1)/2 entries of S, so it is solved directly (QR) rather
 // than iteratively.

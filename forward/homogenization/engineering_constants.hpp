@@ -1,7 +1,7 @@
 #pragma once
 // Engineering constants of an effective tensor in Voigt notation (convention of
 // linear_homogenization.hpp: engineering shear strains, plain stresses), from the compliance
-// S = (C^H)^-1 (METHODS section 12; e.g. Nye, Physical Properties of Crystals, ch. VIII):
+// S = (C^H)^-1 (docs/methods.md section 12; e.g. Nye, Physical Properties of Crystals, ch. VIII):
 //   E(d)      = 1 / ((d d^T) : S : (d d^T))              directional Young's modulus
 //   nu(d, n)  = -((n n^T) : S : (d d^T)) / ((d d^T) : S : (d d^T)),  n orthogonal to d
 //   G(d, n)   = 1 / ((d n^T + n d^T) : S : (d n^T + n d^T))  shear modulus in the (d, n) plane

@@ -1,5 +1,5 @@
 #pragma once
-// Bending stiffness of a plate-like cell (METHODS section 12, "Bending"): a 3D cell periodic
+// Bending stiffness of a plate-like cell (docs/methods.md section 12, "Bending"): a 3D cell periodic
 // along a_1, a_2 (in the x-y plane) with free faces across its thickness. A macro curvature
 // kappa (2 x 2, symmetric) is imposed by the Kirchhoff field about the mid-plane z = z_m,
 //   u_a = -(z - z_m) kappa_ab x_b,   u_z = 1/2 kappa_ab x_a x_b    (a, b in {x, y}),

@@ -1,5 +1,5 @@
 #pragma once
-// Rigid bodies as DOFs (METHODS.md section 10): body b owns q_b = (T_b, w_b) at DOFs
+// Rigid bodies as DOFs (docs/methods.md section 10): body b owns q_b = (T_b, w_b) at DOFs
 // 6b..6b+5 (translation [length], rotation vector [rad]); its vertices are
 //   x = T_b + R(w_b) V,
 // V the body-frame position relative to the centre of mass. The surfaces of all bodies form

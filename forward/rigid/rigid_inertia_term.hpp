@@ -1,5 +1,5 @@
 #pragma once
-// The inertia part of the implicit Euler incremental potential of rigid bodies (METHODS.md
+// The inertia part of the implicit Euler incremental potential of rigid bodies (docs/methods.md
 // section 1; rigid IPC, Ferguson et al. 2021, with the orientation as a matrix): for a step h,
 //   E(q) = sum_b  m_b / (2 h^2) |T_b - T~_b|^2
 //               + 1 / (2 h^2) tr( (R(w_b) - Q~_b) J_b (R(w_b) - Q~_b)^T )      [energy],

@@ -1,5 +1,5 @@
 #pragma once
-// Implicit Euler time stepping of rigid bodies (METHODS.md section 1): each step minimizes the
+// Implicit Euler time stepping of rigid bodies (docs/methods.md section 1): each step minimizes the
 // incremental potential (RigidInertiaTerm + the model's other terms: gravity, loads, IPC
 // contact) by Newton, whose line search starts from the contact term's CCD step, so every
 // accepted step is intersection-free; then v = (T_{n+1} - T_n) / h, Rdot = (R_{n+1} - R_n) / h.

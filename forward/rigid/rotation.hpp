@@ -2,7 +2,7 @@
 // Rotation by a rotation vector (Rodrigues' formula) with exact first and second derivatives:
 //   R(w) = I + a(s) [w] + b(s) [w]^2,   s = |w|^2 = theta^2,
 //   a = sin(theta) / theta,   b = (1 - cos(theta)) / theta^2,
-// ([w] the cross-product matrix; METHODS.md section 10 writes b = 2 sinc^2(theta / 2) / 2).
+// ([w] the cross-product matrix; docs/methods.md section 10 writes b = 2 sinc^2(theta / 2) / 2).
 // a and b are taken as functions of s, which are smooth (entire) in s: a Taylor series for
 // s < 1 keeps them and their s-derivatives accurate to round-off near w = 0, the closed
 // forms are used beyond. Exact for any angle; the parameterization itself degenerates at

@@ -35,7 +35,7 @@ struct CellObjective {
   };
   std::vector<Entry> entries;
   double entry_scale = 1.0;
-  // Directional stiffness (METHODS section 12): T = 1/(2n) sum_i (E_H(d_i) / E_tar,i - 1)^2.
+  // Directional stiffness (docs/methods.md section 12): T = 1/(2n) sum_i (E_H(d_i) / E_tar,i - 1)^2.
   std::vector<Vector> directions;
   std::vector<double> target_moduli;
   double directional_weight = 1.0;

@@ -1,4 +1,4 @@
-// The least-squares compliance fit of METHODS section 12 (seed 003).
+// The least-squares compliance fit of docs/methods.md section 12.
 #include "forward/homogenization/compliance_fit.hpp"
 
 #include <gtest/gtest.h>

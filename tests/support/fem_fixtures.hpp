@@ -6,6 +6,7 @@
 
 #include "forward/core/model.hpp"
 #include "forward/fem/elastic_term.hpp"
+#include "forward/fem/loads.hpp"
 #include "forward/mesh/generate.hpp"
 
 namespace tailor::testing {
@@ -50,5 +51,32 @@ inline Matrix rotation(int dim, double angle) {
   if (dim == 2) return Eigen::Rotation2Dd(angle).toRotationMatrix();
   return Eigen::AngleAxisd(angle, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
 }
+
+// A 2 x 1 x 1 bar of `cells` tets cells and one material, clamped at x = 0, with the nodal
+// force `tip_force` on every vertex of x = 2. Parameters p = [E per element, nu per element].
+struct ClampedBar {
+  Mesh mesh;
+  Model model;
+  Vector rest;  // the rest state's free unknowns
+  ClampedBar(MaterialKind kind, const Eigen::Vector3i& cells, const Eigen::Vector3d& tip_force)
+      : mesh(box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 1, 1), cells[0], cells[1], cells[2])),
+        model(3 * mesh.num_vertices()) {
+    const int m = mesh.num_elements();
+    model.parameter_layout().add("youngs_modulus", m);
+    model.parameter_layout().add("poisson_ratio", m);
+    model.add(elastic_term<3>(mesh, kind));
+    Vector forces = Vector::Zero(3 * mesh.num_vertices());
+    std::vector<int> fixed;
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      const double x = mesh.rest_positions(v, 0);
+      if (x < 1e-12)
+        for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
+      if (x > 2.0 - 1e-12) forces.segment<3>(3 * v) = tip_force;
+    }
+    model.add(std::make_unique<ExternalForceTerm>(forces));
+    model.set_elimination(Elimination::dirichlet(fixed, rest_state(mesh)));
+    rest = model.elimination().restrict_state(rest_state(mesh));
+  }
+};
 
 }  // namespace tailor::testing

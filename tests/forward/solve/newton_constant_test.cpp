@@ -19,30 +19,9 @@ namespace {
 using namespace tailor::testing;
 
 // A bar 2 x 1 x 1 of the given material, clamped at x = 0, nodal forces at x = 2.
-struct LinearBar {
-  Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 1, 1), 8, 4, 4);
-  Model model{3 * mesh.num_vertices()};
-  Vector rest;
-  explicit LinearBar(MaterialKind kind = MaterialKind::linear) {
-    const int m = mesh.num_elements();
-    model.parameter_layout().add("youngs_modulus", m);
-    model.parameter_layout().add("poisson_ratio", m);
-    model.add(elastic_term<3>(mesh, kind));
-    Vector forces = Vector::Zero(3 * mesh.num_vertices());
-    std::vector<int> fixed;
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      const double x = mesh.rest_positions(v, 0);
-      if (x < 1e-12)
-        for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
-      if (x > 2.0 - 1e-12) {
-        forces[3 * v] = 0.02;
-        forces[3 * v + 2] = -0.01;
-      }
-    }
-    model.add(std::make_unique<ExternalForceTerm>(forces));
-    model.set_elimination(Elimination::dirichlet(fixed, rest_state(mesh)));
-    rest = model.elimination().restrict_state(rest_state(mesh));
-  }
+struct LinearBar : ClampedBar {
+  explicit LinearBar(MaterialKind kind = MaterialKind::linear)
+      : ClampedBar(kind, Eigen::Vector3i(8, 4, 4), Eigen::Vector3d(0.02, 0.0, -0.01)) {}
   Vector parameters(double scale) const { return heterogeneous_parameters(mesh, 100.0 * scale, 0.3); }
 };
 

@@ -14,30 +14,8 @@ namespace {
 using namespace tailor::testing;
 
 // A Neo-Hookean bar 2 x 1 x 1 clamped at x = 0 and pulled and bent by nodal forces at x = 2.
-struct Bar {
-  Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 1, 1), 6, 3, 3);
-  Model model{3 * mesh.num_vertices()};
-  Vector rest;
-  Bar() {
-    const int m = mesh.num_elements();
-    model.parameter_layout().add("youngs_modulus", m);
-    model.parameter_layout().add("poisson_ratio", m);
-    model.add(elastic_term<3>(mesh, MaterialKind::neo_hookean));
-    Vector forces = Vector::Zero(3 * mesh.num_vertices());
-    std::vector<int> fixed;
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      const double x = mesh.rest_positions(v, 0);
-      if (x < 1e-12)
-        for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
-      if (x > 2.0 - 1e-12) {
-        forces[3 * v] = 2.0;
-        forces[3 * v + 2] = -0.4;
-      }
-    }
-    model.add(std::make_unique<ExternalForceTerm>(forces));
-    model.set_elimination(Elimination::dirichlet(fixed, rest_state(mesh)));
-    rest = model.elimination().restrict_state(rest_state(mesh));
-  }
+struct Bar : ClampedBar {
+  Bar() : ClampedBar(MaterialKind::neo_hookean, Eigen::Vector3i(6, 3, 3), Eigen::Vector3d(2.0, 0.0, -0.4)) {}
   // The residual at rest: the scale warm starts measure their tolerance against.
   double rest_residual(const Vector& p) const {
     return model.elimination().reduce(model.gradient(model.elimination().expand(rest), p)).norm();

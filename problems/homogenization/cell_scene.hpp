@@ -19,6 +19,7 @@
 // then moves the elements whose centroid it contains (later rules win). Discs (spheres in
 // 3D) use the distance to the nearest periodic image of the centre (Cartesian); slabs use the
 // fractional coordinate along lattice vector `axis` of the centroid.
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -62,6 +63,8 @@ bool is_periodic_cell_scene(const std::string& path);
 // Reads the file; throws SceneError naming file and key, MeshError for mesh files, and
 // SceneError carrying the PeriodicityError message for a non-periodic mesh.
 CellScene read_cell_scene(const std::string& path);
+// The JSON document of a scene file; SceneError when it cannot be read or parsed.
+nlohmann::json read_scene_document(const std::string& path);
 // The parts of read_cell_scene on an already-parsed root (the design section reuses it).
 CellScene parse_cell_scene(const SceneNode& root, const std::string& directory);
 

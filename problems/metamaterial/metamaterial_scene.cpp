@@ -189,12 +189,7 @@ bool is_metamaterial_scene(const std::string& path) {
 
 MetamaterialRun run_metamaterial_scene(const std::string& path, const std::string& out_dir, std::ostream* log,
                                        std::ostream* progress) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  const nlohmann::json document = nlohmann::json::parse(text.str(), nullptr, false);
-  if (document.is_discarded()) throw SceneError(path + ": invalid JSON");
+  const nlohmann::json document = read_scene_document(path);
   const SceneNode root(document, path, "");
   CellScene scene = parse_cell_scene(root, std::filesystem::path(path).parent_path().string());
   if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();

@@ -16,7 +16,7 @@
 #include "problems/commands.hpp"
 #include "problems/contact/rigid_scene.hpp"
 #include "problems/damping_design/damping_design_scene.hpp"
-#include "problems/dynamic_scene.hpp"
+#include "problems/dynamic_commands.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/modes_command.hpp"

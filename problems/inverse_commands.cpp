@@ -35,7 +35,7 @@ void print_problem(std::ostream& log, const InverseProblem& problem) {
       << mesh.num_vertices() << " vertices, " << mesh.num_elements() << " elements; design: " << d.parameter
       << " " << to_string(d.granularity) << " (" << problem.num_material_design() << " variable"
       << (problem.num_material_design() == 1 ? "" : "s") << "), " << design_formula(d);
-  if (problem.handles) log << ", plus " << problem.handles->displacement_size() << " handle displacements";
+  if (problem.handles) log << ", plus " << problem.handles->size() << " handle displacements";
   log << "\n";
   if (problem.modal && d.modes)
     log << "material modes: " << *d.modes << " in " << std::fixed << std::setprecision(3)

@@ -64,7 +64,7 @@ Json handles_json(const InverseProblem& problem, const std::vector<HandleResult>
   }
   return {{"alpha", term ? term->alpha : 1.0},
           {"beta", term ? term->beta : 1.0},
-          {"displacement_variables", problem.handles->displacement_size()},
+          {"displacement_variables", problem.handles->size()},
           {"list", list}};
 }
 
@@ -163,8 +163,8 @@ void write_inverse_result_vtu(const std::string& path, const InverseRun& run) {
   VtkFields extra;
   if (problem.handles) {  // 1 + the handle's index on handle vertices, 0 elsewhere
     Eigen::MatrixXd handle = Eigen::MatrixXd::Zero(setup.mesh.num_vertices(), 1);
-    for (int h = 0; h < problem.handles->num_handles(); ++h)
-      for (int v : problem.handles->handle(h).vertices) handle(v, 0) = h + 1;
+    for (int h = 0; h < problem.handles->objective->num_handles(); ++h)
+      for (int v : problem.handles->objective->handle(h).vertices) handle(v, 0) = h + 1;
     extra.point["handle"] = handle;
   }
   extra.cell["youngs_modulus_initial"] = problem.youngs_modulus(problem.z0);

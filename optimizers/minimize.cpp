@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "optimizers/backend_detail.hpp"
+#include "optimizers/checkpoint.hpp"
 #include "optimizers/interrupt.hpp"
 #include "optimizers/optimizer.hpp"
 
@@ -13,10 +14,42 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// Why a checkpoint cannot continue this run; empty when it can.
+std::string invalid_checkpoint(const OptimizerCheckpoint& c, int n, OptimizerBackend backend) {
+  if (c.backend != backend)
+    return "the checkpoint is of back-end " + to_string(c.backend) + ", not " + to_string(backend);
+  if (c.z.size() != n || (c.best_z.size() != 0 && c.best_z.size() != n))
+    return "the checkpoint's design has size " + std::to_string(c.z.size()) + ", the functional " +
+           std::to_string(n);
+  if (!c.z.allFinite()) return "the checkpoint's design is not finite";
+  if (c.history.empty() || c.history.back().iteration != c.iteration)
+    return "the checkpoint's history does not end at its iteration " + std::to_string(c.iteration);
+  return "";
+}
+
+detail::BackendOutcome run_backend(detail::Tracker& tracker, const Vector& start, OptimizerBackend backend) {
+  switch (backend) {
+    case OptimizerBackend::ipopt:
+      return detail::run_ipopt(tracker, start);
+    case OptimizerBackend::nlopt_lbfgs:
+    case OptimizerBackend::nlopt_mma:
+    case OptimizerBackend::nlopt_slsqp:
+      return detail::run_nlopt(tracker, start);
+    case OptimizerBackend::ceres_lbfgs:
+      return detail::run_ceres_lbfgs(tracker, start);
+    case OptimizerBackend::ceres_least_squares:
+      return detail::run_ceres_least_squares(tracker, start);
+    case OptimizerBackend::gradient_descent:
+      return detail::run_gradient_descent(tracker, start);
+  }
+  return {OptimizerStatus::failed, "unknown back-end", std::nullopt};
+}
+
 }  // namespace
 
 OptimizerResult minimize(ReducedFunctional& functional, const Vector& z0, const Bounds& bounds,
-                         const std::vector<Constraint>& constraints, const OptimizerOptions& options) {
+                         const std::vector<Constraint>& constraints, const OptimizerOptions& options,
+                         const OptimizerCheckpoint* resume) {
   detail::SigintGuard sigint_guard;
   const std::string name = to_string(options.backend);
   OptimizerResult result;
@@ -40,41 +73,32 @@ OptimizerResult minimize(ReducedFunctional& functional, const Vector& z0, const 
   }
   for (const auto& constraint : constraints)
     if (!constraint.evaluate) invalid = "constraint '" + constraint.name + "' has no evaluate";
+  if (invalid.empty() && resume) invalid = invalid_checkpoint(*resume, n, options.backend);
   if (!invalid.empty()) {
     result.message = name + ": " + invalid;
     return result;
   }
 
-  detail::Tracker tracker(functional, bounds, constraints, options);
+  detail::Tracker tracker(functional, bounds, constraints, options, resume);
   // Every back-end wants a feasible start with respect to the box (NLopt rejects others).
-  const Vector start = tracker.project(z0);
+  const Vector start = tracker.project(resume ? resume->z : z0);
 
   detail::BackendOutcome outcome;
   try {
-    switch (options.backend) {
-      case OptimizerBackend::ipopt:
-        outcome = detail::run_ipopt(tracker, start);
-        break;
-      case OptimizerBackend::nlopt_lbfgs:
-      case OptimizerBackend::nlopt_mma:
-      case OptimizerBackend::nlopt_slsqp:
-        outcome = detail::run_nlopt(tracker, start);
-        break;
-      case OptimizerBackend::ceres_lbfgs:
-        outcome = detail::run_ceres_lbfgs(tracker, start);
-        break;
-      case OptimizerBackend::ceres_least_squares:
-        outcome = detail::run_ceres_least_squares(tracker, start);
-        break;
-      case OptimizerBackend::gradient_descent:
-        outcome = detail::run_gradient_descent(tracker, start);
-        break;
+    if (resume && resume->iteration >= options.max_iterations) {
+      outcome = {OptimizerStatus::max_iterations,
+                 "the checkpoint is at iteration " + std::to_string(resume->iteration) +
+                     ", max_iterations = " + std::to_string(options.max_iterations),
+                 std::nullopt};
+    } else {
+      outcome = run_backend(tracker, start, options.backend);
     }
   } catch (const std::exception& e) {
     outcome = {OptimizerStatus::failed, std::string("exception: ") + e.what(), std::nullopt};
   } catch (...) {
     outcome = {OptimizerStatus::failed, "unknown exception", std::nullopt};
   }
+  tracker.final_checkpoint();
 
   // A stop from outside the back-end (SIGINT, time limit, our own convergence or iteration
   // test, an error inside a callback) explains the back-end's status, so it takes precedence.
@@ -108,6 +132,8 @@ OptimizerResult minimize(ReducedFunctional& functional, const Vector& z0, const 
   result.evaluations = tracker.evaluations();
   result.failed_evaluations = tracker.failed_evaluations();
   result.seconds = tracker.seconds();
+  result.counters = tracker.counters();
+  result.resumed_from = tracker.resumed_from();
   return result;
 }
 

@@ -76,6 +76,7 @@ std::string OptimizerResult::report() const {
   }
   out << "  status         : " << to_string(status) << '\n';
   out << "  message        : " << message << '\n';
+  if (resumed_from) out << "  resumed        : from the checkpoint at iteration " << *resumed_from << '\n';
   const int iterations = history.empty() ? 0 : history.back().iteration;
   out << "  iterations     : " << iterations << '\n';
   out << "  evaluations    : " << evaluations << '\n';

@@ -21,7 +21,8 @@ std::string format_number(const char* format, double value) {
 }  // namespace
 
 Tracker::Tracker(ReducedFunctional& functional, const Bounds& bounds,
-                 const std::vector<Constraint>& constraints, const OptimizerOptions& options)
+                 const std::vector<Constraint>& constraints, const OptimizerOptions& options,
+                 const OptimizerCheckpoint* resume)
     : functional_(functional),
       constraints_(constraints),
       options_(options),
@@ -31,8 +32,26 @@ Tracker::Tracker(ReducedFunctional& functional, const Bounds& bounds,
       upper_(bounds.upper.size() == functional.size() ? bounds.upper
                                                       : Vector::Constant(functional.size(), kInf)),
       start_(std::chrono::steady_clock::now()),
-      start_forward_(functional.counters().forward_solves),
-      start_adjoint_(functional.counters().adjoint_solves) {}
+      start_counters_(functional.counters()) {
+  if (!resume) return;
+  history_ = resume->history;
+  last_row_z_ = resume->z;
+  evaluations_ = resume->evaluations;
+  failed_evaluations_ = resume->failed_evaluations;
+  if (resume->best_z.size() == n_) {
+    has_best_ = true;
+    best_z_ = resume->best_z;
+    best_f_ = resume->best_objective;
+    best_violation_ = resume->best_violation;
+  }
+  seconds_offset_ = resume->seconds;
+  counters_offset_ = resume->counters;
+  resumed_from_ = resume->iteration;
+  skip_resumed_row_ = true;
+  resumed_state_ = resume->backend_state;
+  backend_state_ = resume->backend_state;
+  last_checkpoint_ = resume->iteration;
+}
 
 bool Tracker::has_finite_bounds() const {
   return lower_.array().isFinite().any() || upper_.array().isFinite().any();
@@ -41,7 +60,24 @@ bool Tracker::has_finite_bounds() const {
 Vector Tracker::project(const Vector& z) const { return z.cwiseMax(lower_).cwiseMin(upper_); }
 
 double Tracker::seconds() const {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  return seconds_offset_ + std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+FunctionalCounters Tracker::counters() const {
+  const FunctionalCounters& now = functional_.counters();
+  FunctionalCounters out = counters_offset_;
+  out.evaluations += now.evaluations - start_counters_.evaluations;
+  out.forward_solves += now.forward_solves - start_counters_.forward_solves;
+  out.adjoint_solves += now.adjoint_solves - start_counters_.adjoint_solves;
+  out.forward_seconds += now.forward_seconds - start_counters_.forward_seconds;
+  out.adjoint_seconds += now.adjoint_seconds - start_counters_.adjoint_seconds;
+  return out;
+}
+
+std::optional<double> Tracker::resumed_state(const std::string& name) const {
+  const auto it = resumed_state_.find(name);
+  if (it == resumed_state_.end()) return std::nullopt;
+  return it->second;
 }
 
 void Tracker::fail(const std::string& what) {
@@ -209,6 +245,10 @@ const Vector* Tracker::cached_gradient(const Vector& z) const {
 }
 
 void Tracker::record_iteration(const Vector& z, double f, double fallback_gradient_norm) {
+  if (skip_resumed_row_) {  // the back-end's row 0 at the checkpoint's iterate: already there
+    skip_resumed_row_ = false;
+    if (z == last_row_z_) return;
+  }
   OptimizerIteration row;
   row.iteration = static_cast<int>(history_.size());
   // Our own value where we have it: back-ends may report a rescaled objective (Ipopt) or the
@@ -219,12 +259,50 @@ void Tracker::record_iteration(const Vector& z, double f, double fallback_gradie
   row.gradient_norm = g ? projected_gradient_norm(z, *g) : fallback_gradient_norm;
   row.step_norm = history_.empty() ? 0.0 : (z - last_row_z_).lpNorm<Eigen::Infinity>();
   row.seconds = seconds();
-  // Solves of this run only: the functional's counters may include earlier work.
-  row.forward_solves = functional_.counters().forward_solves - start_forward_;
-  row.adjoint_solves = functional_.counters().adjoint_solves - start_adjoint_;
+  // Solves of this run (and of the run it resumes), not the functional's earlier work.
+  const FunctionalCounters work = counters();
+  row.forward_solves = work.forward_solves;
+  row.adjoint_solves = work.adjoint_solves;
   history_.push_back(row);
   last_row_z_ = z;
   print_row(row);
+  if (options_.checkpoint_every > 0 && row.iteration > 0 && row.iteration % options_.checkpoint_every == 0)
+    checkpoint();
+}
+
+void Tracker::checkpoint() {
+  if (!options_.on_checkpoint || history_.empty() || checkpoint_failed_) return;
+  OptimizerCheckpoint c;
+  c.backend = options_.backend;
+  c.iteration = history_.back().iteration;
+  c.z = last_row_z_;
+  c.objective = history_.back().objective;
+  if (has_best_) {
+    c.best_z = best_z_;
+    c.best_objective = best_f_;
+    c.best_violation = best_violation_;
+  }
+  c.history = history_;
+  c.evaluations = evaluations_;
+  c.failed_evaluations = failed_evaluations_;
+  c.seconds = seconds();
+  c.counters = counters();
+  c.backend_state = backend_state_;
+  last_checkpoint_ = c.iteration;
+  // Called from inside the back-ends' callbacks: nothing may escape.
+  try {
+    options_.on_checkpoint(c);
+  } catch (const std::exception& e) {
+    checkpoint_failed_ = true;
+    request_stop(OptimizerStatus::failed, std::string("checkpoint failed: ") + e.what());
+  } catch (...) {
+    checkpoint_failed_ = true;
+    request_stop(OptimizerStatus::failed, "checkpoint failed");
+  }
+}
+
+void Tracker::final_checkpoint() {
+  if (!history_.empty() && history_.back().iteration != last_checkpoint_) checkpoint();
 }
 
 void Tracker::print_row(const OptimizerIteration& row) {

@@ -13,13 +13,20 @@
 //    ones (otherwise the best point would be an infeasible point below the constrained
 //    minimum);
 //  - writes one history row per back-end iteration (and prints it when progress is set);
-//  - answers stop_requested(): SIGINT, the time limit, or a stop asked for by a back-end.
+//  - answers stop_requested(): SIGINT, the time limit, or a stop asked for by a back-end;
+//  - hands a checkpoint (optimizers/checkpoint.hpp) to OptimizerOptions::on_checkpoint every
+//    checkpoint_every rows and at the end, and, resuming, starts from one: the history,
+//    counts, best point and clock go on from it, the back-end's own state is offered back
+//    through resumed_state(), and the back-end's first row (at the checkpoint's iterate, which
+//    the checkpoint already holds) is not written again.
 #include <chrono>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "optimizers/checkpoint.hpp"
 #include "optimizers/optimizer.hpp"
 
 namespace tailor::detail {
@@ -31,7 +38,7 @@ inline constexpr double kFeasibilityTolerance = 1e-6;
 class Tracker {
  public:
   Tracker(ReducedFunctional& functional, const Bounds& bounds, const std::vector<Constraint>& constraints,
-          const OptimizerOptions& options);
+          const OptimizerOptions& options, const OptimizerCheckpoint* resume = nullptr);
 
   ReducedFunctional& functional() { return functional_; }
   int size() const { return n_; }
@@ -85,13 +92,30 @@ class Tracker {
   std::optional<double> known_value(const Vector& z) const;
   int evaluations() const { return evaluations_; }
   int failed_evaluations() const { return failed_evaluations_; }
-  double seconds() const;
+  double seconds() const;  // since the start of the run (before a resume too)
+  // The functional's work during the run (before a resume too).
+  FunctionalCounters counters() const;
+
+  // Checkpoints. A back-end records what of its state a resumed run can take back with
+  // set_backend_state() before it records the iteration the state belongs to; resuming, it
+  // asks for it with resumed_state().
+  bool resumed() const { return resumed_from_.has_value(); }
+  std::optional<int> resumed_from() const { return resumed_from_; }
+  std::optional<double> resumed_state(const std::string& name) const;
+  void set_backend_state(const std::string& name, double value) { backend_state_[name] = value; }
+  // The objective of row 0, or `fallback` before there is one (relative tolerances refer to it).
+  double first_objective(double fallback) const {
+    return history_.empty() ? fallback : history_.front().objective;
+  }
+  // At the end of the run: a checkpoint of the last row unless it has one already.
+  void final_checkpoint();
 
  private:
   void consider(const Vector& z, double f);
   double violation(const Vector& z);
   void fail(const std::string& what);
   void print_row(const OptimizerIteration& row);
+  void checkpoint();
 
   ReducedFunctional& functional_;
   const std::vector<Constraint>& constraints_;
@@ -99,7 +123,13 @@ class Tracker {
   int n_;
   Vector lower_, upper_;
   std::chrono::steady_clock::time_point start_;
-  int start_forward_ = 0, start_adjoint_ = 0;  // the functional's counters at the start
+  FunctionalCounters start_counters_;  // the functional's counters at the start
+  // Resuming: the checkpoint's time and work, and its iteration.
+  double seconds_offset_ = 0.0;
+  FunctionalCounters counters_offset_;
+  std::optional<int> resumed_from_;
+  bool skip_resumed_row_ = false;
+  std::map<std::string, double> resumed_state_;
 
   int evaluations_ = 0;
   int failed_evaluations_ = 0;
@@ -123,6 +153,10 @@ class Tracker {
   Vector last_row_z_;
   std::optional<OptimizerStatus> stop_status_;
   std::string stop_message_;
+
+  std::map<std::string, double> backend_state_;
+  int last_checkpoint_ = -1;  // iteration of the last checkpoint handed out (or resumed from)
+  bool checkpoint_failed_ = false;
 };
 
 }  // namespace tailor::detail

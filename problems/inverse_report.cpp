@@ -97,6 +97,9 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
   report["iterations"] = result.history.empty() ? 0 : result.history.back().iteration;
   report["evaluations"] = result.evaluations;
   report["failed_evaluations"] = result.failed_evaluations;
+  report["resumed"] =
+      run.resumed ? Json{{"checkpoint", run.resumed->checkpoint}, {"iteration", run.resumed->iteration}}
+                  : Json(nullptr);
 
   report["history"] = optimizer_history_json(result);
 
@@ -113,8 +116,9 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
       {"initial", result.history.empty() ? Json(nullptr) : Json(result.history.front().objective)},
       {"final", result.objective},
       {"terms", terms}};
-  const FunctionalCounters& counters = problem.functional->counters();
-  report["solves"] = {{"forward", counters.forward_solves}, {"adjoint", counters.adjoint_solves}};
+  // The optimization's solves, including those before a resume.
+  report["solves"] = {{"forward", result.counters.forward_solves},
+                      {"adjoint", result.counters.adjoint_solves}};
 
   const DesignSpec& d = problem.spec.design;
   Json design = {{"parameter", d.parameter},

@@ -5,10 +5,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "../support/temp_folder.hpp"
 #include "problems/homogenization/cell_scene.hpp"
+#include "problems/rods/rod_scene.hpp"
 #include "problems/scene.hpp"
 #include "scene_text.hpp"
 
@@ -108,6 +110,43 @@ TEST(ParserRegression, PeriodicCellGridsTooLargeToMesh) {
   EXPECT_NE(square.find("cell.json: cell.grid: 1e+10 triangles would need at least"), std::string::npos)
       << square;
   EXPECT_EQ(cell_error(R"({"lattice": [[1, 0], [0, 1]], "grid": [4, 4]})"), "");  // small grids still work
+}
+
+// The rods parser reads nlohmann::json directly: members of the wrong JSON type threw
+// nlohmann's type_error (not a SceneError), and numbers beyond int were cast to int
+// (undefined behaviour; UndefinedBehaviorSanitizer: float-cast-overflow).
+TEST(ParserRegression, RodScenesWithValuesOfTheWrongKind) {
+  const std::string rod =
+      R"({"line": {"from": [0, 0, 0], "to": [1, 0, 0], "vertices": 5}, "cross_section": {"radius": 0.01},
+          "material": {"youngs_modulus": 1e9}, "clamp": ["first"]})";
+  const auto rod_error = [](const std::string& text) {
+    try {
+      parse_rod_scene(nlohmann::json::parse(text));
+      return std::string();
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+  };
+  const auto expect_error = [&](const std::string& text, const std::string& part) {
+    const std::string error = rod_error(text);
+    EXPECT_NE(error.find(part), std::string::npos) << text << "\n" << error;
+  };
+  EXPECT_EQ(rod_error(R"({"rods": [)" + rod + "]}"), "");
+  expect_error(R"({"rods": [1]})", "rods scene: rods[0]: expected an object");
+  expect_error(R"({"rods": [{"line": [0, 1]}]})", "rods[0].line: expected an object");
+  expect_error(R"({"rods": [{"line": {"from": [0, 0, 0], "to": [1, 0, 0], "vertices": 1e300}}]})",
+               "rods[0].line.vertices: expected an integer in [3, 10000000]");
+  expect_error(R"({"load_steps": 1e300, "rods": [)" + rod + "]}",
+               "scene.load_steps: expected an integer in [1, ");
+  expect_error(R"({"rods": [{"name": 7, "points": [[0, 0, 0], [1, 0, 0], [2, 0, 0]]}]})",
+               "rods[0].name: expected a string");
+  const std::string loaded = rod.substr(0, rod.size() - 1);
+  expect_error(R"({"rods": [)" + loaded + R"(, "point_loads": [3]}]})",
+               "rods[0].point_loads: expected objects with vertex and force");
+  expect_error(R"({"rods": [)" + loaded + R"(, "point_loads": [{"vertex": -1e300, "force": [0, 0, 1]}]}]})",
+               "rods[0].point_loads.vertex: expected an integer in [0, 4]");
+  expect_error(R"({"rods": [)" + loaded + R"(, "cross_section": 1}]})",
+               "rods[0].cross_section: expected an object");
 }
 
 }  // namespace

@@ -69,6 +69,7 @@ dictionary_for() {
 if ((runs > 0)); then budget=(-runs="${runs}" -seed=1); else budget=(-max_total_time="${seconds}"); fi
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
+export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=${PWD}/scripts/lsan.supp:print_suppressions=0}"
 failed=()
 printf '%-11s %12s %9s %8s  %s\n' target executions seconds corpus result
 for target in "${targets[@]}"; do

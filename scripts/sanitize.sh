@@ -14,7 +14,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 subset=(
   # Parsers.
   "forward_mesh_tests|"                     # Gmsh 2/4, Medit, TetGen readers; generators
-  "problems_tests|Scene|SceneValidation|InverseScene|SplineScene|HandlesScene|StaticScene|DynamicScene"
+  "problems_tests|Scene|SceneValidation|InverseScene|SplineScene|HandlesScene|StaticScene|DynamicScene|ParserRegression"
   "problems_rods_tests|"
   "problems_contact_tests|"
   "problems_homogenization_tests|"
@@ -51,5 +51,6 @@ cmake --build build-asan -j"$(nproc)" --target tailor_cli "${executables[@]}"
 # threads under ASan.
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
+export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=${PWD}/scripts/lsan.supp:print_suppressions=0}"
 regex=$(IFS='|'; echo "${patterns[*]}")
 ctest --test-dir build-asan --output-on-failure -j"$(nproc)" -R "${regex}" --timeout 600

@@ -3,9 +3,6 @@
 // paths, and DIR/convergence.png of `tailor run`.
 #include <gtest/gtest.h>
 
-#include "../support/read_png.hpp"
-#include "../support/temp_folder.hpp"
-
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -16,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "../support/read_png.hpp"
+#include "../support/temp_folder.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/plot/convergence_plot.hpp"
 #include "problems/plot/line_plot.hpp"

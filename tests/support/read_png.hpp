@@ -15,7 +15,7 @@
 namespace tailor::testing {
 
 struct ReadPng {
-  std::string error;            // empty when the file was read
+  std::string error;  // empty when the file was read
   std::uint32_t width = 0, height = 0;
   std::uint32_t colour_type = 0;  // png_image format flags as stored in the file
   std::size_t file_size = 0;

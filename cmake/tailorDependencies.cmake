@@ -27,6 +27,7 @@ tailor_find_dependency(OpenMP)
 tailor_find_dependency(Eigen3 3.4 CONFIG)
 tailor_find_dependency(nlohmann_json 3.10 CONFIG)
 tailor_find_dependency(NLopt CONFIG)
+tailor_find_dependency(PNG)  # the plots (problems/plot/png_writer.cpp)
 
 # Ceres: Debian's exported target hard-links ATLAS (libf77blas, libatlas), which would bind
 # every dgemm_ in the process -- CHOLMOD's included -- to ATLAS. Drop them; BLAS comes from the

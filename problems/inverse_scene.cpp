@@ -166,7 +166,11 @@ ObservationsTerm parse_observation_file(const SceneNode& node, const std::string
   const std::vector<DataLine> lines = read_data_file(node, t.file);
   if (lines.empty()) node.fail("'" + t.file + "' holds no observations");
   const std::size_t columns = lines.front().tokens.size();
-  t.displacements.resize(static_cast<Eigen::Index>(lines.size()), static_cast<Eigen::Index>(columns) - 1);
+  // Sized only by a valid column count (the loop refuses any other on line 1): a long first line
+  // must not make this lines x columns.
+  const bool valid_columns = columns == 3 || columns == 4;
+  t.displacements.resize(static_cast<Eigen::Index>(lines.size()),
+                         valid_columns ? static_cast<Eigen::Index>(columns) - 1 : 0);
   std::map<int, int> first_line;  // vertex id -> the line it was first observed on
   for (std::size_t r = 0; r < lines.size(); ++r) {
     const DataLine& line = lines[r];

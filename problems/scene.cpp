@@ -1,5 +1,7 @@
 #include "problems/scene.hpp"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -8,8 +10,6 @@
 #include <limits>
 #include <sstream>
 #include <system_error>
-
-#include <unistd.h>
 
 #include "problems/dynamic_scene.hpp"
 #include "problems/scene_parsing.hpp"
@@ -126,6 +126,27 @@ double physical_memory_bytes() {
   return pages > 0 && page_size > 0 ? static_cast<double>(pages) * static_cast<double>(page_size) : 0.0;
 }
 
+}  // namespace
+
+void check_mesh_fits(const SceneNode& node, double elements, int dim) {
+  // The elements' count must fit int indices, and the model alone (element data and the
+  // Hessian pattern, ~3 KiB per tet, ~1 KiB per triangle) must fit in this machine's memory,
+  // before any factorization.
+  const double bytes = elements * (dim == 3 ? 3072.0 : 1024.0);
+  const double memory = physical_memory_bytes();
+  constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+  if (elements > 2e9 || (memory > 0 && bytes > memory)) {
+    std::ostringstream what;
+    what << std::setprecision(3) << elements << (dim == 3 ? " tets" : " triangles") << " would need at least "
+         << bytes / kGiB << " GiB for the model alone";
+    if (memory > 0) what << ", more than this machine's " << memory / kGiB << " GiB";
+    if (elements > 2e9) what << ", and more elements than int indices can count";
+    node.fail(what.str() + ": use fewer cells");
+  }
+}
+
+namespace {
+
 ElementSelector parse_element_selector(const SceneNode& node) {
   ElementSelector s;
   s.key = node.path();
@@ -166,22 +187,9 @@ MeshSpec parse_mesh(const SceneNode& node, const std::string& directory) {
   if (static_cast<int>(counts.size()) != dim)
     cells.fail("expected " + std::to_string(dim) + " cell counts, got " + std::to_string(counts.size()));
   m.cells = Eigen::Map<const Eigen::VectorXi>(counts.data(), dim);
-  // Refuse meshes that cannot fit before allocating them: the elements' count must fit int
-  // indices, and the model alone (element data and the Hessian pattern, ~3 KiB per tet,
-  // ~1 KiB per triangle) must fit in this machine's memory, before any factorization.
   double elements = dim == 3 ? 6.0 : 2.0;
   for (int k = 0; k < dim; ++k) elements *= counts[static_cast<std::size_t>(k)];
-  const double bytes = elements * (dim == 3 ? 3072.0 : 1024.0);
-  const double memory = physical_memory_bytes();
-  constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
-  if (elements > 2e9 || (memory > 0 && bytes > memory)) {
-    std::ostringstream what;
-    what << std::setprecision(3) << elements << (dim == 3 ? " tets" : " triangles") << " would need at least "
-         << bytes / kGiB << " GiB for the model alone";
-    if (memory > 0) what << ", more than this machine's " << memory / kGiB << " GiB";
-    if (elements > 2e9) what << ", and more elements than int indices can count";
-    cells.fail(what.str() + ": use fewer cells");
-  }
+  check_mesh_fits(cells, elements, dim);
   return m;
 }
 
@@ -276,7 +284,11 @@ NodalForceFile parse_nodal_file(const SceneNode& node, const std::string& direct
   const std::vector<DataLine> lines = read_data_file(node, path);
   if (lines.empty()) node.fail("'" + path + "' holds no forces");
   const std::size_t columns = lines.front().tokens.size();
-  f.forces.resize(static_cast<Eigen::Index>(lines.size()), static_cast<Eigen::Index>(columns) - 1);
+  // Sized only by a valid column count (the loop refuses any other on line 1): a long first line
+  // must not make this lines x columns.
+  const bool valid_columns = columns == 3 || columns == 4;
+  f.forces.resize(static_cast<Eigen::Index>(lines.size()),
+                  valid_columns ? static_cast<Eigen::Index>(columns) - 1 : 0);
   for (std::size_t r = 0; r < lines.size(); ++r) {
     const DataLine& line = lines[r];
     const std::string where = "'" + path + "' line " + std::to_string(line.line) + ": ";
@@ -340,7 +352,8 @@ SolverSpec parse_solver(const SceneNode& node) {
     if (auto v = threads->find("blas")) t.blas = v->integer(0);
     if (auto v = threads->find("factorization")) {
       t.factorization = v->integer(0);
-      if (t.factorization > 1) v->fail("expected 1 (CHOLMOD's OpenMP loops serialized) or 0 (as CHOLMOD was built)");
+      if (t.factorization > 1)
+        v->fail("expected 1 (CHOLMOD's OpenMP loops serialized) or 0 (as CHOLMOD was built)");
     }
     s.threads = t;
   }

@@ -31,6 +31,11 @@ std::vector<double> read_positive_values(const SceneNode& node, const std::strin
 
 VertexSelector parse_vertex_selector(const SceneNode& node, const std::string& directory);
 
+// Refuses, at `node` (the cell counts), a generated mesh of `elements` elements that cannot be
+// built: more elements than int indices count, or a model larger than this machine's memory.
+// Called before the mesh is allocated.
+void check_mesh_fits(const SceneNode& node, double elements, int dim);
+
 // A "handles" objective term (inverse_handles.cpp).
 HandlesTerm parse_handles_term(const SceneNode& node, const std::string& directory);
 

@@ -1,5 +1,6 @@
 #include "problems/spline_curves_json.hpp"
 
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 
@@ -18,11 +19,12 @@ CubicSpline parse_curve(const SceneNode& node) {
   if (!(lower < upper)) node.at("upper").fail("expected a number > lower (" + std::to_string(lower) + ")");
   const int intervals = node.at("intervals").integer(1);
   const SceneNode controls = node.at("controls");
-  const int expected = intervals + 3;
-  if (!controls.json().is_array() || static_cast<int>(controls.json().size()) != expected)
+  // In 64 bits: intervals may be up to INT_MAX - 1.
+  const std::int64_t expected = std::int64_t{intervals} + 3;
+  if (!controls.json().is_array() || static_cast<std::int64_t>(controls.json().size()) != expected)
     controls.fail("expected intervals + 3 = " + std::to_string(expected) + " control values, got " +
                   describe_json(controls.json()));
-  return CubicSpline(lower, upper, intervals, controls.vector(expected));
+  return CubicSpline(lower, upper, intervals, controls.vector(static_cast<int>(expected)));
 }
 
 nlohmann::json curve_json(const CubicSpline& c) {

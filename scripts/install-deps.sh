@@ -8,9 +8,15 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libnlopt-cxx-dev libarpack2-dev libceres-dev
   nlohmann-json3-dev libgtest-dev libgmock-dev
+  libpng-dev
   # CHOLMOD's speed is BLAS's speed: OpenBLAS must provide libblas.so.3 (see below).
   libopenblas0-pthread libopenblas-pthread-dev
 )
+# `install-deps.sh sanitizers`: also clang with its sanitizer and libFuzzer runtimes, LLVM's
+# OpenMP and llvm-symbolizer (for scripts/sanitize.sh and scripts/fuzz.sh).
+if [[ ${1:-} == sanitizers ]]; then
+  packages+=(clang-14 libclang-rt-14-dev libomp-14-dev llvm-14)
+fi
 
 as_root() {
   if [[ ${EUID} -eq 0 ]]; then "$@"; else sudo "$@"; fi

@@ -123,7 +123,7 @@ class GmshReader {
     }
     in_.require_data_line("$MeshFormat");
     const std::string_view version = in_.token("format version");
-    const int file_type = static_cast<int>(in_.read_int("file type"));
+    const std::int64_t file_type = in_.read_int("file type");
     if (file_type != 0) {
       in_.fail("binary Gmsh files are not supported; save the mesh as ASCII (Gmsh option Mesh.Binary = 0)");
     }
@@ -233,7 +233,8 @@ class GmshReader {
     for (int i = 0; i < count; ++i) {
       in_.require_data_line("$Elements: element", i + 1, count);
       const std::int64_t tag = in_.read_int("element tag");
-      const int type = static_cast<int>(in_.read_int("element type"));
+      const int type =
+          in_.read_int_in("element type", std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
       const int num_tags = in_.read_int_in("number of element tags", 0, 1000);
       int region = 0;
       for (int t = 0; t < num_tags; ++t) {
@@ -255,7 +256,8 @@ class GmshReader {
       const int entity_dim = in_.read_int_in("entity dimension", 0, 3);
       const int entity_tag =
           in_.read_int_in("entity tag", std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
-      const int type = static_cast<int>(in_.read_int("element type"));
+      const int type =
+          in_.read_int_in("element type", std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
       const int in_block = read_count("number of elements in the block");
       blocks_.emplace_back(entity_dim, entity_tag);
       for (int i = 0; i < in_block; ++i) {

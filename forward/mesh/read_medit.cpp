@@ -44,8 +44,9 @@ class MeditReader {
         keyword_value("the format version");
       } else if (same_keyword(keyword, "Dimension")) {
         if (dim_ != 0) in_.fail("Dimension is given twice");
-        dim_ = static_cast<int>(keyword_value("the dimension"));
-        if (dim_ != 2 && dim_ != 3) in_.fail("Dimension is " + std::to_string(dim_) + ", expected 2 or 3");
+        const std::int64_t dim = keyword_value("the dimension");
+        if (dim != 2 && dim != 3) in_.fail("Dimension is " + std::to_string(dim) + ", expected 2 or 3");
+        dim_ = static_cast<int>(dim);
       } else if (same_keyword(keyword, "Vertices")) {
         read_vertices();
       } else if (same_keyword(keyword, "Tetrahedra")) {
@@ -81,7 +82,7 @@ class MeditReader {
     if (seen_vertices_) in_.fail("a second Vertices section is not supported");
     seen_vertices_ = true;
     const int count = record_count("Vertices");
-    coordinates_.reserve(static_cast<std::size_t>(count) * dim_);
+    coordinates_.reserve(in_.records_that_fit(count, dim_ + 1) * static_cast<std::size_t>(dim_));
     for (int i = 0; i < count; ++i) {
       in_.require_data_line("Vertices", i + 1, count);
       for (int k = 0; k < dim_; ++k) coordinates_.push_back(in_.read_finite("vertex coordinate"));
@@ -94,7 +95,7 @@ class MeditReader {
     if (list.seen) in_.fail("a second " + keyword + " section is not supported");
     list.seen = true;
     const int count = record_count(keyword);
-    list.numbers.reserve(static_cast<std::size_t>(count) * vertices);
+    list.numbers.reserve(in_.records_that_fit(count, vertices + 1) * static_cast<std::size_t>(vertices));
     for (int i = 0; i < count; ++i) {
       in_.require_data_line(keyword, i + 1, count);
       for (int k = 0; k < vertices; ++k) list.numbers.push_back(in_.read_int("vertex number"));

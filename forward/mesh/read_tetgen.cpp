@@ -34,7 +34,8 @@ int read_node_file(const std::string& path, RawMesh& raw) {
   const int num_markers = in.at_line_end() ? 0 : in.read_int_in("number of boundary markers", 0, 1);
   in.expect_line_end("the .node header");
 
-  raw.coordinates.reserve(static_cast<std::size_t>(count) * raw.dim);
+  raw.coordinates.reserve(in.records_that_fit(count, 1 + raw.dim + num_attributes + num_markers) *
+                          static_cast<std::size_t>(raw.dim));
   int base = 0;
   for (int i = 0; i < count; ++i) {
     in.require_data_line("point", i + 1, count);
@@ -60,7 +61,7 @@ void read_ele_file(const std::string& path, int base, RawMesh& raw) {
   in.require_data_line("the .ele header");
   const int count = in.read_int_in("number of elements", 1, std::numeric_limits<int>::max() / 8);
   const int corners = raw.dim + 1;
-  const int nodes = in.read_int("nodes per element");
+  const int nodes = in.read_int_in("nodes per element", 0, std::numeric_limits<int>::max());
   // Quadratic elements list their corners first; the mid-edge points sit exactly on the
   // straight edges in TetGen's output, so dropping them keeps the geometry.
   const int quadratic = raw.dim == 3 ? 10 : 6;
@@ -73,9 +74,10 @@ void read_ele_file(const std::string& path, int base, RawMesh& raw) {
   in.expect_line_end("the .ele header");
 
   std::vector<std::int64_t> numbers;
-  numbers.reserve(static_cast<std::size_t>(count) * corners);
-  raw.regions.reserve(static_cast<std::size_t>(count));
-  raw.element_lines.reserve(static_cast<std::size_t>(count));
+  const std::size_t records = in.records_that_fit(count, 1 + nodes + num_attributes);
+  numbers.reserve(records * static_cast<std::size_t>(corners));
+  raw.regions.reserve(records);
+  raw.element_lines.reserve(records);
   for (int i = 0; i < count; ++i) {
     in.require_data_line("element", i + 1, count);
     in.read_int("element number");

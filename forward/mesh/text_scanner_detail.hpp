@@ -4,6 +4,7 @@
 //
 // The file is read into memory at once; a 200k-tetrahedron mesh is a few megabytes, and
 // scanning a buffer with std::from_chars is much faster than stream extraction.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -91,6 +92,16 @@ class TextScanner {
     std::string label(what);
     if (record > 0) label += " " + std::to_string(record) + " of " + std::to_string(count);
     fail_eof(label);
+  }
+
+  // How many of `count` records of `tokens` tokens each the rest of the file can hold (a token
+  // takes at least one character and one separator): what a reader may reserve for a record
+  // count read from the file, so that a header announcing 10^8 records in a file of a few
+  // bytes cannot make it allocate gigabytes before the records run out.
+  std::size_t records_that_fit(std::int64_t count, int tokens) const {
+    const std::size_t remaining = text_.size() - std::min(next_start_, text_.size());
+    const auto fit = static_cast<std::int64_t>(remaining / (2 * static_cast<std::size_t>(tokens)) + 1);
+    return static_cast<std::size_t>(std::max<std::int64_t>(0, std::min(count, fit)));
   }
 
   bool at_line_end() {

@@ -123,9 +123,11 @@ CellScene parse_cell_scene(const SceneNode& root, const std::string& directory) 
           cell.has("split")
               ? parse_triangle_split(cell.at("split").choice({"forward", "backward", "crossed"}))
               : TriangleSplit::forward;
+      check_mesh_fits(cell.at("grid"), (split == TriangleSplit::crossed ? 4.0 : 2.0) * grid[0] * grid[1], 2);
       mesh = lattice_triangle_mesh(A, origin, grid[0], grid[1], split);
     } else {
       if (cell.has("split")) cell.at("split").fail("\"split\" applies to 2D cells only");
+      check_mesh_fits(cell.at("grid"), 6.0 * grid[0] * grid[1] * grid[2], 3);
       mesh = lattice_tet_mesh(A, origin, grid[0], grid[1], grid[2]);
     }
   } else {

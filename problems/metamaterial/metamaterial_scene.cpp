@@ -22,9 +22,8 @@
 #include "problems/report_header.hpp"
 
 namespace tailor {
-namespace {
 
-MetamaterialDesignSpec parse_design(const SceneNode& root, const CellScene& scene) {
+MetamaterialDesignSpec parse_metamaterial_design(const SceneNode& root, const CellScene& scene) {
   const SceneNode design = root.at("design");
   design.expect_keys({"material", "filter_radius", "max_volume_fraction", "initial_density", "perturbation",
                       "projection", "seed", "objective", "optimizer", "refine"});
@@ -114,6 +113,8 @@ MetamaterialDesignSpec parse_design(const SceneNode& root, const CellScene& scen
   return spec;
 }
 
+namespace {
+
 // Thresholded densities of a fine grid cell (each coarse grid parallelogram split into
 // refine^dim fine ones) from a coarse per-element density, by locating fine centroids in the
 // coarse elements of their grid parallelogram.
@@ -193,7 +194,7 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
   const SceneNode root(document, path, "");
   CellScene scene = parse_cell_scene(root, std::filesystem::path(path).parent_path().string());
   if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();
-  const MetamaterialDesignSpec spec = parse_design(root, scene);
+  const MetamaterialDesignSpec spec = parse_metamaterial_design(root, scene);
   auto cell = std::make_shared<LinearCell>(scene.cell, scene.plane);
   CellDesignFunctional functional(cell, spec.material, spec.filter_radius, spec.objective);
 

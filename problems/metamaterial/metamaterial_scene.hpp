@@ -34,6 +34,9 @@ struct MetamaterialRun {
 };
 
 bool is_metamaterial_scene(const std::string& path);  // a periodic_cell scene with "design"
+// The "design" section of `root`, a periodic-cell scene already parsed into `scene`. Throws
+// SceneError naming the key path.
+MetamaterialDesignSpec parse_metamaterial_design(const SceneNode& root, const CellScene& scene);
 // Reads, optimizes, re-checks and writes DIR/report.json, DIR/design.vtu; progress to `log`,
 // one line per iteration to `progress` when set. Throws SceneError on bad input.
 MetamaterialRun run_metamaterial_scene(const std::string& path, const std::string& out_dir, std::ostream* log,

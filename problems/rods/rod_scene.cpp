@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -63,6 +65,27 @@ double number(const json& j, const std::string& key, const std::string& where,
   return j[key].get<double>();
 }
 
+// An integer in [lo, hi]; anything else is refused (casting it to int would be undefined).
+int integer(const json& j, const std::string& key, const std::string& where, std::optional<int> fallback,
+            int lo, int hi) {
+  if (!j.contains(key) && fallback) return *fallback;
+  const double v = number(j, key, where);
+  if (!(v >= lo && v <= hi) || v != std::floor(v))
+    fail(where + "." + key,
+         "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return static_cast<int>(v);
+}
+
+// The member `key` of `j` when it is an object, an empty object when absent.
+json object_member(const json& j, const std::string& key, const std::string& where) {
+  if (!j.contains(key)) return json::object();
+  if (!j[key].is_object()) fail(where + "." + key, "expected an object");
+  return j[key];
+}
+
+// More vertices than any rod needs; the points are allocated while parsing.
+constexpr int kMaxRodVertices = 10'000'000;
+
 Eigen::MatrixX3d points_of(const json& r, const std::string& where) {
   if (r.contains("points")) {
     const json& pts = r["points"];
@@ -75,12 +98,12 @@ Eigen::MatrixX3d points_of(const json& r, const std::string& where) {
   }
   if (r.contains("line")) {
     const json& l = r["line"];
+    if (!l.is_object()) fail(where + ".line", "expected an object with from, to and vertices");
     const Eigen::Vector3d a = vec3(l.value("from", json()), where + ".line.from");
     const Eigen::Vector3d b = vec3(l.value("to", json()), where + ".line.to");
-    const double n = number(l, "vertices", where + ".line");
-    if (n < 3 || n != std::floor(n)) fail(where + ".line.vertices", "expected an integer >= 3");
-    Eigen::MatrixX3d x(static_cast<Eigen::Index>(n), 3);
-    for (int i = 0; i < n; ++i) x.row(i) = (a + (b - a) * (i / (n - 1))).transpose();
+    const int n = integer(l, "vertices", where + ".line", {}, 3, kMaxRodVertices);
+    Eigen::MatrixX3d x(n, 3);
+    for (int i = 0; i < n; ++i) x.row(i) = (a + (b - a) * (i / (n - 1.0))).transpose();
     return x;
   }
   fail(where, "needs 'points' or 'line'");
@@ -100,16 +123,20 @@ RodSceneSpec parse_rod_scene(const json& scene) {
   if (!scene.contains("rods") || !scene["rods"].is_array() || scene["rods"].empty())
     fail("rods", "expected a non-empty array of rods");
   if (scene.contains("gravity")) spec.gravity = vec3(scene["gravity"], "gravity");
-  spec.load_steps = static_cast<int>(number(scene, "load_steps", "scene", 1.0));
-  if (spec.load_steps < 1) fail("load_steps", "must be >= 1");
-  spec.max_newton_iterations = static_cast<int>(number(scene, "max_newton_iterations", "scene", 200.0));
+  constexpr int kMaxInt = std::numeric_limits<int>::max();
+  spec.load_steps = integer(scene, "load_steps", "scene", 1, 1, kMaxInt);
+  spec.max_newton_iterations = integer(scene, "max_newton_iterations", "scene", 200, 1, kMaxInt);
   for (std::size_t k = 0; k < scene["rods"].size(); ++k) {
     const json& r = scene["rods"][k];
     const std::string where = "rods[" + std::to_string(k) + "]";
+    if (!r.is_object()) fail(where, "expected an object");
     RodSpec rod;
+    if (r.contains("name") && !r["name"].is_string()) fail(where + ".name", "expected a string");
     rod.name = r.value("name", "rod" + std::to_string(k));
     rod.points = points_of(r, where);
-    const json cs = r.value("cross_section", json::object());
+    const json cs = object_member(r, "cross_section", where);
+    if (cs.contains("shape") && !cs["shape"].is_string())
+      fail(where + ".cross_section.shape", "expected a string");
     try {
       rod.material.section.shape = cross_section_shape_from_string(cs.value("shape", std::string("circle")));
     } catch (const std::invalid_argument& e) {
@@ -117,7 +144,7 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     }
     rod.material.section.aspect = number(cs, "aspect", where + ".cross_section", 1.0);
     rod.material.radius = number(cs, "radius", where + ".cross_section");
-    const json mat = r.value("material", json::object());
+    const json mat = object_member(r, "material", where);
     rod.material.youngs_modulus = number(mat, "youngs_modulus", where + ".material");
     rod.material.shear_modulus =
         number(mat, "shear_modulus", where + ".material", rod.material.youngs_modulus / (2.0 * 1.3));
@@ -137,18 +164,18 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     }
     const int nv = static_cast<int>(rod.points.rows());
     for (const auto& v : r.value("pin", json::array())) {
-      if (!v.is_number_integer() || v.get<int>() < 0 || v.get<int>() >= nv)
+      if (!v.is_number_integer() || v.get<std::int64_t>() < 0 || v.get<std::int64_t>() >= nv)
         fail(where + ".pin", "vertex out of range");
       rod.pinned.push_back(v.get<int>());
     }
     for (const auto& l : r.value("point_loads", json::array())) {
-      const int v = static_cast<int>(number(l, "vertex", where + ".point_loads"));
-      if (v < 0 || v >= nv) fail(where + ".point_loads.vertex", "out of range");
+      if (!l.is_object()) fail(where + ".point_loads", "expected objects with vertex and force");
+      const int v = integer(l, "vertex", where + ".point_loads", {}, 0, nv - 1);
       rod.point_loads.push_back({v, vec3(l.value("force", json()), where + ".point_loads.force")});
     }
     for (const auto& m : r.value("twisting_moments", json::array())) {
-      const int e = static_cast<int>(number(m, "edge", where + ".twisting_moments"));
-      if (e < 0 || e >= nv - 1) fail(where + ".twisting_moments.edge", "out of range");
+      if (!m.is_object()) fail(where + ".twisting_moments", "expected objects with edge and moment");
+      const int e = integer(m, "edge", where + ".twisting_moments", {}, 0, nv - 2);
       rod.twisting_moments.emplace_back(e, number(m, "moment", where + ".twisting_moments"));
     }
     spec.rods.push_back(std::move(rod));

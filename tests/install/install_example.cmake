@@ -18,6 +18,25 @@ function(run)
 endfunction()
 
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix} --config ${CONFIG})
+
+# Only public headers are installed (tailor_library's PRIVATE_HEADERS are left out): every
+# tailor header an installed header includes must be installed too.
+set(include_root ${prefix}/include/tailor)
+file(GLOB_RECURSE installed_headers RELATIVE ${include_root} ${include_root}/*.hpp)
+foreach(header ${installed_headers})
+  file(STRINGS ${include_root}/${header} includes REGEX "^#include \"")
+  foreach(line ${includes})
+    string(REGEX REPLACE "^#include \"([^\"]+)\".*" "\\1" included "${line}")
+    if(NOT EXISTS ${include_root}/${included})
+      message(FATAL_ERROR "installed header ${header} includes ${included}, which is not installed")
+    endif()
+  endforeach()
+endforeach()
+foreach(private forward/mesh/text_scanner_detail.hpp optimizers/backend_detail.hpp problems/scene_parsing.hpp)
+  if(EXISTS ${include_root}/${private})
+    message(FATAL_ERROR "the private header ${private} was installed")
+  endif()
+endforeach()
 # CMAKE_FIND_USE_PACKAGE_REGISTRY=OFF: only the scratch prefix may provide tailor.
 run(${CMAKE_COMMAND} -S ${EXAMPLES_DIR} -B ${example_build} -G ${GENERATOR}
     -DCMAKE_BUILD_TYPE=${CONFIG} -DCMAKE_CXX_COMPILER=${CXX_COMPILER}

@@ -1,0 +1,9 @@
+// Medit .mesh files through read_medit, as `tailor` reads a scene's mesh.
+#include "forward/mesh/mesh_io.hpp"
+#include "fuzz/fuzz_support.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = tailor::fuzz::write_input("input.mesh", tailor::fuzz::as_text(data, size));
+  tailor::fuzz::expect_clean([&] { tailor::read_mesh(path); });
+  return 0;
+}

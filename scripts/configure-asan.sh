@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Installs clang (Debian's clang 14 with its sanitizer and libFuzzer runtimes) and configures
+# build-asan/: every target built with AddressSanitizer and UndefinedBehaviorSanitizer, any
+# report fatal, plus the libFuzzer targets of fuzz/. Shared by sanitize.sh and fuzz.sh, which
+# build what each needs in it. See docs/testing.md.
+#
+# -O1 keeps the build about as long as the Release one and the instrumented code fast enough;
+# line tables (not full debug information) are enough for file:line in every report. Asserts
+# stay on (no NDEBUG), so Eigen's index checks run too. Bench programs are not built.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+bash scripts/install-deps.sh sanitizers
+launcher=()
+if command -v ccache >/dev/null; then
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+fi
+flags="-O1 -gline-tables-only"
+cmake -S . -B build-asan -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
+  -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="${flags}" -DCMAKE_C_FLAGS_SANITIZE="${flags}" \
+  -DTAILOR_SANITIZE=address,undefined -DTAILOR_FUZZ=ON -DTAILOR_BUILD_BENCH=OFF "${launcher[@]}" "$@"

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Builds part of the test suite with AddressSanitizer and UndefinedBehaviorSanitizer (clang,
+# build-asan/, see scripts/configure-asan.sh) and runs it; any sanitizer report ends its test
+# with an error, so the script fails on any report as on any failing test. See docs/testing.md.
+#
+# The subset (the whole suite under ASan does not fit CI's time): every parser -- the mesh
+# readers, the scene files of every kind with their data files -- and every energy term's
+# derivative checks. The test executables and the ctest name filter below say exactly which.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+# Test executables (one per tests/ folder) and, for each, a ctest regular expression over
+# "<executable>.<Suite>.<Test>" ("" = all of its tests).
+subset=(
+  # Parsers.
+  "forward_mesh_tests|"                     # Gmsh 2/4, Medit, TetGen readers; generators
+  "problems_tests|Scene|SceneValidation|InverseScene|SplineScene|HandlesScene|StaticScene|DynamicScene|ParserRegression"
+  "problems_rods_tests|"
+  "problems_contact_tests|"
+  "problems_homogenization_tests|"
+  "problems_material_fit_tests|MaterialFitScene"
+  "problems_damping_design_tests|DampingDesignScene"
+  # Energy terms: their derivative checks (check_energy_term) and the terms' own tests.
+  "forward_fem_tests|"
+  "forward_fem_materials_tests|"
+  "forward_spline_material_tests|"
+  "forward_rods_tests|"
+  "forward_contact_tests|"
+  "forward_rigid_tests|"
+  "forward_dynamics_tests|"
+  "forward_damping_tests|"
+)
+
+[[ -f build-asan/CMakeCache.txt ]] || bash scripts/configure-asan.sh
+executables=()
+patterns=()
+for entry in "${subset[@]}"; do
+  executable=${entry%%|*}
+  suites=${entry#*|}
+  executables+=("${executable}")
+  if [[ -z ${suites} ]]; then
+    patterns+=("^${executable}\\.")
+  else
+    patterns+=("^${executable}\\.(${suites})\\.")
+  fi
+done
+# problems_tests runs bin/tailor in some of the selected tests.
+cmake --build build-asan -j"$(nproc)" --target tailor_cli "${executables[@]}"
+
+# Leaks count as reports. OpenMP: see docs/testing.md for why the tests run with the default
+# threads under ASan.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1}"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
+export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=${PWD}/scripts/lsan.supp:print_suppressions=0}"
+regex=$(IFS='|'; echo "${patterns[*]}")
+ctest --test-dir build-asan --output-on-failure -j"$(nproc)" -R "${regex}" --timeout 600

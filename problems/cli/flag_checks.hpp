@@ -1,7 +1,8 @@
 #pragma once
 // CLI11 checks of flag values for `tailor` and the programs in bench/, with messages that say
 // what was expected and what was given: "--count: expected an integer from 1 to 100000, got
-// '0'". A value must be the whole argument ("12x" and "1.5" are not integers) and finite.
+// '0'". A value must be the whole argument ("12x" and "1.5" are not integers) and finite. The
+// checks add nothing to the flag's type name in the help text (the help says the range).
 #include <CLI/CLI.hpp>
 #include <cerrno>
 #include <charconv>
@@ -10,6 +11,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace tailor::cli {
 
@@ -27,7 +29,7 @@ inline CLI::Validator integer_in(long long min, long long max = std::numeric_lim
           return "expected " + expected + ", got '" + text + "'";
         return {};
       },
-      expected);
+      /*validator_desc=*/"");
 }
 
 // A finite number > min (strictly) or >= min.
@@ -45,9 +47,22 @@ inline CLI::Validator number_above(double min, bool inclusive = false) {
           return "expected " + expected + ", got '" + text + "'";
         return {};
       },
-      expected);
+      /*validator_desc=*/"");
 }
 
 inline CLI::Validator number_at_least(double min) { return number_above(min, /*inclusive=*/true); }
+
+// One of the given words.
+inline CLI::Validator one_of(const std::vector<std::string>& words) {
+  std::string expected;
+  for (const std::string& w : words) expected += (expected.empty() ? "" : ", ") + w;
+  return CLI::Validator(
+      [words, expected](std::string& text) -> std::string {
+        for (const std::string& w : words)
+          if (text == w) return {};
+        return "expected one of " + expected + ", got '" + text + "'";
+      },
+      /*validator_desc=*/"");
+}
 
 }  // namespace tailor::cli

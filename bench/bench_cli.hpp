@@ -13,10 +13,10 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "forward/core/format_number.hpp"
 #include "problems/cli/flag_checks.hpp"
 #include "problems/report_header.hpp"
 
@@ -79,9 +79,7 @@ class Cli {
   // A finite number > min (>= min when inclusive).
   CLI::Option* number(const std::string& flag, double& value, const std::string& what, double min,
                       bool inclusive = false) {
-    std::ostringstream bound;
-    bound << (inclusive ? " (>= " : " (> ") << min << ")";
-    return app_.add_option(flag, value, what + bound.str())
+    return app_.add_option(flag, value, what + (inclusive ? " (>= " : " (> ") + format_number(min) + ")")
         ->type_name("X")
         ->check(cli::number_above(min, inclusive))
         ->capture_default_str();

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "bench_cli.hpp"
+#include "forward/core/statistics.hpp"
 #include "forward/solve/blas_info.hpp"
 #include "forward/solve/newton.hpp"
 #include "loaded_block.hpp"
@@ -25,12 +26,6 @@
 using namespace tailor;
 
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 struct SizeResult {
   int target_tets, tets, vertices, free_dofs, iterations;

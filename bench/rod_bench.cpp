@@ -16,6 +16,7 @@
 
 #include "bench_cli.hpp"
 #include "forward/core/elimination.hpp"
+#include "forward/core/statistics.hpp"
 #include "forward/fem/loads.hpp"
 #include "forward/rods/bending_term.hpp"
 #include "forward/rods/rod_supports.hpp"
@@ -26,12 +27,6 @@
 using namespace tailor;
 
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 struct SizeResult {
   int vertices, free_dofs, iterations;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bench_cli.hpp"
+#include "forward/core/statistics.hpp"
 #include "forward/fem/elastic_term.hpp"
 #include "forward/fem/materials/spline_material.hpp"
 #include "forward/fem/spline_elastic_term.hpp"
@@ -35,8 +36,7 @@ double median_seconds(int repeats, F&& work) {
     work();
     t.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
   }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  return median(t);
 }
 
 struct Row {

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "forward/core/format_number.hpp"
 #include "optimizers/backend_detail.hpp"
 #include "optimizers/optimizer.hpp"
 
@@ -64,12 +65,6 @@ class SigintGuard {
   bool installed_ = false;
 };
 
-std::string format_number(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
-
 }  // namespace
 
 std::string to_string(OptimizerBackend backend) {
@@ -123,13 +118,13 @@ std::string OptimizerResult::report() const {
   if (failed_evaluations > 0)
     out << "  failed points  : " << failed_evaluations << " (forward solve failed; the step was shortened)\n";
   out << "  objective      : ";
-  if (!history.empty()) out << format_number("%.6e", history.front().objective) << " -> ";
-  out << format_number("%.6e", objective) << '\n';
+  if (!history.empty()) out << format_number(history.front().objective, "%.6e") << " -> ";
+  out << format_number(objective, "%.6e") << '\n';
   if (!history.empty()) {
-    out << "  gradient norm  : " << format_number("%.3e", history.back().gradient_norm)
+    out << "  gradient norm  : " << format_number(history.back().gradient_norm, "%.3e")
         << " (projected, last iteration)\n";
   }
-  out << "  time           : " << format_number("%.3f", seconds) << " s\n";
+  out << "  time           : " << format_number(seconds, "%.3f") << " s\n";
   if (!history.empty()) {
     out << "  solves         : " << history.back().forward_solves << " forward, "
         << history.back().adjoint_solves << " adjoint\n";
@@ -371,10 +366,10 @@ void Tracker::apply_change_tests() {
   const double change = std::abs(last.objective - history_[history_.size() - 2].objective);
   if (options_.objective_tolerance > 0.0 && change <= options_.objective_tolerance) {
     request_stop(OptimizerStatus::converged,
-                 "objective change " + format_number("%.3e", change) + " <= objective_tolerance");
+                 "objective change " + format_number(change, "%.3e") + " <= objective_tolerance");
   } else if (options_.step_tolerance > 0.0 && last.step_norm <= options_.step_tolerance) {
     request_stop(OptimizerStatus::converged,
-                 "step " + format_number("%.3e", last.step_norm) + " <= step_tolerance");
+                 "step " + format_number(last.step_norm, "%.3e") + " <= step_tolerance");
   }
 }
 
@@ -384,7 +379,7 @@ bool Tracker::stop_requested() {
     request_stop(OptimizerStatus::interrupted, "interrupted (SIGINT)");
   } else if (options_.time_limit_seconds > 0.0 && seconds() > options_.time_limit_seconds) {
     request_stop(OptimizerStatus::time_limit,
-                 "time limit of " + format_number("%g", options_.time_limit_seconds) + " s reached");
+                 "time limit of " + format_number(options_.time_limit_seconds, "%g") + " s reached");
   }
   return stop_status_.has_value();
 }

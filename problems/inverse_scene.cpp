@@ -1,11 +1,11 @@
 #include "problems/inverse_scene.hpp"
 
-#include <utility>
-
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
+#include "forward/core/format_number.hpp"
 #include "problems/scene_parsing.hpp"
 
 namespace tailor {
@@ -35,12 +35,6 @@ bool ObjectiveTermSpec::is_data() const {
 }
 
 namespace {
-
-std::string format_number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 // {"value": E0, "gradient": [g...], "inclusions": [{"center": [...], "radius": r, "factor": f}]}:
 // E = E0 (1 + g . c) * f (inside each sphere) at element centroids c. Dimensions and positivity

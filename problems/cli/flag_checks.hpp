@@ -9,9 +9,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
+
+#include "forward/core/format_number.hpp"
 
 namespace tailor::cli {
 
@@ -34,9 +35,7 @@ inline CLI::Validator integer_in(long long min, long long max = std::numeric_lim
 
 // A finite number > min (strictly) or >= min.
 inline CLI::Validator number_above(double min, bool inclusive = false) {
-  std::ostringstream bound;
-  bound << min;
-  const std::string expected = std::string("a number ") + (inclusive ? ">= " : "> ") + bound.str();
+  const std::string expected = std::string("a number ") + (inclusive ? ">= " : "> ") + format_number(min);
   return CLI::Validator(
       [min, inclusive, expected](std::string& text) -> std::string {
         char* stop = nullptr;

@@ -4,6 +4,7 @@
 // would also match its files (the first match wins; the last, "static", matches everything).
 // A new flag of a verb is a field in VerbArguments and one line in the verb's `options`.
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <limits>
 #include <ostream>
 
@@ -12,7 +13,7 @@
 #include "problems/commands.hpp"
 #include "problems/contact/rigid_scene.hpp"
 #include "problems/damping_design/damping_design_scene.hpp"
-#include "problems/dynamic_scene.hpp"
+#include "problems/dynamic_commands.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/material_fit/material_fit_scene.hpp"
@@ -114,7 +115,16 @@ int gradcheck_dynamic(const SceneFile& file, const VerbArguments& args, std::ost
 
 int run_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
-  const InverseRun run = run_inverse_scene(scene, out_dir(args, scene), &out, args.quiet ? nullptr : &out);
+  // `run --resume DIR` writes into DIR (the checkpoint's folder) unless --out says otherwise.
+  std::string dir = out_dir(args, scene);
+  if (args.resume && !args.out_dir) {
+    const std::filesystem::path resume(*args.resume);
+    dir = !std::filesystem::is_regular_file(resume) ? resume.string()
+          : resume.has_parent_path()                ? resume.parent_path().string()
+                                                    : ".";
+  }
+  const InverseRun run =
+      run_inverse_scene(scene, dir, &out, args.quiet ? nullptr : &out, {args.checkpoint_every, args.resume});
   return exit_code(run.result.converged());
 }
 
@@ -153,19 +163,28 @@ int homogenize_cell(const SceneFile& file, const VerbArguments& args, std::ostre
   return kSuccess;
 }
 
+// The runs that are not an inverse problem's optimizer keep no checkpoints.
+void refuse_checkpoint_flags(const VerbArguments& args) {
+  if (args.resume || args.checkpoint_every)
+    throw UsageError("--resume and --checkpoint-every need a scene with an \"inverse\" section");
+}
+
 int design_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_checkpoint_flags(args);
   const MetamaterialRun run = run_metamaterial_scene(file.path, args.out_dir_or("out/metamaterial"), &out,
                                                      args.quiet ? nullptr : &out);
   return exit_code(run.result.converged());
 }
 
 int fit_material(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_checkpoint_flags(args);
   const MaterialFitRun fit =
       run_material_fit_scene(file.path, args.out_dir_or(""), &out, args.quiet ? nullptr : &out);
   return exit_code(fit.result.converged());
 }
 
 int design_damping(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_checkpoint_flags(args);
   return exit_code(run_damping_design_scene(file.path, args.out_dir_or("out/damping_design"), out));
 }
 
@@ -191,13 +210,22 @@ std::vector<Verb> builtin_verbs() {
          add_seed(c, a, "seed of the random direction (default: the scene's inverse.gradcheck.seed, else 1)");
          c.add_flag("--hessian", a.hessian, "also check Hessian-vector products");
        }},
-      {"run", "run scene.json [--out DIR] [--quiet]",
+      {"run", "run scene.json [--out DIR] [--quiet] [--checkpoint-every K] [--resume DIR]",
        "Optimize the design of the scene's inverse problem; print one line per iteration\n"
-       "(none with --quiet); write DIR/report.json and DIR/result.vtu at the best design.",
+       "(none with --quiet); write DIR/report.json and DIR/result.vtu at the best design,\n"
+       "and DIR/checkpoint.json every K iterations (default: the scene's\n"
+       "optimizer.checkpoint_every, 10; 0 = none). --resume DIR continues from DIR's\n"
+       "checkpoint (and writes into DIR unless --out is given).",
        /*needs_scene=*/true,
        [](CLI::App& c, VerbArguments& a) {
          add_out(c, a);
          c.add_flag("--quiet", a.quiet, "no progress line per iteration (the summary stays)");
+         c.add_option("--checkpoint-every", a.checkpoint_every,
+                      "write DIR/checkpoint.json every K iterations (0: never)")
+             ->type_name("K")
+             ->check(cli::integer_in(0, 1000000000));
+         c.add_option("--resume", a.resume, "continue from the checkpoint in DIR (or the file)")
+             ->type_name("DIR");
        }},
       {"modes", "modes scene.json [--out DIR] [--count N]",
        "Modal analysis at rest: the N lowest vibration modes (default 10), rigid-body modes\n"

@@ -13,6 +13,7 @@
 #include <iosfwd>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -28,16 +29,24 @@ namespace tailor {
 // flag in the verb's `options` (problems/builtin_scene_kinds.cpp).
 struct VerbArguments {
   std::string verb;
-  std::optional<std::string> scene;    // the scene file (a positional argument)
-  std::optional<std::string> out_dir;  // --out DIR
-  std::optional<unsigned> seed;        // --seed N (check, gradcheck)
-  bool hessian = false;                // --hessian (gradcheck)
-  bool quiet = false;                  // --quiet (run)
-  int count = 10;                      // --count N (modes)
+  std::optional<std::string> scene;     // the scene file (a positional argument)
+  std::optional<std::string> out_dir;   // --out DIR
+  std::optional<unsigned> seed;         // --seed N (check, gradcheck)
+  bool hessian = false;                 // --hessian (gradcheck)
+  bool quiet = false;                   // --quiet (run)
+  int count = 10;                       // --count N (modes)
+  std::optional<int> checkpoint_every;  // --checkpoint-every K (run)
+  std::optional<std::string> resume;    // --resume DIR (run): the checkpoint to continue from
   // Every verb: --threads N, --factorization-threads 1|0 (see apply_thread_flags).
   std::optional<int> threads, factorization_threads;
 
   std::string out_dir_or(const std::string& fallback) const { return out_dir.value_or(fallback); }
+};
+
+// A handler's usage error (e.g. a flag its kind cannot honour): exit 2 with the verb's usage.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 // The scene file, read once. Without a scene file on the command line `path` is empty (the

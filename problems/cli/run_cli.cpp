@@ -175,6 +175,8 @@ class Cli {
         return kBadInput;
       }
       return entry->handler(file, args_, out_);
+    } catch (const UsageError& e) {
+      return usage_error(e.what());
     } catch (const SceneError& e) {
       err_ << "tailor: error: " << e.what() << "\n";
       return kBadInput;

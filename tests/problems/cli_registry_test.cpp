@@ -164,6 +164,8 @@ TEST_F(CliRegistry, BadFlagValuesExitWithTwoNamingTheFlag) {
        "--factorization-threads: expected an integer from 0 to 1"},
       {{"gradcheck", toy_, "--seed"}, "--seed"},
       {{"simulate", toy_, "--out"}, "--out"},
+      {{"run", testing::kScenesDir + "/material_fit/spline_fit_neo_hookean.json", "--checkpoint-every", "3"},
+       "--resume and --checkpoint-every need a scene with an \"inverse\" section"},
   };
   for (const auto& c : cases) {
     const Outcome r = run(c.arguments);
@@ -182,7 +184,10 @@ TEST_F(CliRegistry, HelpAndVersionExitWithZero) {
     EXPECT_EQ(r.err, "");
   }
   const Outcome r = run({"run", "--help"});
-  EXPECT_NE(r.out.find("usage: tailor run scene.json [--out DIR] [--quiet]"), std::string::npos) << r.out;
+  EXPECT_NE(
+      r.out.find("usage: tailor run scene.json [--out DIR] [--quiet] [--checkpoint-every K] [--resume DIR]"),
+      std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("material_fit"), std::string::npos) << r.out;  // the kinds that support it
   EXPECT_EQ(r.out.find("rigid_bodies"), std::string::npos) << r.out;  // and only those
   EXPECT_NE(r.out.find("--threads N"), std::string::npos) << r.out;   // with the flags of every verb

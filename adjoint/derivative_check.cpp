@@ -7,6 +7,8 @@
 #include <random>
 #include <sstream>
 
+#include "forward/core/statistics.hpp"
+
 namespace tailor {
 namespace {
 
@@ -15,13 +17,6 @@ Vector random_unit_box(Eigen::Index n, std::mt19937& rng) {
   Vector v(n);
   for (Eigen::Index i = 0; i < n; ++i) v[i] = u(rng);
   return v;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
 }  // namespace

@@ -9,17 +9,9 @@
 #include <random>
 #include <sstream>
 
+#include "forward/core/statistics.hpp"
+
 namespace tailor {
-namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
-}  // namespace
-
 std::string to_string(TaylorStatus status) {
   switch (status) {
     case TaylorStatus::passed:

@@ -14,12 +14,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <iostream>
 #include <string>
 #include <vector>
 
 #include "adjoint/static_functional.hpp"
+#include "bench_cli.hpp"
 #include "loaded_block.hpp"
 #include "objectives/target_positions.hpp"
 #include "tailor_version.hpp"
@@ -89,17 +88,10 @@ Row run(MaterialKind kind, int target_tets) {
 int main(int argc, char** argv) {
   int tets = 50000;
   std::string out = "bench_adjoint.json";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--tets" && i + 1 < argc)
-      tets = std::stoi(argv[++i]);
-    else if (arg == "--out" && i + 1 < argc)
-      out = argv[++i];
-    else {
-      std::cerr << "usage: adjoint_bench [--tets 50000] [--out FILE]\n";
-      return 2;
-    }
-  }
+  bench::Cli cli("adjoint_bench", "Cost of one gradient of a static inverse problem / one forward solve.");
+  cli.tets(tets);
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
   std::printf("tailor %s: gradient cost / forward cost, per-element Young's moduli as design variables\n",
               version_string);
   std::printf("%-12s %7s %6s %9s %9s %7s %-20s %4s %11s %10s\n", "material", "tets", "newton", "forward", "gradient",
@@ -113,19 +105,23 @@ int main(int argc, char** argv) {
                 r.difference);
     std::fflush(stdout);
   }
-  std::printf("(seconds; ratio = gradient / forward; fresh fact. = gradient time with a fresh factorization at x*;\n"
-              " rel. diff = |g_cg - g_fresh| / |g_fresh|)\n");
-  std::ofstream json(out);
-  json << "{\n  \"benchmark\": \"adjoint_gradient\",\n  \"tailor_version\": \"" << version_string << "\",\n  \"results\": [\n";
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const Row& r = rows[k];
-    json << "    {\"material\": \"" << r.material << "\", \"tets\": " << r.tets << ", \"design_variables\": " << r.design
-         << ", \"newton_iterations\": " << r.newton_iterations << ", \"forward_s\": " << r.forward
-         << ", \"gradient_s\": " << r.gradient << ", \"ratio\": " << r.ratio << ", \"adjoint_solve\": \"" << r.method
-         << "\", \"cg_iterations\": " << r.cg_iterations << ", \"fresh_factorization_gradient_s\": " << r.fresh_gradient
-         << ", \"relative_difference\": " << r.difference << "}" << (k + 1 < rows.size() ? "," : "") << "\n";
-  }
-  json << "  ]\n}\n";
-  std::printf("wrote %s\n", out.c_str());
-  return 0;
+  std::printf(
+      "(seconds; ratio = gradient / forward; fresh fact. = gradient time with a fresh factorization at x*;\n"
+      " rel. diff = |g_cg - g_fresh| / |g_fresh|)\n");
+  bench::Json json = bench::report("adjoint_gradient");
+  bench::Json results = bench::Json::array();
+  for (const Row& r : rows)
+    results.push_back({{"material", r.material},
+                       {"tets", r.tets},
+                       {"design_variables", r.design},
+                       {"newton_iterations", r.newton_iterations},
+                       {"forward_s", r.forward},
+                       {"gradient_s", r.gradient},
+                       {"ratio", r.ratio},
+                       {"adjoint_solve", r.method},
+                       {"cg_iterations", r.cg_iterations},
+                       {"fresh_factorization_gradient_s", r.fresh_gradient},
+                       {"relative_difference", r.difference}});
+  json["results"] = results;
+  return bench::write_report(out, json, "adjoint_bench") ? 0 : 1;
 }

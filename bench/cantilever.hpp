@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "forward/core/model.hpp"
+#include "forward/core/statistics.hpp"
 #include "forward/fem/elastic_term.hpp"
 #include "forward/mesh/generate.hpp"
 
@@ -25,12 +26,7 @@ inline double seconds_since(Clock::time_point t0) {
 // the waiting a loaded machine adds to wall-clock time.
 inline double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
-inline double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t k = v.size() / 2;
-  return v.size() % 2 ? v[k] : 0.5 * (v[k - 1] + v[k]);
-}
+using tailor::median;  // forward/core/statistics.hpp
 
 struct CantileverCells {
   int along = 1, across = 1;

@@ -8,13 +8,15 @@
 #include <iostream>
 #include <string>
 
+#include "bench_cli.hpp"
 #include "problems/damping_design/damping_study.hpp"
 
 int main(int argc, char** argv) {
   using namespace tailor;
   std::string out = "damping_design_bench";
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::string(argv[i]) == "--out") out = argv[i + 1];
+  bench::Cli cli("damping_design_bench", "Example-based damping on a cantilever plate (Xu & Barbic 2017).");
+  cli.out(out, "output folder: report.json and the PNG plots")->type_name("DIR");
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
   DampingStudyOptions o;
   o.plate.controls = {Vector::Constant(1, 0.1), Vector::Constant(1, 3.0)};
   o.vibration.time_step = 5e-3;

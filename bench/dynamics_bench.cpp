@@ -16,12 +16,11 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
-#include <fstream>
-#include <iostream>
 #include <string>
 #include <vector>
 
 #include "adjoint/transient_functional.hpp"
+#include "bench_cli.hpp"
 #include "cantilever.hpp"
 #include "forward/dynamics/setup.hpp"
 #include "tailor_version.hpp"
@@ -129,25 +128,13 @@ int main(int argc, char** argv) {
   int tets = 58000, steps = 10;
   bool reuse_factorization = false;
   std::string out = "bench_dynamics.json";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--tets" && i + 1 < argc)
-      tets = std::stoi(argv[++i]);
-    else if (arg == "--steps" && i + 1 < argc)
-      steps = std::stoi(argv[++i]);
-    else if (arg == "--reuse-factorization")
-      reuse_factorization = true;
-    else if (arg == "--out" && i + 1 < argc)
-      out = argv[++i];
-    else {
-      std::cerr << "usage: dynamics_bench [--tets 58000] [--steps 10] [--reuse-factorization] [--out FILE]\n";
-      return 2;
-    }
-  }
-  if (tets < 24 || steps < 1) {
-    std::cerr << "dynamics_bench: --tets must be >= 24 and --steps >= 1\n";
-    return 2;
-  }
+  bench::Cli cli("dynamics_bench", "Time per implicit step of a Neo-Hookean cantilever, and its adjoint.");
+  cli.tets(tets, 24);
+  cli.steps(steps);
+  cli.flag("--reuse-factorization", reuse_factorization,
+           "Newton's kept factorization as CG preconditioner instead of refactorizing");
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
   std::printf("tailor %s: Neo-Hookean cantilever under gravity, h = 0.01, full space\n", version_string);
   std::vector<Row> rows;
   for (TimeScheme scheme : {TimeScheme::implicit_euler, TimeScheme::newmark})
@@ -167,27 +154,30 @@ int main(int argc, char** argv) {
       " are per-step wall-clock averages; adjoint = wall clock of one gradient over all steps; adj/fwd = its "
       "CPU\n"
       " time over the CPU time of the forward run of the same steps)\n");
-  std::ofstream json(out);
-  json << "{\n  \"benchmark\": \"dynamics_step\",\n  \"tailor_version\": \"" << version_string
-       << "\",\n  \"reuse_factorization\": " << (reuse_factorization ? "true" : "false")
-       << ",\n  \"results\": [\n";
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const Row& r = rows[k];
-    json << "    {\"scheme\": \"" << r.scheme << "\", \"tets\": " << r.tets << ", \"dofs\": " << r.dofs
-         << ", \"steps\": " << r.steps << ", \"median_step_s\": " << r.median_step
-         << ", \"min_step_s\": " << r.min_step << ", \"max_step_s\": " << r.max_step
-         << ", \"median_step_cpu_s\": " << r.median_cpu
-         << ", \"newton_iterations_per_step\": " << r.newton_per_step
-         << ", \"assembly_s_per_step\": " << r.assembly
-         << ", \"factorization_s_per_step\": " << r.factorization
-         << ", \"line_search_s_per_step\": " << r.line_search << ", \"tip_drop\": " << r.tip_drop
-         << ", \"forward_s\": " << r.forward << ", \"adjoint_s\": " << r.adjoint
-         << ", \"forward_cpu_s\": " << r.forward_cpu << ", \"adjoint_cpu_s\": " << r.adjoint_cpu
-         << ", \"adjoint_over_forward_cpu\": " << r.adjoint_cpu / r.forward_cpu
-         << ", \"adjoint_factorizations\": " << r.factorizations << ", \"adjoint_cg_solves\": " << r.cg_solves
-         << "}" << (k + 1 < rows.size() ? "," : "") << "\n";
-  }
-  json << "  ]\n}\n";
-  std::printf("wrote %s\n", out.c_str());
-  return 0;
+  bench::Json json = bench::report("dynamics_step");
+  json["reuse_factorization"] = reuse_factorization;
+  bench::Json results = bench::Json::array();
+  for (const Row& r : rows)
+    results.push_back({{"scheme", r.scheme},
+                       {"tets", r.tets},
+                       {"dofs", r.dofs},
+                       {"steps", r.steps},
+                       {"median_step_s", r.median_step},
+                       {"min_step_s", r.min_step},
+                       {"max_step_s", r.max_step},
+                       {"median_step_cpu_s", r.median_cpu},
+                       {"newton_iterations_per_step", r.newton_per_step},
+                       {"assembly_s_per_step", r.assembly},
+                       {"factorization_s_per_step", r.factorization},
+                       {"line_search_s_per_step", r.line_search},
+                       {"tip_drop", r.tip_drop},
+                       {"forward_s", r.forward},
+                       {"adjoint_s", r.adjoint},
+                       {"forward_cpu_s", r.forward_cpu},
+                       {"adjoint_cpu_s", r.adjoint_cpu},
+                       {"adjoint_over_forward_cpu", r.adjoint_cpu / r.forward_cpu},
+                       {"adjoint_factorizations", r.factorizations},
+                       {"adjoint_cg_solves", r.cg_solves}});
+  json["results"] = results;
+  return bench::write_report(out, json, "dynamics_bench") ? 0 : 1;
 }

@@ -3,14 +3,13 @@
 // geometry (a disc or sphere inclusion of radius 0.3, E ratio 10, elements by centroid).
 //   homogenization_bench [--max2d N] [--max3d N] [--n2d a,b,...] [--n3d a,b,...] [--out FILE]
 // (--max: doubling from 32 (2D) / 8 (3D); --n: explicit grid sizes instead)
-// writes FILE (default homogenization_bench.json) and prints a table.
+// writes FILE (default bench_homogenization.json) and prints a table.
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "forward/core/timing.hpp"
 #include "forward/homogenization/cell_mesh.hpp"
 #include "forward/homogenization/linear_homogenization.hpp"
@@ -58,47 +57,27 @@ Row run(int dim, int n) {
 
 int main(int argc, char** argv) {
   int max2d = 512, max3d = 32;
-  std::string out = "homogenization_bench.json";
+  std::string out = "bench_homogenization.json";
   std::vector<int> n2d, n3d;
-  const auto parse_list = [](const std::string& text) {
-    std::vector<int> values;
-    std::size_t start = 0;
-    while (start < text.size()) {
-      const std::size_t end = text.find(',', start);
-      values.push_back(std::atoi(text.substr(start, end - start).c_str()));
-      if (end == std::string::npos) break;
-      start = end + 1;
-    }
-    return values;
-  };
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i];
-    if (a == "--max2d")
-      max2d = std::atoi(argv[i + 1]);
-    else if (a == "--max3d")
-      max3d = std::atoi(argv[i + 1]);
-    else if (a == "--out")
-      out = argv[i + 1];
-    else if (a == "--n2d")
-      n2d = parse_list(argv[i + 1]);
-    else if (a == "--n3d")
-      n3d = parse_list(argv[i + 1]);
-  }
+  bench::Cli cli("homogenization_bench", "Homogenization time against cell size, and the error of C^H.");
+  cli.integer("--max2d", max2d, "largest 2D grid, doubling from 32 (0: no 2D cells)", 0);
+  cli.integer("--max3d", max3d, "largest 3D grid, doubling from 8 (0: no 3D cells)", 0);
+  cli.integers("--n2d", n2d, "2D grid sizes instead of the doubling", 1);
+  cli.integers("--n3d", n3d, "3D grid sizes instead of the doubling", 1);
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
   std::vector<Row> rows;
   if (n2d.empty())
     for (int n = 32; n <= max2d; n *= 2) n2d.push_back(n);
   if (n3d.empty())
     for (int n = 8; n <= max3d; n *= 2) n3d.push_back(n);
-  for (const int n : n2d)
-    if (n > 0) rows.push_back(run(2, n));
-  for (const int n : n3d)
-    if (n > 0) rows.push_back(run(3, n));
-  std::ofstream json(out);
-  json << "{\"rows\": [\n";
+  for (const int n : n2d) rows.push_back(run(2, n));
+  for (const int n : n3d) rows.push_back(run(3, n));
   std::printf("%3s %5s %9s %9s %8s %9s %8s %8s %10s\n", "dim", "n", "elements", "unknowns", "setup_s",
               "assembly_s", "factor_s", "solves_s", "rel_error");
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const Row& r = rows[i];
+  bench::Json json = bench::report("homogenization");
+  bench::Json results = bench::Json::array();
+  for (const Row& r : rows) {
     // Error against the finest cell of the same dimension.
     const Row* finest = &r;
     for (const Row& s : rows)
@@ -106,12 +85,16 @@ int main(int argc, char** argv) {
     const double error = (r.C - finest->C).norm() / finest->C.norm();
     std::printf("%3d %5d %9d %9d %8.3f %9.3f %8.3f %8.3f %10.2e\n", r.dim, r.n, r.elements, r.unknowns,
                 r.setup, r.assembly, r.factorization, r.solves, error);
-    json << "  {\"dim\": " << r.dim << ", \"n\": " << r.n << ", \"elements\": " << r.elements
-         << ", \"unknowns\": " << r.unknowns << ", \"setup_seconds\": " << r.setup
-         << ", \"assembly_seconds\": " << r.assembly << ", \"factorization_seconds\": " << r.factorization
-         << ", \"solve_seconds\": " << r.solves << ", \"relative_error_vs_finest\": " << error << "}"
-         << (i + 1 < rows.size() ? ",\n" : "\n");
+    results.push_back({{"dim", r.dim},
+                       {"n", r.n},
+                       {"elements", r.elements},
+                       {"unknowns", r.unknowns},
+                       {"setup_seconds", r.setup},
+                       {"assembly_seconds", r.assembly},
+                       {"factorization_seconds", r.factorization},
+                       {"solve_seconds", r.solves},
+                       {"relative_error_vs_finest", error}});
   }
-  json << "]}\n";
-  return 0;
+  json["rows"] = results;
+  return bench::write_report(out, json, "homogenization_bench") ? 0 : 1;
 }

@@ -19,15 +19,15 @@
 // then per reduced run its speed-up over the full design and how soon it reached the full
 // design's final error. Run with
 // OPENBLAS_NUM_THREADS=1 on a shared machine (BLAS threads fight over the cores otherwise).
-// --reuse-factorization on|off overrides the scenes' solver.reuse_factorization (on in the large
-// scene, off in the small one, where a factorization is cheap and CG steps do not pay off):
-// Newton preconditions CG with its kept factorization instead of factorizing every iteration.
+// --reuse-factorization / --no-reuse-factorization override the scenes' solver.reuse_factorization (on in the
+// large scene, off in the small one, where a factorization is cheap and CG steps do not pay off): Newton
+// preconditions CG with its kept factorization instead of factorizing every iteration.
 // --no-full skips the full design (e.g. to time reduced runs on the large scene alone).
 //
 // usage: material_modes_bench [--quick] [--scenes small,large] [--modes 5,10,20,40,80]
 //          [--backends ipopt,ceres_lbfgs,gradient_descent] [--backend-modes 20] [--max-iterations 200]
 //          [--full-time-limit 600] [--time-limit 0] [--scene-dir scenes]
-//          [--out FILE] [--plot FILE] [--reuse-factorization on|off] [--no-full]
+//          [--out FILE] [--plot FILE] [--reuse-factorization | --no-reuse-factorization] [--no-full]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -36,10 +36,10 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "problems/inverse_problem.hpp"
 #include "problems/plot/line_plot.hpp"
 #include "tailor_version.hpp"
@@ -80,14 +80,6 @@ struct Settings {
   bool full = true;                 // run the full design
   std::string scene_dir = "scenes", out = "bench_material_modes.json", plot = "bench_material_modes.png";
 };
-
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream s(text);
-  for (std::string item; std::getline(s, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
 
 std::string scene_file(const Settings& settings, const std::string& scene) {
   return settings.scene_dir +
@@ -200,39 +192,38 @@ void print_row(const Row& r) {
   std::fflush(stdout);
 }
 
-std::string json_array(const std::vector<double>& values) {
-  std::ostringstream s;
-  s.precision(6);
-  s << "[";
-  for (std::size_t k = 0; k < values.size(); ++k) s << (k ? ", " : "") << values[k];
-  return s.str() + "]";
-}
-
-void write_json(const Settings& settings, const std::vector<Row>& rows) {
-  std::ofstream json(settings.out);
+bench::Json write_json(const Settings& settings, const std::vector<Row>& rows) {
+  bench::Json json = bench::report("material_modes");
   const char* threads = std::getenv("OPENBLAS_NUM_THREADS");
-  json << "{\n  \"benchmark\": \"material_modes\",\n  \"tailor_version\": \"" << version_string
-       << "\",\n  \"openblas_num_threads\": \"" << (threads ? threads : "unset")
-       << "\",\n  \"max_iterations\": " << settings.max_iterations
-       << ",\n  \"full_time_limit_s\": " << settings.full_time_limit << ",\n  \"results\": [\n";
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const Row& r = rows[k];
-    json << "    {\"scene\": \"" << r.scene << "\", \"tets\": " << r.tets << ", \"modes\": \"" << r.modes
-         << "\", \"design_variables\": " << r.design << ", \"backend\": \"" << r.backend
-         << "\", \"status\": \"" << r.status << "\", \"capped\": " << (r.capped ? "true" : "false")
-         << ", \"iterations\": " << r.iterations << ", \"evaluations\": " << r.evaluations
-         << ", \"wall_s\": " << r.wall_s << ", \"modes_s\": " << r.modes_s
-         << ", \"optimization_s\": " << r.optimization_s << ", \"forward_ms_per_iteration\": " << r.forward_ms
-         << ", \"adjoint_ms_per_iteration\": " << r.adjoint_ms
-         << ", \"newton_iterations\": " << r.newton_iterations
-         << ", \"newton_factorizations\": " << r.factorizations << ", \"load_average\": " << r.load_average
-         << ", \"objective\": " << r.objective << ", \"relative_l2_error\": " << r.error
-         << ", \"initial_relative_l2_error\": " << r.initial_error
-         << ", \"history_s\": " << json_array(r.history_s)
-         << ", \"history_relative_l2_error\": " << json_array(r.history_error) << "}"
-         << (k + 1 < rows.size() ? "," : "") << "\n";
-  }
-  json << "  ]\n}\n";
+  json["openblas_num_threads"] = threads ? threads : "unset";
+  json["max_iterations"] = settings.max_iterations;
+  json["full_time_limit_s"] = settings.full_time_limit;
+  bench::Json results = bench::Json::array();
+  for (const Row& r : rows)
+    results.push_back({{"scene", r.scene},
+                       {"tets", r.tets},
+                       {"modes", r.modes},
+                       {"design_variables", r.design},
+                       {"backend", r.backend},
+                       {"status", r.status},
+                       {"capped", r.capped},
+                       {"iterations", r.iterations},
+                       {"evaluations", r.evaluations},
+                       {"wall_s", r.wall_s},
+                       {"modes_s", r.modes_s},
+                       {"optimization_s", r.optimization_s},
+                       {"forward_ms_per_iteration", r.forward_ms},
+                       {"adjoint_ms_per_iteration", r.adjoint_ms},
+                       {"newton_iterations", r.newton_iterations},
+                       {"newton_factorizations", r.factorizations},
+                       {"load_average", r.load_average},
+                       {"objective", r.objective},
+                       {"relative_l2_error", r.error},
+                       {"initial_relative_l2_error", r.initial_error},
+                       {"history_s", bench::array(r.history_s)},
+                       {"history_relative_l2_error", bench::array(r.history_error)}});
+  json["results"] = results;
+  return json;
 }
 
 // Per scene, PLOT_scene.png (PLOT = --plot without ".png"): the recovery error of the best design
@@ -274,62 +265,68 @@ std::vector<std::string> write_plots(const Settings& settings, const std::vector
 int main(int argc, char** argv) {
   Settings settings;
   bool quick = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--quick") {
-      quick = true;
-    } else if (arg == "--scenes" && has_value) {
-      settings.scenes = split(argv[++i]);
-    } else if (arg == "--modes" && has_value) {
-      settings.modes.clear();
-      for (const std::string& m : split(argv[++i])) settings.modes.push_back(std::stoi(m));
-    } else if (arg == "--backends" && has_value) {
-      settings.backends.clear();
-      try {
-        for (const std::string& b : split(argv[++i])) settings.backends.push_back(parse_optimizer_backend(b));
-      } catch (const std::invalid_argument& e) {
-        std::cerr << "material_modes_bench: " << e.what() << "\n";
-        return 2;
-      }
-    } else if (arg == "--backend-modes" && has_value) {
-      settings.backend_modes = std::stoi(argv[++i]);
-    } else if (arg == "--max-iterations" && has_value) {
-      settings.max_iterations = std::stoi(argv[++i]);
-    } else if (arg == "--time-limit" && has_value) {
-      settings.time_limit = std::stod(argv[++i]);
-    } else if (arg == "--full-time-limit" && has_value) {
-      settings.full_time_limit = std::stod(argv[++i]);
-    } else if (arg == "--scene-dir" && has_value) {
-      settings.scene_dir = argv[++i];
-    } else if (arg == "--out" && has_value) {
-      settings.out = argv[++i];
-    } else if (arg == "--plot" && has_value) {
-      settings.plot = argv[++i];
-    } else if (arg == "--reuse-factorization" && has_value &&
-               (std::string(argv[i + 1]) == "on" || std::string(argv[i + 1]) == "off")) {
-      settings.reuse_factorization = std::string(argv[++i]) == "on";
-    } else if (arg == "--no-full") {
-      settings.full = false;
-    } else {
-      std::cerr << "usage: material_modes_bench [--quick] [--scenes small,large] [--modes 5,10,20,40,80]\n"
-                   "         [--backends ipopt,ceres_lbfgs,gradient_descent] [--backend-modes 20]\n"
-                   "         [--max-iterations 200] [--full-time-limit 600] [--time-limit 0]\n"
-                   "         [--scene-dir scenes] [--out FILE] [--plot FILE]\n"
-                   "         [--reuse-factorization on|off] [--no-full]\n";
-      return 2;
-    }
+  std::vector<std::string> backends;
+  bench::Cli cli("material_modes_bench",
+                 "Reduced material design with Laplacian material modes vs the full design.");
+  cli.flag("--quick", quick,
+           "the small scene, r = 5 and 20, no back-end comparison, full design capped at 20 s");
+  cli.app()
+      .add_option("--scenes", settings.scenes, "scenes to run")
+      ->type_name("small|large[,...]")
+      ->delimiter(',')
+      ->check(cli::one_of({"small", "large"}))
+      ->capture_default_str();
+  cli.integers("--modes", settings.modes, "material mode counts r (nlopt_lbfgs)", 1);
+  cli.app()
+      .add_option("--backends", backends,
+                  "back-ends compared at r = --backend-modes (default ipopt,ceres_lbfgs,"
+                  "gradient_descent)")
+      ->type_name("NAME[,...]")
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& name) -> std::string {
+            try {
+              parse_optimizer_backend(name);
+              return {};
+            } catch (const std::invalid_argument& e) {
+              return e.what();
+            }
+          },
+          "optimizer back-end"));
+  cli.integer("--backend-modes", settings.backend_modes, "r of the back-end comparison", 1);
+  cli.integer("--max-iterations", settings.max_iterations, "optimizer iteration cap of every run", 1);
+  cli.number("--full-time-limit", settings.full_time_limit, "time cap of the full design [s]", 0.0);
+  cli.number("--time-limit", settings.time_limit, "time cap of the reduced runs [s] (0: none)", 0.0,
+             /*inclusive=*/true);
+  cli.app()
+      .add_option("--scene-dir", settings.scene_dir, "folder of the inclusion_recovery scenes")
+      ->type_name("DIR")
+      ->capture_default_str();
+  cli.out(settings.out);
+  cli.app()
+      .add_option("--plot", settings.plot, "PNG stem: PLOT_small.png, PLOT_large.png")
+      ->type_name("FILE")
+      ->capture_default_str();
+  CLI::Option* reuse = cli.app().add_flag_callback(
+      "--reuse-factorization", [&settings] { settings.reuse_factorization = true; },
+      "Newton preconditions CG with its kept factorization (default: as in each scene)");
+  cli.app()
+      .add_flag_callback(
+          "--no-reuse-factorization", [&settings] { settings.reuse_factorization = false; },
+          "Newton factorizes every iteration")
+      ->excludes(reuse);
+  cli.app().add_flag_callback(
+      "--no-full", [&settings] { settings.full = false; }, "skip the full design");
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
+  if (!backends.empty()) {
+    settings.backends.clear();
+    for (const std::string& b : backends) settings.backends.push_back(parse_optimizer_backend(b));
   }
   if (quick) {  // the small scene, two mode counts, one back-end, a short cap on the full design
     settings.scenes = {"small"};
     settings.modes = {5, 20};
     settings.full_time_limit = std::min(settings.full_time_limit, 20.0);
   }
-  for (const std::string& s : settings.scenes)
-    if (s != "small" && s != "large") {
-      std::cerr << "material_modes_bench: unknown scene '" << s << "' (small or large)\n";
-      return 2;
-    }
 
   std::vector<Setting> plan;
   for (const std::string& scene : settings.scenes) {
@@ -359,7 +356,9 @@ int main(int argc, char** argv) {
                    to_string(setting.backend).c_str(), e.what());
       return 1;
     }
-    write_json(settings, rows);  // after every run, so a long bench leaves its results so far
+    // After every run, so that a long bench leaves its results so far.
+    std::ofstream(settings.out)
+        << write_json(settings, rows).dump(2, ' ', false, bench::Json::error_handler_t::replace);
   }
   std::printf(
       "(wall = material modes + optimization; per-iteration times are totals / iterations; E error = "
@@ -397,8 +396,7 @@ int main(int argc, char** argv) {
           r.error / full->error, reached, reached_best);
     }
   }
-  std::printf("wrote %s", settings.out.c_str());
-  for (const std::string& path : write_plots(settings, rows)) std::printf(", %s", path.c_str());
-  std::printf("\n");
+  if (!bench::write_report(settings.out, write_json(settings, rows), "material_modes_bench")) return 1;
+  for (const std::string& path : write_plots(settings, rows)) std::printf("wrote %s\n", path.c_str());
   return 0;
 }

@@ -7,32 +7,25 @@
 // Writes JSON (--out, default bench_newton.json) and prints a table. Medians over the
 // iterations of one run.
 //
-// usage: newton_bench [--sizes 10000,50000,200000] [--out FILE] [--max-iterations N]
+// usage: newton_bench [--tets 10000,50000,200000] [--out FILE] [--max-iterations N]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <iostream>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
-#include "loaded_block.hpp"
+#include "bench_cli.hpp"
+#include "forward/core/statistics.hpp"
 #include "forward/solve/blas_info.hpp"
 #include "forward/solve/newton.hpp"
+#include "loaded_block.hpp"
 #include "tailor_version.hpp"
 
 using namespace tailor;
 
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 struct SizeResult {
   int target_tets, tets, vertices, free_dofs, iterations;
@@ -88,21 +81,11 @@ int main(int argc, char** argv) {
   std::vector<int> sizes = {10000, 50000, 200000};
   std::string out = "bench_newton.json";
   int max_iterations = 50;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--sizes" && i + 1 < argc) {
-      sizes.clear();
-      std::stringstream list(argv[++i]);
-      for (std::string item; std::getline(list, item, ',');) sizes.push_back(std::stoi(item));
-    } else if (arg == "--out" && i + 1 < argc) {
-      out = argv[++i];
-    } else if (arg == "--max-iterations" && i + 1 < argc) {
-      max_iterations = std::stoi(argv[++i]);
-    } else {
-      std::cerr << "usage: newton_bench [--sizes 10000,50000,200000] [--out FILE] [--max-iterations N]\n";
-      return 2;
-    }
-  }
+  bench::Cli cli("newton_bench", "Newton iteration cost on Neo-Hookean box meshes.");
+  cli.tets(sizes);
+  cli.out(out);
+  cli.integer("--max-iterations", max_iterations, "Newton iteration cap", 1);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
   const std::string blas = blas_library_path();
   std::printf("tailor %s, Newton on a Neo-Hookean block (clamped base, shear + compression on top)\n",
               version_string);
@@ -119,20 +102,25 @@ int main(int argc, char** argv) {
   }
   std::printf("(seconds, medians over Newton iterations; ratio = iteration / (factorization + solve))\n");
 
-  std::ofstream json(out);
-  json << "{\n  \"benchmark\": \"newton_iteration\",\n  \"tailor_version\": \"" << version_string
-       << "\",\n  \"blas\": \"" << blas << "\",\n  \"hardware_threads\": " << std::thread::hardware_concurrency()
-       << ",\n  \"material\": \"neo_hookean\",\n  \"results\": [\n";
-  for (std::size_t k = 0; k < results.size(); ++k) {
-    const auto& s = results[k];
-    json << "    {\"tets\": " << s.tets << ", \"vertices\": " << s.vertices << ", \"free_dofs\": " << s.free_dofs
-         << ", \"iterations\": " << s.iterations << ", \"status\": \"" << s.status << "\", \"analysis_s\": " << s.analysis
-         << ", \"median_assembly_s\": " << s.assembly << ", \"median_factorization_s\": " << s.factorization
-         << ", \"median_solve_s\": " << s.solve << ", \"median_line_search_s\": " << s.line_search
-         << ", \"median_iteration_s\": " << s.iteration << ", \"median_ratio\": " << s.ratio
-         << ", \"total_s\": " << s.total << "}" << (k + 1 < results.size() ? "," : "") << "\n";
-  }
-  json << "  ]\n}\n";
-  std::printf("wrote %s\n", out.c_str());
-  return 0;
+  bench::Json json = bench::report("newton_iteration");
+  json["blas"] = blas;
+  json["hardware_threads"] = std::thread::hardware_concurrency();
+  json["material"] = "neo_hookean";
+  bench::Json rows = bench::Json::array();
+  for (const SizeResult& s : results)
+    rows.push_back({{"tets", s.tets},
+                    {"vertices", s.vertices},
+                    {"free_dofs", s.free_dofs},
+                    {"iterations", s.iterations},
+                    {"status", s.status},
+                    {"analysis_s", s.analysis},
+                    {"median_assembly_s", s.assembly},
+                    {"median_factorization_s", s.factorization},
+                    {"median_solve_s", s.solve},
+                    {"median_line_search_s", s.line_search},
+                    {"median_iteration_s", s.iteration},
+                    {"median_ratio", s.ratio},
+                    {"total_s", s.total}});
+  json["results"] = rows;
+  return bench::write_report(out, json, "newton_bench") ? 0 : 1;
 }

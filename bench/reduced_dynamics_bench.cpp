@@ -17,9 +17,6 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
-#include <fstream>
-#include <iostream>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -28,6 +25,7 @@
 #include <omp.h>
 #endif
 
+#include "bench_cli.hpp"
 #include "cantilever.hpp"
 #include "forward/fem/mass.hpp"
 #include "forward/reduction/mass_orthonormal_basis.hpp"
@@ -74,31 +72,14 @@ int main(int argc, char** argv) {
   std::vector<int> cells = {4, 10}, ranks = {10, 20, 40};
   int steps = 1000, repeats = 3;
   std::string out = "bench_reduced_dynamics.json";
-  const auto parse_list = [](const std::string& text) {
-    std::vector<int> v;
-    std::stringstream list(text);
-    for (std::string item; std::getline(list, item, ',');) v.push_back(std::stoi(item));
-    return v;
-  };
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--cells" && i + 1 < argc) {
-      cells = parse_list(argv[++i]);
-    } else if (arg == "--ranks" && i + 1 < argc) {
-      ranks = parse_list(argv[++i]);
-    } else if (arg == "--steps" && i + 1 < argc) {
-      steps = std::stoi(argv[++i]);
-    } else if (arg == "--repeats" && i + 1 < argc) {
-      repeats = std::stoi(argv[++i]);
-    } else if (arg == "--out" && i + 1 < argc) {
-      out = argv[++i];
-    } else {
-      std::cerr
-          << "usage: reduced_dynamics_bench [--cells 4,10] [--ranks 10,20,40] [--steps 1000] [--repeats 3] "
-             "[--out FILE]\n";
-      return 2;
-    }
-  }
+  bench::Cli cli("reduced_dynamics_bench",
+                 "Reduced StVK dynamics of a cantilever: steps per second against r.");
+  cli.integers("--cells", cells, "cells through the beam's height (6 * 10 n^3 tets)", 1);
+  cli.integers("--ranks", ranks, "basis sizes r", 1);
+  cli.steps(steps);
+  cli.repeats(repeats);
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
   int threads = 1;
 #ifdef _OPENMP
   threads = omp_get_max_threads();
@@ -241,39 +222,44 @@ int main(int argc, char** argv) {
       "mesh)\n",
       repeats, steps);
 
-  std::ofstream json(out);
-  json << "{\n  \"benchmark\": \"reduced_dynamics\",\n  \"tailor_version\": \"" << version_string
-       << "\",\n  \"openmp_threads\": " << threads
-       << ",\n  \"hardware_threads\": " << std::thread::hardware_concurrency() << ",\n  \"steps\": " << steps
-       << ",\n  \"repeats\": " << repeats << ",\n  \"time_step\": 0.005,\n  \"meshes\": [\n";
-  for (std::size_t k = 0; k < meshes.size(); ++k)
-    json << "    {\"tets\": " << meshes[k].tets << ", \"vertices\": " << meshes[k].vertices
-         << ", \"modal_analysis_s\": " << meshes[k].modal_s
-         << ", \"modal_analysis_cpu_s\": " << meshes[k].modal_cpu_s
-         << ", \"modal_derivatives_s\": " << meshes[k].derivative_s << "}"
-         << (k + 1 < meshes.size() ? "," : "") << "\n";
-  json << "  ],\n  \"results\": [\n";
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const Row& r = rows[k];
-    json << "    {\"tets\": " << r.tets << ", \"basis\": \"" << r.basis << "\", \"r\": " << r.rank
-         << ", \"linear_modes\": " << r.linear_modes << ", \"basis_s\": " << r.basis_s
-         << ", \"precompute_s\": " << r.precompute_s << ", \"precompute_cpu_s\": " << r.precompute_cpu_s
-         << ", \"implicit_euler_steps_per_s\": " << r.steps_per_s[0]
-         << ", \"implicit_euler_newton_per_step\": " << r.newton_per_step[0]
-         << ", \"newmark_steps_per_s\": " << r.steps_per_s[1]
-         << ", \"newmark_newton_per_step\": " << r.newton_per_step[1]
-         << ", \"newmark_chord_steps_per_s\": " << r.steps_per_s[2]
-         << ", \"newmark_chord_newton_per_step\": " << r.newton_per_step[2]
-         << ", \"newmark_one_step_steps_per_s\": " << r.steps_per_s[3]
-         << ", \"cpu_steps_per_s\": {\"implicit_euler\": " << r.cpu_steps_per_s[0]
-         << ", \"newmark\": " << r.cpu_steps_per_s[1] << ", \"newmark_chord\": " << r.cpu_steps_per_s[2]
-         << ", \"newmark_one_step\": " << r.cpu_steps_per_s[3] << "}"
-         << ", \"tip_max_displacement_one_step\": " << r.tip_max[3]
-         << ", \"tip_max_displacement\": " << r.tip_max[1]
-         << ", \"projected_force_stiffness_s\": " << r.projected_eval_s << "}"
-         << (k + 1 < rows.size() ? "," : "") << "\n";
-  }
-  json << "  ]\n}\n";
-  std::printf("wrote %s\n", out.c_str());
-  return 0;
+  bench::Json json = bench::report("reduced_dynamics");
+  json["openmp_threads"] = threads;
+  json["hardware_threads"] = std::thread::hardware_concurrency();
+  json["steps"] = steps;
+  json["repeats"] = repeats;
+  json["time_step"] = 0.005;
+  bench::Json mesh_rows = bench::Json::array();
+  for (const MeshInfo& mesh : meshes)
+    mesh_rows.push_back({{"tets", mesh.tets},
+                         {"vertices", mesh.vertices},
+                         {"modal_analysis_s", mesh.modal_s},
+                         {"modal_analysis_cpu_s", mesh.modal_cpu_s},
+                         {"modal_derivatives_s", mesh.derivative_s}});
+  json["meshes"] = mesh_rows;
+  bench::Json results = bench::Json::array();
+  for (const Row& r : rows)
+    results.push_back({{"tets", r.tets},
+                       {"basis", r.basis},
+                       {"r", r.rank},
+                       {"linear_modes", r.linear_modes},
+                       {"basis_s", r.basis_s},
+                       {"precompute_s", r.precompute_s},
+                       {"precompute_cpu_s", r.precompute_cpu_s},
+                       {"implicit_euler_steps_per_s", r.steps_per_s[0]},
+                       {"implicit_euler_newton_per_step", r.newton_per_step[0]},
+                       {"newmark_steps_per_s", r.steps_per_s[1]},
+                       {"newmark_newton_per_step", r.newton_per_step[1]},
+                       {"newmark_chord_steps_per_s", r.steps_per_s[2]},
+                       {"newmark_chord_newton_per_step", r.newton_per_step[2]},
+                       {"newmark_one_step_steps_per_s", r.steps_per_s[3]},
+                       {"cpu_steps_per_s",
+                        {{"implicit_euler", r.cpu_steps_per_s[0]},
+                         {"newmark", r.cpu_steps_per_s[1]},
+                         {"newmark_chord", r.cpu_steps_per_s[2]},
+                         {"newmark_one_step", r.cpu_steps_per_s[3]}}},
+                       {"tip_max_displacement_one_step", r.tip_max[3]},
+                       {"tip_max_displacement", r.tip_max[1]},
+                       {"projected_force_stiffness_s", r.projected_eval_s}});
+  json["results"] = results;
+  return bench::write_report(out, json, "reduced_dynamics_bench") ? 0 : 1;
 }

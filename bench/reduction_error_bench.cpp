@@ -30,7 +30,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -40,6 +39,7 @@
 #include <omp.h>
 #endif
 
+#include "bench_cli.hpp"
 #include "cantilever.hpp"
 #include "forward/dynamics/setup.hpp"
 #include "forward/dynamics/time_integrator.hpp"
@@ -86,13 +86,6 @@ struct MeshResult {
   std::vector<double> tip_fall;
   std::vector<Row> rows;
 };
-
-std::vector<int> parse_list(const std::string& text) {
-  std::vector<int> v;
-  std::stringstream list(text);
-  for (std::string item; std::getline(list, item, ',');) v.push_back(std::stoi(item));
-  return v;
-}
 
 // Mean displacement of the tip vertices (3-vector) from a full displacement u.
 Eigen::Vector3d tip_point(const Vector& u, const std::vector<int>& tip) {
@@ -361,51 +354,27 @@ void write_plots(const std::string& path, const std::vector<MeshResult>& meshes,
 int main(int argc, char** argv) {
   std::vector<int> tets = {3000, 58000}, mode_counts = {10, 20, 40}, derivative_mode_counts = {5, 10};
   double duration = 1.0, h = 0.02;
+  bool quick = false;
   std::string out = "bench_reduction_error.json", plot = "bench_reduction_error.png";
-  const char* usage =
-      "usage: reduction_error_bench [--quick] [--tets 3000,58000] [--modes 10,20,40] [--derivative-modes "
-      "5,10]\n"
-      "                             [--duration 1] [--time-step 0.02] [--out FILE] [--plot FILE]\n";
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string arg = argv[i];
-      if (arg == "--quick") {
-        tets = {3000};
-        duration = 0.3;
-      } else if (arg == "--tets" && i + 1 < argc) {
-        tets = parse_list(argv[++i]);
-      } else if (arg == "--modes" && i + 1 < argc) {
-        mode_counts = parse_list(argv[++i]);
-      } else if (arg == "--derivative-modes" && i + 1 < argc) {
-        derivative_mode_counts = parse_list(argv[++i]);
-      } else if (arg == "--duration" && i + 1 < argc) {
-        duration = std::stod(argv[++i]);
-      } else if (arg == "--time-step" && i + 1 < argc) {
-        h = std::stod(argv[++i]);
-      } else if (arg == "--out" && i + 1 < argc) {
-        out = argv[++i];
-      } else if (arg == "--plot" && i + 1 < argc) {
-        plot = argv[++i];
-      } else {
-        std::cerr << usage;
-        return 2;
-      }
-    }
-  } catch (const std::exception&) {
-    std::cerr << "reduction_error_bench: bad number\n" << usage;
-    return 2;
+  bench::Cli cli("reduction_error_bench", "Speed against error of reduced StVK dynamics vs full space.");
+  cli.flag("--quick", quick, "the 3,000-tet mesh only, 0.3 s of motion");
+  cli.tets(tets, 24);
+  cli.integers("--modes", mode_counts, "linear mode counts r", 1);
+  cli.integers("--derivative-modes", derivative_mode_counts, "linear mode counts m with modal derivatives",
+               1);
+  cli.number("--duration", duration, "simulated time [s]", 0.0);
+  cli.time_step(h);
+  cli.out(out);
+  cli.app()
+      .add_option("--plot", plot, "PNG of error against time per step (and its _tip.png)")
+      ->type_name("FILE")
+      ->capture_default_str();
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
+  if (quick) {
+    tets = {3000};
+    duration = 0.3;
   }
-  const auto all_at_least = [](const std::vector<int>& v, int lowest) {
-    return std::all_of(v.begin(), v.end(), [lowest](int k) { return k >= lowest; });
-  };
-  if (tets.empty() || !all_at_least(tets, 24) || !all_at_least(mode_counts, 1) ||
-      !all_at_least(derivative_mode_counts, 1) || mode_counts.size() + derivative_mode_counts.size() == 0 ||
-      !(h > 0) || !(duration >= h)) {
-    std::cerr
-        << "reduction_error_bench: --tets entries must be >= 24, mode counts >= 1 (at least one setting), "
-           "--time-step > 0, --duration >= time step\n";
-    return 2;
-  }
+  if (!(duration >= h)) return cli.usage_error("--duration must be at least one --time-step");
   const int steps = static_cast<int>(std::lround(duration / h));
   int threads = 1;
 #ifdef _OPENMP
@@ -452,55 +421,58 @@ int main(int argc, char** argv) {
       "tip "
       "displacement of the full run)\n");
 
-  std::ofstream json(out);
-  if (!json) {
-    std::cerr << "reduction_error_bench: cannot write " << out << "\n";
-    return 1;
+  bench::Json json = bench::report("reduction_error");
+  json["openmp_threads"] = threads;
+  json["hardware_threads"] = std::thread::hardware_concurrency();
+  json["load_average"] = {load[0], load[1], load[2]};
+  json["scene"] = {{"length", kLength},      {"youngs_modulus", kYoung}, {"poisson_ratio", kPoisson},
+                   {"density", kDensity},    {"gravity", kGravity},      {"rayleigh_alpha", 0},
+                   {"rayleigh_beta", kBeta}, {"scheme", "newmark"},      {"time_step", h},
+                   {"steps", steps}};
+  json["error_definitions"] = {
+      {"trajectory_error",
+       "sqrt(sum_n |u_r(t_n) - u_f(t_n)|^2_M / sum_n |u_f(t_n)|^2_M), n = 1..steps, all vertices, M "
+       "consistent "
+       "mass"},
+      {"peak_tip_error",
+       "max_n |tip_r(t_n) - tip_f(t_n)|, tip = mean displacement of the vertices at x = length"}};
+  bench::Json mesh_rows = bench::Json::array();
+  for (const MeshResult& mesh : meshes) {
+    bench::Json reduced = bench::Json::array();
+    for (const Row& r : mesh.rows)
+      reduced.push_back({{"basis", r.basis},
+                         {"linear_modes", r.linear_modes},
+                         {"r", r.r},
+                         {"median_step_s", r.step_s},
+                         {"median_step_cpu_s", r.step_cpu_s},
+                         {"steps_per_s", r.steps_per_s},
+                         {"newton_per_step", r.newton_per_step},
+                         {"modal_derivatives_s", r.derivatives_s},
+                         {"orthonormalization_s", r.orthonormalize_s},
+                         {"stvk_coefficients_s", r.coefficients_s},
+                         {"precompute_s_excluding_modal_analysis", r.precompute_s},
+                         {"trajectory_error", r.trajectory_error},
+                         {"peak_tip_error", r.peak_tip_error},
+                         {"peak_tip_error_relative", r.peak_tip_error_relative}});
+    mesh_rows.push_back({{"tets", mesh.tets},
+                         {"vertices", mesh.vertices},
+                         {"free_dofs", mesh.free_dofs},
+                         {"modal_analysis_s", mesh.modal_s},
+                         {"modal_count", mesh.modal_count},
+                         {"peak_tip_displacement", mesh.peak_tip},
+                         {"full_space",
+                          {{"median_step_s", mesh.full_step_s},
+                           {"median_step_cpu_s", mesh.full_step_cpu_s},
+                           {"steps_per_s", 1.0 / mesh.full_step_s},
+                           {"newton_per_step", mesh.full_newton_per_step},
+                           {"assembly_s_per_step", mesh.full_assembly_s},
+                           {"factorization_s_per_step", mesh.full_factorization_s},
+                           {"line_search_s_per_step", mesh.full_line_search_s},
+                           {"total_s", mesh.full_total_s}}},
+                         {"reduced", reduced}});
   }
-  json
-      << "{\n  \"benchmark\": \"reduction_error\",\n  \"tailor_version\": \"" << version_string
-      << "\",\n  \"openmp_threads\": " << threads
-      << ",\n  \"hardware_threads\": " << std::thread::hardware_concurrency() << ",\n  \"load_average\": ["
-      << load[0] << ", " << load[1] << ", " << load[2] << "],\n  \"scene\": {\"length\": " << kLength
-      << ", \"youngs_modulus\": " << kYoung << ", \"poisson_ratio\": " << kPoisson
-      << ", \"density\": " << kDensity << ", \"gravity\": " << kGravity
-      << ", \"rayleigh_alpha\": 0, \"rayleigh_beta\": " << kBeta
-      << ", \"scheme\": \"newmark\", \"time_step\": " << h << ", \"steps\": " << steps
-      << "},\n  \"error_definitions\": {\"trajectory_error\": \"sqrt(sum_n |u_r(t_n) - u_f(t_n)|^2_M / sum_n "
-         "|u_f(t_n)|^2_M), n = 1..steps, all vertices, M consistent mass\", \"peak_tip_error\": \"max_n "
-         "|tip_r(t_n) - tip_f(t_n)|, tip = mean displacement of the vertices at x = length\"},\n  "
-         "\"meshes\": [\n";
-  for (std::size_t k = 0; k < meshes.size(); ++k) {
-    const MeshResult& mesh = meshes[k];
-    json << "    {\"tets\": " << mesh.tets << ", \"vertices\": " << mesh.vertices
-         << ", \"free_dofs\": " << mesh.free_dofs << ", \"modal_analysis_s\": " << mesh.modal_s
-         << ", \"modal_count\": " << mesh.modal_count << ", \"peak_tip_displacement\": " << mesh.peak_tip
-         << ",\n     \"full_space\": {\"median_step_s\": " << mesh.full_step_s
-         << ", \"median_step_cpu_s\": " << mesh.full_step_cpu_s
-         << ", \"steps_per_s\": " << 1.0 / mesh.full_step_s
-         << ", \"newton_per_step\": " << mesh.full_newton_per_step
-         << ", \"assembly_s_per_step\": " << mesh.full_assembly_s
-         << ", \"factorization_s_per_step\": " << mesh.full_factorization_s
-         << ", \"line_search_s_per_step\": " << mesh.full_line_search_s
-         << ", \"total_s\": " << mesh.full_total_s << "},\n     \"reduced\": [\n";
-    for (std::size_t j = 0; j < mesh.rows.size(); ++j) {
-      const Row& r = mesh.rows[j];
-      json << "       {\"basis\": \"" << r.basis << "\", \"linear_modes\": " << r.linear_modes
-           << ", \"r\": " << r.r << ", \"median_step_s\": " << r.step_s
-           << ", \"median_step_cpu_s\": " << r.step_cpu_s << ", \"steps_per_s\": " << r.steps_per_s
-           << ", \"newton_per_step\": " << r.newton_per_step
-           << ", \"modal_derivatives_s\": " << r.derivatives_s
-           << ", \"orthonormalization_s\": " << r.orthonormalize_s
-           << ", \"stvk_coefficients_s\": " << r.coefficients_s
-           << ", \"precompute_s_excluding_modal_analysis\": " << r.precompute_s
-           << ", \"trajectory_error\": " << r.trajectory_error << ", \"peak_tip_error\": " << r.peak_tip_error
-           << ", \"peak_tip_error_relative\": " << r.peak_tip_error_relative << "}"
-           << (j + 1 < mesh.rows.size() ? "," : "") << "\n";
-    }
-    json << "     ]}" << (k + 1 < meshes.size() ? "," : "") << "\n";
-  }
-  json << "  ]\n}\n";
-  std::printf("wrote %s\n", out.c_str());
+  json["meshes"] = mesh_rows;
+  if (!bench::write_report(out, json, "reduction_error_bench")) return 1;
   try {
     write_plots(plot, meshes, h);
     std::printf("wrote %s and its _tip.png\n", plot.c_str());

@@ -1,25 +1,24 @@
 // A dynamic pile of rigid boxes with IPC contact (forward/rigid, forward/contact): layers of
 // unit boxes (500 kg/m^3, slightly rotated) dropped on a fixed ground and on each other,
-// implicit Euler steps of --dt. Per step: Newton iterations, time, and the shares of the
+// implicit Euler steps of --time-step. Per step: Newton iterations, time, and the shares of the
 // contact term's evaluations and of its CCD (max_step, including its broad phase); the number
 // of active contact pairs; the smallest distance reached; edge-face crossings (must be 0).
 // Writes JSON (--out, default bench_rigid_pile.json) and prints a table.
 //
-// usage: rigid_pile_bench [--columns 5] [--layers 2] [--steps 100] [--dt 0.01]
+// usage: rigid_pile_bench [--columns 5] [--layers 2] [--steps 100] [--time-step 0.01]
 //                         [--max-iterations 100] [--hessian adaptive|projected|exact]
 //                         [--force-tolerance F (Newton stops at |g| <= F x total weight)] [--out FILE]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "forward/contact/intersection.hpp"
 #include "forward/rigid/rigid_contact_term.hpp"
 #include "forward/rigid/rigid_gravity_term.hpp"
 #include "forward/rigid/rigid_time_stepper.hpp"
-#include "tailor_version.hpp"
 
 using namespace tailor;
 using namespace tailor::rigid;
@@ -62,35 +61,25 @@ int main(int argc, char** argv) {
   double force_tolerance = 0.0;  // Newton's absolute tolerance as a fraction of the total weight
   double dt = 0.01;
   std::string out = "bench_rigid_pile.json";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--columns" && i + 1 < argc) {
-      columns = std::stoi(argv[++i]);
-    } else if (arg == "--layers" && i + 1 < argc) {
-      layers = std::stoi(argv[++i]);
-    } else if (arg == "--steps" && i + 1 < argc) {
-      steps = std::stoi(argv[++i]);
-    } else if (arg == "--hessian" && i + 1 < argc) {
-      const std::string mode = argv[++i];
-      hessian = mode == "projected" ? NewtonHessian::projected
-                : mode == "exact"   ? NewtonHessian::exact
-                                    : NewtonHessian::adaptive;
-    } else if (arg == "--force-tolerance" && i + 1 < argc) {
-      force_tolerance = std::stod(argv[++i]);
-    } else if (arg == "--max-iterations" && i + 1 < argc) {
-      max_iterations = std::stoi(argv[++i]);
-    } else if (arg == "--dt" && i + 1 < argc) {
-      dt = std::stod(argv[++i]);
-    } else if (arg == "--out" && i + 1 < argc) {
-      out = argv[++i];
-    } else {
-      std::fprintf(stderr,
-                   "usage: rigid_pile_bench [--columns 5] [--layers 2] [--steps 100] [--dt 0.01] "
-                   "[--max-iterations 100] [--hessian adaptive|projected|exact] [--force-tolerance F] "
-                   "[--out FILE]\n");
-      return 2;
-    }
-  }
+  std::string hessian_name = "adaptive";
+  bench::Cli cli("rigid_pile_bench", "A dynamic pile of rigid boxes with IPC contact, dropped on a ground.");
+  cli.integer("--columns", columns, "boxes per row and column of a layer", 1);
+  cli.integer("--layers", layers, "layers of boxes", 1);
+  cli.steps(steps);
+  cli.time_step(dt);
+  cli.integer("--max-iterations", max_iterations, "Newton iteration cap per step", 1);
+  cli.app()
+      .add_option("--hessian", hessian_name, "Newton's Hessian")
+      ->type_name("adaptive|projected|exact")
+      ->check(cli::one_of({"adaptive", "projected", "exact"}))
+      ->capture_default_str();
+  cli.number("--force-tolerance", force_tolerance,
+             "Newton stops at |g| <= F x total weight (0: the default test)", 0.0, /*inclusive=*/true);
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
+  hessian = hessian_name == "projected" ? NewtonHessian::projected
+            : hessian_name == "exact"   ? NewtonHessian::exact
+                                        : NewtonHessian::adaptive;
   Eigen::MatrixX3d v;
   Eigen::MatrixX3i f;
   box_surface(Eigen::Vector3d(2.0 * columns + 4, 2.0 * columns + 4, 1), v, f);
@@ -128,10 +117,10 @@ int main(int argc, char** argv) {
   newton.absolute_tolerance = force_tolerance * 500.0 * 9.81 * (system.num_bodies() - 1);
   RigidTimeStepper stepper(system, model, inertia, newton);
 
-  std::ofstream json(out);
-  json << "{\n  \"benchmark\": \"rigid_pile\",\n  \"tailor_version\": \"" << version_string
-       << "\",\n  \"bodies\": " << system.num_bodies() - 1 << ", \"time_step\": " << dt
-       << ",\n  \"steps\": [\n";
+  bench::Json json = bench::report("rigid_pile");
+  json["bodies"] = system.num_bodies() - 1;
+  json["time_step"] = dt;
+  bench::Json step_rows = bench::Json::array();
   std::printf("%5s %6s %9s %9s %9s %6s %11s %6s\n", "step", "newton", "step s", "contact%", "ccd%", "pairs",
               "min dist", "cross");
   double total = 0, smallest = INFINITY;
@@ -160,15 +149,22 @@ int main(int argc, char** argv) {
     crossings_total += crossings;
     std::printf("%5d %6d %9.4f %8.1f%% %8.1f%% %6d %11.3e %6d\n", n, result.iterations, seconds,
                 100 * contact_share, 100 * ccd_share, pairs, distance, crossings);
-    json << "    {\"step\": " << n << ", \"newton_iterations\": " << result.iterations
-         << ", \"seconds\": " << seconds << ", \"contact_share\": " << contact_share
-         << ", \"ccd_share\": " << ccd_share << ", \"active_pairs\": " << pairs
-         << ", \"min_distance\": " << distance << ", \"intersections\": " << crossings << "}"
-         << (n < steps ? "," : "") << "\n";
+    step_rows.push_back({{"step", n},
+                         {"newton_iterations", result.iterations},
+                         {"seconds", seconds},
+                         {"contact_share", contact_share},
+                         {"ccd_share", ccd_share},
+                         {"active_pairs", pairs},
+                         {"min_distance", distance},
+                         {"intersections", crossings}});
   }
-  json << "  ],\n  \"total_seconds\": " << total << ", \"newton_iterations\": " << iterations
-       << ", \"min_distance\": " << smallest << ", \"intersections\": " << crossings_total << "\n}\n";
+  json["steps"] = step_rows;
+  json["total_seconds"] = total;
+  json["newton_iterations"] = iterations;
+  json["min_distance"] = smallest;
+  json["intersections"] = crossings_total;
   std::printf("total %.3f s, %d Newton iterations, smallest distance %.3e m, %d intersections\n", total,
               iterations, smallest, crossings_total);
+  if (!bench::write_report(out, json, "rigid_pile_bench")) return 1;
   return crossings_total == 0 ? 0 : 1;
 }

@@ -10,16 +10,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "forward/core/model.hpp"
 #include "forward/rigid/rigid_contact_term.hpp"
 #include "forward/rigid/rigid_gravity_term.hpp"
 #include "forward/solve/newton.hpp"
-#include "tailor_version.hpp"
 
 using namespace tailor;
 using namespace tailor::rigid;
@@ -103,54 +101,43 @@ StackResult run(int columns, int height) {
   return r;
 }
 
-std::vector<int> parse_list(const std::string& s) {
-  std::vector<int> out;
-  std::stringstream in(s);
-  std::string item;
-  while (std::getline(in, item, ',')) out.push_back(std::stoi(item));
-  return out;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   std::vector<int> columns = {1, 3, 5};
   int height = 2;
   std::string out = "bench_rigid_stack.json";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--columns" && i + 1 < argc) {
-      columns = parse_list(argv[++i]);
-    } else if (arg == "--height" && i + 1 < argc) {
-      height = std::stoi(argv[++i]);
-    } else if (arg == "--out" && i + 1 < argc) {
-      out = argv[++i];
-    } else {
-      std::fprintf(stderr, "usage: rigid_stack_bench [--columns 1,3,5] [--height 2] [--out FILE]\n");
-      return 2;
-    }
-  }
+  bench::Cli cli("rigid_stack_bench", "Static stacks of rigid boxes on a ground with IPC contact.");
+  cli.integers("--columns", columns, "stacks per row and column", 1);
+  cli.integer("--height", height, "boxes per stack", 1);
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
   std::printf("%6s %5s %6s %10s %9s %9s %9s %9s %10s %10s %6s %10s %12s %12s\n", "bodies", "dofs", "iters",
               "status", "total s", "assemb s", "factor s", "lsearch s", "ccd s", "broad s", "pairs",
               "min dist", "ground N", "weight N");
-  std::ofstream json(out);
-  json << "{\n  \"benchmark\": \"rigid_stack\",\n  \"tailor_version\": \"" << version_string
-       << "\",\n  \"runs\": [\n";
-  for (std::size_t c = 0; c < columns.size(); ++c) {
-    const StackResult r = run(columns[c], height);
+  bench::Json json = bench::report("rigid_stack");
+  bench::Json runs = bench::Json::array();
+  for (const int c : columns) {
+    const StackResult r = run(c, height);
     std::printf("%6d %5d %6d %10s %9.4f %9.4f %9.4f %9.4f %10.2e %10.2e %6d %10.3e %12.6f %12.6f\n", r.bodies,
                 r.free_dofs, r.iterations, r.status.c_str(), r.total, r.assembly, r.factorization,
                 r.line_search, r.max_step, r.broad_phase, r.active_pairs, r.min_distance, r.ground_force,
                 r.weight);
-    json << "    {\"bodies\": " << r.bodies << ", \"free_dofs\": " << r.free_dofs
-         << ", \"iterations\": " << r.iterations << ", \"status\": \"" << r.status
-         << "\", \"total_seconds\": " << r.total << ", \"assembly_seconds\": " << r.assembly
-         << ", \"factorization_seconds\": " << r.factorization
-         << ", \"line_search_seconds\": " << r.line_search << ", \"max_step_seconds\": " << r.max_step
-         << ", \"broad_phase_seconds\": " << r.broad_phase << ", \"active_pairs\": " << r.active_pairs
-         << ", \"min_distance\": " << r.min_distance << ", \"ground_force\": " << r.ground_force
-         << ", \"weight\": " << r.weight << "}" << (c + 1 < columns.size() ? "," : "") << "\n";
+    runs.push_back({{"bodies", r.bodies},
+                    {"free_dofs", r.free_dofs},
+                    {"iterations", r.iterations},
+                    {"status", r.status},
+                    {"total_seconds", r.total},
+                    {"assembly_seconds", r.assembly},
+                    {"factorization_seconds", r.factorization},
+                    {"line_search_seconds", r.line_search},
+                    {"max_step_seconds", r.max_step},
+                    {"broad_phase_seconds", r.broad_phase},
+                    {"active_pairs", r.active_pairs},
+                    {"min_distance", r.min_distance},
+                    {"ground_force", r.ground_force},
+                    {"weight", r.weight}});
   }
-  json << "  ]\n}\n";
-  return 0;
+  json["runs"] = runs;
+  return bench::write_report(out, json, "rigid_stack_bench") ? 0 : 1;
 }

@@ -6,34 +6,27 @@
 // solve, line search, and the whole iteration. Writes JSON (--out, default bench_rods.json)
 // and prints a table.
 //
-// usage: rod_bench [--sizes 100,1000,10000,100000] [--iterations N] [--out FILE]
+// usage: rod_bench [--vertices 100,1000,10000,100000] [--iterations N] [--out FILE]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
 #include "forward/core/elimination.hpp"
+#include "forward/core/statistics.hpp"
 #include "forward/fem/loads.hpp"
 #include "forward/rods/bending_term.hpp"
 #include "forward/rods/rod_supports.hpp"
 #include "forward/rods/stretching_term.hpp"
 #include "forward/rods/twisting_term.hpp"
 #include "forward/solve/newton.hpp"
-#include "tailor_version.hpp"
 
 using namespace tailor;
 
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 struct SizeResult {
   int vertices, free_dofs, iterations;
@@ -95,44 +88,33 @@ int main(int argc, char** argv) {
   std::vector<int> sizes = {100, 1000, 10000, 100000};
   int iterations = 5;
   std::string out = "bench_rods.json";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--sizes" && i + 1 < argc) {
-      sizes.clear();
-      std::stringstream list(argv[++i]);
-      for (std::string item; std::getline(list, item, ',');) sizes.push_back(std::stoi(item));
-    } else if (arg == "--iterations" && i + 1 < argc) {
-      iterations = std::stoi(argv[++i]);
-    } else if (arg == "--out" && i + 1 < argc) {
-      out = argv[++i];
-    } else {
-      std::fprintf(stderr, "usage: rod_bench [--sizes 100,1000,...] [--iterations N] [--out FILE]\n");
-      return 2;
-    }
-  }
+  bench::Cli cli("rod_bench", "Newton iteration cost of a discrete elastic rod against its vertex count.");
+  cli.integers("--vertices", sizes, "vertex counts of the rod", 3);
+  cli.integer("--iterations", iterations, "Newton iterations run (and timed) per size", 1);
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
   std::vector<SizeResult> results;
   std::printf("%10s %10s %6s %10s %10s %10s %10s %10s %12s\n", "vertices", "free_dofs", "iters", "assembly",
               "factor", "solve", "line_srch", "iteration", "us/vertex");
   for (int n : sizes) {
-    if (n < 3) continue;
     const SizeResult s = run(n, iterations);
     results.push_back(s);
     std::printf("%10d %10d %6d %10.4f %10.4f %10.4f %10.4f %10.4f %12.3f\n", s.vertices, s.free_dofs,
                 s.iterations, s.assembly, s.factorization, s.solve, s.line_search, s.iteration,
                 1e6 * s.iteration / s.vertices);
   }
-  std::ofstream json(out);
-  json << "{\n  \"benchmark\": \"rod_newton_iteration\",\n  \"tailor_version\": \"" << tailor::version_string
-       << "\",\n  \"sizes\": [\n";
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    const SizeResult& s = results[i];
-    json << "    {\"vertices\": " << s.vertices << ", \"free_dofs\": " << s.free_dofs
-         << ", \"iterations\": " << s.iterations << ", \"status\": \"" << s.status
-         << "\", \"assembly_s\": " << s.assembly << ", \"factorization_s\": " << s.factorization
-         << ", \"solve_s\": " << s.solve << ", \"line_search_s\": " << s.line_search
-         << ", \"iteration_s\": " << s.iteration << "}" << (i + 1 < results.size() ? "," : "") << "\n";
-  }
-  json << "  ]\n}\n";
-  std::printf("wrote %s\n", out.c_str());
-  return 0;
+  bench::Json json = bench::report("rod_newton_iteration");
+  bench::Json rows = bench::Json::array();
+  for (const SizeResult& s : results)
+    rows.push_back({{"vertices", s.vertices},
+                    {"free_dofs", s.free_dofs},
+                    {"iterations", s.iterations},
+                    {"status", s.status},
+                    {"assembly_s", s.assembly},
+                    {"factorization_s", s.factorization},
+                    {"solve_s", s.solve},
+                    {"line_search_s", s.line_search},
+                    {"iteration_s", s.iteration}});
+  json["sizes"] = rows;
+  return bench::write_report(out, json, "rod_bench") ? 0 : 1;
 }

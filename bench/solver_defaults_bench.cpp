@@ -15,29 +15,25 @@
 // equilibria, gradients and trajectories between old and new.
 // Writes JSON (--out, default bench_solver_defaults.json) and prints a table.
 //
-// usage: solver_defaults_bench [--sizes 6000,47000] [--steps 20] [--repeats 5] [--out FILE]
+// usage: solver_defaults_bench [--tets 6000,47000] [--steps 20] [--repeats 5] [--out FILE]
 #include <cstdio>
-#include <fstream>
-#include <iostream>
-#include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "adjoint/static_functional.hpp"
+#include "bench_cli.hpp"
 #include "cantilever.hpp"
 #include "forward/dynamics/setup.hpp"
 #include "forward/dynamics/time_integrator.hpp"
 #include "forward/solve/threads.hpp"
 #include "loaded_block.hpp"
 #include "objectives/target_positions.hpp"
-#include "problems/report_header.hpp"
 
 using namespace tailor;
 using bench::Clock;
+using bench::Json;
 using bench::median;
 using bench::seconds_since;
-using Json = nlohmann::ordered_json;
 
 namespace {
 
@@ -173,46 +169,19 @@ double newton_iteration(const bench::LoadedBlock& block, const Config& config) {
   return (r.total_seconds - r.analysis_seconds) / std::max(1, r.iterations);
 }
 
-std::vector<int> parse_sizes(const std::string& text) {
-  std::vector<int> sizes;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) sizes.push_back(std::stoi(item));
-  return sizes;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   std::vector<int> sizes{6000, 47000};
   int steps = 20, repeats = 5;
   std::string out = "bench_solver_defaults.json";
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string arg = argv[i];
-      const bool value = i + 1 < argc;
-      if (arg == "--sizes" && value)
-        sizes = parse_sizes(argv[++i]);
-      else if (arg == "--steps" && value)
-        steps = std::stoi(argv[++i]);
-      else if (arg == "--repeats" && value)
-        repeats = std::stoi(argv[++i]);
-      else if (arg == "--out" && value)
-        out = argv[++i];
-      else
-        throw std::invalid_argument("unknown argument '" + arg + "'");
-    }
-    if (sizes.empty() || steps < 1 || repeats < 1)
-      throw std::invalid_argument("sizes, steps and repeats must be positive");
-  } catch (const std::exception& e) {
-    std::cerr
-        << "solver_defaults_bench: " << e.what()
-        << "\nusage: solver_defaults_bench [--sizes 6000,47000] [--steps 20] [--repeats 5] [--out FILE]\n";
-    return 2;
-  }
-
-  Json report;
-  add_report_header(report);
-  report["benchmark"] = "solver_defaults";
+  bench::Cli cli("solver_defaults_bench", "The solver's defaults against the configuration before them.");
+  cli.tets(sizes, 24);  // the dynamics figure's cantilever needs 24
+  cli.steps(steps, "implicit Euler steps of the dynamics figure");
+  cli.repeats(repeats);
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
+  Json report = bench::report("solver_defaults");
   Json rows = Json::array();
   std::printf("%7s | %-6s %9s %9s | %11s %7s | %9s %7s %7s | %8s\n", "tets", "config", "factor s", "solve s",
               "fwd+grad s", "facts", "step s", "facts", "/(f+s)", "newton/(f+s)");
@@ -258,12 +227,5 @@ int main(int argc, char** argv) {
     rows.back()["trajectory_difference_to_old"] = trajectory_difference;
   }
   report["rows"] = rows;
-  std::ofstream file(out);
-  file << report.dump(2) << "\n";
-  if (!file) {
-    std::cerr << "solver_defaults_bench: cannot write '" << out << "'\n";
-    return 1;
-  }
-  std::printf("wrote %s\n", out.c_str());
-  return 0;
+  return bench::write_report(out, report, "solver_defaults_bench") ? 0 : 1;
 }

@@ -10,18 +10,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <iostream>
 #include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "bench_cli.hpp"
+#include "forward/core/statistics.hpp"
 #include "forward/fem/elastic_term.hpp"
 #include "forward/fem/materials/spline_material.hpp"
 #include "forward/fem/spline_elastic_term.hpp"
 #include "forward/mesh/generate.hpp"
-#include "tailor_version.hpp"
 
 using namespace tailor;
 
@@ -37,8 +36,7 @@ double median_seconds(int repeats, F&& work) {
     work();
     t.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
   }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  return median(t);
 }
 
 struct Row {
@@ -51,19 +49,13 @@ struct Row {
 int main(int argc, char** argv) {
   int target_tets = 50000, repeats = 7;
   std::string out = "bench_spline_material.json";
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i];
-    if (a == "--tets")
-      target_tets = std::stoi(argv[i + 1]);
-    else if (a == "--repeats")
-      repeats = std::stoi(argv[i + 1]);
-    else if (a == "--out")
-      out = argv[i + 1];
-    else {
-      std::cerr << "usage: spline_material_bench [--tets N] [--repeats N] [--out FILE]\n";
-      return 2;
-    }
-  }
+  bench::Cli cli("spline_material_bench",
+                 "Cost of the principal-stretch spline material vs stable Neo-Hookean.");
+  cli.tets(target_tets);
+  cli.repeats(repeats);
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
+
   const int n = std::max(1, static_cast<int>(std::lround(std::cbrt(target_tets / 6.0))));
   const Mesh mesh = box_tet_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), n, n, n);
   const int m = mesh.num_elements();
@@ -138,15 +130,15 @@ int main(int argc, char** argv) {
   for (const Row& r : rows)
     std::printf("%-46s %14.4f %14.4f %8.2f\n", r.what.c_str(), r.neo_hookean, r.spline,
                 r.spline / r.neo_hookean);
-  std::ofstream json(out);
-  json << "{\n  \"benchmark\": \"spline_material\",\n  \"tailor_version\": \"" << version_string
-       << "\",\n  \"tets\": " << m << ",\n  \"repeats\": " << repeats << ",\n  \"rows\": [\n";
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    json << "    {\"what\": \"" << rows[i].what << "\", \"neo_hookean_seconds\": " << rows[i].neo_hookean
-         << ", \"spline_seconds\": " << rows[i].spline
-         << ", \"ratio\": " << rows[i].spline / rows[i].neo_hookean << "}" << (i + 1 < rows.size() ? "," : "")
-         << "\n";
-  json << "  ]\n}\n";
-  std::cout << "wrote " << out << "\n";
-  return 0;
+  bench::Json json = bench::report("spline_material");
+  json["tets"] = m;
+  json["repeats"] = repeats;
+  bench::Json results = bench::Json::array();
+  for (const Row& r : rows)
+    results.push_back({{"what", r.what},
+                       {"neo_hookean_seconds", r.neo_hookean},
+                       {"spline_seconds", r.spline},
+                       {"ratio", r.spline / r.neo_hookean}});
+  json["rows"] = results;
+  return bench::write_report(out, json, "spline_material_bench") ? 0 : 1;
 }

@@ -26,6 +26,8 @@ tailor_find_dependency(OpenMP)
 
 tailor_find_dependency(Eigen3 3.4 CONFIG)
 tailor_find_dependency(nlohmann_json 3.10 CONFIG)
+# Command lines of `tailor` and the benches (header-only; Debian's libcli11-dev).
+tailor_find_dependency(CLI11 2.1 CONFIG)
 tailor_find_dependency(NLopt CONFIG)
 tailor_find_dependency(PNG)  # the plots (problems/plot/png_writer.cpp)
 

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "forward/core/format_number.hpp"
+
 namespace tailor {
 
 namespace {
@@ -22,12 +24,6 @@ constexpr BackendName kBackendNames[] = {
     {OptimizerBackend::ceres_least_squares, "ceres_least_squares"},
     {OptimizerBackend::gradient_descent, "gradient_descent"},
 };
-
-std::string format_number(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
 
 }  // namespace
 
@@ -83,13 +79,13 @@ std::string OptimizerResult::report() const {
   if (failed_evaluations > 0)
     out << "  failed points  : " << failed_evaluations << " (forward solve failed; the step was shortened)\n";
   out << "  objective      : ";
-  if (!history.empty()) out << format_number("%.6e", history.front().objective) << " -> ";
-  out << format_number("%.6e", objective) << '\n';
+  if (!history.empty()) out << format_number(history.front().objective, "%.6e") << " -> ";
+  out << format_number(objective, "%.6e") << '\n';
   if (!history.empty()) {
-    out << "  gradient norm  : " << format_number("%.3e", history.back().gradient_norm)
+    out << "  gradient norm  : " << format_number(history.back().gradient_norm, "%.3e")
         << " (projected, last iteration)\n";
   }
-  out << "  time           : " << format_number("%.3f", seconds) << " s\n";
+  out << "  time           : " << format_number(seconds, "%.3f") << " s\n";
   if (!history.empty()) {
     out << "  solves         : " << history.back().forward_solves << " forward, "
         << history.back().adjoint_solves << " adjoint\n";

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <ostream>
 
+#include "forward/core/format_number.hpp"
 #include "optimizers/interrupt.hpp"
 
 namespace tailor::detail {
@@ -11,12 +12,6 @@ namespace tailor::detail {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::string format_number(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
 
 }  // namespace
 
@@ -325,10 +320,10 @@ void Tracker::apply_change_tests() {
   const double change = std::abs(last.objective - history_[history_.size() - 2].objective);
   if (options_.objective_tolerance > 0.0 && change <= options_.objective_tolerance) {
     request_stop(OptimizerStatus::converged,
-                 "objective change " + format_number("%.3e", change) + " <= objective_tolerance");
+                 "objective change " + format_number(change, "%.3e") + " <= objective_tolerance");
   } else if (options_.step_tolerance > 0.0 && last.step_norm <= options_.step_tolerance) {
     request_stop(OptimizerStatus::converged,
-                 "step " + format_number("%.3e", last.step_norm) + " <= step_tolerance");
+                 "step " + format_number(last.step_norm, "%.3e") + " <= step_tolerance");
   }
 }
 
@@ -338,7 +333,7 @@ bool Tracker::stop_requested() {
     request_stop(OptimizerStatus::interrupted, "interrupted (SIGINT)");
   } else if (options_.time_limit_seconds > 0.0 && seconds() > options_.time_limit_seconds) {
     request_stop(OptimizerStatus::time_limit,
-                 "time limit of " + format_number("%g", options_.time_limit_seconds) + " s reached");
+                 "time limit of " + format_number(options_.time_limit_seconds, "%g") + " s reached");
   }
   return stop_status_.has_value();
 }

@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "forward/core/format_number.hpp"
 #include "objectives/material_smoothness.hpp"
 #include "objectives/target_positions.hpp"
 #include "objectives/tikhonov.hpp"
@@ -16,12 +17,6 @@
 
 namespace tailor {
 namespace {
-
-std::string format_number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 // value * (1 + gradient . c) * inclusion factors, at the element centroids c.
 Eigen::VectorXd expression_field(const Scene& scene, const Mesh& mesh, const ModulusField& field) {

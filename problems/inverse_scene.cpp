@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "forward/core/format_number.hpp"
 #include "problems/scene_parsing.hpp"
 
 namespace tailor {
@@ -34,12 +35,6 @@ bool ObjectiveTermSpec::is_data() const {
 }
 
 namespace {
-
-std::string format_number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 // {"value": E0, "gradient": [g...], "inclusions": [{"center": [...], "radius": r, "factor": f}]}:
 // E = E0 (1 + g . c) * f (inside each sphere) at element centroids c. Dimensions and positivity

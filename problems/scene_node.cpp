@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "forward/core/format_number.hpp"
 #include "problems/scene.hpp"
 
 namespace tailor {
@@ -14,12 +15,6 @@ std::string join(std::initializer_list<const char*> words) {
   std::string out;
   for (const char* w : words) out += (out.empty() ? "" : ", ") + std::string(w);
   return out;
-}
-
-std::string format_number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
 }
 
 // Path pieces built by appending: GCC 12 reports a spurious -Wrestrict for `"." + std::string`.

@@ -4,14 +4,10 @@
 #include <set>
 #include <sstream>
 
+#include "forward/core/format_number.hpp"
+
 namespace tailor {
 namespace {
-
-std::string format_number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 std::string format_vector(const Eigen::VectorXd& v) {
   std::ostringstream s;

@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libnlopt-cxx-dev libarpack2-dev libceres-dev
-  nlohmann-json3-dev libgtest-dev libgmock-dev
+  nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
   libpng-dev
   # CHOLMOD's speed is BLAS's speed: OpenBLAS must provide libblas.so.3 (see below).
   libopenblas0-pthread libopenblas-pthread-dev

@@ -6,26 +6,20 @@
 #include <stdexcept>
 #include <string>
 
+#include "forward/core/format_number.hpp"
 #include "forward/fem/material.hpp"
 
 namespace tailor {
 namespace {
 
-std::string format_value(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
-
 void check_young_poisson(double youngs_modulus, double poisson_ratio) {
   // Written so that NaN fails both checks.
   if (!(youngs_modulus > 0.0) || !std::isfinite(youngs_modulus))
     throw std::invalid_argument("Young's modulus must be finite and > 0, got E = " +
-                                format_value(youngs_modulus));
+                                format_number(youngs_modulus, "%.17g"));
   if (!(poisson_ratio > -1.0 && poisson_ratio < 0.5))
     throw std::invalid_argument("Poisson's ratio must lie in (-1, 0.5), got nu = " +
-                                format_value(poisson_ratio));
+                                format_number(poisson_ratio, "%.17g"));
 }
 
 }  // namespace

@@ -8,12 +8,11 @@
 #include <utility>
 #include <vector>
 
+#include "forward/core/format_number.hpp"
 #include "forward/mesh/text_scanner_detail.hpp"
 
 namespace tailor {
 namespace {
-
-using mesh_detail::format_number;
 
 // Signed volume (area in 2D) of element e; indices must be valid.
 double signed_volume(const Mesh& mesh, int e) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "forward/core/format_number.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "forward/mesh/text_scanner_detail.hpp"
 
@@ -91,7 +92,7 @@ void read_ele_file(const std::string& path, int base, RawMesh& raw) {
       if (a > 0) continue;
       // TetGen writes region attributes as numbers; a region must be an integer label.
       if (attribute != std::round(attribute) || std::abs(attribute) > std::numeric_limits<int>::max()) {
-        in.fail("region attribute " + mesh_detail::format_number(attribute) + " is not an integer");
+        in.fail("region attribute " + format_number(attribute) + " is not an integer");
       }
       region = static_cast<int>(attribute);
     }

@@ -28,13 +28,6 @@ inline std::string quoted_token(std::string_view token) {
   return "'" + shown + "'";
 }
 
-// Short form of a number for messages.
-inline std::string format_number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value);
-  return buffer;
-}
-
 inline std::string read_whole_file(const std::string& path) {
   // Opening a directory succeeds on some systems and then reads as an empty file.
   std::error_code ignored;

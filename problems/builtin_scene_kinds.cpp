@@ -1,0 +1,299 @@
+// tailor's own verbs and scene kinds (problems/scene_kinds.hpp): the one place to add either.
+// A new kind is one entry in builtin_scene_kinds() -- how it is recognised from the scene's
+// top-level JSON and the verbs it supports, each with a handler -- placed before the kinds that
+// would also match its files (the first match wins; the last, "static", matches everything).
+// A new flag of a verb is a field in VerbArguments and one line in the verb's `options`.
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <limits>
+#include <ostream>
+
+#include "problems/builtin_scenes.hpp"
+#include "problems/cli/flag_checks.hpp"
+#include "problems/commands.hpp"
+#include "problems/contact/rigid_scene.hpp"
+#include "problems/damping_design/damping_design_scene.hpp"
+#include "problems/dynamic_commands.hpp"
+#include "problems/homogenization/homogenize_command.hpp"
+#include "problems/inverse_commands.hpp"
+#include "problems/material_fit/material_fit_scene.hpp"
+#include "problems/metamaterial/metamaterial_scene.hpp"
+#include "problems/modes_command.hpp"
+#include "problems/rods/rod_scene.hpp"
+#include "problems/scene_kinds.hpp"
+
+namespace tailor {
+namespace {
+
+constexpr int kSuccess = 0;
+constexpr int kFailure = 1;
+
+int exit_code(bool ok) { return ok ? kSuccess : kFailure; }
+
+// ---- recognising a scene from its top-level JSON
+
+bool has_section(const nlohmann::json& document, const char* key) {
+  return document.is_object() && document.contains(key);
+}
+
+bool has_type(const nlohmann::json& document, const char* type) {
+  return has_section(document, "type") && document["type"] == type;
+}
+
+// ---- verbs: their flags
+
+void add_out(CLI::App& command, VerbArguments& args) {
+  command.add_option("--out", args.out_dir, "output folder (default: out/<scene name>)")->type_name("DIR");
+}
+
+void add_seed(CLI::App& command, VerbArguments& args, const char* what) {
+  command.add_option("--seed", args.seed, what)
+      ->type_name("N")
+      ->check(cli::integer_in(0, std::numeric_limits<unsigned>::max()));
+}
+
+// ---- the static and dynamic scenes of docs/scenes.md
+
+// The scene (the built-in cantilever without a file), with its solver.threads applied under the
+// command line's thread flags.
+Scene load_scene(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  Scene scene;
+  if (file.path.empty()) {
+    out << "no scene given: using the built-in cantilever (10 x 1 x 1 Neo-Hookean beam, clamped at x = 0, "
+           "end traction downwards)\n";
+    scene = builtin_cantilever();
+  } else {
+    scene = parse_scene(file.text, file.path, file.directory());
+    if (scene.name.empty()) scene.name = file.stem();
+  }
+  apply_thread_flags(args, scene.solver.threads);
+  return scene;
+}
+
+std::string out_dir(const VerbArguments& args, const Scene& scene) {
+  return args.out_dir_or("out/" + scene.name);
+}
+
+int simulate_static(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const Scene scene = load_scene(file, args, out);
+  return exit_code(simulate_scene(scene, out_dir(args, scene), &out).solution.converged);
+}
+
+int simulate_dynamic(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const Scene scene = load_scene(file, args, out);
+  return exit_code(simulate_dynamic_scene(scene, out_dir(args, scene), &out).completed);
+}
+
+int check_model(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  return exit_code(check_scene(load_scene(file, args, out), args.seed.value_or(1), out));
+}
+
+int report_gradcheck(const GradcheckRun& run, std::ostream& out) {
+  if (!run.passed()) {
+    const TaylorTestResult& failed = run.gradient.passed() ? *run.hessian : run.gradient;
+    out << (run.gradient.passed() ? "Hessian" : "gradient") << " check " << to_string(failed.status) << ": "
+        << failed.message << "\n";
+  }
+  return exit_code(run.passed());
+}
+
+int gradcheck_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const Scene scene = load_scene(file, args, out);
+  return report_gradcheck(gradcheck_scene(scene, out_dir(args, scene), {args.seed, args.hessian}, &out), out);
+}
+
+// A dynamic scene without an inverse section checks the time-dependent adjoint of its
+// dynamics.objective; with one, the inverse problem's gradient.
+int gradcheck_dynamic(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const Scene scene = load_scene(file, args, out);
+  if (scene.inverse)
+    return report_gradcheck(gradcheck_scene(scene, out_dir(args, scene), {args.seed, args.hessian}, &out),
+                            out);
+  return report_gradcheck(gradcheck_dynamic_scene(scene, out_dir(args, scene), args.seed.value_or(1), &out),
+                          out);
+}
+
+int run_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const Scene scene = load_scene(file, args, out);
+  // `run --resume DIR` writes into DIR (the checkpoint's folder) unless --out says otherwise.
+  std::string dir = out_dir(args, scene);
+  if (args.resume && !args.out_dir) {
+    const std::filesystem::path resume(*args.resume);
+    dir = !std::filesystem::is_regular_file(resume) ? resume.string()
+          : resume.has_parent_path()                ? resume.parent_path().string()
+                                                    : ".";
+  }
+  const InverseRun run =
+      run_inverse_scene(scene, dir, &out, args.quiet ? nullptr : &out, {args.checkpoint_every, args.resume});
+  return exit_code(run.result.converged());
+}
+
+int compute_modes(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const Scene scene = load_scene(file, args, out);
+  modes_scene(scene, args.count, out_dir(args, scene), &out);
+  return kSuccess;
+}
+
+// ---- the other kinds
+
+RigidSceneSpec load_rigid_scene(const SceneFile& file) {
+  RigidSceneSpec spec = parse_rigid_scene(file.text, file.path);
+  if (spec.name.empty()) spec.name = file.stem();
+  return spec;
+}
+
+int simulate_rigid(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const RigidSceneSpec spec = load_rigid_scene(file);
+  return exit_code(simulate_rigid_scene(spec, args.out_dir_or("out/" + spec.name), &out).completed());
+}
+
+int gradcheck_rigid(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const RigidSceneSpec spec = load_rigid_scene(file);
+  return exit_code(
+      gradcheck_rigid_scene(spec, args.out_dir_or("out/" + spec.name), args.seed.value_or(1), &out).passed());
+}
+
+int simulate_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  return exit_code(simulate_rod_scene_file(file.path, args.out_dir_or("out/rods"), out));
+}
+
+int homogenize_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const CellScene cell = read_cell_scene(file.path);
+  homogenize_scene(cell, args.out_dir_or("out/" + cell.name), &out);
+  return kSuccess;
+}
+
+// The runs that are not an inverse problem's optimizer keep no checkpoints.
+void refuse_checkpoint_flags(const VerbArguments& args) {
+  if (args.resume || args.checkpoint_every)
+    throw UsageError("--resume and --checkpoint-every need a scene with an \"inverse\" section");
+}
+
+int design_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_checkpoint_flags(args);
+  const MetamaterialRun run = run_metamaterial_scene(file.path, args.out_dir_or("out/metamaterial"), &out,
+                                                     args.quiet ? nullptr : &out);
+  return exit_code(run.result.converged());
+}
+
+int fit_material(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_checkpoint_flags(args);
+  const MaterialFitRun fit =
+      run_material_fit_scene(file.path, args.out_dir_or(""), &out, args.quiet ? nullptr : &out);
+  return exit_code(fit.result.converged());
+}
+
+int design_damping(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_checkpoint_flags(args);
+  return exit_code(run_damping_design_scene(file.path, args.out_dir_or("out/damping_design"), out));
+}
+
+}  // namespace
+
+std::vector<Verb> builtin_verbs() {
+  return {
+      {"simulate", "simulate [scene.json] [--out DIR]",
+       "Solve the scene forward and write DIR/report.json and its result fields (.vtu; DIR\n"
+       "defaults to out/<scene name>). Without a scene, run a built-in cantilever.",
+       /*needs_scene=*/false, [](CLI::App& c, VerbArguments& a) { add_out(c, a); }},
+      {"check", "check [scene.json] [--seed N]",
+       "Check the derivatives of every energy term of the scene's model against finite\n"
+       "differences at a randomly perturbed state (seed N, default 1).",
+       /*needs_scene=*/false,
+       [](CLI::App& c, VerbArguments& a) { add_seed(c, a, "seed of the perturbed state (default 1)"); }},
+      {"gradcheck", "gradcheck scene.json [--out DIR] [--seed N] [--hessian]",
+       "Taylor test of the gradient (and with --hessian of the Hessian-vector products)\n"
+       "of the scene's inverse problem at its initial design; write DIR/gradcheck.json.",
+       /*needs_scene=*/true,
+       [](CLI::App& c, VerbArguments& a) {
+         add_out(c, a);
+         add_seed(c, a, "seed of the random direction (default: the scene's inverse.gradcheck.seed, else 1)");
+         c.add_flag("--hessian", a.hessian, "also check Hessian-vector products");
+       }},
+      {"run", "run scene.json [--out DIR] [--quiet] [--checkpoint-every K] [--resume DIR]",
+       "Optimize the design of the scene's inverse problem; print one line per iteration\n"
+       "(none with --quiet); write DIR/report.json and DIR/result.vtu at the best design,\n"
+       "and DIR/checkpoint.json every K iterations (default: the scene's\n"
+       "optimizer.checkpoint_every, 10; 0 = none). --resume DIR continues from DIR's\n"
+       "checkpoint (and writes into DIR unless --out is given).",
+       /*needs_scene=*/true,
+       [](CLI::App& c, VerbArguments& a) {
+         add_out(c, a);
+         c.add_flag("--quiet", a.quiet, "no progress line per iteration (the summary stays)");
+         c.add_option("--checkpoint-every", a.checkpoint_every,
+                      "write DIR/checkpoint.json every K iterations (0: never)")
+             ->type_name("K")
+             ->check(cli::integer_in(0, 1000000000));
+         c.add_option("--resume", a.resume, "continue from the checkpoint in DIR (or the file)")
+             ->type_name("DIR");
+       }},
+      {"modes", "modes scene.json [--out DIR] [--count N]",
+       "Modal analysis at rest: the N lowest vibration modes (default 10), rigid-body modes\n"
+       "set apart; write DIR/report.json (frequencies in Hz) and DIR/modes.vtu.",
+       /*needs_scene=*/true,
+       [](CLI::App& c, VerbArguments& a) {
+         add_out(c, a);
+         c.add_option("--count", a.count, "number of modes (default 10)")
+             ->type_name("N")
+             ->check(cli::integer_in(1, 100000));
+       }},
+      {"homogenize", "homogenize cell.json [--out DIR]",
+       "Effective elasticity of a periodic cell (\"type\": \"periodic_cell\"); write\n"
+       "DIR/report.json, PNG plots of E(d) and nu(d) and the cell fields per unit macro strain\n"
+       "(.vtu).",
+       /*needs_scene=*/true, [](CLI::App& c, VerbArguments& a) { add_out(c, a); }},
+  };
+}
+
+std::vector<SceneKind> builtin_scene_kinds() {
+  const auto any = [](const nlohmann::json&) { return true; };
+  return {
+      {"material_fit",
+       "\"type\": \"material_fit\" (docs/materials.md)",
+       [](const nlohmann::json& d) { return has_type(d, "material_fit"); },
+       {{"run", fit_material, "fit a principal-stretch spline material to the scene's curves"}}},
+      {"damping_design",
+       "a \"damping_design\" section (docs/dynamics.md)",
+       [](const nlohmann::json& d) { return has_section(d, "damping_design"); },
+       {{"run", design_damping, "the example-based damping study; DIR defaults to out/damping_design"}}},
+      {"rigid_bodies",
+       "a \"rigid_bodies\" section (docs/contact.md)",
+       [](const nlohmann::json& d) { return has_section(d, "rigid_bodies"); },
+       {{"simulate", simulate_rigid,
+         "static equilibrium, or implicit Euler steps, of rigid bodies in contact"},
+        {"gradcheck", gradcheck_rigid, "Taylor test of the body centres' gradient in the body masses"}}},
+      {"rods",
+       "a \"rods\" section (docs/rods.md)",
+       [](const nlohmann::json& d) { return has_section(d, "rods"); },
+       {{"simulate", simulate_elastic_rods,
+         "equilibrium of discrete elastic rods; DIR defaults to out/rods"}}},
+      {"cell_design",
+       "\"type\": \"periodic_cell\" with a \"design\" section (docs/homogenization.md)",
+       [](const nlohmann::json& d) { return has_type(d, "periodic_cell") && has_section(d, "design"); },
+       {{"run", design_cell, "design the cell's material layout; DIR defaults to out/metamaterial"},
+        {"homogenize", homogenize_cell, "the effective elasticity of the cell as given"}}},
+      {"periodic_cell",
+       "\"type\": \"periodic_cell\" (docs/homogenization.md)",
+       [](const nlohmann::json& d) { return has_type(d, "periodic_cell"); },
+       {{"homogenize", homogenize_cell, "the effective elasticity of the cell"}}},
+      {"dynamic",
+       "a \"dynamics\" section (docs/dynamics.md)",
+       [](const nlohmann::json& d) { return has_section(d, "dynamics"); },
+       {{"simulate", simulate_dynamic, "time integration: DIR/result.pvd, DIR/frames/ and DIR/report.json"},
+        {"check", check_model, ""},
+        {"gradcheck", gradcheck_dynamic,
+         "without an \"inverse\" section: the time-dependent adjoint of dynamics.objective"},
+        {"run", run_inverse, ""},
+        {"modes", compute_modes, ""}}},
+      {"static",
+       "any other scene (docs/scenes.md); also the built-in cantilever",
+       any,
+       {{"simulate", simulate_static, "static equilibrium: DIR/report.json and DIR/result.vtu"},
+        {"check", check_model, ""},
+        {"gradcheck", gradcheck_inverse, "needs an \"inverse\" section"},
+        {"run", run_inverse, "needs an \"inverse\" section"},
+        {"modes", compute_modes, ""}}},
+  };
+}
+
+}  // namespace tailor

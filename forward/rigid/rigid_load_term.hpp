@@ -9,7 +9,8 @@
 // theta_b is exact to first order about the reference, which set_reference() moves to the
 // start of each time step (a lagged torque, like lagged friction) or, in statics, to the last
 // solution until it no longer changes.
-// `loads` has 6 entries per body: (f_b, tau_b).
+// `loads` has 6 entries per body: (f_b, tau_b). The state may extend past the 6 B body DOFs
+// (other DOFs after them are not loaded).
 #include <vector>
 
 #include "forward/core/energy_term.hpp"

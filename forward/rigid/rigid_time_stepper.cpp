@@ -106,7 +106,6 @@ NewtonResult RigidTimeStepper::step() {
   RigidContactTerm* contact = step_options_.contact;
   inertia_.predict(motion_);
   if (step_options_.loads) step_options_.loads->set_reference(q_);
-  if (step_options_.friction) step_options_.friction->clear();
   Elimination& elimination = model_.elimination();
   const Vector offset = elimination.offset();
   const Vector target = system_.prescribed_state(time_ + h, q_);
@@ -120,14 +119,18 @@ NewtonResult RigidTimeStepper::step() {
     report_.initial_step = alpha;
     q = q_ + alpha * dq;
   }
-  // Adaptive stiffness: balanced at the start of the solve (with friction not yet lagged).
+  // Adaptive stiffness: raised to the balance at the start of the solve (with the friction of the
+  // previous step, in balance with the barrier there) when that is at least `growth` times kappa
+  // (an impact; small changes would only disturb resting contacts). It never decreases (a lowered
+  // kappa would let resting bodies sink and their lagged normal forces drift).
   if (contact && step_options_.stiffness.adaptive) {
     const contact::StiffnessOptions& s = step_options_.stiffness;
     const Vector barrier = contact->unit_stiffness_gradient(q);
     const double kappa = contact->potential().options().stiffness;
     const Vector other = model_.gradient(q, Vector()) - kappa * barrier;
-    contact->potential().set_stiffness(contact::balanced_stiffness(
-        elimination.reduce(other), elimination.reduce(barrier), s.min_stiffness, s.max_stiffness));
+    const double balanced = contact::balanced_stiffness(elimination.reduce(other), elimination.reduce(barrier),
+                                                        s.min_stiffness, s.max_stiffness);
+    if (balanced >= s.growth * kappa) contact->potential().set_stiffness(balanced);
   }
 
   if (step_options_.friction) step_options_.friction->lag(q_, q_, h);

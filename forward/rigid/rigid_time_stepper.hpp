@@ -17,9 +17,9 @@
 //  - torque references (RigidLoadTerm::set_reference) and friction (FrictionTerm::lag) are
 //    lagged at the start of the step; with friction_iterations > 1 the friction is lagged again
 //    at each solution and the step solved again from there;
-//  - adaptive barrier stiffness (barrier_stiffness.hpp): kappa balanced at the start of the
-//    step, raised after Newton iterations while the smallest distance keeps shrinking below the
-//    threshold;
+//  - adaptive barrier stiffness (barrier_stiffness.hpp): kappa raised to the balance at the
+//    start of the step when that is larger, and after Newton iterations while the smallest
+//    distance keeps shrinking below the threshold; it never decreases;
 //  - IPC's stopping criterion: the step also ends when the Newton direction moves no surface
 //    vertex faster than velocity_tolerance, max_v |dx_v| / h (|dx_v| <= |dT| + |dw| |V| for a rigid
 //    vertex).
@@ -41,7 +41,7 @@ struct RigidStepOptions {
   RigidContactTerm* contact = nullptr;  // adaptive stiffness, CCD of guesses and kinematic stages
   FrictionTerm* friction = nullptr;     // lagged at the start of each step
   RigidLoadTerm* loads = nullptr;       // torque references moved to each step's start
-  InitialGuess initial_guess = InitialGuess::predicted;
+  InitialGuess initial_guess = InitialGuess::previous;
   double velocity_tolerance = 0.0;  // [length / time]; 0: Newton's own tests only
   int friction_iterations = 1;      // solves per step with friction (lagged again between them)
   contact::StiffnessOptions stiffness;
@@ -72,6 +72,8 @@ class RigidTimeStepper {
   const std::vector<RigidMotion>& motion() const { return motion_; }
   void set_velocity(int body, const Eigen::Vector3d& velocity, const Eigen::Vector3d& angular_velocity);
   const RigidStepOptions& step_options() const { return step_options_; }
+  // Newton's settings for the next steps (e.g. progress output).
+  NewtonOptions& newton_options() { return options_; }
 
  private:
   Vector predicted_state() const;

@@ -84,7 +84,7 @@ void spin_up(bool true_moment, int steps, double h, double tau, double& inertia,
   Model model(system.num_dofs());
   RigidInertiaTerm& term = model.add(std::make_unique<RigidInertiaTerm>(system, h));
   RigidStepOptions o;
-  o.velocity_tolerance = 1e-9;  // IPC's stop on the Newton direction: residuals reach round-off first
+  o.velocity_tolerance = 1e-7;  // IPC's stop on the Newton direction: residuals reach round-off first
   if (true_moment) {
     o.loads = &model.add(std::make_unique<RigidLoadTerm>(loads(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, tau)),
                                                          system.initial_state()));

@@ -16,6 +16,7 @@
 // The defaults are the tuned settings (adaptive kappa from --kappa up to 100 x --kappa, IPC's
 // stop at 1e-3 m/s); `--stiffness fixed --velocity-tolerance 0` is the plain Newton of the first
 // version.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,10 +24,8 @@
 #include <string>
 #include <vector>
 
-#include "forward/contact/intersection.hpp"
-#include <algorithm>
-
 #include "forward/contact/broad_phase.hpp"
+#include "forward/contact/intersection.hpp"
 #include "forward/rigid/friction_term.hpp"
 #include "forward/rigid/rigid_contact_term.hpp"
 #include "forward/rigid/rigid_gravity_term.hpp"
@@ -173,8 +172,8 @@ int main(int argc, char** argv) {
        << ", \"velocity_tolerance\": " << velocity_tolerance << ", \"initial_guess\": \""
        << (guess == InitialGuess::predicted ? "predicted" : "previous") << "\", \"friction\": " << friction
        << ",\n  \"steps\": [\n";
-  std::printf("%5s %6s %9s %9s %7s %7s %6s %11s %6s %9s %9s\n", "step", "newton", "step s", "contact%", "ccd%",
-              "broad%", "pairs", "min dist", "cross", "kappa", "slide/stick");
+  std::printf("%5s %6s %9s %9s %7s %7s %6s %11s %6s %9s %9s\n", "step", "newton", "step s", "contact%",
+              "ccd%", "broad%", "pairs", "min dist", "cross", "kappa", "slide/stick");
   double total = 0, smallest = INFINITY, ccd_total = 0, broad_total = 0;
   int iterations = 0, crossings_total = 0, completed = 0, max_pairs = 0;
   std::vector<int> newton_per_step;
@@ -221,37 +220,43 @@ int main(int argc, char** argv) {
     max_pairs = std::max(max_pairs, pairs);
     crossings_total += crossings;
     completed = n;
-    std::printf("%5d %6d %9.4f %8.1f%% %6.1f%% %6.1f%% %6d %11.3e %6d %9.2e %5d/%d\n", n, report.newton_iterations,
-                seconds, 100 * contact_share, 100 * ccd_seconds / seconds, 100 * broad_seconds / seconds, pairs,
-                distance, crossings, report.stiffness, slide_stick.first, slide_stick.second);
-    json << (n > 1 ? ",\n" : "") << "    {\"step\": " << n << ", \"newton_iterations\": " << report.newton_iterations
-         << ", \"seconds\": " << seconds << ", \"contact_share\": " << contact_share
-         << ", \"ccd_share\": " << ccd_seconds / seconds << ", \"broad_phase_share\": " << broad_seconds / seconds
-         << ", \"active_pairs\": " << pairs << ", \"min_distance\": " << distance
-         << ", \"intersections\": " << crossings << ", \"kappa\": " << report.stiffness
-         << ", \"initial_step\": " << report.initial_step << ", \"sliding\": " << slide_stick.first
-         << ", \"sticking\": " << slide_stick.second << "}";
+    std::printf("%5d %6d %9.4f %8.1f%% %6.1f%% %6.1f%% %6d %11.3e %6d %9.2e %5d/%d\n", n,
+                report.newton_iterations, seconds, 100 * contact_share, 100 * ccd_seconds / seconds,
+                100 * broad_seconds / seconds, pairs, distance, crossings, report.stiffness,
+                slide_stick.first, slide_stick.second);
+    json << (n > 1 ? ",\n" : "") << "    {\"step\": " << n
+         << ", \"newton_iterations\": " << report.newton_iterations << ", \"seconds\": " << seconds
+         << ", \"contact_share\": " << contact_share << ", \"ccd_share\": " << ccd_seconds / seconds
+         << ", \"broad_phase_share\": " << broad_seconds / seconds << ", \"active_pairs\": " << pairs
+         << ", \"min_distance\": " << distance << ", \"intersections\": " << crossings
+         << ", \"kappa\": " << report.stiffness << ", \"initial_step\": " << report.initial_step
+         << ", \"sliding\": " << slide_stick.first << ", \"sticking\": " << slide_stick.second << "}";
   }
   auto median = [](auto values) {
     if (values.empty()) return 0.0;
     std::sort(values.begin(), values.end());
     return static_cast<double>(values[values.size() / 2]);
   };
-  const int worst = newton_per_step.empty() ? 0 : *std::max_element(newton_per_step.begin(), newton_per_step.end());
+  const int worst =
+      newton_per_step.empty() ? 0 : *std::max_element(newton_per_step.begin(), newton_per_step.end());
   const double slowest =
       seconds_per_step.empty() ? 0.0 : *std::max_element(seconds_per_step.begin(), seconds_per_step.end());
   json << "\n  ],\n  \"steps_completed\": " << completed << ", \"total_seconds\": " << total
-       << ", \"newton_iterations\": " << iterations << ", \"median_newton_per_step\": " << median(newton_per_step)
-       << ", \"max_newton_per_step\": " << worst << ", \"median_seconds_per_step\": " << median(seconds_per_step)
-       << ", \"max_seconds_per_step\": " << slowest << ", \"ccd_share\": " << (total > 0 ? ccd_total / total : 0)
-       << ", \"broad_phase_share\": " << (total > 0 ? broad_total / total : 0) << ", \"max_active_pairs\": " << max_pairs
-       << ", \"min_distance\": " << smallest << ", \"intersections\": " << crossings_total << "\n}\n";
+       << ", \"newton_iterations\": " << iterations
+       << ", \"median_newton_per_step\": " << median(newton_per_step)
+       << ", \"max_newton_per_step\": " << worst
+       << ", \"median_seconds_per_step\": " << median(seconds_per_step)
+       << ", \"max_seconds_per_step\": " << slowest
+       << ", \"ccd_share\": " << (total > 0 ? ccd_total / total : 0)
+       << ", \"broad_phase_share\": " << (total > 0 ? broad_total / total : 0)
+       << ", \"max_active_pairs\": " << max_pairs << ", \"min_distance\": " << smallest
+       << ", \"intersections\": " << crossings_total << "\n}\n";
   std::printf(
       "%d of %d steps, total %.3f s, %d Newton iterations (median %.0f, max %d per step), median %.4f s per "
       "step (max %.3f), CCD %.1f%%, broad phase %.1f%% of the time, up to %d active pairs, smallest distance "
       "%.3e m, %d intersections\n",
       completed, steps, total, iterations, median(newton_per_step), worst, median(seconds_per_step), slowest,
-      total > 0 ? 100 * ccd_total / total : 0.0, total > 0 ? 100 * broad_total / total : 0.0, max_pairs, smallest,
-      crossings_total);
+      total > 0 ? 100 * ccd_total / total : 0.0, total > 0 ? 100 * broad_total / total : 0.0, max_pairs,
+      smallest, crossings_total);
   return crossings_total == 0 && completed == steps ? 0 : 1;
 }

@@ -20,10 +20,10 @@
 namespace tailor::contact {
 
 struct StiffnessOptions {
-  bool adaptive = false;           // false: kappa stays ContactOptions::stiffness
-  double min_stiffness = 0.0;      // [energy / length^4]; 0: ContactOptions::stiffness
-  double max_stiffness = 0.0;      // 0: 100 x min_stiffness (IPC's ratio)
-  double growth = 2.0;             // factor of each raise
+  bool adaptive = false;            // false: kappa stays ContactOptions::stiffness
+  double min_stiffness = 0.0;       // [energy / length^4]; 0: ContactOptions::stiffness
+  double max_stiffness = 0.0;       // 0: 100 x min_stiffness (IPC's ratio)
+  double growth = 2.0;              // factor of each raise
   double distance_fraction = 1e-3;  // distance_threshold = fraction x d_hat
 };
 

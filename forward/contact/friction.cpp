@@ -12,8 +12,12 @@ namespace tailor::contact {
 PairTangent pair_tangent(const ClassifiedDistance& distance, const std::array<Point, 4>& points) {
   PairTangent t;
   const auto& i = distance.points;
-  auto P = [&](int k) -> const Point& { return points[static_cast<std::size_t>(i[static_cast<std::size_t>(k)])]; };
-  auto weight = [&](int k) -> double& { return t.weights[static_cast<std::size_t>(i[static_cast<std::size_t>(k)])]; };
+  auto P = [&](int k) -> const Point& {
+    return points[static_cast<std::size_t>(i[static_cast<std::size_t>(k)])];
+  };
+  auto weight = [&](int k) -> double& {
+    return t.weights[static_cast<std::size_t>(i[static_cast<std::size_t>(k)])];
+  };
   switch (distance.branch) {
     case DistanceBranch::point_point:
       weight(0) = 1.0;
@@ -50,7 +54,8 @@ PairTangent pair_tangent(const ClassifiedDistance& distance, const std::array<Po
     }
   }
   Point r = Point::Zero();
-  for (int k = 0; k < 4; ++k) r += t.weights[static_cast<std::size_t>(k)] * points[static_cast<std::size_t>(k)];
+  for (int k = 0; k < 4; ++k)
+    r += t.weights[static_cast<std::size_t>(k)] * points[static_cast<std::size_t>(k)];
   t.normal = r.normalized();
   // An orthonormal basis of the plane orthogonal to n, started from the axis least aligned with n.
   Eigen::Index axis = 0;

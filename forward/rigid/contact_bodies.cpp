@@ -10,14 +10,17 @@ namespace tailor::rigid {
 
 ContactBodies::ContactBodies(const RigidBodySystem& system, std::vector<DeformableSurface> deformable,
                              int num_dofs)
-    : system_(system), deformable_(std::move(deformable)), num_dofs_(num_dofs < 0 ? system.num_dofs() : num_dofs) {
+    : system_(system),
+      deformable_(std::move(deformable)),
+      num_dofs_(num_dofs < 0 ? system.num_dofs() : num_dofs) {
   const contact::ContactSurface& rigid = system.surface();
   int total = rigid.num_vertices;
   for (const DeformableSurface& d : deformable_) {
     for (int dof : d.vertex_dofs)
       if (dof < system.num_dofs() || dof + 2 >= num_dofs_)
-        throw std::invalid_argument("contact bodies: deformable surface '" + d.name + "' has a vertex at DOFs " +
-                                    std::to_string(dof) + ".." + std::to_string(dof + 2) + ", outside " +
+        throw std::invalid_argument("contact bodies: deformable surface '" + d.name +
+                                    "' has a vertex at DOFs " + std::to_string(dof) + ".." +
+                                    std::to_string(dof + 2) + ", outside " +
                                     std::to_string(system.num_dofs()) + ".." + std::to_string(num_dofs_ - 1));
     total += static_cast<int>(d.vertex_dofs.size());
   }
@@ -37,7 +40,8 @@ ContactBodies::ContactBodies(const RigidBodySystem& system, std::vector<Deformab
     if ((d.faces.size() > 0 && (d.faces.minCoeff() < 0 || d.faces.maxCoeff() >= n)) ||
         (d.extra_edges.size() > 0 && (d.extra_edges.minCoeff() < 0 || d.extra_edges.maxCoeff() >= n)))
       throw std::invalid_argument("contact bodies: deformable surface '" + d.name +
-                                  "' has a face or edge index outside its " + std::to_string(n) + " vertices");
+                                  "' has a face or edge index outside its " + std::to_string(n) +
+                                  " vertices");
     const Eigen::Index edge_rows = edges.rows();
     edges.conservativeResize(edge_rows + d.extra_edges.rows(), 2);
     edges.bottomRows(d.extra_edges.rows()) = d.extra_edges.array() + offset;
@@ -154,8 +158,10 @@ StencilMap stencil_map(const ContactBodies& bodies, const std::array<int, 4>& ve
 
 }  // namespace
 
-void ContactBodies::add_stencil_gradient(const std::array<int, 4>& vertices, const Eigen::Matrix<double, 12, 1>& g,
-                                         const std::vector<RotationDerivatives>& rotations, Vector& gradient) const {
+void ContactBodies::add_stencil_gradient(const std::array<int, 4>& vertices,
+                                         const Eigen::Matrix<double, 12, 1>& g,
+                                         const std::vector<RotationDerivatives>& rotations,
+                                         Vector& gradient) const {
   const StencilMap m = stencil_map(*this, vertices, rotations);
   const Eigen::VectorXd gq = m.J.transpose() * g;
   for (Eigen::Index i = 0; i < gq.size(); ++i) gradient[m.dofs[static_cast<std::size_t>(i)]] += gq[i];
@@ -163,24 +169,26 @@ void ContactBodies::add_stencil_gradient(const std::array<int, 4>& vertices, con
 
 void ContactBodies::add_stencil(const std::array<int, 4>& vertices, const Eigen::Matrix<double, 12, 1>& g,
                                 const Eigen::Matrix<double, 12, 12>& H,
-                                const std::vector<RotationDerivatives>& rotations, const contact::SlotMap& slots,
-                                const EnergyRequest& request) const {
+                                const std::vector<RotationDerivatives>& rotations,
+                                const contact::SlotMap& slots, const EnergyRequest& request) const {
   const StencilMap m = stencil_map(*this, vertices, rotations);
   if (request.gradient) {
     const Eigen::VectorXd gq = m.J.transpose() * g;
-    for (Eigen::Index i = 0; i < gq.size(); ++i) (*request.gradient)[m.dofs[static_cast<std::size_t>(i)]] += gq[i];
+    for (Eigen::Index i = 0; i < gq.size(); ++i)
+      (*request.gradient)[m.dofs[static_cast<std::size_t>(i)]] += gq[i];
   }
   if (!request.hessian_values) return;
   Eigen::MatrixXd Hq = m.J.transpose() * H * m.J;
   for (int k = 0; k < 4; ++k) {
-    const int v = vertices[static_cast<std::size_t>(k)], b = body_of(v), c = m.column[static_cast<std::size_t>(k)];
+    const int v = vertices[static_cast<std::size_t>(k)], b = body_of(v),
+              c = m.column[static_cast<std::size_t>(k)];
     if (b < 0) continue;
     const RotationDerivatives& r = rotations[static_cast<std::size_t>(b)];
     const Eigen::Vector3d gk = g.segment<3>(3 * k);
     for (int l = 0; l < 3; ++l)
       for (int n = 0; n < 3; ++n)
-        Hq(c + 3 + l, c + 3 + n) += gk.dot(r.second[static_cast<std::size_t>(l)][static_cast<std::size_t>(n)] *
-                                           body_frame(v));
+        Hq(c + 3 + l, c + 3 + n) +=
+            gk.dot(r.second[static_cast<std::size_t>(l)][static_cast<std::size_t>(n)] * body_frame(v));
   }
   if (request.hessian_mode == HessianMode::projected) contact::project_to_psd<Eigen::Dynamic>(Hq);
   for (Eigen::Index i = 0; i < Hq.rows(); ++i)
@@ -195,7 +203,8 @@ void ContactBodies::add_stencil(const std::array<int, 4>& vertices, const Eigen:
     }
 }
 
-double ContactBodies::max_step(const Vector& q, const Vector& dq, const contact::ContactPotential& potential) const {
+double ContactBodies::max_step(const Vector& q, const Vector& dq,
+                               const contact::ContactPotential& potential) const {
   const contact::Positions x = positions(q);
   const int n = surface_.num_vertices;
   Eigen::VectorXd bound(n);  // path length bound of each vertex over t in [0, 1]
@@ -210,8 +219,9 @@ double ContactBodies::max_step(const Vector& q, const Vector& dq, const contact:
   auto run = [&](contact::PairKind kind, const std::array<int, 2>& candidate) {
     const std::array<int, 4> v = potential.stencil(kind, candidate);
     auto L = [&](int k) { return bound[v[static_cast<std::size_t>(k)]]; };
-    const double rate = kind == contact::PairKind::point_triangle ? L(0) + std::max({L(1), L(2), L(3)})
-                                                                   : std::max(L(0), L(1)) + std::max(L(2), L(3));
+    const double rate = kind == contact::PairKind::point_triangle
+                            ? L(0) + std::max({L(1), L(2), L(3)})
+                            : std::max(L(0), L(1)) + std::max(L(2), L(3));
     if (!(rate > 0.0)) return;
     const contact::StencilPath path = [&](double t, std::array<contact::Point, 4>& points) {
       for (int k = 0; k < 4; ++k) {

@@ -10,7 +10,8 @@ namespace tailor::rigid {
 FrictionTerm::FrictionTerm(const RigidContactTerm& contact, contact::FrictionOptions options)
     : contact_(contact), options_(options) {
   if (!(options_.coefficient >= 0.0) || !std::isfinite(options_.coefficient))
-    throw std::invalid_argument("friction: the coefficient must be >= 0, got " + std::to_string(options_.coefficient));
+    throw std::invalid_argument("friction: the coefficient must be >= 0, got " +
+                                std::to_string(options_.coefficient));
   if (!(options_.velocity_threshold > 0.0) || !std::isfinite(options_.velocity_threshold))
     throw std::invalid_argument("friction: the velocity threshold eps_v must be positive, got " +
                                 std::to_string(options_.velocity_threshold));
@@ -27,10 +28,12 @@ void FrictionTerm::lag(const Vector& q_lag, const Vector& q_start, double time_s
   pairs_.clear();
   if (options_.coefficient == 0.0) return;
   const ContactBodies& bodies = contact_.bodies();
-  pairs_ = contact::lag_friction_pairs(contact_.potential(), bodies.positions(q_lag), bodies.positions(q_start));
+  pairs_ =
+      contact::lag_friction_pairs(contact_.potential(), bodies.positions(q_lag), bodies.positions(q_start));
 }
 
-Eigen::Matrix<double, 12, 1> FrictionTerm::stencil(const contact::Positions& x, const std::array<int, 4>& v) const {
+Eigen::Matrix<double, 12, 1> FrictionTerm::stencil(const contact::Positions& x,
+                                                   const std::array<int, 4>& v) const {
   Eigen::Matrix<double, 12, 1> s;
   for (int k = 0; k < 4; ++k) s.segment<3>(3 * k) = x.row(v[static_cast<std::size_t>(k)]).transpose();
   return s;

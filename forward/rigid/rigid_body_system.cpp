@@ -132,7 +132,8 @@ Vector RigidBodySystem::prescribed_state(double t, const Vector& q) const {
     const RigidBody& body = this->body(b);
     if (!body.kinematic) continue;
     out.segment<3>(6 * b) = body.position + t * body.kinematic_velocity;
-    const Eigen::Matrix3d R = rotation_matrix(t * body.kinematic_angular_velocity) * rotation_matrix(body.rotation);
+    const Eigen::Matrix3d R =
+        rotation_matrix(t * body.kinematic_angular_velocity) * rotation_matrix(body.rotation);
     const Eigen::Vector3d w = rotation_vector(R, q.segment<3>(6 * b + 3));
     out.segment<3>(6 * b + 3) = w;
   }

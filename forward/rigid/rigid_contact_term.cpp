@@ -30,8 +30,8 @@ void RigidContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
   potential_.for_each_active(x, derivatives, [&](const contact::ActivePair& pair) {
     energy += pair.derivatives.value;
     if (derivatives)
-      bodies_->add_stencil(pair.vertices, pair.derivatives.gradient, pair.derivatives.hessian, rotations, slots_,
-                           request);
+      bodies_->add_stencil(pair.vertices, pair.derivatives.gradient, pair.derivatives.hessian, rotations,
+                           slots_, request);
   });
   if (request.value) *request.value += energy;
 }
@@ -58,7 +58,8 @@ contact::Positions RigidContactTerm::vertex_forces(const Vector& q) const {
   contact::Positions forces = contact::Positions::Zero(bodies_->surface().num_vertices, 3);
   potential_.for_each_active(bodies_->positions(q), true, [&](const contact::ActivePair& pair) {
     for (int k = 0; k < 4; ++k)
-      forces.row(pair.vertices[static_cast<std::size_t>(k)]) -= pair.derivatives.gradient.segment<3>(3 * k).transpose();
+      forces.row(pair.vertices[static_cast<std::size_t>(k)]) -=
+          pair.derivatives.gradient.segment<3>(3 * k).transpose();
   });
   return forces;
 }

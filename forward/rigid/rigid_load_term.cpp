@@ -67,19 +67,22 @@ void RigidLoadTerm::evaluate(const Vector& x, const Vector& p, const EnergyReque
       continue;
     }
     if (!request.gradient && !slot) {
-      if (request.value) *request.value -= tau.dot(skew_vee(rotation_matrix(x.segment<3>(6 * b + 3)) * Rb.transpose()));
+      if (request.value)
+        *request.value -= tau.dot(skew_vee(rotation_matrix(x.segment<3>(6 * b + 3)) * Rb.transpose()));
       continue;
     }
     const RotationDerivatives r = rotation_derivatives(x.segment<3>(6 * b + 3));
     if (request.value) *request.value -= tau.dot(skew_vee(r.rotation * Rb.transpose()));
     if (request.gradient)
       for (int k = 0; k < 3; ++k)
-        (*request.gradient)[6 * b + 3 + k] -= tau.dot(skew_vee(r.first[static_cast<std::size_t>(k)] * Rb.transpose()));
+        (*request.gradient)[6 * b + 3 + k] -=
+            tau.dot(skew_vee(r.first[static_cast<std::size_t>(k)] * Rb.transpose()));
     if (!slot) continue;
     Eigen::Matrix3d H;
     for (int k = 0; k < 3; ++k)
       for (int l = 0; l < 3; ++l)
-        H(k, l) = -tau.dot(skew_vee(r.second[static_cast<std::size_t>(k)][static_cast<std::size_t>(l)] * Rb.transpose()));
+        H(k, l) = -tau.dot(
+            skew_vee(r.second[static_cast<std::size_t>(k)][static_cast<std::size_t>(l)] * Rb.transpose()));
     if (request.hessian_mode == HessianMode::projected) contact::project_to_psd<3>(H);
     for (int k = 0; k < 3; ++k)
       for (int l = 0; l < 3; ++l) *slot++ = H(k, l);

@@ -50,7 +50,8 @@ void RigidTimeStepper::set_velocity(int body, const Eigen::Vector3d& velocity,
 }
 
 double RigidTimeStepper::distance_threshold() const {
-  return step_options_.stiffness.distance_fraction * step_options_.contact->potential().options().activation_distance;
+  return step_options_.stiffness.distance_fraction *
+         step_options_.contact->potential().options().activation_distance;
 }
 
 Vector RigidTimeStepper::predicted_state() const {
@@ -61,7 +62,8 @@ Vector RigidTimeStepper::predicted_state() const {
     const RigidMotion& m = motion_[static_cast<std::size_t>(b)];
     q.segment<3>(6 * b) = m.position + h * m.velocity;
     const Eigen::Vector3d omega = skew_vee(m.rotation_rate * m.rotation.transpose());
-    q.segment<3>(6 * b + 3) = rotation_vector(rotation_matrix(h * omega) * m.rotation, q_.segment<3>(6 * b + 3));
+    q.segment<3>(6 * b + 3) =
+        rotation_vector(rotation_matrix(h * omega) * m.rotation, q_.segment<3>(6 * b + 3));
   }
   return q;
 }
@@ -73,11 +75,14 @@ NewtonResult RigidTimeStepper::solve(Vector& q) {
   const double h = inertia_.time_step();
   if (step_options_.velocity_tolerance > 0.0) {
     std::vector<double> radius;  // largest |V| of each body
-    for (const RigidBody& body : system_.bodies()) radius.push_back(body.vertices.rowwise().norm().maxCoeff());
+    for (const RigidBody& body : system_.bodies())
+      radius.push_back(body.vertices.rowwise().norm().maxCoeff());
     const double limit = step_options_.velocity_tolerance * h;
     o.direction_converged = [this, radius, limit](const Vector&, const Vector& dx) {
       for (int b = 0; b < system_.num_bodies(); ++b)
-        if (dx.segment<3>(6 * b).norm() + dx.segment<3>(6 * b + 3).norm() * radius[static_cast<std::size_t>(b)] > limit)
+        if (dx.segment<3>(6 * b).norm() +
+                dx.segment<3>(6 * b + 3).norm() * radius[static_cast<std::size_t>(b)] >
+            limit)
           return false;
       return true;
     };
@@ -89,8 +94,8 @@ NewtonResult RigidTimeStepper::solve(Vector& q) {
       const double distance = contact->min_distance(x, d_hat);
       const contact::StiffnessOptions& s = step_options_.stiffness;
       const double kappa = contact->potential().options().stiffness;
-      contact->potential().set_stiffness(
-          contact::raised_stiffness(kappa, *previous, distance, distance_threshold(), s.growth, s.max_stiffness));
+      contact->potential().set_stiffness(contact::raised_stiffness(
+          kappa, *previous, distance, distance_threshold(), s.growth, s.max_stiffness));
       *previous = distance;
     };
   }
@@ -128,8 +133,8 @@ NewtonResult RigidTimeStepper::step() {
     const Vector barrier = contact->unit_stiffness_gradient(q);
     const double kappa = contact->potential().options().stiffness;
     const Vector other = model_.gradient(q, Vector()) - kappa * barrier;
-    const double balanced = contact::balanced_stiffness(elimination.reduce(other), elimination.reduce(barrier),
-                                                        s.min_stiffness, s.max_stiffness);
+    const double balanced = contact::balanced_stiffness(
+        elimination.reduce(other), elimination.reduce(barrier), s.min_stiffness, s.max_stiffness);
     if (balanced >= s.growth * kappa) contact->potential().set_stiffness(balanced);
   }
 
@@ -181,7 +186,8 @@ NewtonResult RigidTimeStepper::step() {
     if (stage == step_options_.max_kinematic_stages) {
       elimination.set_offset(offset);
       result.status = NewtonStatus::max_iterations;
-      result.message = "kinematic bodies did not reach their pose within " + std::to_string(stage) + " stages";
+      result.message =
+          "kinematic bodies did not reach their pose within " + std::to_string(stage) + " stages";
       return result;
     }
   }

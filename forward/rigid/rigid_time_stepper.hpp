@@ -50,11 +50,11 @@ struct RigidStepOptions {
 
 // What one step did besides Newton's result.
 struct RigidStepReport {
-  int newton_iterations = 0;     // over all stages and friction iterations
-  int kinematic_stages = 0;      // solves needed to bring kinematic bodies to their pose
-  double initial_step = 1.0;     // CCD fraction of the predicted guess that was kept
-  double stiffness = 0.0;        // kappa at the end of the step
-  double min_distance = 0.0;     // smallest distance after the step (within d_hat; infinity if none)
+  int newton_iterations = 0;  // over all stages and friction iterations
+  int kinematic_stages = 0;   // solves needed to bring kinematic bodies to their pose
+  double initial_step = 1.0;  // CCD fraction of the predicted guess that was kept
+  double stiffness = 0.0;     // kappa at the end of the step
+  double min_distance = 0.0;  // smallest distance after the step (within d_hat; infinity if none)
 };
 
 class RigidTimeStepper {

@@ -10,12 +10,9 @@ namespace tailor {
 
 class EmbeddedTerm final : public EnergyTerm {
  public:
-  EmbeddedTerm(const EnergyTerm& inner, int state_offset, int state_size, int parameter_offset, int parameter_size)
-      : inner_(inner),
-        x0_(state_offset),
-        nx_(state_size),
-        p0_(parameter_offset),
-        np_(parameter_size) {}
+  EmbeddedTerm(const EnergyTerm& inner, int state_offset, int state_size, int parameter_offset,
+               int parameter_size)
+      : inner_(inner), x0_(state_offset), nx_(state_size), p0_(parameter_offset), np_(parameter_size) {}
 
   std::string name() const override { return inner_.name(); }
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override {

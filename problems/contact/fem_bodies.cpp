@@ -36,7 +36,8 @@ FemBodySpec parse_fem_body(const SceneNode& node, const Eigen::Vector3d& gravity
     if (material.is_object() && material.contains("density") && material["density"].is_number() &&
         material["density"].get<double>() > 0.0)
       has_density = true;
-  if (has_density && gravity.squaredNorm() > 0.0 && !(sub.contains("loads") && sub["loads"].contains("gravity")))
+  if (has_density && gravity.squaredNorm() > 0.0 &&
+      !(sub.contains("loads") && sub["loads"].contains("gravity")))
     sub["loads"]["gravity"] = {gravity.x(), gravity.y(), gravity.z()};
   auto scene = std::make_shared<Scene>(parse_scene(sub.dump(), source + ": " + node.path(), directory));
   scene->name = spec.name;

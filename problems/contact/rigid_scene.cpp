@@ -71,14 +71,16 @@ struct RigidSceneModel {
         model->add(std::make_unique<EmbeddedTerm>(*term, part.dof_offset, n, part.parameter_offset, m));
       for (int dof : part.setup.fixed_dofs) fixed.push_back(part.dof_offset + dof);
       const Vector& f = part.setup.nodal_forces;
-      fem_load = std::max(fem_load, Eigen::Map<const Eigen::MatrixXd>(f.data(), 3, f.size() / 3).rowwise().sum().norm());
+      fem_load = std::max(
+          fem_load, Eigen::Map<const Eigen::MatrixXd>(f.data(), 3, f.size() / 3).rowwise().sum().norm());
       rigid::DeformableSurface surface;
       surface.name = part.name;
       surface.faces = part.faces;
       for (int v : part.mesh_vertex) surface.vertex_dofs.push_back(part.dof_offset + 3 * v);
       surfaces.push_back(std::move(surface));
     }
-    for (int b = 0; b < system.num_bodies(); ++b) fixed_values.segment<6>(6 * b) = rest_state.segment<6>(6 * b);
+    for (int b = 0; b < system.num_bodies(); ++b)
+      fixed_values.segment<6>(6 * b) = rest_state.segment<6>(6 * b);
     if (mass_parameters) model->parameter_layout().add("mass", system.num_bodies());
     if (spec.time_step > 0.0)
       inertia = &model->add(std::make_unique<rigid::RigidInertiaTerm>(system, spec.time_step));
@@ -96,7 +98,8 @@ struct RigidSceneModel {
       friction = &model->add(std::make_unique<rigid::FrictionTerm>(*contact, spec.friction));
     model->set_elimination(Elimination::dirichlet(fixed, fixed_values));
     const double start_distance = contact->min_distance(rest_state, 1e30);
-    const int crossings = contact::count_edge_face_intersections(bodies->surface(), bodies->positions(rest_state));
+    const int crossings =
+        contact::count_edge_face_intersections(bodies->surface(), bodies->positions(rest_state));
     if (!(start_distance > 0.0) || crossings > 0)
       throw SceneError(spec.source + ": bodies touch or intersect in the initial state (distance " +
                        std::to_string(start_distance) + ", " + std::to_string(crossings) +
@@ -123,7 +126,8 @@ void write_frames(const RigidSceneModel& scene, const Vector& q, const std::stri
   }
   for (const FemBodyPart& part : scene.fem) {
     const Vector u = q.segment(part.dof_offset, part.setup.num_dofs());
-    const Eigen::MatrixXd positions = Eigen::Map<const Eigen::MatrixXd>(u.data(), 3, part.setup.mesh.num_vertices()).transpose();
+    const Eigen::MatrixXd positions =
+        Eigen::Map<const Eigen::MatrixXd>(u.data(), 3, part.setup.mesh.num_vertices()).transpose();
     write_vtu((std::filesystem::path(out_dir) / (part.name + suffix + ".vtu")).string(), part.setup.mesh, {},
               &positions);
   }
@@ -187,7 +191,8 @@ nlohmann::json fem_states(const RigidSceneModel& scene, const RigidSimulateRun& 
     const FemBodyPart& part = scene.fem[i];
     const Vector u = run.state.segment(part.dof_offset, part.setup.num_dofs()) - part.setup.rest_state();
     double largest = 0.0;
-    for (int v = 0; v < part.setup.mesh.num_vertices(); ++v) largest = std::max(largest, u.segment<3>(3 * v).norm());
+    for (int v = 0; v < part.setup.mesh.num_vertices(); ++v)
+      largest = std::max(largest, u.segment<3>(3 * v).norm());
     bodies.push_back({{"name", part.name},
                       {"vertices", part.setup.mesh.num_vertices()},
                       {"elements", part.setup.mesh.num_elements()},
@@ -197,7 +202,6 @@ nlohmann::json fem_states(const RigidSceneModel& scene, const RigidSimulateRun& 
   }
   return bodies;
 }
-
 
 // Adaptive kappa's bounds: the given ones, else min = the kappa at which one pair at d_hat / 2
 // carries 1 % of the largest load on one body (contact::stiffness_for_force; the load: a free
@@ -213,9 +217,11 @@ contact::StiffnessOptions stiffness_options(const RigidSceneSpec& spec, double f
       if (body.fixed || body.kinematic) continue;
       force = std::max(force, body.mass * spec.gravity.norm() + spec.forces[b].norm());
       if (spec.time_step > 0.0)
-        force = std::max(force, body.mass * spec.contact.activation_distance / (spec.time_step * spec.time_step));
+        force =
+            std::max(force, body.mass * spec.contact.activation_distance / (spec.time_step * spec.time_step));
     }
-    s.min_stiffness = contact::stiffness_for_force(0.01 * (force > 0.0 ? force : 1.0), spec.contact.activation_distance);
+    s.min_stiffness =
+        contact::stiffness_for_force(0.01 * (force > 0.0 ? force : 1.0), spec.contact.activation_distance);
   }
   if (!(s.max_stiffness > 0.0)) s.max_stiffness = 100.0 * s.min_stiffness;
   return s;
@@ -231,8 +237,8 @@ nlohmann::json stiffness_json(const RigidSceneSpec& spec, const RigidSceneModel&
   return s;
 }
 
-RigidSimulateRun simulate_dynamics(const RigidSceneSpec& spec, RigidSceneModel& scene, const std::string& out_dir,
-                                   std::ostream* log) {
+RigidSimulateRun simulate_dynamics(const RigidSceneSpec& spec, RigidSceneModel& scene,
+                                   const std::string& out_dir, std::ostream* log) {
   const rigid::RigidBodySystem& system = scene.system;
   rigid::RigidStepOptions step_options;
   step_options.contact = scene.contact;
@@ -287,8 +293,8 @@ RigidSimulateRun simulate_dynamics(const RigidSceneSpec& spec, RigidSceneModel& 
     }
     steps.push_back(step);
     if (log)
-      *log << "step " << n << ": " << report.newton_iterations << " Newton iterations, min distance " << distance
-           << ", kappa " << report.stiffness << (crossings ? ", INTERSECTING" : "") << "\n";
+      *log << "step " << n << ": " << report.newton_iterations << " Newton iterations, min distance "
+           << distance << ", kappa " << report.stiffness << (crossings ? ", INTERSECTING" : "") << "\n";
     if (n % spec.output_every == 0) write_frames(scene, stepper.state(), out_dir, frame_suffix(n));
   }
   run.state = stepper.state();
@@ -320,7 +326,8 @@ RigidSimulateRun simulate_dynamics(const RigidSceneSpec& spec, RigidSceneModel& 
 
 // Newton from q0 with the stiffness balanced there when adaptive; with torques, re-solved with
 // their reference moved to the solution until the solution stays (at most 20 times).
-void solve_static(const RigidSceneSpec& spec, RigidSceneModel& scene, std::ostream* log, RigidSimulateRun& run) {
+void solve_static(const RigidSceneSpec& spec, RigidSceneModel& scene, std::ostream* log,
+                  RigidSimulateRun& run) {
   Model& model = *scene.model;
   const Vector& p = scene.parameters;
   Vector y = model.elimination().restrict_state(scene.rest_state);
@@ -329,8 +336,9 @@ void solve_static(const RigidSceneSpec& spec, RigidSceneModel& scene, std::ostre
     const Vector q = model.state(y, p);
     const Vector barrier = scene.contact->unit_stiffness_gradient(q);
     const Vector other = model.gradient(q, p) - scene.contact->potential().options().stiffness * barrier;
-    scene.contact->potential().set_stiffness(contact::balanced_stiffness(
-        model.elimination().reduce(other), model.elimination().reduce(barrier), s.min_stiffness, s.max_stiffness));
+    scene.contact->potential().set_stiffness(contact::balanced_stiffness(model.elimination().reduce(other),
+                                                                         model.elimination().reduce(barrier),
+                                                                         s.min_stiffness, s.max_stiffness));
   }
   NewtonOptions options = spec.newton;
   options.progress = log;
@@ -342,9 +350,9 @@ void solve_static(const RigidSceneSpec& spec, RigidSceneModel& scene, std::ostre
     rigid::RigidContactTerm* contact = scene.contact;
     options.after_step = [contact, previous, s, d_hat](const Vector& x) {
       const double distance = contact->min_distance(x, d_hat);
-      contact->potential().set_stiffness(contact::raised_stiffness(contact->potential().options().stiffness,
-                                                                   *previous, distance, s.distance_fraction * d_hat,
-                                                                   s.growth, s.max_stiffness));
+      contact->potential().set_stiffness(
+          contact::raised_stiffness(contact->potential().options().stiffness, *previous, distance,
+                                    s.distance_fraction * d_hat, s.growth, s.max_stiffness));
       *previous = distance;
     };
   }
@@ -356,14 +364,16 @@ void solve_static(const RigidSceneSpec& spec, RigidSceneModel& scene, std::ostre
     if (lag == 0) newton.options().reference_residual = run.newton.initial_residual;
     if (!run.newton.converged() || !scene.loads || !scene.loads->has_torques()) break;
     scene.loads->set_reference(model.state(y, p).head(scene.system.num_dofs()));
-    if ((y - before).lpNorm<Eigen::Infinity>() <= 1e-14 * (1.0 + y.lpNorm<Eigen::Infinity>()) || lag == 20) break;
+    if ((y - before).lpNorm<Eigen::Infinity>() <= 1e-14 * (1.0 + y.lpNorm<Eigen::Infinity>()) || lag == 20)
+      break;
   }
   run.state = model.state(y, p);
 }
 
 }  // namespace
 
-RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
+RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::string& out_dir,
+                                      std::ostream* log) {
   RigidSceneModel scene(spec, false);
   if (spec.time_step > 0.0) return simulate_dynamics(spec, scene, out_dir, log);
   RigidSimulateRun run;
@@ -372,8 +382,9 @@ RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::str
   run.min_distance = scene.contact->min_distance(run.state, 1e30);
   run.intersections = intersections(scene, run.state);
   if (log)
-    *log << run.newton.report() << "\nmin distance between bodies " << run.min_distance << ", active contact pairs "
-         << run.active_pairs << ", kappa " << run.stiffness << (run.intersections ? ", INTERSECTING" : "") << "\n";
+    *log << run.newton.report() << "\nmin distance between bodies " << run.min_distance
+         << ", active contact pairs " << run.active_pairs << ", kappa " << run.stiffness
+         << (run.intersections ? ", INTERSECTING" : "") << "\n";
 
   std::filesystem::create_directories(out_dir);
   nlohmann::ordered_json report;
@@ -397,9 +408,11 @@ RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::str
 TaylorTestResult gradcheck_rigid_scene(const RigidSceneSpec& spec, const std::string& out_dir, unsigned seed,
                                        std::ostream* log) {
   if (spec.time_step > 0.0)
-    throw SceneError(spec.source + ": gradcheck of dynamic rigid scenes is not implemented (static scenes only)");
+    throw SceneError(spec.source +
+                     ": gradcheck of dynamic rigid scenes is not implemented (static scenes only)");
   if (!spec.fem_bodies.empty())
-    throw SceneError(spec.source + ": gradcheck of scenes with FEM bodies is not implemented (rigid bodies only)");
+    throw SceneError(spec.source +
+                     ": gradcheck of scenes with FEM bodies is not implemented (rigid bodies only)");
   if (spec.has_torques() || spec.stiffness.adaptive)
     throw SceneError(spec.source +
                      ": gradcheck needs a fixed contact stiffness and no torques (both are updated between "
@@ -409,7 +422,8 @@ TaylorTestResult gradcheck_rigid_scene(const RigidSceneSpec& spec, const std::st
   std::vector<int> centres;
   for (int b = 0; b < system.num_bodies(); ++b)
     if (!system.body(b).fixed) centres.push_back(2 * b);  // block 2b of 3 DOFs is T_b
-  if (centres.empty()) throw SceneError(spec.source + ": gradcheck needs at least one body that is not fixed");
+  if (centres.empty())
+    throw SceneError(spec.source + ": gradcheck needs at least one body that is not fixed");
   Matrix targets(static_cast<Eigen::Index>(centres.size()), 3);
   for (std::size_t i = 0; i < centres.size(); ++i)
     targets.row(static_cast<Eigen::Index>(i)) = system.body(centres[i] / 2).position.transpose();

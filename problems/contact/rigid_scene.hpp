@@ -62,15 +62,15 @@ RigidSceneSpec read_rigid_scene(const std::string& path);
 
 struct RigidSimulateRun {
   NewtonResult newton;
-  Vector state;             // (T_b, w_b) per body, then the FEM bodies' vertex positions
-  Vector contact_forces;    // -dB/dq per DOF (force on each body, generalized moment on w, FEM nodal forces)
-  std::vector<Eigen::Vector3d> contact_moments;  // per rigid body: sum (x - T) x f over its vertices [N m]
+  Vector state;           // (T_b, w_b) per body, then the FEM bodies' vertex positions
+  Vector contact_forces;  // -dB/dq per DOF (force on each body, generalized moment on w, FEM nodal forces)
+  std::vector<Eigen::Vector3d> contact_moments;     // per rigid body: sum (x - T) x f over its vertices [N m]
   std::vector<Eigen::Vector3d> fem_contact_forces;  // per FEM body: total contact force [N]
   std::vector<Eigen::Vector3d> velocities, angular_velocities;  // dynamic: per rigid body at the end
   double min_distance = 0;  // smallest distance between bodies (over all steps when dynamic)
   int active_pairs = 0;
-  int steps_completed = 0;  // dynamic: accepted steps
-  int intersections = 0;    // edge-face crossings found after the solve or any step (must be 0)
+  int steps_completed = 0;    // dynamic: accepted steps
+  int intersections = 0;      // edge-face crossings found after the solve or any step (must be 0)
   int newton_iterations = 0;  // over all solves (re-lags, kinematic stages, friction iterations)
   double stiffness = 0;       // kappa at the end
   bool completed() const { return newton.converged() && intersections == 0; }

@@ -13,7 +13,8 @@
 namespace tailor {
 namespace {
 
-rigid::RigidBody parse_body(const SceneNode& node, const std::string& directory, std::vector<int>& fixed_dofs) {
+rigid::RigidBody parse_body(const SceneNode& node, const std::string& directory,
+                            std::vector<int>& fixed_dofs) {
   node.expect_keys({"name", "primitive", "mesh", "size", "radius", "subdivisions", "density", "position",
                     "velocity", "angular_velocity", "rotation", "fixed", "fixed_dofs", "kinematic", "force",
                     "torque"});
@@ -52,7 +53,8 @@ rigid::RigidBody parse_body(const SceneNode& node, const std::string& directory,
   if (!node.has("mesh")) body.position.setZero();
   if (node.has("position")) body.position = node.at("position").vector(3);
   if (node.has("rotation")) body.rotation = node.at("rotation").vector(3);
-  if (body.rotation.norm() >= M_PI) node.at("rotation").fail("the rotation vector's angle must stay below pi");
+  if (body.rotation.norm() >= M_PI)
+    node.at("rotation").fail("the rotation vector's angle must stay below pi");
   if (auto k = node.find("kinematic")) {
     k->expect_keys({"velocity", "angular_velocity"});
     if (fixed) k->fail("a body is either fixed or kinematic");
@@ -159,7 +161,9 @@ RigidSceneSpec parse_rigid_scene(const std::string& json_text, const std::string
   } else {
     for (std::size_t b = 0; b < bodies.size(); ++b) {
       if (spec.bodies[b].kinematic)
-        bodies[b].at("kinematic").fail("kinematic bodies need a \"dynamics\" section (their pose follows time)");
+        bodies[b]
+            .at("kinematic")
+            .fail("kinematic bodies need a \"dynamics\" section (their pose follows time)");
       for (const char* key : {"velocity", "angular_velocity"})
         if (bodies[b].has(key)) bodies[b].at(key).fail("initial velocities need a \"dynamics\" section");
     }
@@ -169,7 +173,8 @@ RigidSceneSpec parse_rigid_scene(const std::string& json_text, const std::string
     const SceneNode c = root.at("contact");
     c.expect_keys({"activation_distance", "stiffness", "min_stiffness", "max_stiffness", "friction",
                    "friction_velocity", "friction_iterations", "ccd_separation"});
-    if (c.has("activation_distance")) spec.contact.activation_distance = c.at("activation_distance").positive();
+    if (c.has("activation_distance"))
+      spec.contact.activation_distance = c.at("activation_distance").positive();
     parse_stiffness(c, spec);
     if (c.has("ccd_separation"))
       spec.contact.ccd.separation_fraction = c.at("ccd_separation").open_interval(0, 1);

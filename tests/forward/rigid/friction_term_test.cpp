@@ -91,9 +91,11 @@ struct Case {
 std::vector<Case> pair_cases() {
   return {
       {"point-triangle face", PairKind::point_triangle,
-       stencil_state({0.2, 0.2, 0.05, 0, 0, 0, 1, 0, 0, 0, 1, 0}), contact::DistanceBranch::point_plane, false},
+       stencil_state({0.2, 0.2, 0.05, 0, 0, 0, 1, 0, 0, 0, 1, 0}), contact::DistanceBranch::point_plane,
+       false},
       {"point-triangle edge", PairKind::point_triangle,
-       stencil_state({0.5, -0.03, 0.04, 0, 0, 0, 1, 0, 0, 0, 1, 0}), contact::DistanceBranch::point_edge, false},
+       stencil_state({0.5, -0.03, 0.04, 0, 0, 0, 1, 0, 0, 0, 1, 0}), contact::DistanceBranch::point_edge,
+       false},
       {"point-triangle vertex", PairKind::point_triangle,
        stencil_state({-0.03, -0.02, 0.04, 0, 0, 0, 1, 0, 0, 0, 1, 0}), contact::DistanceBranch::point_point,
        false},
@@ -101,13 +103,14 @@ std::vector<Case> pair_cases() {
        stencil_state({0, 0, 0, 1, 0, 0, 0.5, -0.5, 0.05, 0.4, 0.5, 0.06}), contact::DistanceBranch::line_line,
        false},
       {"edge-edge endpoint-edge", PairKind::edge_edge,
-       stencil_state({0, 0, 0, 1, 0, 0, 0.5, 0.02, 0.04, 0.6, 1, 0.5}), contact::DistanceBranch::point_edge, false},
+       stencil_state({0, 0, 0, 1, 0, 0, 0.5, 0.02, 0.04, 0.6, 1, 0.5}), contact::DistanceBranch::point_edge,
+       false},
       {"edge-edge endpoint-endpoint", PairKind::edge_edge,
        stencil_state({0, 0, 0, 1, 0, 0, -0.03, 0.02, 0.03, -1, 1, 0.5}), contact::DistanceBranch::point_point,
        false},
       {"edge-edge mollified", PairKind::edge_edge,
-       stencil_state({0, 0, 0, 1, 0, 0, 0.2, -0.005, 0.05, 0.8, 0.005, 0.05}), contact::DistanceBranch::line_line,
-       true},
+       stencil_state({0, 0, 0, 1, 0, 0, 0.2, -0.005, 0.05, 0.8, 0.005, 0.05}),
+       contact::DistanceBranch::line_line, true},
   };
 }
 
@@ -135,7 +138,8 @@ TEST(FrictionTerm, TangentMapsSeeNoSlipInTranslationsAndNormalMotion) {
     // The tangent rows are orthonormal directions orthogonal to the normal.
     const double d = std::sqrt(distance.squared_distance);
     contact::Point r = contact::Point::Zero();
-    for (int k = 0; k < 4; ++k) r += t.weights[static_cast<std::size_t>(k)] * points[static_cast<std::size_t>(k)];
+    for (int k = 0; k < 4; ++k)
+      r += t.weights[static_cast<std::size_t>(k)] * points[static_cast<std::size_t>(k)];
     EXPECT_NEAR(r.norm(), d, 1e-12) << c.name;
     EXPECT_GT(f.normal_force, 0.0) << c.name;
   }
@@ -192,8 +196,8 @@ TEST(FrictionTerm, SlidingForceIsMuTimesNormalForceAgainstTheMotion) {
 // Through rigid bodies: a box slightly above another, lagged, then moved sideways and turned.
 TEST(FrictionTerm, RigidBoxesPassDerivativeChecksAndAWrongHessianFails) {
   const RigidBodySystem system =
-      testing::box_on_ground(Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(1, 1, 1), 0.03, Eigen::Vector2d(0.2, 0.05),
-                             Eigen::Vector3d(0.004, -0.006, 0.002));
+      testing::box_on_ground(Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(1, 1, 1), 0.03,
+                             Eigen::Vector2d(0.2, 0.05), Eigen::Vector3d(0.004, -0.006, 0.002));
   contact::ContactOptions options;
   options.activation_distance = 0.1;
   options.stiffness = 10.0;

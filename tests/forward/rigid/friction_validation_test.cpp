@@ -81,7 +81,8 @@ SlideRun run_incline(double theta, double mu, double h, int steps) {
     run.min_distance = std::min(run.min_distance, scene.contact->min_distance(stepper.state(), 1.0));
     run.intersections += contact::count_edge_face_intersections(
         scene.system.surface(), scene.system.world_positions(stepper.state()));
-    if (n > steps / 2) run.max_speed_z = std::max(run.max_speed_z, std::abs(stepper.motion()[1].velocity.z()));
+    if (n > steps / 2)
+      run.max_speed_z = std::max(run.max_speed_z, std::abs(stepper.motion()[1].velocity.z()));
   }
   return run;
 }
@@ -95,8 +96,10 @@ TEST(FrictionValidation, BoxOnInclineSlidesWithCoulombAcceleration) {
     // Implicit Euler under a constant force advances the velocity by h a per step exactly.
     const double measured = (run.velocity[99] - run.velocity[49]) / (50 * h);
     const double expected = kGravity * (std::sin(theta) - mu * std::cos(theta));
-    std::printf("incline %.0f deg, mu %.2f: acceleration %.6f m/s^2, Coulomb %.6f (rel. error %.2e), min distance %.2e m\n",
-                degrees, mu, measured, expected, std::abs(measured / expected - 1), run.min_distance);
+    std::printf(
+        "incline %.0f deg, mu %.2f: acceleration %.6f m/s^2, Coulomb %.6f (rel. error %.2e), min distance "
+        "%.2e m\n",
+        degrees, mu, measured, expected, std::abs(measured / expected - 1), run.min_distance);
     EXPECT_NEAR(measured, expected, 1e-3 * expected);
     EXPECT_LT(run.max_speed_z, 1e-3);
     EXPECT_EQ(run.intersections, 0);
@@ -111,12 +114,13 @@ TEST(FrictionValidation, BoxOnInclineSticksBelowTheFrictionAngle) {
     const SlideRun run = run_incline(theta, mu, h, 100);
     ASSERT_EQ(run.velocity.size(), 100u);
     double fastest = 0;
-    for (std::size_t n = 50; n < run.velocity.size(); ++n) fastest = std::max(fastest, std::abs(run.velocity[n]));
+    for (std::size_t n = 50; n < run.velocity.size(); ++n)
+      fastest = std::max(fastest, std::abs(run.velocity[n]));
     // Smoothed static friction lets a sticking contact creep below eps_v, at the speed where
     // mu N f1(v h) balances the downhill force: f1 = tan(theta) / mu, v = eps_v (1 - sqrt(1 - f1)).
     const double creep = eps_v * (1.0 - std::sqrt(1.0 - std::tan(theta) / mu));
-    std::printf("incline %.0f deg, mu %.2f: creep speed %.4e m/s (smoothed model %.4e, eps_v %.0e m/s)\n", degrees,
-                mu, fastest, creep, eps_v);
+    std::printf("incline %.0f deg, mu %.2f: creep speed %.4e m/s (smoothed model %.4e, eps_v %.0e m/s)\n",
+                degrees, mu, fastest, creep, eps_v);
     EXPECT_LT(fastest, eps_v);
     EXPECT_NEAR(std::abs(run.velocity.back()), creep, 5e-3 * creep);
     EXPECT_EQ(run.intersections, 0);
@@ -165,7 +169,8 @@ TEST(FrictionValidation, KinematicPlatePushesBoxAgainstSlidingFriction) {
     const NewtonResult result = stepper.step();
     ASSERT_TRUE(result.converged()) << "step " << n << "\n" << result.report();
     stages = std::max(stages, stepper.last_report().kinematic_stages);
-    intersections += contact::count_edge_face_intersections(system.surface(), system.world_positions(stepper.state()));
+    intersections +=
+        contact::count_edge_face_intersections(system.surface(), system.world_positions(stepper.state()));
     ASSERT_GT(contact.min_distance(stepper.state(), 10.0), 0.0);
     // The plate's prescribed pose is met exactly.
     EXPECT_NEAR(stepper.state()[12], plate.position.x() + speed * n * h, 1e-12);
@@ -177,11 +182,13 @@ TEST(FrictionValidation, KinematicPlatePushesBoxAgainstSlidingFriction) {
   // friction term carries the ground's tangential force).
   Eigen::Vector3d on_box_from_plate = Eigen::Vector3d::Zero();
   for (int s = 8; s < 16; ++s) on_box_from_plate += forces.row(s).transpose();
-  std::printf("pushed box: speed %.6f m/s (plate %.2f), push %.4f N, mu m g %.4f N, up to %d stages per step\n",
-              stepper.motion()[1].velocity.x(), speed, on_box_from_plate.x(), mu * system.body(1).mass * kGravity,
-              stages);
+  std::printf(
+      "pushed box: speed %.6f m/s (plate %.2f), push %.4f N, mu m g %.4f N, up to %d stages per step\n",
+      stepper.motion()[1].velocity.x(), speed, on_box_from_plate.x(), mu * system.body(1).mass * kGravity,
+      stages);
   EXPECT_NEAR(stepper.motion()[1].velocity.x(), speed, 1e-3 * speed);
-  EXPECT_NEAR(on_box_from_plate.x(), mu * system.body(1).mass * kGravity, 1e-2 * mu * system.body(1).mass * kGravity);
+  EXPECT_NEAR(on_box_from_plate.x(), mu * system.body(1).mass * kGravity,
+              1e-2 * mu * system.body(1).mass * kGravity);
   EXPECT_EQ(intersections, 0);
 }
 

@@ -86,8 +86,8 @@ void spin_up(bool true_moment, int steps, double h, double tau, double& inertia,
   RigidStepOptions o;
   o.velocity_tolerance = 1e-7;  // IPC's stop on the Newton direction: residuals reach round-off first
   if (true_moment) {
-    o.loads = &model.add(std::make_unique<RigidLoadTerm>(loads(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, tau)),
-                                                         system.initial_state()));
+    o.loads = &model.add(std::make_unique<RigidLoadTerm>(
+        loads(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, tau)), system.initial_state()));
   } else {
     model.add(std::make_unique<RotationVectorLoad>(Eigen::Vector3d(0, 0, tau), cube.rotation));
   }
@@ -110,8 +110,8 @@ TEST(RigidLoadTerm, ConstantTorqueSpinsAGenericallyTurnedCubeAboutItsAxis) {
   // Implicit Euler of theta'' = tau / I: theta_n = h^2 (tau / I) n (n + 1) / 2.
   const double expected = h * h * tau / I * steps * (steps + 1) / 2.0;
   const double axis_error = (turn.axis() - Eigen::Vector3d::UnitZ()).norm();
-  std::printf("torque on a turned cube: angle %.6f rad (expected %.6f), axis error %.2e\n", turn.angle(), expected,
-              axis_error);
+  std::printf("torque on a turned cube: angle %.6f rad (expected %.6f), axis error %.2e\n", turn.angle(),
+              expected, axis_error);
   EXPECT_LT(axis_error, 1e-6);
   EXPECT_NEAR(turn.angle(), expected, 1e-2 * expected);
   spin_up(false, steps, h, tau, I, R);
@@ -124,8 +124,9 @@ TEST(RigidLoadTerm, ConstantTorqueSpinsAGenericallyTurnedCubeAboutItsAxis) {
 TEST(RigidLoadTerm, BoxUnderTorqueReachesTheStaticMomentBalance) {
   // Off the ground face's diagonal, so that every pair's normal is vertical (the held x, y and
   // spin then carry no reaction).
-  const RigidBodySystem system = testing::box_on_ground(Eigen::Vector3d(4, 4, 1), Eigen::Vector3d(1, 1, 1), 0.005,
-                                                        Eigen::Vector2d(1, 1), Eigen::Vector3d::Zero(), 1.0);
+  const RigidBodySystem system =
+      testing::box_on_ground(Eigen::Vector3d(4, 4, 1), Eigen::Vector3d(1, 1, 1), 0.005, Eigen::Vector2d(1, 1),
+                             Eigen::Vector3d::Zero(), 1.0);
   const double g = 9.81, torque = 0.2;  // about y: the box tilts onto an edge until contact balances it
   Model model(system.num_dofs());
   model.add(std::make_unique<RigidGravityTerm>(system, Eigen::Vector3d(0, 0, -g)));
@@ -159,8 +160,9 @@ TEST(RigidLoadTerm, BoxUnderTorqueReachesTheStaticMomentBalance) {
     force += f.row(v).transpose();
     moment += (x.row(v).transpose() - centre).cross(f.row(v).transpose());
   }
-  std::printf("box under torque: %d re-lags, tilt %.3e rad, contact moment (%.3e, %.9f, %.3e) N m, force %.9f N\n",
-              lags, q[10], moment.x(), moment.y(), moment.z(), force.z());
+  std::printf(
+      "box under torque: %d re-lags, tilt %.3e rad, contact moment (%.3e, %.9f, %.3e) N m, force %.9f N\n",
+      lags, q[10], moment.x(), moment.y(), moment.z(), force.z());
   EXPECT_NEAR(moment.y(), -torque, 1e-8 * torque);
   EXPECT_LT(std::abs(moment.x()) + std::abs(moment.z()), 1e-8 * torque);
   EXPECT_NEAR(force.z(), system.body(1).mass * g, 1e-8 * g);

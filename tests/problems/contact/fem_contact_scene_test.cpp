@@ -113,18 +113,23 @@ TEST(FemContactScene, HertzContactOfAnElasticParaboloidOnARigidPlane) {
       {"name", "hertz"},
       {"gravity", {0, 0, 0}},
       {"rigid_bodies",
-       {{{"name", "plane"}, {"primitive", "box"}, {"size", {2, 2, 0.2}}, {"position", {0, 0, -0.1 - 0.5 * d_hat}},
+       {{{"name", "plane"},
+         {"primitive", "box"},
+         {"size", {2, 2, 0.2}},
+         {"position", {0, 0, -0.1 - 0.5 * d_hat}},
          {"fixed", true}}}},
       {"fem_bodies",
        {{{"name", "lens"},
          {"mesh", {{"file", "lens.mesh"}}},
-         {"materials", {{{"elements", "all"}, {"model", "linear"}, {"youngs_modulus", E}, {"poisson_ratio", nu}}}},
+         {"materials",
+          {{{"elements", "all"}, {"model", "linear"}, {"youngs_modulus", E}, {"poisson_ratio", nu}}}},
          {"dirichlet",
           {{{"vertices", {{"plane", {{"axis", "x"}, {"value", 0}}}}}, {"components", {0}}},
            {{"vertices", {{"plane", {{"axis", "y"}, {"value", 0}}}}}, {"components", {1}}}}},
          {"loads",
           {{"tractions",
-            {{{"faces", {{"plane", {{"axis", "z"}, {"value", H}}}}}, {"traction", {0, 0, -F / 4 / (W * W)}}}}}}}}}},
+            {{{"faces", {{"plane", {{"axis", "z"}, {"value", H}}}}},
+              {"traction", {0, 0, -F / 4 / (W * W)}}}}}}}}}},
       {"contact", {{"activation_distance", d_hat}}},
       {"newton", {{"max_iterations", 200}}}};
   std::ofstream(dir + "/hertz.json") << scene.dump(2);
@@ -161,16 +166,18 @@ TEST(FemContactScene, HertzContactOfAnElasticParaboloidOnARigidPlane) {
   EXPECT_TRUE(std::filesystem::exists(dir + "/out/lens.vtu"));
 }
 
+// Statics: the block (FEM, 0.4 x 0.4 x 0.2 m, 1000 kg/m^3) carries its weight and the rigid
+// sphere's net of what it receives from the sphere; the ground carries both.
 TEST(FemContactScene, ShippedSoftBlockSceneCarriesItsLoad) {
   const RigidSceneSpec spec = read_rigid_scene(kScenes + "soft_block_on_ground.json");
   const RigidSimulateRun run = simulate_rigid_scene(spec, temporary_directory("shipped"), nullptr);
   ASSERT_TRUE(run.newton.converged()) << run.newton.report();
   EXPECT_EQ(run.intersections, 0);
   EXPECT_GT(run.min_distance, 0.0);
-  // The block's weight plus the sphere's, all on the ground.
-  double total = 0;
-  for (const auto& f : run.fem_contact_forces) total += f.z();
-  EXPECT_GT(total, 0.0);
+  const double g = 9.81, block = 1000 * 0.4 * 0.4 * 0.2 * g, sphere = spec.bodies[1].mass * g;
+  EXPECT_NEAR(run.fem_contact_forces[0].z(), block, 1e-6 * block);
+  EXPECT_NEAR(run.contact_forces[6 + 2], sphere, 1e-6 * sphere);
+  EXPECT_NEAR(run.contact_forces[2], -(block + sphere), 1e-6 * (block + sphere));
 }
 
 void expect_scene_error(const std::string& json, const std::string& fragment) {
@@ -184,8 +191,10 @@ void expect_scene_error(const std::string& json, const std::string& fragment) {
 }
 
 TEST(FemContactScene, BadFemBodiesAreReportedWithContext) {
-  const std::string ground = R"({"primitive": "box", "size": [2, 2, 1], "position": [0, 0, -0.5], "fixed": true})";
-  const std::string block = R"("mesh": {"box": {"min": [0, 0, 0.001], "max": [1, 1, 1], "cells": [1, 1, 1]}})";
+  const std::string ground =
+      R"({"primitive": "box", "size": [2, 2, 1], "position": [0, 0, -0.5], "fixed": true})";
+  const std::string block =
+      R"("mesh": {"box": {"min": [0, 0, 0.001], "max": [1, 1, 1], "cells": [1, 1, 1]}})";
   expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "fem_bodies": [{)" + block +
                          R"(, "materials": [{"elements": "all", "model": "linear", "youngs_modulus": 1e5,
                              "poisson_ratio": 0.7}]}]})",
@@ -195,7 +204,8 @@ TEST(FemContactScene, BadFemBodiesAreReportedWithContext) {
                              "poisson_ratio": 0.3}], "solver": {}}]})",
                      "fem_bodies[0].solver");
   expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "dynamics": {"time_step": 0.01, "steps": 1},
-                         "fem_bodies": [{)" + block +
+                         "fem_bodies": [{)" +
+                         block +
                          R"(, "materials": [{"elements": "all", "model": "linear", "youngs_modulus": 1e5,
                              "poisson_ratio": 0.3}]}]})",
                      "static scenes only");

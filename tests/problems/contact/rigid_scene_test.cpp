@@ -145,17 +145,22 @@ TEST(RigidScene, BadInputIsReportedWithContext) {
       "crossings");
   expect_scene_error("{not json", "invalid JSON");
   const std::string box = R"({"primitive": "box", "size": [1, 1, 1], "position": [0, 0, 0.505])";
-  expect_scene_error(R"({"rigid_bodies": [)" + ground + "," + box + R"(, "kinematic": {"velocity": [1, 0, 0]}}]})",
-                     "kinematic bodies need a \"dynamics\" section");
-  expect_scene_error(R"({"rigid_bodies": [)" + ground + "," + box +
-                         R"(, "fixed": true, "kinematic": {}}], "dynamics": {"time_step": 0.01, "steps": 1}})",
-                     "either fixed or kinematic");
-  expect_scene_error(R"({"rigid_bodies": [)" + ground + "," + box +
-                         R"(, "kinematic": {}, "torque": [0, 0, 1]}], "dynamics": {"time_step": 0.01, "steps": 1}})",
-                     "rigid_bodies[1].torque");
-  expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "contact": {"stiffness": "stiff"}})", "stiffness");
-  expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "contact": {"stiffness": 1e5, "min_stiffness": 1}})",
-                     "min_stiffness");
+  expect_scene_error(
+      R"({"rigid_bodies": [)" + ground + "," + box + R"(, "kinematic": {"velocity": [1, 0, 0]}}]})",
+      "kinematic bodies need a \"dynamics\" section");
+  expect_scene_error(
+      R"({"rigid_bodies": [)" + ground + "," + box +
+          R"(, "fixed": true, "kinematic": {}}], "dynamics": {"time_step": 0.01, "steps": 1}})",
+      "either fixed or kinematic");
+  expect_scene_error(
+      R"({"rigid_bodies": [)" + ground + "," + box +
+          R"(, "kinematic": {}, "torque": [0, 0, 1]}], "dynamics": {"time_step": 0.01, "steps": 1}})",
+      "rigid_bodies[1].torque");
+  expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "contact": {"stiffness": "stiff"}})",
+                     "stiffness");
+  expect_scene_error(
+      R"({"rigid_bodies": [)" + ground + R"(], "contact": {"stiffness": 1e5, "min_stiffness": 1}})",
+      "min_stiffness");
   expect_scene_error(R"({"rigid_bodies": [)" + ground + "," + box + R"(, "velocity": [1, 0, 0]}]})",
                      "need a \"dynamics\" section");
 }

@@ -1,32 +1,12 @@
 #pragma once
-// Private to optimizers/: the bookkeeping every back-end shares (not installed API).
-//
-// A Tracker wraps the ReducedFunctional for the duration of one minimize() call. Back-ends
-// never call the functional directly: they go through the Tracker, which
-//  - counts evaluations and serves repeated requests at the same z from a one-point cache
-//    (Ipopt and Ceres ask for the value and the gradient of one point in separate calls);
-//  - turns EvaluationError into "infinitely bad point" (+inf, or false for residuals) and
-//    any other exception into a recorded failure plus a stop request, so that no exception
-//    ever crosses a C or C++ solver library;
-//  - keeps the best point seen: the lowest objective, and, when there are general
-//    constraints, feasible points (violation <= kFeasibilityTolerance) before infeasible
-//    ones (otherwise the best point would be an infeasible point below the constrained
-//    minimum);
-//  - writes one history row per back-end iteration (and prints it when progress is set);
-//  - answers stop_requested(): SIGINT, the time limit, or a stop asked for by a back-end.
-#include <chrono>
-#include <limits>
+// Private to optimizers/: what every back-end returns, and the back-ends themselves. They
+// evaluate the functional only through the Tracker (optimizers/tracker.hpp).
 #include <optional>
 #include <string>
-#include <vector>
 
-#include "optimizers/optimizer.hpp"
+#include "optimizers/tracker.hpp"
 
 namespace tailor::detail {
-
-// Violation of a general constraint or bound above which a point counts as infeasible when
-// ranking best points. Absolute; constraints are expected to be reasonably scaled.
-inline constexpr double kFeasibilityTolerance = 1e-6;
 
 // What a back-end reports. minimize() overrides status and message when the Tracker stopped
 // the run (SIGINT, time limit, a failure inside a callback).
@@ -37,106 +17,6 @@ struct BackendOutcome {
   // point when the back-end finished normally (it is the point whose KKT conditions it
   // checked); without constraints the best point is returned, which is never worse.
   std::optional<Vector> final_point;
-};
-
-// True once SIGINT arrived during the current minimize() call (set by its handler).
-bool interrupt_received();
-
-class Tracker {
- public:
-  Tracker(ReducedFunctional& functional, const Bounds& bounds, const std::vector<Constraint>& constraints,
-          const OptimizerOptions& options);
-
-  ReducedFunctional& functional() { return functional_; }
-  int size() const { return n_; }
-  const OptimizerOptions& options() const { return options_; }
-  const std::vector<Constraint>& constraints() const { return constraints_; }
-  // Bounds expanded to size n (+-infinity where absent).
-  const Vector& lower() const { return lower_; }
-  const Vector& upper() const { return upper_; }
-  bool has_finite_bounds() const;
-  Vector project(const Vector& z) const;  // onto the box
-
-  // Evaluations; they never throw. value* return +inf where the functional cannot be
-  // evaluated (EvaluationError, non-finite result) or failed otherwise (then a stop with
-  // status failed is requested as well).
-  double value(const Vector& z);
-  double value_and_gradient(const Vector& z, Vector& gradient);
-  // Residual form: false where it cannot be evaluated. Records 1/2 ||r||^2 as the objective.
-  bool residuals(const Vector& z, Vector& r, Matrix* jacobian);
-  // Constraint i at z (gradient when non-null); NaN where it cannot be evaluated.
-  double constraint(int i, const Vector& z, Vector* gradient);
-
-  // Infinity norm of z - P(z - g): the gradient with the components that push against an
-  // active bound removed (and, near a bound, cut to the distance to it).
-  double projected_gradient_norm(const Vector& z, const Vector& gradient) const;
-  // The gradient at z if the last gradient evaluation was at z.
-  const Vector* cached_gradient(const Vector& z) const;
-
-  // One history row at the iterate z with objective f. The gradient norm comes from the
-  // cached gradient at z; fallback_gradient_norm (the back-end's own measure, else NaN) is
-  // used where none is cached.
-  void record_iteration(const Vector& z, double f,
-                        double fallback_gradient_norm = std::numeric_limits<double>::quiet_NaN());
-  // Iterations after the starting point (row 0).
-  int iterations() const { return history_.empty() ? 0 : static_cast<int>(history_.size()) - 1; }
-  const std::vector<OptimizerIteration>& history() const { return history_; }
-  // Applies objective_tolerance and step_tolerance to the last two rows and requests a
-  // converged stop when either holds; for back-ends without such tests of their own.
-  void apply_change_tests();
-
-  // Stop handling. stop_requested() also polls SIGINT and the clock; the first reason wins.
-  bool stop_requested();
-  void request_stop(OptimizerStatus status, const std::string& message);
-  const std::optional<OptimizerStatus>& stop_status() const { return stop_status_; }
-  const std::string& stop_message() const { return stop_message_; }
-
-  bool has_best() const { return has_best_; }
-  const Vector& best_point() const { return best_z_; }
-  double best_objective() const { return best_f_; }
-  int best_updates() const { return best_updates_; }  // how often the best point changed
-  // Objective at z if evaluated (best point or the cached points).
-  std::optional<double> known_value(const Vector& z) const;
-  int evaluations() const { return evaluations_; }
-  int failed_evaluations() const { return failed_evaluations_; }
-  double seconds() const;
-
- private:
-  void consider(const Vector& z, double f);
-  double violation(const Vector& z);
-  void fail(const std::string& what);
-  void print_row(const OptimizerIteration& row);
-
-  ReducedFunctional& functional_;
-  const std::vector<Constraint>& constraints_;
-  const OptimizerOptions& options_;
-  int n_;
-  Vector lower_, upper_;
-  std::chrono::steady_clock::time_point start_;
-  int start_forward_ = 0, start_adjoint_ = 0;  // the functional's counters at the start
-
-  int evaluations_ = 0;
-  int failed_evaluations_ = 0;
-  // One-point caches: last value, last gradient, last residuals.
-  std::optional<std::pair<Vector, double>> value_cache_;
-  std::optional<Vector> gradient_z_;
-  Vector gradient_;
-  double gradient_f_ = 0.0;
-  std::optional<Vector> residual_z_;
-  Vector residual_r_;
-  std::optional<Matrix> residual_jacobian_;
-  bool residual_ok_ = false;
-
-  bool has_best_ = false;
-  Vector best_z_;
-  double best_f_ = 0.0;
-  double best_violation_ = 0.0;
-  int best_updates_ = 0;
-
-  std::vector<OptimizerIteration> history_;
-  Vector last_row_z_;
-  std::optional<OptimizerStatus> stop_status_;
-  std::string stop_message_;
 };
 
 // The back-ends. Each takes the starting point already projected onto the bounds.

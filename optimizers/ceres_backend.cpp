@@ -30,9 +30,11 @@ using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eig
 class TrackingCallback : public ceres::IterationCallback {
  public:
   // skip_first_row: a restarted solve's iteration 0 is the previous solve's last iterate.
-  TrackingCallback(Tracker& tracker, const double* z, bool skip_first_row = false)
-      : tracker_(tracker), z_(z), skip_first_row_(skip_first_row) {}
+  // keep_radius: the trust-region radius is the back-end state a resumed run takes back.
+  TrackingCallback(Tracker& tracker, const double* z, bool skip_first_row = false, bool keep_radius = false)
+      : tracker_(tracker), z_(z), skip_first_row_(skip_first_row), keep_radius_(keep_radius) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    if (keep_radius_) tracker_.set_backend_state("trust_region_radius", summary.trust_region_radius);
     if (summary.iteration > 0 || !skip_first_row_) {
       tracker_.record_iteration(Eigen::Map<const Vector>(z_, tracker_.size()), summary.cost,
                                 summary.gradient_max_norm);
@@ -47,6 +49,7 @@ class TrackingCallback : public ceres::IterationCallback {
   Tracker& tracker_;
   const double* z_;
   bool skip_first_row_;
+  bool keep_radius_;
 };
 
 class Objective : public ceres::FirstOrderFunction {
@@ -112,10 +115,14 @@ template <typename CeresOptions>
 void set_common_options(CeresOptions& ceres_options, const Tracker& tracker, double f0, const Vector& z0,
                         TrackingCallback* callback) {
   const OptimizerOptions& options = tracker.options();
-  ceres_options.max_num_iterations = std::max(options.max_iterations, 0);
+  // Resuming, the iterations before the checkpoint count, and the relative function
+  // tolerance refers to the run's first objective.
+  ceres_options.max_num_iterations = std::max(options.max_iterations - tracker.iterations(), 0);
   ceres_options.gradient_tolerance = std::max(options.gradient_tolerance, 0.0);
-  ceres_options.function_tolerance =
-      options.objective_tolerance > 0.0 ? options.objective_tolerance / std::max(std::abs(f0), 1e-300) : 0.0;
+  const double first = tracker.first_objective(f0);
+  ceres_options.function_tolerance = options.objective_tolerance > 0.0
+                                         ? options.objective_tolerance / std::max(std::abs(first), 1e-300)
+                                         : 0.0;
   ceres_options.parameter_tolerance =
       options.step_tolerance > 0.0 ? options.step_tolerance / std::max(1.0, z0.norm()) : 0.0;
   ceres_options.logging_type = ceres::SILENT;
@@ -187,14 +194,16 @@ BackendOutcome run_ceres_least_squares(Tracker& tracker, const Vector& z0) {
     }
     if (!held.empty()) problem.SetManifold(z.data(), new ceres::SubsetManifold(n, held));
 
-    TrackingCallback callback(tracker, z.data(), /*skip_first_row=*/rounds > 0);
+    TrackingCallback callback(tracker, z.data(), /*skip_first_row=*/rounds > 0, /*keep_radius=*/true);
     ceres::Solver::Options ceres_options;
     ceres_options.minimizer_type = ceres::TRUST_REGION;
     ceres_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
     ceres_options.linear_solver_type = ceres::DENSE_QR;
     ceres_options.num_threads = 1;
     set_common_options(ceres_options, tracker, f0, z0, &callback);
-    ceres_options.max_num_iterations = std::max(tracker.options().max_iterations - tracker.iterations(), 0);
+    // Resuming, the first solve continues with the checkpoint's trust region.
+    if (const auto radius = tracker.resumed_state("trust_region_radius"); radius && rounds == 0)
+      ceres_options.initial_trust_region_radius = *radius;
     ceres::Solve(ceres_options, &problem, &summary);
     if (tracker.stop_status() || summary.termination_type != ceres::CONVERGENCE ||
         !tracker.has_finite_bounds())

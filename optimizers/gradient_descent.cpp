@@ -51,10 +51,11 @@ BackendOutcome run_gradient_descent(Tracker& tracker, const Vector& z0) {
   double f = tracker.value_and_gradient(z, g);
   if (!std::isfinite(f))
     return {OptimizerStatus::failed, "the objective cannot be evaluated at the starting point", std::nullopt};
-  tracker.record_iteration(z, f);
-  double step = initial_step(tracker, g) / 2.0;  // doubled before the first trial
+  tracker.record_iteration(z, f);  // resuming: the checkpoint's row, not written again
+  // The last accepted step, doubled before the next trial; resuming, the checkpoint's.
+  double step = tracker.resumed_state("step").value_or(initial_step(tracker, g) / 2.0);
 
-  for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
+  for (int iteration = tracker.iterations() + 1; iteration <= options.max_iterations; ++iteration) {
     const double gradient_norm = tracker.projected_gradient_norm(z, g);
     if (gradient_norm <= options.gradient_tolerance)
       return {OptimizerStatus::converged,
@@ -63,7 +64,7 @@ BackendOutcome run_gradient_descent(Tracker& tracker, const Vector& z0) {
 
     step *= 2.0;
     bool accepted = false;
-    Vector trial;
+    Vector trial, g_trial;
     double f_trial = 0.0;
     for (int halving = 0; halving <= kMaxHalvings; ++halving, step /= 2.0) {
       trial = tracker.project(z - step * g);
@@ -73,7 +74,12 @@ BackendOutcome run_gradient_descent(Tracker& tracker, const Vector& z0) {
       if (tracker.stop_requested()) return {OptimizerStatus::failed, "", z};
       // Strict decrease as well: near round-off the Armijo test accepts equal values and the
       // iterate would wander at the minimum instead of stopping.
-      if (f_trial < f && f_trial <= f + kArmijo * g.dot(d)) {
+      if (!(f_trial < f && f_trial <= f + kArmijo * g.dot(d))) continue;
+      // The gradient at the accepted point. Where it cannot be evaluated (the adjoint solve
+      // failed), the point counts as a failed trial like one whose forward solve failed.
+      f_trial = tracker.value_and_gradient(trial, g_trial);
+      if (tracker.stop_requested()) return {OptimizerStatus::failed, "", z};
+      if (std::isfinite(f_trial)) {
         accepted = true;
         break;
       }
@@ -84,13 +90,10 @@ BackendOutcome run_gradient_descent(Tracker& tracker, const Vector& z0) {
                   " halvings; projected gradient norm " + sci(gradient_norm) + ")",
               z};
 
-    Vector g_trial;
-    const double f_new = tracker.value_and_gradient(trial, g_trial);
-    if (!std::isfinite(f_new))  // value succeeded at this point but the gradient did not
-      return {OptimizerStatus::failed, "the gradient cannot be evaluated at an accepted point", z};
     z = std::move(trial);
     g = std::move(g_trial);
-    f = f_new;
+    f = f_trial;
+    tracker.set_backend_state("step", step);
     tracker.record_iteration(z, f);
     tracker.apply_change_tests();
     if (tracker.stop_requested()) return {OptimizerStatus::failed, "", z};

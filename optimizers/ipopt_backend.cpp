@@ -264,7 +264,9 @@ BackendOutcome run_ipopt(Tracker& tracker, const Vector& z0) {
   ok &= ipopt_options->SetIntegerValue("print_level", 0);
   ok &= ipopt_options->SetStringValue("linear_solver", "mumps");  // the only one in 3.11 here
   ok &= ipopt_options->SetStringValue("hessian_approximation", exact ? "exact" : "limited-memory");
-  ok &= ipopt_options->SetIntegerValue("max_iter", std::max(options.max_iterations, 0));
+  // Resuming, the iterations before the checkpoint count.
+  ok &=
+      ipopt_options->SetIntegerValue("max_iter", std::max(options.max_iterations - tracker.iterations(), 0));
   // tol bounds Ipopt's scaled KKT error; dual_inf_tol the unscaled gradient of the Lagrangian.
   const double tol = std::max(options.gradient_tolerance, 1e-14);
   ok &= ipopt_options->SetNumericValue("tol", tol);

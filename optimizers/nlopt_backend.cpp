@@ -224,7 +224,7 @@ BackendOutcome run_nlopt(Tracker& tracker, const Vector& z0) {
   const double f0 = tracker.value_and_gradient(z0, g0);
   if (!std::isfinite(f0))
     return {OptimizerStatus::failed, "the objective cannot be evaluated at the starting point", std::nullopt};
-  tracker.record_iteration(z0, f0);
+  tracker.record_iteration(z0, f0);  // resuming: the checkpoint's row, not written again
 
   const unsigned n = static_cast<unsigned>(tracker.size());
   nlopt::opt opt(algorithm, n);
@@ -245,7 +245,8 @@ BackendOutcome run_nlopt(Tracker& tracker, const Vector& z0) {
     else
       opt.add_inequality_constraint(constraint, &constraint_contexts.back(), 1e-8);
   }
-  const int max_iterations = std::max(options.max_iterations, 1);
+  // Resuming, the iterations before the checkpoint count.
+  const int max_iterations = std::max(options.max_iterations - tracker.iterations(), 1);
   opt.set_maxeval(max_iterations > 100000000 / kEvaluationsPerIteration
                       ? 100000000
                       : kEvaluationsPerIteration * max_iterations);

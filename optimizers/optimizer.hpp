@@ -5,6 +5,7 @@
 // the final (best) point, and the per-iteration history (Ceres-style summary in report()).
 #include <functional>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,13 +14,13 @@
 namespace tailor {
 
 enum class OptimizerBackend {
-  ipopt,               // interior point; bounds + general constraints; L-BFGS or exact Hessian
-  nlopt_lbfgs,         // NLopt LD_LBFGS (bounds)
-  nlopt_mma,           // NLopt LD_MMA (bounds, inequality constraints)
-  nlopt_slsqp,         // NLopt LD_SLSQP (bounds, equality and inequality constraints)
-  ceres_lbfgs,         // Ceres GradientProblemSolver, L-BFGS (no bounds)
-  ceres_least_squares, // Ceres trust-region Levenberg-Marquardt on the residual form (bounds)
-  gradient_descent,    // projected gradient descent with a halving line search (bounds)
+  ipopt,                // interior point; bounds + general constraints; L-BFGS or exact Hessian
+  nlopt_lbfgs,          // NLopt LD_LBFGS (bounds)
+  nlopt_mma,            // NLopt LD_MMA (bounds, inequality constraints)
+  nlopt_slsqp,          // NLopt LD_SLSQP (bounds, equality and inequality constraints)
+  ceres_lbfgs,          // Ceres GradientProblemSolver, L-BFGS (no bounds)
+  ceres_least_squares,  // Ceres trust-region Levenberg-Marquardt on the residual form (bounds)
+  gradient_descent,     // projected gradient descent with a halving line search (bounds)
 };
 std::string to_string(OptimizerBackend backend);
 OptimizerBackend parse_optimizer_backend(const std::string& name);  // throws std::invalid_argument
@@ -36,6 +37,8 @@ struct Constraint {
   std::function<double(const Vector& z, Vector* gradient)> evaluate;
 };
 
+struct OptimizerCheckpoint;  // optimizers/checkpoint.hpp
+
 struct OptimizerOptions {
   OptimizerBackend backend = OptimizerBackend::nlopt_lbfgs;
   int max_iterations = 200;
@@ -50,6 +53,12 @@ struct OptimizerOptions {
   // otherwise limited-memory BFGS.
   bool exact_hessian = false;
   std::ostream* progress = nullptr;  // one line per iteration when set
+  // Checkpoints (optimizers/checkpoint.hpp): when on_checkpoint is set, it is called with the
+  // run's state after every checkpoint_every-th iteration (0 = never) and once at the end of
+  // the run, so that minimize(..., &checkpoint) can continue from it. An exception from it
+  // stops the run (status failed, with its message).
+  int checkpoint_every = 10;
+  std::function<void(const OptimizerCheckpoint&)> on_checkpoint;
 };
 
 enum class OptimizerStatus { converged, max_iterations, time_limit, interrupted, failed };
@@ -75,7 +84,13 @@ struct OptimizerResult {
   // Evaluations that failed (the forward solve did not converge at a trial point, or the value
   // was not finite): treated as infinitely bad points, so the back-end shortened its step.
   int failed_evaluations = 0;
-  double seconds = 0.0;
+  double seconds = 0.0;  // of the whole run, including the part before a resume
+  // Work of the functional during the run (solves and their seconds), including the part
+  // before a resume.
+  FunctionalCounters counters;
+  // When the run continued from a checkpoint: its iteration (history rows up to it come from
+  // the checkpoint).
+  std::optional<int> resumed_from;
   bool converged() const { return status == OptimizerStatus::converged; }
   std::string report() const;
 };
@@ -83,7 +98,12 @@ struct OptimizerResult {
 // Runs the chosen back-end. Never throws for numerical trouble: a failing back-end returns
 // status failed with its message and the best point seen. SIGINT (Ctrl-C) during the run and
 // the time limit stop it cleanly with the best point so far.
+//
+// With `resume`, the run continues from that checkpoint (of the same back-end and design size)
+// instead of z0: the history, counts and time go on from it, and the back-end starts at the
+// checkpoint's iterate with what of its state it can take back (optimizers/checkpoint.hpp).
 OptimizerResult minimize(ReducedFunctional& functional, const Vector& z0, const Bounds& bounds,
-                         const std::vector<Constraint>& constraints, const OptimizerOptions& options);
+                         const std::vector<Constraint>& constraints, const OptimizerOptions& options,
+                         const OptimizerCheckpoint* resume = nullptr);
 
 }  // namespace tailor

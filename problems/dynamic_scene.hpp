@@ -3,18 +3,23 @@
 // time integration (forward/dynamics) of the scene's static model plus inertia and Rayleigh
 // damping. Loads (gravity included) act from t = 0 as dead loads, prescribed displacements are
 // applied from t = 0, and the body starts at rest positions with the given initial velocity.
-// Output: DIR/frames/frame_NNNN.vtu every `output_every` steps, DIR/result.pvd (a ParaView
-// time series) and DIR/report.json with per-step energies, Newton iterations and timings.
 // With an "objective" in the section, `tailor gradcheck` Taylor-tests its gradient.
-#include <iosfwd>
+//
+// The dynamic path is split like the static one: this header holds the section as typed data
+// (parsed by parse_dynamics_section, dynamic_scene.cpp) and the model built from it
+// (build_dynamic_scene, dynamic_model.cpp); the verbs are in problems/dynamic_commands.hpp and
+// the files they write in problems/dynamic_report.hpp.
+#include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "forward/dynamics/setup.hpp"
 #include "forward/dynamics/time_integrator.hpp"
 #include "forward/fem/mass.hpp"
 #include "objectives/trajectory_objective.hpp"
-#include "problems/inverse_report.hpp"
 #include "problems/scene.hpp"
+#include "problems/static_scene.hpp"
 
 namespace tailor {
 
@@ -40,21 +45,20 @@ struct DynamicsSpec {
   std::optional<TrajectoryTargetSpec> objective;    // for `tailor gradcheck`
 };
 
-struct DynamicRun {
-  bool completed = false;  // every step converged
-  std::string message;
-  int steps_done = 0;
-  std::string report_path, series_path;
+// The model of a dynamic scene: the static scene's model plus inertia and Rayleigh damping,
+// its parameters p (Young's moduli, Poisson's ratios, densities, alpha and beta), and the
+// initial state.
+struct DynamicSceneModel {
+  StaticSetup setup;
+  std::unique_ptr<Model> model;
+  DynamicTerms terms;
+  Vector p, rest, initial_positions, initial_velocities;
+  TimeIntegratorOptions options;
+  bool rayleigh = false;
 };
 
-// Throws SceneError for scene problems (e.g. a material without a positive density).
-DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir, std::ostream* log);
-
-// Taylor test of the time-dependent adjoint (TransientFunctional) of the scene's trajectory
-// objective over all its steps, in per-element log Young's modulus, per-element log density and,
-// with Rayleigh damping, alpha and beta; writes out_dir/gradcheck.json. Throws SceneError when
-// the dynamics section has no objective.
-GradcheckRun gradcheck_dynamic_scene(const Scene& scene, const std::string& out_dir, unsigned seed,
-                                     std::ostream* log);
+// Throws SceneError for scene problems (a material without a positive density, an initial
+// velocity of the wrong size) and what setup_static_scene throws.
+DynamicSceneModel build_dynamic_scene(const Scene& scene);
 
 }  // namespace tailor

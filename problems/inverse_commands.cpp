@@ -6,6 +6,7 @@
 #include <ostream>
 
 #include "forward/core/timing.hpp"
+#include "problems/optimizer_checkpoint.hpp"
 #include "problems/plot/convergence_plot.hpp"
 #include "problems/plot/field_image.hpp"
 
@@ -28,6 +29,19 @@ std::string design_formula(const DesignSpec& d) {
                                       : ", E in the smooth box (min, max) of y");
 }
 
+// What a checkpoint of this problem must match to be resumed here.
+CheckpointOwner checkpoint_owner(const InverseProblem& problem) {
+  const Mesh& mesh = problem.setup.mesh;
+  const DesignSpec& d = problem.spec.design;
+  std::string description = std::to_string(mesh.dim()) + "D mesh, " + std::to_string(mesh.num_vertices()) +
+                            " vertices, " + std::to_string(mesh.num_elements()) + " elements; design " +
+                            d.parameter + " " + to_string(d.granularity) + " (" + to_string(d.map) + "), " +
+                            std::to_string(problem.num_material_design()) + " material variables";
+  if (problem.handles)
+    description += " and " + std::to_string(problem.handles->size()) + " handle displacements";
+  return {"inverse", problem.scene_name, problem.scene_source, problem.num_design(), description};
+}
+
 void print_problem(std::ostream& log, const InverseProblem& problem) {
   const DesignSpec& d = problem.spec.design;
   const Mesh& mesh = problem.setup.mesh;
@@ -35,7 +49,7 @@ void print_problem(std::ostream& log, const InverseProblem& problem) {
       << mesh.num_vertices() << " vertices, " << mesh.num_elements() << " elements; design: " << d.parameter
       << " " << to_string(d.granularity) << " (" << problem.num_material_design() << " variable"
       << (problem.num_material_design() == 1 ? "" : "s") << "), " << design_formula(d);
-  if (problem.handles) log << ", plus " << problem.handles->displacement_size() << " handle displacements";
+  if (problem.handles) log << ", plus " << problem.handles->size() << " handle displacements";
   log << "\n";
   if (problem.modal && d.modes)
     log << "material modes: " << *d.modes << " in " << std::fixed << std::setprecision(3)
@@ -115,7 +129,7 @@ GradcheckRun gradcheck_scene(const Scene& scene, const std::string& out_dir,
 }
 
 InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std::ostream* log,
-                             std::ostream* progress) {
+                             std::ostream* progress, const RunSettings& settings) {
   const auto t_start = Clock::now();
   InverseRun run;
   run.problem = build_inverse_problem(scene);
@@ -124,12 +138,30 @@ InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std
   if (problem.modal) run.timings.modes = problem.modal->seconds;
   if (log) print_problem(*log, problem);
 
+  const CheckpointOwner owner = checkpoint_owner(problem);
+  std::optional<CheckpointFile> resume;
+  if (settings.resume) {
+    resume = read_checkpoint_json(*settings.resume);
+    check_checkpoint(*resume, owner, problem.spec.optimizer.backend);
+    run.resumed = ResumedRun{resume->path, resume->checkpoint.iteration};
+    if (log)
+      *log << "resuming from " << resume->path << " at iteration " << resume->checkpoint.iteration << "\n";
+  }
+
   OptimizerOptions options = problem.spec.optimizer;
   options.progress = progress;
-  run.result = minimize(*problem.functional, problem.z0, problem.bounds, {}, options);
+  if (settings.checkpoint_every) options.checkpoint_every = *settings.checkpoint_every;
+  if (options.checkpoint_every > 0) {
+    run.checkpoint_path = output_path(out_dir, kCheckpointFileName);
+    options.on_checkpoint = [&run, &owner](const OptimizerCheckpoint& checkpoint) {
+      write_checkpoint_json(run.checkpoint_path, owner, checkpoint);
+    };
+  }
+  run.result = minimize(*problem.functional, problem.z0, problem.bounds, {}, options,
+                        resume ? &resume->checkpoint : nullptr);
   run.timings.optimization = run.result.seconds;
-  run.timings.forward = problem.functional->counters().forward_seconds;
-  run.timings.adjoint = problem.functional->counters().adjoint_seconds;
+  run.timings.forward = run.result.counters.forward_seconds;
+  run.timings.adjoint = run.result.counters.adjoint_seconds;
 
   // The equilibrium at the best design, solved like `tailor simulate` would (with the scene's
   // load steps), for result.vtu and the per-term objective values.
@@ -166,7 +198,10 @@ InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std
     *log << run.result.report();
     print_design(*log, run);
     *log << "wrote " << run.report_path << ", " << run.result_path << ", " << plot_path << " and "
-         << field_path << "\n";
+         << field_path;
+    if (!run.checkpoint_path.empty() && std::filesystem::exists(run.checkpoint_path))
+      *log << "; the last checkpoint is " << run.checkpoint_path;
+    *log << "\n";
   }
   return run;
 }

@@ -23,11 +23,20 @@ struct GradcheckSettings {
 GradcheckRun gradcheck_scene(const Scene& scene, const std::string& out_dir,
                              const GradcheckSettings& settings, std::ostream* log = nullptr);
 
+struct RunSettings {
+  std::optional<int> checkpoint_every;  // overrides inverse.optimizer.checkpoint_every (0: none)
+  // A checkpoint to continue from: a folder holding checkpoint.json, or the file.
+  std::optional<std::string> resume;
+};
+
 // Minimizes the scene's objective over its design from z0 with the scene's back-end; writes
 // out_dir/report.json and out_dir/result.vtu at the best design found, also when the
-// optimizer stops early (iteration or time limit, Ctrl-C, failure). One progress line per
-// iteration goes to `progress`, a summary to `log`, each when set.
+// optimizer stops early (iteration or time limit, Ctrl-C, failure), and out_dir/checkpoint.json
+// every checkpoint_every iterations and at the end (problems/optimizer_checkpoint.hpp). With
+// settings.resume it continues from that checkpoint instead of z0; a checkpoint of another
+// scene, design size or back-end is a SceneError. One progress line per iteration goes to
+// `progress`, a summary to `log`, each when set.
 InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std::ostream* log = nullptr,
-                             std::ostream* progress = nullptr);
+                             std::ostream* progress = nullptr, const RunSettings& settings = {});
 
 }  // namespace tailor

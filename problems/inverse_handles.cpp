@@ -42,6 +42,15 @@ HandlesTerm parse_handles_term(const SceneNode& node, const std::string& directo
   return term;
 }
 
+ParameterBlock HandleDesign::parameter_block() const {
+  return {offset, scale_map(Vector::Constant(size(), scale))};
+}
+
+void HandleDesign::prescribe(const Vector& z_u, StaticSetup& setup) const {
+  for (int k = 0; k < size(); ++k)
+    setup.prescribed_displacement[objective->dofs()[static_cast<std::size_t>(k)]] = scale * z_u[k];
+}
+
 const HandlesTerm* find_handles_term(const InverseSpec& spec, std::string* key) {
   for (const ObjectiveTermSpec& t : spec.objective)
     if (const auto* handles = std::get_if<HandlesTerm>(&t.term)) {
@@ -192,11 +201,12 @@ void attach_handles(InverseProblem& problem, const HandlesTerm& term,
     }
     handles.push_back(std::move(handle));
   }
-  problem.handle_offset = problem.model->add_prescribed_displacements("handle_displacement", dofs);
+  auto design = std::make_shared<HandleDesign>();
+  design->offset = problem.model->add_prescribed_displacements("handle_displacement", dofs);
   auto terms = dim == 3 ? reaction_terms<3>(problem, on_handle) : reaction_terms<2>(problem, on_handle);
-  problem.handles =
+  design->objective =
       std::make_shared<HandleObjective>(std::move(terms), setup.num_dofs(), dim, std::move(handles),
-                                        problem.handle_offset, HandleObjectiveOptions{term.alpha, term.beta});
+                                        design->offset, HandleObjectiveOptions{term.alpha, term.beta});
 
   const Vector u0 = initial_handle_displacements(problem, term, vertices);
   // The characteristic displacement: the largest target, else the largest initial one, else
@@ -211,7 +221,8 @@ void attach_handles(InverseProblem& problem, const HandlesTerm& term,
     scale =
         1e-3 * (mesh.rest_positions.colwise().maxCoeff() - mesh.rest_positions.colwise().minCoeff()).norm();
   }
-  problem.handle_scale = scale;
+  design->scale = scale;
+  problem.handles = design;
   const Eigen::Index n = problem.z0.size(), m = u0.size();
   problem.z0.conservativeResize(n + m);
   problem.z0.tail(m) = u0 / scale;
@@ -233,7 +244,7 @@ std::vector<HandleResult> handle_results(const InverseProblem& problem, const Ve
   std::vector<HandleResult> out;
   const HandlesTerm* term = find_handles_term(problem.spec);
   if (!problem.handles || !term) return out;
-  const HandleObjective& handles = *problem.handles;
+  const HandleObjective& handles = *problem.handles->objective;
   const Vector p = problem.parameterization->apply(z);
   const int dim = problem.setup.dim();
   for (int h = 0; h < handles.num_handles(); ++h) {

@@ -8,9 +8,25 @@
 #include <string>
 #include <vector>
 
+#include "adjoint/parameterization.hpp"
+#include "objectives/handle_objective.hpp"
 #include "problems/inverse_problem.hpp"
 
 namespace tailor {
+
+// The handles term's part of an inverse problem (InverseProblem::handles): its objective (also
+// in InverseProblem::terms), where u~ sits in the parameters p, and the characteristic
+// displacement `scale`: the optimizer sees u~ / scale, so those variables are O(1) like log E.
+struct HandleDesign {
+  std::shared_ptr<const HandleObjective> objective;
+  int offset = 0;                                              // of the "handle_displacement" block u~ in p
+  double scale = 1.0;                                          // u~ = scale * z_u
+  int size() const { return objective->displacement_size(); }  // entries of u~
+  // The block of the design map: u~ = scale * z_u at `offset`.
+  ParameterBlock parameter_block() const;
+  // u~ = scale * z_u as the prescribed displacement of the handle DOFs in `setup`.
+  void prescribe(const Vector& z_u, StaticSetup& setup) const;
+};
 
 // The handles term of the spec, or null.
 const HandlesTerm* find_handles_term(const InverseSpec& spec, std::string* key = nullptr);
@@ -23,11 +39,11 @@ const HandlesTerm* find_handles_term(const InverseSpec& spec, std::string* key =
 std::vector<std::vector<int>> constrain_handles(const Scene& scene, InverseProblem& problem,
                                                 const HandlesTerm& term, const std::string& key);
 
-// After the model is built: adds the "handle_displacement" block to the model, builds
-// problem.handles, and appends u~0 / handle_scale to problem.z0 (u~0: ubar, or for handles
+// After the model is built: adds the "handle_displacement" block to the model, sets
+// problem.handles, and appends u~0 / scale to problem.z0 (u~0: ubar, or for handles
 // without ubar the displacement of their vertices at the initial design when they are free and
 // apply fbar as a load; zero when that solve fails) and unbounded entries to problem.bounds.
-// handle_scale: the largest |ubar|, else the largest |u~0| of a vertex, else 1e-3 of the mesh's
+// scale: the largest |ubar|, else the largest |u~0| of a vertex, else 1e-3 of the mesh's
 // bounding-box diagonal.
 void attach_handles(InverseProblem& problem, const HandlesTerm& term,
                     const std::vector<std::vector<int>>& vertices);

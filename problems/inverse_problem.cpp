@@ -187,11 +187,10 @@ ParameterizationPtr design_map(const InverseProblem& problem) {
   }
   std::vector<ParameterBlock> blocks{{problem.youngs_offset, per_element}};
   Vector base = problem.setup.parameters();
-  if (problem.handles) {  // u~ / handle_scale after the material design
-    const int size = problem.handles->displacement_size();
+  if (problem.handles) {  // u~ / scale after the material design
     base.conservativeResize(problem.model->parameter_layout().size());
-    base.segment(problem.handle_offset, size).setZero();
-    blocks.push_back({problem.handle_offset, scale_map(Vector::Constant(size, problem.handle_scale))});
+    base.segment(problem.handles->offset, problem.handles->size()).setZero();
+    blocks.push_back(problem.handles->parameter_block());
   }
   return embed_blocks(std::move(base), std::move(blocks));
 }
@@ -243,7 +242,8 @@ ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const 
   const Mesh& mesh = problem.setup.mesh;
   check_dimension(scene, mesh, t.displacement, spec.key + ".displacement");
   const std::vector<int> vertices = select_vertices(scene, mesh, t.vertices);
-  const Eigen::MatrixXd targets = t.displacement.transpose().replicate(static_cast<Eigen::Index>(vertices.size()), 1);
+  const Eigen::MatrixXd targets =
+      t.displacement.transpose().replicate(static_cast<Eigen::Index>(vertices.size()), 1);
   return data_term(problem, spec, vertices, targets);
 }
 
@@ -269,8 +269,9 @@ ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const 
   return synthetic_term(scene, problem, spec, t);
 }
 
-ObjectiveTermInfo build_term(const Scene&, InverseProblem& problem, const ObjectiveTermSpec& spec, const HandlesTerm&) {
-  return {spec.key, spec.type(), spec.weight, spec.weight, problem.handles};  // built by attach_handles
+ObjectiveTermInfo build_term(const Scene&, InverseProblem& problem, const ObjectiveTermSpec& spec,
+                             const HandlesTerm&) {
+  return {spec.key, spec.type(), spec.weight, spec.weight, problem.handles->objective};  // by attach_handles
 }
 
 ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
@@ -347,10 +348,7 @@ Eigen::VectorXd InverseProblem::youngs_modulus(const Vector& z) const {
 StaticSetup InverseProblem::setup_at(const Vector& z) const {
   StaticSetup out = setup;
   out.youngs_modulus = youngs_modulus(z);
-  if (handles)
-    for (int k = 0; k < handles->displacement_size(); ++k)
-      out.prescribed_displacement[handles->dofs()[static_cast<std::size_t>(k)]] =
-          handle_scale * z[num_material_design() + k];
+  if (handles) handles->prescribe(z.tail(handles->size()), out);
   return out;
 }
 

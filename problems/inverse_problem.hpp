@@ -15,13 +15,14 @@
 #include <vector>
 
 #include "adjoint/static_functional.hpp"
-#include "objectives/handle_objective.hpp"
 #include "optimizers/optimizer.hpp"
 #include "problems/inverse_modes.hpp"
 #include "problems/inverse_scene.hpp"
 #include "problems/static_scene.hpp"
 
 namespace tailor {
+
+struct HandleDesign;  // problems/inverse_handles.hpp
 
 // One term of the objective: the objective adds coefficient * term.
 struct ObjectiveTermInfo {
@@ -38,20 +39,17 @@ struct InverseProblem {
   StaticSetup setup;             // youngs_modulus holds the initial design; fixed_dofs include the handles'
   std::unique_ptr<Model> model;  // at full load
   int youngs_offset = 0;         // of the "youngs_modulus" block in p
-  Eigen::VectorXi design_of_element;       // per element: its design variable (not for modes)
-  std::vector<std::string> design_labels;  // per material variable: "element e", "region r", "materials[m]", "mode j"
-  std::optional<ModalDesign> modal;        // granularity modes: Phi, y0 and z -> E
+  Eigen::VectorXi design_of_element;  // per element: its design variable (not for modes)
+  // Per material variable: "element e", "region r", "materials[m]", "mode j".
+  std::vector<std::string> design_labels;
+  std::optional<ModalDesign> modal;  // granularity modes: Phi, y0 and z -> E
   ParameterizationPtr parameterization;
   std::vector<ObjectiveTermInfo> terms;
   ObjectivePtr objective;
   std::unique_ptr<StaticFunctional> functional;
-  // With a "handles" term: its objective (also in `terms`), the offset of the
-  // "handle_displacement" block u~ in p; z = [material design, u~] (problems/inverse_handles.hpp).
-  // The optimizer sees u~ / handle_scale (a characteristic displacement), so those variables are
-  // O(1) like log E.
-  std::shared_ptr<const HandleObjective> handles;
-  int handle_offset = 0;
-  double handle_scale = 1.0;
+  // With a "handles" term: the handle displacements u~ appended to the design, z = [material
+  // design, u~ / scale], with their objective (problems/inverse_handles.hpp).
+  std::shared_ptr<const HandleDesign> handles;
   Vector z0;                   // initial design
   Bounds bounds;               // in z-space; empty when the design has no min/max
   Eigen::VectorXd truth;       // per element true E; empty when unknown
@@ -60,7 +58,8 @@ struct InverseProblem {
 
   int num_design() const { return static_cast<int>(z0.size()); }  // all of z
   int num_material_design() const { return static_cast<int>(design_labels.size()); }
-  Eigen::VectorXd design_values(const Vector& z) const;   // E per material design variable (modes: per element)
+  // E per material design variable (modes: per element).
+  Eigen::VectorXd design_values(const Vector& z) const;
   Eigen::VectorXd youngs_modulus(const Vector& z) const;  // E per element
   // The static setup at design z: its Young's moduli and, with handles, u~ prescribed on the
   // handle DOFs (solve_static of it is the equilibrium J(z) sees).

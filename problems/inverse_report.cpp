@@ -64,7 +64,7 @@ Json handles_json(const InverseProblem& problem, const std::vector<HandleResult>
   }
   return {{"alpha", term ? term->alpha : 1.0},
           {"beta", term ? term->beta : 1.0},
-          {"displacement_variables", problem.handles->displacement_size()},
+          {"displacement_variables", problem.handles->size()},
           {"list", list}};
 }
 
@@ -97,6 +97,9 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
   report["iterations"] = result.history.empty() ? 0 : result.history.back().iteration;
   report["evaluations"] = result.evaluations;
   report["failed_evaluations"] = result.failed_evaluations;
+  report["resumed"] =
+      run.resumed ? Json{{"checkpoint", run.resumed->checkpoint}, {"iteration", run.resumed->iteration}}
+                  : Json(nullptr);
 
   report["history"] = optimizer_history_json(result);
 
@@ -113,8 +116,9 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
       {"initial", result.history.empty() ? Json(nullptr) : Json(result.history.front().objective)},
       {"final", result.objective},
       {"terms", terms}};
-  const FunctionalCounters& counters = problem.functional->counters();
-  report["solves"] = {{"forward", counters.forward_solves}, {"adjoint", counters.adjoint_solves}};
+  // The optimization's solves, including those before a resume.
+  report["solves"] = {{"forward", result.counters.forward_solves},
+                      {"adjoint", result.counters.adjoint_solves}};
 
   const DesignSpec& d = problem.spec.design;
   Json design = {{"parameter", d.parameter},
@@ -163,8 +167,8 @@ void write_inverse_result_vtu(const std::string& path, const InverseRun& run) {
   VtkFields extra;
   if (problem.handles) {  // 1 + the handle's index on handle vertices, 0 elsewhere
     Eigen::MatrixXd handle = Eigen::MatrixXd::Zero(setup.mesh.num_vertices(), 1);
-    for (int h = 0; h < problem.handles->num_handles(); ++h)
-      for (int v : problem.handles->handle(h).vertices) handle(v, 0) = h + 1;
+    for (int h = 0; h < problem.handles->objective->num_handles(); ++h)
+      for (int v : problem.handles->objective->handle(h).vertices) handle(v, 0) = h + 1;
     extra.point["handle"] = handle;
   }
   extra.cell["youngs_modulus_initial"] = problem.youngs_modulus(problem.z0);

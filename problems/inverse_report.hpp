@@ -35,6 +35,12 @@ struct InverseTimings {
   double modes = 0.0;         // material modes (granularity modes; part of setup)
 };
 
+// A run that continued from a checkpoint (tailor run --resume).
+struct ResumedRun {
+  std::string checkpoint;  // the file it was read from
+  int iteration = 0;       // the checkpoint's iteration; the history's rows up to it come from it
+};
+
 struct InverseRun {
   std::unique_ptr<InverseProblem> problem;
   OptimizerResult result;           // result.z: the best design found
@@ -46,8 +52,10 @@ struct InverseRun {
   StaticSolution solution;            // the equilibrium at result.z (with the scene's load steps)
   std::vector<HandleResult> handles;  // per handle at result.z, when the scene has handles and it converged
   InverseTimings timings;
-  std::string report_path;  // out_dir/report.json
-  std::string result_path;  // out_dir/result.vtu
+  std::optional<ResumedRun> resumed;
+  std::string report_path;      // out_dir/report.json
+  std::string result_path;      // out_dir/result.vtu
+  std::string checkpoint_path;  // out_dir/checkpoint.json; empty when checkpoints are off
 };
 
 // Throw std::runtime_error when a file cannot be written.

@@ -1,10 +1,9 @@
 #include "problems/inverse_scene.hpp"
 
-#include <utility>
-
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "problems/scene_parsing.hpp"
 
@@ -214,8 +213,8 @@ void parse_term_body(const SceneNode& node, const std::string&, SmoothnessTerm& 
   node.expect_keys({"type", "weight", "on", "weighting"});
   if (auto on = node.find("on")) t.logarithmic = on->choice({"log", "value"}) == "log";
   if (auto w = node.find("weighting"))
-    t.weighting =
-        w->choice({"unit", "facet"}) == "unit" ? AdjacencyWeighting::unit : AdjacencyWeighting::facet_over_distance;
+    t.weighting = w->choice({"unit", "facet"}) == "unit" ? AdjacencyWeighting::unit
+                                                         : AdjacencyWeighting::facet_over_distance;
 }
 
 void parse_term_body(const SceneNode& node, const std::string&, TikhonovTerm& t) {
@@ -248,7 +247,8 @@ void parse_alternative(const std::string& type, const SceneNode& node, const std
 ObjectiveTermSpec parse_term(const SceneNode& node, const std::string& directory) {
   ObjectiveTermSpec spec;
   spec.key = node.path();
-  static const std::vector<std::string> types = term_types(std::make_index_sequence<std::variant_size_v<ObjectiveTerm>>());
+  static const std::vector<std::string> types =
+      term_types(std::make_index_sequence<std::variant_size_v<ObjectiveTerm>>());
   parse_alternative(node.at("type").choice(types), node, directory, spec.term);
   if (auto w = node.find("weight")) spec.weight = w->non_negative();
   return spec;
@@ -256,7 +256,7 @@ ObjectiveTermSpec parse_term(const SceneNode& node, const std::string& directory
 
 OptimizerOptions parse_optimizer(const SceneNode& node) {
   node.expect_keys({"backend", "max_iterations", "gradient_tolerance", "objective_tolerance",
-                    "step_tolerance", "time_limit", "exact_hessian"});
+                    "step_tolerance", "time_limit", "exact_hessian", "checkpoint_every"});
   OptimizerOptions o;
   if (auto b = node.find("backend")) {
     try {
@@ -270,6 +270,7 @@ OptimizerOptions parse_optimizer(const SceneNode& node) {
   if (auto v = node.find("objective_tolerance")) o.objective_tolerance = v->non_negative();
   if (auto v = node.find("step_tolerance")) o.step_tolerance = v->non_negative();
   if (auto v = node.find("time_limit")) o.time_limit_seconds = v->non_negative();
+  if (auto v = node.find("checkpoint_every")) o.checkpoint_every = v->integer(0);
   if (auto v = node.find("exact_hessian")) {
     o.exact_hessian = v->boolean();
     if (o.exact_hessian && o.backend != OptimizerBackend::ipopt)

@@ -5,6 +5,7 @@
 // optimization failed (or an output could not be written); 2 bad input (scene or mesh errors)
 // or bad usage.
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -16,7 +17,7 @@
 #include "problems/commands.hpp"
 #include "problems/contact/rigid_scene.hpp"
 #include "problems/damping_design/damping_design_scene.hpp"
-#include "problems/dynamic_scene.hpp"
+#include "problems/dynamic_commands.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
 #include "problems/inverse_commands.hpp"
 #include "problems/modes_command.hpp"
@@ -46,9 +47,12 @@ const char* const kUsage =
     "      of the scene's inverse problem at its initial design; write DIR/gradcheck.json.\n"
     "      For a dynamic scene (no inverse section): the time-dependent adjoint of its\n"
     "      dynamics.objective.\n"
-    "  run scene.json [--out DIR] [--quiet]\n"
+    "  run scene.json [--out DIR] [--quiet] [--checkpoint-every K] [--resume DIR]\n"
     "      Optimize the design of the scene's inverse problem; print one line per iteration\n"
-    "      (none with --quiet); write DIR/report.json and DIR/result.vtu at the best design.\n"
+    "      (none with --quiet); write DIR/report.json and DIR/result.vtu at the best design,\n"
+    "      and DIR/checkpoint.json every K iterations (default: the scene's\n"
+    "      optimizer.checkpoint_every, 10; 0 = none). --resume DIR continues from DIR's\n"
+    "      checkpoint (and writes into DIR unless --out is given).\n"
     "      A scene with a \"damping_design\" section runs the example-based damping study.\n"
     "  modes scene.json [--out DIR] [--count N]\n"
     "      Modal analysis at rest: the N lowest vibration modes (default 10), rigid-body modes\n"
@@ -83,6 +87,8 @@ struct Arguments {
   bool quiet = false;
   bool help = false;
   int count = 10;  // modes
+  std::optional<std::string> resume;  // run: the checkpoint folder to continue from
+  std::optional<int> checkpoint_every;
   std::optional<int> threads, factorization_threads;
 };
 
@@ -116,6 +122,15 @@ std::optional<std::string> parse_arguments(const std::string& verb, const std::v
       const unsigned long seed = std::strtoul(value.c_str(), &end, 10);
       if (value.empty() || *end != '\0') return "--seed needs a non-negative integer, got '" + value + "'";
       out.seed = static_cast<unsigned>(seed);
+    } else if (a == "--resume" && verb == "run") {
+      if (!has_value) return "--resume needs the folder of a checkpoint";
+      out.resume = args[++i];
+    } else if (a == "--checkpoint-every" && verb == "run") {
+      if (!has_value) return "--checkpoint-every needs a number";
+      const std::string& value = args[++i];
+      out.checkpoint_every = parse_count(value, 1000000000);
+      if (!out.checkpoint_every)
+        return "--checkpoint-every needs a non-negative integer, got '" + value + "'";
     } else if (a == "--count" && verb == "modes") {
       if (!has_value) return "--count needs a number";
       const std::string& value = args[++i];
@@ -163,6 +178,11 @@ void apply_threads(const Arguments& args, const std::optional<tailor::ThreadSett
 
 int run_verb(const std::string& verb, const Arguments& args) {
   apply_threads(args, std::nullopt);
+  const bool checkpoint_flags = args.resume || args.checkpoint_every;
+  if (verb == "run" && checkpoint_flags && args.scene &&
+      (tailor::is_material_fit_scene(*args.scene) || tailor::is_damping_design_scene(*args.scene) ||
+       tailor::is_metamaterial_scene(*args.scene)))
+    return usage_error("--resume and --checkpoint-every need a scene with an \"inverse\" section");
   if (verb == "run" && args.scene && tailor::is_material_fit_scene(*args.scene)) {
     const auto fit = tailor::run_material_fit_scene(*args.scene, args.out_dir.value_or(""), &std::cout,
                                                     args.quiet ? nullptr : &std::cout);
@@ -195,7 +215,14 @@ int run_verb(const std::string& verb, const Arguments& args) {
                                                                                                       : kFailure;
   const tailor::Scene scene = load_scene(args);
   apply_threads(args, scene.solver.threads);
-  const std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
+  // `run --resume DIR` writes into DIR (the checkpoint's folder) unless --out says otherwise.
+  std::string out_dir = args.out_dir ? *args.out_dir : "out/" + scene.name;
+  if (verb == "run" && args.resume && !args.out_dir) {
+    const std::filesystem::path resume(*args.resume);
+    out_dir = !std::filesystem::is_regular_file(resume) ? resume.string()
+              : resume.has_parent_path()                ? resume.parent_path().string()
+                                                        : ".";
+  }
   if (verb == "simulate" && scene.dynamics)
     return tailor::simulate_dynamic_scene(scene, out_dir, &std::cout).completed ? kSuccess : kFailure;
   if (verb == "simulate") {
@@ -216,8 +243,8 @@ int run_verb(const std::string& verb, const Arguments& args) {
   }
   if (verb == "modes") return (tailor::modes_scene(scene, args.count, out_dir, &std::cout), kSuccess);
   if (verb == "run") {
-    const tailor::InverseRun run =
-        tailor::run_inverse_scene(scene, out_dir, &std::cout, args.quiet ? nullptr : &std::cout);
+    const tailor::InverseRun run = tailor::run_inverse_scene(
+        scene, out_dir, &std::cout, args.quiet ? nullptr : &std::cout, {args.checkpoint_every, args.resume});
     return run.result.converged() ? kSuccess : kFailure;
   }
   return tailor::check_scene(scene, args.seed.value_or(1), std::cout) ? kSuccess : kFailure;

@@ -1,7 +1,5 @@
 // `tailor simulate` on scenes with a "dynamics" section: parsing and its errors, the frame
 // series and report, and a physical check (a swinging beam with Rayleigh damping loses energy).
-#include "problems/dynamic_scene.hpp"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../support/temp_folder.hpp"
+#include "problems/dynamic_commands.hpp"
 #include "scene_text.hpp"
 
 namespace tailor {

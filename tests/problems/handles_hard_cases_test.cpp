@@ -65,7 +65,7 @@ TEST(HandlesHardCases, ModuliFourDecadesApartMatchTheSeriesBarClosedForm) {
     problem->functional->value(problem->z0);
     const Vector p = problem->parameterization->apply(problem->z0);
     const double closed_form = u / (1.0 / E1 + 1.0 / E2);  // A = 1, L1 = L2 = 1
-    const Vector force = problem->handles->total_force(0, problem->functional->state(), p);
+    const Vector force = problem->handles->objective->total_force(0, problem->functional->state(), p);
     EXPECT_NEAR(force[0] / closed_form, 1.0, 1e-8) << "E1 = " << E1 << ", E2 = " << E2;
     EXPECT_LT(std::abs(force[1]) + std::abs(force[2]), 1e-9 * closed_form);
   }

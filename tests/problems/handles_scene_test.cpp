@@ -78,17 +78,17 @@ TEST(HandlesScene, DisplacementsAreDesignVariablesAfterTheMaterialDesign) {
   const int handle_vertices = 9;  // the 3 x 3 vertices of the x = 2 face
   EXPECT_EQ(problem->num_material_design(), 1);
   EXPECT_EQ(problem->num_design(), 1 + 3 * handle_vertices);
-  EXPECT_EQ(problem->handle_scale, 0.02);  // |ubar|: the optimizer sees u~ / |ubar|
+  EXPECT_EQ(problem->handles->scale, 0.02);  // |ubar|: the optimizer sees u~ / |ubar|
   for (int k = 0; k < 3 * handle_vertices; ++k)
     EXPECT_EQ(problem->z0[1 + k], k % 3 == 0 ? 1.0 : 0.0);  // ubar
   // J(z0) is the formula: the force misfit at E = 1000 with the handle at ubar.
   const double J = problem->functional->value(problem->z0);
   const Vector p = problem->parameterization->apply(problem->z0);
-  const Vector f = problem->handles->total_force(0, problem->functional->state(), p);
+  const Vector f = problem->handles->objective->total_force(0, problem->functional->state(), p);
   EXPECT_NEAR(J, 0.5 * 0.01 * 2 * (f - Eigen::Vector3d(30, 0, 0)).squaredNorm(), 1e-10 * J);
   // The handle vertices sit where u~ puts them.
   const Vector& x = problem->functional->state();
-  for (int v : problem->handles->handle(0).vertices)
+  for (int v : problem->handles->objective->handle(0).vertices)
     EXPECT_NEAR(x[3 * v] - problem->setup.mesh.rest_positions(v, 0), 0.02, 1e-15);
   // setup_at(z) reproduces the functional's equilibrium with solve_static.
   const StaticSolution solution = solve_static(problem->setup_at(problem->z0));
@@ -154,13 +154,12 @@ TEST(HandlesScene, NonlinearAnd2DScenesPassTheGradientCheck) {
 TEST(HandlesScene, ModalDesignWithHandlesPassesTheGradientCheck) {
   TempFolder folder("handles_gradcheck_modes");
   const std::string text = testing::with(
-      R"("granularity": "per_material")",
-      R"("granularity": "modes", "modes": 6, "min": 100, "max": 1e5)",
+      R"("granularity": "per_material")", R"("granularity": "modes", "modes": 6, "min": 100, "max": 1e5)",
       testing::with("\"model\": \"linear\"", "\"model\": \"neo_hookean\"", handle_scene()));
   const auto problem = build_inverse_problem(parse_scene(text, "modes_handles.json", ""));
   ASSERT_TRUE(problem->modal.has_value());
   EXPECT_EQ(problem->num_material_design(), 6);
-  EXPECT_EQ(problem->num_design(), 6 + problem->handles->displacement_size());
+  EXPECT_EQ(problem->num_design(), 6 + problem->handles->size());
   const GradcheckRun run = gradcheck_scene(parse_scene(text, "modes_handles.json", ""), folder / "modes", {});
   EXPECT_TRUE(run.passed()) << run.gradient.table();
   EXPECT_GE(run.gradient.rate1, 1.9) << run.gradient.table();
@@ -172,8 +171,8 @@ TEST(HandlesScene, RunReportsTheErrorsAtEachHandle) {
   // meets both. beta = 1e9 >> W k^2 ~ 2 * 500^2 keeps u~ near ubar, so E must change.
   const auto probe = build_inverse_problem(parse_scene(handle_scene(), "h.json", ""));
   probe->functional->value(probe->z0);
-  const Vector force_at_1000 =
-      probe->handles->total_force(0, probe->functional->state(), probe->parameterization->apply(probe->z0));
+  const Vector force_at_1000 = probe->handles->objective->total_force(
+      0, probe->functional->state(), probe->parameterization->apply(probe->z0));
   std::ostringstream target;
   target.precision(17);
   target << "[" << 2 * force_at_1000[0] << ", " << 2 * force_at_1000[1] << ", " << 2 * force_at_1000[2]

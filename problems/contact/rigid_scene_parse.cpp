@@ -82,7 +82,8 @@ void parse_stiffness(const SceneNode& c, RigidSceneSpec& spec) {
   spec.stiffness.adaptive = !c.has("stiffness");  // the default
   if (auto s = c.find("stiffness")) {
     if (s->is_string()) {
-      s->choice({"adaptive"});
+      if (s->string() != "adaptive")
+        s->fail("expected a positive number (a fixed kappa) or \"adaptive\", got \"" + s->string() + "\"");
       spec.stiffness.adaptive = true;
     } else {
       spec.contact.stiffness = s->positive();

@@ -157,7 +157,7 @@ TEST(RigidScene, BadInputIsReportedWithContext) {
           R"(, "kinematic": {}, "torque": [0, 0, 1]}], "dynamics": {"time_step": 0.01, "steps": 1}})",
       "rigid_bodies[1].torque");
   expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "contact": {"stiffness": "stiff"}})",
-                     "stiffness");
+                     "contact.stiffness: expected a positive number (a fixed kappa) or \"adaptive\"");
   expect_scene_error(
       R"({"rigid_bodies": [)" + ground + R"(], "contact": {"stiffness": 1e5, "min_stiffness": 1}})",
       "min_stiffness");

@@ -115,9 +115,29 @@ Vector RigidBodySystem::initial_state() const {
 std::vector<int> RigidBodySystem::fixed_dofs() const {
   std::vector<int> dofs;
   for (int b = 0; b < num_bodies(); ++b)
-    if (body(b).fixed)
+    if (body(b).fixed || body(b).kinematic)
       for (int k = 0; k < 6; ++k) dofs.push_back(6 * b + k);
   return dofs;
+}
+
+bool RigidBodySystem::has_kinematic() const {
+  for (const RigidBody& b : bodies_)
+    if (b.kinematic) return true;
+  return false;
+}
+
+Vector RigidBodySystem::prescribed_state(double t, const Vector& q) const {
+  Vector out = q;
+  for (int b = 0; b < num_bodies(); ++b) {
+    const RigidBody& body = this->body(b);
+    if (!body.kinematic) continue;
+    out.segment<3>(6 * b) = body.position + t * body.kinematic_velocity;
+    const Eigen::Matrix3d R =
+        rotation_matrix(t * body.kinematic_angular_velocity) * rotation_matrix(body.rotation);
+    const Eigen::Vector3d w = rotation_vector(R, q.segment<3>(6 * b + 3));
+    out.segment<3>(6 * b + 3) = w;
+  }
+  return out;
 }
 
 contact::Positions RigidBodySystem::world_positions(const Vector& q) const {

@@ -23,6 +23,12 @@ struct RigidBody {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();     // initial T (centre of mass)
   Eigen::Vector3d rotation = Eigen::Vector3d::Zero();     // initial w
   bool fixed = false;  // a fixed body's DOFs are meant to be eliminated (fixed_dofs())
+  // A kinematic body follows a prescribed motion: its DOFs are eliminated like a fixed body's,
+  // but its pose at time t is T(t) = position + t kinematic_velocity and
+  // R(t) = exp([t kinematic_angular_velocity]) R(rotation) (world frame; prescribed_state()).
+  bool kinematic = false;
+  Eigen::Vector3d kinematic_velocity = Eigen::Vector3d::Zero();          // [length / time]
+  Eigen::Vector3d kinematic_angular_velocity = Eigen::Vector3d::Zero();  // [rad / time]
 };
 
 // A body from a closed mesh in world coordinates with a density: mass, centre and inertia
@@ -45,7 +51,11 @@ class RigidBodySystem {
   const std::vector<RigidBody>& bodies() const { return bodies_; }
 
   Vector initial_state() const;         // (T_b, w_b) of every body
-  std::vector<int> fixed_dofs() const;  // the 6 DOFs of each fixed body
+  std::vector<int> fixed_dofs() const;  // the 6 DOFs of each fixed or kinematic body
+  bool has_kinematic() const;
+  // `q` with every kinematic body at its pose at time t; its rotation vector is the one of that
+  // rotation nearest to q's (so that consecutive poses are joined by short paths in w).
+  Vector prescribed_state(double t, const Vector& q) const;
 
   // All bodies' surfaces as one, surface vertex i = vertex local_index(i) of body body_of(i).
   const contact::ContactSurface& surface() const { return surface_; }

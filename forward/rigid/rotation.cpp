@@ -1,6 +1,7 @@
 // Rodrigues' rotation with exact derivatives (see rotation.hpp).
 #include "forward/rigid/rotation.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 #include "forward/contact/jet2.hpp"
@@ -80,6 +81,18 @@ RotationDerivatives rotation_derivatives(const Eigen::Vector3d& w) {
       }
     }
   return r;
+}
+
+Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& R, const Eigen::Vector3d& near) {
+  const Eigen::AngleAxisd axis_angle(R);
+  Eigen::Vector3d w = axis_angle.angle() * axis_angle.axis();
+  if (!(w.norm() > 0.0)) return w;
+  const Eigen::Vector3d unit = w.normalized();
+  for (double k : {-1.0, 1.0}) {
+    const Eigen::Vector3d other = w + k * 2.0 * M_PI * unit;
+    if (other.norm() < 2.0 * M_PI && (other - near).norm() < (w - near).norm()) w = other;
+  }
+  return w;
 }
 
 }  // namespace tailor::rigid

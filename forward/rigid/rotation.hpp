@@ -20,6 +20,10 @@ struct RotationDerivatives {
 
 Eigen::Matrix3d rotation_matrix(const Eigen::Vector3d& w);
 RotationDerivatives rotation_derivatives(const Eigen::Vector3d& w);
+// A rotation vector of R (|w| < 2 pi): of the representatives w + 2 pi k w / |w|, the one
+// nearest to `near` (so that a sequence of rotations gets a continuous sequence of vectors).
+Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& R,
+                                const Eigen::Vector3d& near = Eigen::Vector3d::Zero());
 
 // a(s), b(s) and their first and second derivatives in s (exposed for tests).
 struct RodriguesCoefficients {

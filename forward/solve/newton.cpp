@@ -412,12 +412,16 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       }
     }
 
+    if (options_.direction_converged &&
+        options_.direction_converged(model_.state(y, p), model_.elimination().expand_direction(dy)))
+      return finish(NewtonStatus::converged, "Newton direction within the caller's tolerance");
     const bool accepted = line_search(p, y, dy, energy, gradient, residual, it);
     result.history.push_back(it);
     if (!accepted)
       return finish(NewtonStatus::line_search_failed,
                     "line search found no decrease at iteration " + std::to_string(k) + " after " +
                         std::to_string(options_.max_line_search_steps) + " halvings");
+    if (options_.after_step) options_.after_step(model_.state(y, p));
     if (options_.progress) {
       *options_.progress << std::scientific << std::setprecision(3) << "  newton " << std::setw(3) << k
                          << "  E " << std::setw(11) << energy << "  |g| " << residual << "  alpha "

@@ -29,6 +29,7 @@
 // across iterations, solve() calls (time steps) and the adjoint: an iteration then costs a
 // gradient evaluation and a back-solve.
 #include <chrono>
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <utility>
@@ -79,6 +80,13 @@ struct NewtonOptions {
   double armijo = 1e-4;              // sufficient-decrease constant
   int max_line_search_steps = 40;    // halvings before the line search is declared stalled
   std::ostream* progress = nullptr;  // one line per iteration when set
+  // Optional hooks. direction_converged(x, dx): called with the full state and the full-space
+  // Newton direction before each line search; true stops with status converged (a caller's
+  // own test, e.g. IPC's bound on a time step's direction). after_step(x): called after each
+  // accepted step with the new full state; it may change the terms' settings (a barrier
+  // stiffness), the next iteration evaluates everything afresh.
+  std::function<bool(const Vector& x, const Vector& dx)> direction_converged;
+  std::function<void(const Vector& x)> after_step;
 };
 
 enum class NewtonStatus {

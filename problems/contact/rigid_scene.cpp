@@ -1,4 +1,5 @@
-// Parsing and solving rigid-body contact scenes (see rigid_scene.hpp).
+// Solving contact scenes: static equilibrium of rigid and FEM bodies, implicit Euler steps of
+// rigid bodies (see rigid_scene.hpp).
 #include "problems/contact/rigid_scene.hpp"
 
 #include <cstdio>
@@ -7,182 +8,98 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <ostream>
-#include <sstream>
 
 #include "adjoint/parameterization.hpp"
 #include "adjoint/static_functional.hpp"
 #include "forward/contact/intersection.hpp"
 #include "forward/core/model.hpp"
 #include "forward/mesh/mesh_io.hpp"
+#include "forward/rigid/friction_term.hpp"
 #include "forward/rigid/rigid_contact_term.hpp"
 #include "forward/rigid/rigid_gravity_term.hpp"
+#include "forward/rigid/rigid_load_term.hpp"
 #include "forward/rigid/rigid_time_stepper.hpp"
 #include "objectives/target_positions.hpp"
+#include "problems/contact/embedded_term.hpp"
+#include "problems/contact/fem_bodies.hpp"
 #include "problems/contact/surface_vtu.hpp"
 #include "problems/report_header.hpp"
-#include "problems/taylor_report.hpp"
 #include "problems/scene.hpp"
-#include "problems/scene_node.hpp"
+#include "problems/taylor_report.hpp"
 
 namespace tailor {
 namespace {
 
-rigid::RigidBody parse_body(const SceneNode& node, const std::string& source, std::vector<int>& fixed_dofs) {
-  node.expect_keys({"name", "primitive", "mesh", "size", "radius", "subdivisions", "density", "position",
-                    "velocity", "angular_velocity", "rotation", "fixed", "fixed_dofs"});
-  Eigen::MatrixX3d vertices;
-  Eigen::MatrixX3i faces;
-  if (node.has("mesh")) {
-    // The boundary of a tetrahedral mesh file (path relative to the scene file).
-    const std::filesystem::path path = std::filesystem::path(source).parent_path() / node.at("mesh").string();
-    const Mesh mesh = read_mesh(path.string());
-    if (mesh.dim() != 3) node.at("mesh").fail("expected a 3D tetrahedral mesh");
-    const Eigen::MatrixXi facets = boundary_facets(mesh);
-    std::vector<int> index(static_cast<std::size_t>(mesh.num_vertices()), -1);
-    std::vector<Eigen::Vector3d> used;
-    faces.resize(facets.rows(), 3);
-    for (int f = 0; f < facets.rows(); ++f)
-      for (int k = 0; k < 3; ++k) {
-        int& i = index[static_cast<std::size_t>(facets(f, k))];
-        if (i < 0) {
-          i = static_cast<int>(used.size());
-          used.push_back(mesh.rest_positions.row(facets(f, k)).transpose());
-        }
-        faces(f, k) = i;
-      }
-    vertices.resize(static_cast<Eigen::Index>(used.size()), 3);
-    for (std::size_t i = 0; i < used.size(); ++i)
-      vertices.row(static_cast<Eigen::Index>(i)) = used[i].transpose();
-  } else {
-    const std::string primitive = node.at("primitive").choice({"box", "sphere"});
-    if (primitive == "box") {
-      rigid::box_surface(node.at("size").vector(3), vertices, faces);
-    } else {
-      const int subdivisions = node.has("subdivisions") ? node.at("subdivisions").integer(0) : 2;
-      if (subdivisions > 6) node.at("subdivisions").fail("at most 6 subdivisions");
-      rigid::sphere_surface(node.at("radius").positive(), subdivisions, vertices, faces);
-    }
-  }
-  const double density = node.has("density") ? node.at("density").positive() : 1000.0;
-  const bool fixed = node.has("fixed") && node.at("fixed").boolean();
-  rigid::RigidBody body;
-  try {
-    body = rigid::rigid_body_from_mesh(node.has("name") ? node.at("name").string() : "", vertices, faces,
-                                       density, fixed);
-  } catch (const std::invalid_argument& e) {
-    node.fail(e.what());
-  }
-  // A primitive is placed by its centre; a mesh keeps its own coordinates unless positioned.
-  if (!node.has("mesh")) body.position.setZero();
-  if (node.has("position")) body.position = node.at("position").vector(3);
-  if (node.has("rotation")) body.rotation = node.at("rotation").vector(3);
-  if (body.rotation.norm() >= M_PI)
-    node.at("rotation").fail("the rotation vector's angle must stay below pi");
-  fixed_dofs.clear();
-  if (node.has("fixed_dofs"))
-    for (const SceneNode& item : node.at("fixed_dofs").items()) {
-      const std::string dof = item.choice({"x", "y", "z", "rx", "ry", "rz"});
-      const char* names[] = {"x", "y", "z", "rx", "ry", "rz"};
-      for (int k = 0; k < 6; ++k)
-        if (dof == names[k]) fixed_dofs.push_back(k);
-    }
-  return body;
-}
-
-}  // namespace
-
-bool is_rigid_scene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return false;
-  const nlohmann::json document = nlohmann::json::parse(in, nullptr, false);
-  return document.is_object() && document.contains("rigid_bodies");
-}
-
-RigidSceneSpec parse_rigid_scene(const std::string& json_text, const std::string& source) {
-  const nlohmann::json document = nlohmann::json::parse(json_text, nullptr, false);
-  if (document.is_discarded()) throw SceneError(source + ": invalid JSON");
-  const SceneNode root(document, source, "");
-  root.expect_keys({"name", "description", "rigid_bodies", "gravity", "contact", "newton", "dynamics"});
-  RigidSceneSpec spec;
-  spec.source = source;
-  if (root.has("name")) spec.name = root.at("name").string();
-  if (root.has("description")) spec.description = root.at("description").string();
-  const std::vector<SceneNode> bodies = root.at("rigid_bodies").items();
-  if (bodies.empty()) root.at("rigid_bodies").fail("expected at least one body");
-  for (std::size_t b = 0; b < bodies.size(); ++b) {
-    std::vector<int> fixed;
-    spec.bodies.push_back(parse_body(bodies[b], source, fixed));
-    if (spec.bodies.back().name.empty()) spec.bodies.back().name = "body" + std::to_string(b);
-    spec.fixed_body_dofs.push_back(fixed);
-    spec.velocities.push_back(bodies[b].has("velocity") ? Eigen::Vector3d(bodies[b].at("velocity").vector(3))
-                                                        : Eigen::Vector3d::Zero());
-    spec.angular_velocities.push_back(bodies[b].has("angular_velocity")
-                                          ? Eigen::Vector3d(bodies[b].at("angular_velocity").vector(3))
-                                          : Eigen::Vector3d::Zero());
-  }
-  if (root.has("dynamics")) {
-    const SceneNode d = root.at("dynamics");
-    d.expect_keys({"time_step", "steps", "output_every"});
-    spec.time_step = d.at("time_step").positive();
-    spec.steps = d.at("steps").integer(1);
-    if (d.has("output_every")) spec.output_every = d.at("output_every").integer(1);
-  }
-  if (root.has("gravity")) spec.gravity = root.at("gravity").vector(3);
-  if (root.has("contact")) {
-    const SceneNode c = root.at("contact");
-    c.expect_keys({"activation_distance", "stiffness", "friction", "ccd_separation"});
-    if (c.has("activation_distance"))
-      spec.contact.activation_distance = c.at("activation_distance").positive();
-    if (c.has("stiffness")) spec.contact.stiffness = c.at("stiffness").positive();
-    if (c.has("ccd_separation"))
-      spec.contact.ccd.separation_fraction = c.at("ccd_separation").open_interval(0, 1);
-    if (c.has("friction") && c.at("friction").non_negative() != 0.0)
-      c.at("friction").fail("friction is not implemented yet (static equilibrium is frictionless)");
-  }
-  if (root.has("newton")) {
-    const SceneNode n = root.at("newton");
-    n.expect_keys({"max_iterations", "relative_tolerance"});
-    if (n.has("max_iterations")) spec.newton.max_iterations = n.at("max_iterations").integer(1);
-    if (n.has("relative_tolerance"))
-      spec.newton.relative_tolerance = n.at("relative_tolerance").open_interval(0, 1);
-  }
-  return spec;
-}
-
-RigidSceneSpec read_rigid_scene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::stringstream text;
-  text << in.rdbuf();
-  RigidSceneSpec spec = parse_rigid_scene(text.str(), path);
-  if (spec.name.empty()) spec.name = std::filesystem::path(path).stem().string();
-  return spec;
-}
-
-namespace {
-
-// Gravity and contact over the scene's bodies, fixed and held DOFs eliminated. With
-// `mass_parameters`, the masses are the parameter block "mass".
+// The scene as a Model: rigid DOFs 6b .. 6b+5 first, then each FEM body's vertex DOFs; gravity,
+// loads, FEM elasticity and loads (EmbeddedTerm), contact over all surfaces (ContactBodies),
+// friction and inertia in dynamic scenes; fixed, kinematic and held DOFs and the FEM bodies'
+// Dirichlet DOFs eliminated. With `mass_parameters`, the masses are the parameter block "mass".
 struct RigidSceneModel {
   rigid::RigidBodySystem system;
-  Model model;
-  const rigid::RigidContactTerm* contact = nullptr;
+  std::vector<FemBodyPart> fem;
+  std::unique_ptr<Model> model;
+  Vector rest_state, parameters;
+  rigid::RigidContactTerm* contact = nullptr;
   rigid::RigidInertiaTerm* inertia = nullptr;  // dynamic scenes
-  RigidSceneModel(const RigidSceneSpec& spec, bool mass_parameters)
-      : system(spec.bodies), model(system.num_dofs()) {
-    if (mass_parameters) model.parameter_layout().add("mass", system.num_bodies());
-    if (spec.time_step > 0.0)
-      inertia = &model.add(std::make_unique<rigid::RigidInertiaTerm>(system, spec.time_step));
-    model.add(std::make_unique<rigid::RigidGravityTerm>(system, spec.gravity, mass_parameters ? 0 : -1));
-    contact = &model.add(std::make_unique<rigid::RigidContactTerm>(system, spec.contact));
+  rigid::FrictionTerm* friction = nullptr;     // dynamic scenes with friction
+  rigid::RigidLoadTerm* loads = nullptr;       // forces or torques
+  double fem_load = 0.0;                       // the largest total load on one FEM body [force]
+
+  RigidSceneModel(const RigidSceneSpec& spec, bool mass_parameters) : system(spec.bodies) {
+    int num_dofs = system.num_dofs(), num_parameters = 0;
+    for (const FemBodySpec& body : spec.fem_bodies) {
+      fem.push_back(build_fem_body(body, num_dofs, num_parameters));
+      num_dofs += fem.back().setup.num_dofs();
+      num_parameters += static_cast<int>(fem.back().parameters.size());
+    }
+    model = std::make_unique<Model>(num_dofs);
+    rest_state = Vector(num_dofs);
+    rest_state.head(system.num_dofs()) = system.initial_state();
+    parameters = Vector(num_parameters);
+    std::vector<rigid::DeformableSurface> surfaces;
     std::vector<int> fixed = system.fixed_dofs();
     for (int b = 0; b < system.num_bodies(); ++b)
-      if (!system.body(b).fixed)
+      if (!system.body(b).fixed && !system.body(b).kinematic)
         for (int k : spec.fixed_body_dofs[static_cast<std::size_t>(b)]) fixed.push_back(6 * b + k);
-    model.set_elimination(Elimination::dirichlet(fixed, system.initial_state()));
-    const double start_distance = contact->min_distance(system.initial_state(), 1e30);
-    const int crossings = contact::count_edge_face_intersections(
-        system.surface(), system.world_positions(system.initial_state()));
+    Vector fixed_values = rest_state;
+    for (FemBodyPart& part : fem) {
+      const int n = part.setup.num_dofs(), m = static_cast<int>(part.parameters.size());
+      rest_state.segment(part.dof_offset, n) = part.setup.rest_state();
+      fixed_values.segment(part.dof_offset, n) = part.model->elimination().offset();
+      parameters.segment(part.parameter_offset, m) = part.parameters;
+      for (const auto& term : part.model->terms())
+        model->add(std::make_unique<EmbeddedTerm>(*term, part.dof_offset, n, part.parameter_offset, m));
+      for (int dof : part.setup.fixed_dofs) fixed.push_back(part.dof_offset + dof);
+      const Vector& f = part.setup.nodal_forces;
+      fem_load = std::max(
+          fem_load, Eigen::Map<const Eigen::MatrixXd>(f.data(), 3, f.size() / 3).rowwise().sum().norm());
+      rigid::DeformableSurface surface;
+      surface.name = part.name;
+      surface.faces = part.faces;
+      for (int v : part.mesh_vertex) surface.vertex_dofs.push_back(part.dof_offset + 3 * v);
+      surfaces.push_back(std::move(surface));
+    }
+    for (int b = 0; b < system.num_bodies(); ++b)
+      fixed_values.segment<6>(6 * b) = rest_state.segment<6>(6 * b);
+    if (mass_parameters) model->parameter_layout().add("mass", system.num_bodies());
+    if (spec.time_step > 0.0)
+      inertia = &model->add(std::make_unique<rigid::RigidInertiaTerm>(system, spec.time_step));
+    model->add(std::make_unique<rigid::RigidGravityTerm>(system, spec.gravity, mass_parameters ? 0 : -1));
+    Vector body_loads = Vector::Zero(system.num_dofs());
+    for (int b = 0; b < system.num_bodies(); ++b) {
+      body_loads.segment<3>(6 * b) = spec.forces[static_cast<std::size_t>(b)];
+      body_loads.segment<3>(6 * b + 3) = spec.torques[static_cast<std::size_t>(b)];
+    }
+    if (body_loads.squaredNorm() > 0.0)  // over the rigid DOFs, the first of the state
+      loads = &model->add(std::make_unique<rigid::RigidLoadTerm>(body_loads, system.initial_state()));
+    auto bodies = std::make_shared<const rigid::ContactBodies>(system, std::move(surfaces), num_dofs);
+    contact = &model->add(std::make_unique<rigid::RigidContactTerm>(bodies, rest_state, spec.contact));
+    if (spec.friction.coefficient > 0.0)
+      friction = &model->add(std::make_unique<rigid::FrictionTerm>(*contact, spec.friction));
+    model->set_elimination(Elimination::dirichlet(fixed, fixed_values));
+    const double start_distance = contact->min_distance(rest_state, 1e30);
+    const int crossings =
+        contact::count_edge_face_intersections(bodies->surface(), bodies->positions(rest_state));
     if (!(start_distance > 0.0) || crossings > 0)
       throw SceneError(spec.source + ": bodies touch or intersect in the initial state (distance " +
                        std::to_string(start_distance) + ", " + std::to_string(crossings) +
@@ -190,10 +107,16 @@ struct RigidSceneModel {
   }
 };
 
-// Every body's surface at state q as DIR/<body><suffix>.vtu.
-void write_frames(const rigid::RigidBodySystem& system, const Vector& q, const std::string& out_dir,
+int intersections(const RigidSceneModel& scene, const Vector& q) {
+  return contact::count_edge_face_intersections(scene.contact->bodies().surface(),
+                                                scene.contact->bodies().positions(q));
+}
+
+// Every body's surface at state q as DIR/<body><suffix>.vtu (FEM bodies: their deformed mesh).
+void write_frames(const RigidSceneModel& scene, const Vector& q, const std::string& out_dir,
                   const std::string& suffix) {
-  const contact::Positions x = system.world_positions(q);
+  const rigid::RigidBodySystem& system = scene.system;
+  const contact::Positions x = system.world_positions(q.head(system.num_dofs()));
   int first = 0;
   for (int b = 0; b < system.num_bodies(); ++b) {
     const auto rows = static_cast<Eigen::Index>(system.body(b).vertices.rows());
@@ -201,68 +124,185 @@ void write_frames(const rigid::RigidBodySystem& system, const Vector& q, const s
                       x.middleRows(first, rows), system.body(b).faces);
     first += static_cast<int>(rows);
   }
+  for (const FemBodyPart& part : scene.fem) {
+    const Vector u = q.segment(part.dof_offset, part.setup.num_dofs());
+    const Eigen::MatrixXd positions =
+        Eigen::Map<const Eigen::MatrixXd>(u.data(), 3, part.setup.mesh.num_vertices()).transpose();
+    write_vtu((std::filesystem::path(out_dir) / (part.name + suffix + ".vtu")).string(), part.setup.mesh, {},
+              &positions);
+  }
 }
 
-nlohmann::json body_states(const rigid::RigidBodySystem& system, const Vector& q, const Vector& forces) {
+// Contact forces: -dB/dq per DOF, the true moment about each rigid body's centre, the total on
+// each FEM body.
+void contact_results(const RigidSceneModel& scene, RigidSimulateRun& run) {
+  const rigid::RigidContactTerm& contact = *scene.contact;
+  run.contact_forces = Vector::Zero(run.state.size());
+  contact.add_gradient(run.state, scene.parameters, run.contact_forces);
+  run.contact_forces = -run.contact_forces;
+  const rigid::ContactBodies& bodies = contact.bodies();
+  const contact::Positions x = bodies.positions(run.state), f = contact.vertex_forces(run.state);
+  run.contact_moments.assign(static_cast<std::size_t>(scene.system.num_bodies()), Eigen::Vector3d::Zero());
+  run.fem_contact_forces.assign(scene.fem.size(), Eigen::Vector3d::Zero());
+  for (int v = 0; v < bodies.surface().num_vertices; ++v) {
+    const int b = bodies.body_of(v);
+    if (b >= 0)
+      run.contact_moments[static_cast<std::size_t>(b)] +=
+          (x.row(v).transpose() - run.state.segment<3>(6 * b)).cross(f.row(v).transpose());
+  }
+  for (std::size_t i = 0; i < scene.fem.size(); ++i) {
+    const int first = bodies.deformable_offset(static_cast<int>(i));
+    for (std::size_t k = 0; k < scene.fem[i].mesh_vertex.size(); ++k)
+      run.fem_contact_forces[i] += f.row(first + static_cast<int>(k)).transpose();
+  }
+  run.active_pairs = contact.potential().num_active(x);
+  run.stiffness = contact.potential().options().stiffness;
+}
+
+// vee of the skew part of A (the angular velocity of Rdot R^T).
+Eigen::Vector3d skew_vee(const Eigen::Matrix3d& A) {
+  return 0.5 * Eigen::Vector3d(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
+}
+
+nlohmann::json triple(const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; }
+
+nlohmann::json body_states(const RigidSceneModel& scene, const RigidSimulateRun& run) {
   nlohmann::json bodies = nlohmann::json::array();
-  auto triple = [](const Vector& v, int offset) {
-    return std::vector<double>{v[offset], v[offset + 1], v[offset + 2]};
-  };
+  const rigid::RigidBodySystem& system = scene.system;
   for (int b = 0; b < system.num_bodies(); ++b)
     bodies.push_back({{"name", system.body(b).name},
                       {"mass", system.body(b).mass},
-                      {"position", triple(q, 6 * b)},
-                      {"rotation", triple(q, 6 * b + 3)},
-                      {"contact_force", triple(forces, 6 * b)},
-                      {"contact_moment", triple(forces, 6 * b + 3)}});
+                      {"position", triple(run.state.segment<3>(6 * b))},
+                      {"rotation", triple(run.state.segment<3>(6 * b + 3))},
+                      {"contact_force", triple(run.contact_forces.segment<3>(6 * b))},
+                      {"contact_moment", triple(run.contact_moments[static_cast<std::size_t>(b)])}});
+  if (!run.velocities.empty())
+    for (int b = 0; b < system.num_bodies(); ++b) {
+      bodies[static_cast<std::size_t>(b)]["velocity"] = triple(run.velocities[static_cast<std::size_t>(b)]);
+      bodies[static_cast<std::size_t>(b)]["angular_velocity"] =
+          triple(run.angular_velocities[static_cast<std::size_t>(b)]);
+    }
   return bodies;
+}
+
+nlohmann::json fem_states(const RigidSceneModel& scene, const RigidSimulateRun& run) {
+  nlohmann::json bodies = nlohmann::json::array();
+  for (std::size_t i = 0; i < scene.fem.size(); ++i) {
+    const FemBodyPart& part = scene.fem[i];
+    const Vector u = run.state.segment(part.dof_offset, part.setup.num_dofs()) - part.setup.rest_state();
+    double largest = 0.0;
+    for (int v = 0; v < part.setup.mesh.num_vertices(); ++v)
+      largest = std::max(largest, u.segment<3>(3 * v).norm());
+    bodies.push_back({{"name", part.name},
+                      {"vertices", part.setup.mesh.num_vertices()},
+                      {"elements", part.setup.mesh.num_elements()},
+                      {"surface_vertices", part.mesh_vertex.size()},
+                      {"max_displacement", largest},
+                      {"contact_force", triple(run.fem_contact_forces[i])}});
+  }
+  return bodies;
+}
+
+// Adaptive kappa's bounds: the given ones, else min = the kappa at which one pair at d_hat / 2
+// carries 1 % of the largest load on one body (contact::stiffness_for_force; the load: a free
+// rigid body's weight and force, an FEM body's total load; in dynamics at least m d_hat / h^2,
+// the force that stops a body moving d_hat per step within the step; 1 when there is none) and
+// max = 100 min (IPC's ratio): one pair then carries the whole load at d_hat / 2.
+contact::StiffnessOptions stiffness_options(const RigidSceneSpec& spec, double fem_load) {
+  contact::StiffnessOptions s = spec.stiffness;
+  if (!(s.min_stiffness > 0.0)) {
+    double force = fem_load;
+    for (std::size_t b = 0; b < spec.bodies.size(); ++b) {
+      const rigid::RigidBody& body = spec.bodies[b];
+      if (body.fixed || body.kinematic) continue;
+      force = std::max(force, body.mass * spec.gravity.norm() + spec.forces[b].norm());
+      if (spec.time_step > 0.0)
+        force =
+            std::max(force, body.mass * spec.contact.activation_distance / (spec.time_step * spec.time_step));
+    }
+    s.min_stiffness =
+        contact::stiffness_for_force(0.01 * (force > 0.0 ? force : 1.0), spec.contact.activation_distance);
+  }
+  if (!(s.max_stiffness > 0.0)) s.max_stiffness = 100.0 * s.min_stiffness;
+  return s;
+}
+
+nlohmann::json stiffness_json(const RigidSceneSpec& spec, const RigidSceneModel& scene, double kappa) {
+  nlohmann::json s = {{"mode", spec.stiffness.adaptive ? "adaptive" : "fixed"}, {"final", kappa}};
+  if (spec.stiffness.adaptive) {
+    const contact::StiffnessOptions bounds = stiffness_options(spec, scene.fem_load);
+    s["min"] = bounds.min_stiffness;
+    s["max"] = bounds.max_stiffness;
+  }
+  return s;
 }
 
 RigidSimulateRun simulate_dynamics(const RigidSceneSpec& spec, RigidSceneModel& scene,
                                    const std::string& out_dir, std::ostream* log) {
   const rigid::RigidBodySystem& system = scene.system;
-  rigid::RigidTimeStepper stepper(system, scene.model, *scene.inertia, spec.newton);
+  rigid::RigidStepOptions step_options;
+  step_options.contact = scene.contact;
+  step_options.friction = scene.friction;
+  step_options.loads = scene.loads;
+  step_options.initial_guess = spec.initial_guess;
+  step_options.velocity_tolerance = spec.velocity_tolerance;
+  if (spec.velocity_tolerance < 0.0) {
+    const contact::Positions x = system.world_positions(system.initial_state());
+    step_options.velocity_tolerance = 1e-8 * (x.colwise().maxCoeff() - x.colwise().minCoeff()).norm();
+  }
+  step_options.friction_iterations = spec.friction_iterations;
+  step_options.stiffness = stiffness_options(spec, scene.fem_load);
+  rigid::RigidTimeStepper stepper(system, *scene.model, *scene.inertia, spec.newton, step_options);
   for (int b = 0; b < system.num_bodies(); ++b)
-    stepper.set_velocity(b, spec.velocities[static_cast<std::size_t>(b)],
-                         spec.angular_velocities[static_cast<std::size_t>(b)]);
+    if (!system.body(b).kinematic)
+      stepper.set_velocity(b, spec.velocities[static_cast<std::size_t>(b)],
+                           spec.angular_velocities[static_cast<std::size_t>(b)]);
   std::filesystem::create_directories(out_dir);
   auto frame_suffix = [](int n) {
     char buffer[16];
     std::snprintf(buffer, sizeof buffer, "_%04d", n);
     return std::string(buffer);
   };
-  write_frames(system, stepper.state(), out_dir, frame_suffix(0));
+  write_frames(scene, stepper.state(), out_dir, frame_suffix(0));
   RigidSimulateRun run;
   run.min_distance = std::numeric_limits<double>::infinity();
   nlohmann::json steps = nlohmann::json::array();
-  int total_iterations = 0;
   for (int n = 1; n <= spec.steps; ++n) {
     run.newton = stepper.step();
     if (!run.newton.converged()) {
       if (log) *log << "step " << n << " failed:\n" << run.newton.report() << "\n";
       break;
     }
+    const rigid::RigidStepReport& report = stepper.last_report();
     run.steps_completed = n;
-    total_iterations += run.newton.iterations;
+    run.newton_iterations += report.newton_iterations;
     const double distance = scene.contact->min_distance(stepper.state(), 1e30);
-    const int crossings =
-        contact::count_edge_face_intersections(system.surface(), system.world_positions(stepper.state()));
+    const int crossings = intersections(scene, stepper.state());
     run.min_distance = std::min(run.min_distance, distance);
     run.intersections += crossings;
-    steps.push_back({{"step", n},
-                     {"newton_iterations", run.newton.iterations},
-                     {"min_distance", distance},
-                     {"intersections", crossings}});
+    nlohmann::json step = {{"step", n},
+                           {"newton_iterations", report.newton_iterations},
+                           {"min_distance", distance},
+                           {"intersections", crossings},
+                           {"stiffness", report.stiffness}};
+    if (report.kinematic_stages > 1) step["kinematic_stages"] = report.kinematic_stages;
+    if (scene.friction) {
+      const auto [sliding, sticking] = scene.friction->sliding_and_sticking(stepper.state());
+      step["sliding_pairs"] = sliding;
+      step["sticking_pairs"] = sticking;
+    }
+    steps.push_back(step);
     if (log)
-      *log << "step " << n << ": " << run.newton.iterations << " Newton iterations, min distance " << distance
-           << (crossings ? ", INTERSECTING" : "") << "\n";
-    if (n % spec.output_every == 0) write_frames(system, stepper.state(), out_dir, frame_suffix(n));
+      *log << "step " << n << ": " << report.newton_iterations << " Newton iterations, min distance "
+           << distance << ", kappa " << report.stiffness << (crossings ? ", INTERSECTING" : "") << "\n";
+    if (n % spec.output_every == 0) write_frames(scene, stepper.state(), out_dir, frame_suffix(n));
   }
   run.state = stepper.state();
-  run.contact_forces = Vector::Zero(run.state.size());
-  scene.contact->add_gradient(run.state, Vector(), run.contact_forces);
-  run.contact_forces = -run.contact_forces;
-  run.active_pairs = scene.contact->potential().num_active(system.world_positions(run.state));
+  for (const rigid::RigidMotion& m : stepper.motion()) {
+    run.velocities.push_back(m.velocity);
+    run.angular_velocities.push_back(skew_vee(m.rotation_rate * m.rotation.transpose()));
+  }
+  contact_results(scene, run);
   nlohmann::ordered_json report;
   add_report_header(report);
   report["scene"] = spec.name;
@@ -270,13 +310,64 @@ RigidSimulateRun simulate_dynamics(const RigidSceneSpec& spec, RigidSceneModel& 
   report["time_step"] = spec.time_step;
   report["steps"] = spec.steps;
   report["steps_completed"] = run.steps_completed;
-  report["newton_iterations"] = total_iterations;
+  report["newton_iterations"] = run.newton_iterations;
   report["min_distance"] = run.min_distance;
   report["intersections"] = run.intersections;
+  report["stiffness"] = stiffness_json(spec, scene, run.stiffness);
+  report["friction"] = {{"coefficient", spec.friction.coefficient},
+                        {"velocity_threshold", spec.friction.velocity_threshold},
+                        {"iterations", spec.friction_iterations}};
+  report["velocity_tolerance"] = step_options.velocity_tolerance;
   report["per_step"] = steps;
-  report["bodies"] = body_states(system, run.state, run.contact_forces);
+  report["bodies"] = body_states(scene, run);
   std::ofstream(std::filesystem::path(out_dir) / "report.json") << report.dump(2) << "\n";
   return run;
+}
+
+// Newton from q0 with the stiffness balanced there when adaptive; with torques, re-solved with
+// their reference moved to the solution until the solution stays (at most 20 times).
+void solve_static(const RigidSceneSpec& spec, RigidSceneModel& scene, std::ostream* log,
+                  RigidSimulateRun& run) {
+  Model& model = *scene.model;
+  const Vector& p = scene.parameters;
+  Vector y = model.elimination().restrict_state(scene.rest_state);
+  if (spec.stiffness.adaptive) {
+    const contact::StiffnessOptions s = stiffness_options(spec, scene.fem_load);
+    const Vector q = model.state(y, p);
+    const Vector barrier = scene.contact->unit_stiffness_gradient(q);
+    const Vector other = model.gradient(q, p) - scene.contact->potential().options().stiffness * barrier;
+    scene.contact->potential().set_stiffness(contact::balanced_stiffness(model.elimination().reduce(other),
+                                                                         model.elimination().reduce(barrier),
+                                                                         s.min_stiffness, s.max_stiffness));
+  }
+  NewtonOptions options = spec.newton;
+  options.progress = log;
+  if (spec.stiffness.adaptive) {
+    // Raised while the smallest distance keeps shrinking below the threshold.
+    const contact::StiffnessOptions s = stiffness_options(spec, scene.fem_load);
+    const double d_hat = spec.contact.activation_distance;
+    auto previous = std::make_shared<double>(scene.contact->min_distance(model.state(y, p), d_hat));
+    rigid::RigidContactTerm* contact = scene.contact;
+    options.after_step = [contact, previous, s, d_hat](const Vector& x) {
+      const double distance = contact->min_distance(x, d_hat);
+      contact->potential().set_stiffness(
+          contact::raised_stiffness(contact->potential().options().stiffness, *previous, distance,
+                                    s.distance_fraction * d_hat, s.growth, s.max_stiffness));
+      *previous = distance;
+    };
+  }
+  NewtonSolver newton(model, options);
+  for (int lag = 0;; ++lag) {
+    const Vector before = y;
+    run.newton = newton.solve(p, y);
+    run.newton_iterations += run.newton.iterations;
+    if (lag == 0) newton.options().reference_residual = run.newton.initial_residual;
+    if (!run.newton.converged() || !scene.loads || !scene.loads->has_torques()) break;
+    scene.loads->set_reference(model.state(y, p).head(scene.system.num_dofs()));
+    if ((y - before).lpNorm<Eigen::Infinity>() <= 1e-14 * (1.0 + y.lpNorm<Eigen::Infinity>()) || lag == 20)
+      break;
+  }
+  run.state = model.state(y, p);
 }
 
 }  // namespace
@@ -285,39 +376,31 @@ RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::str
                                       std::ostream* log) {
   RigidSceneModel scene(spec, false);
   if (spec.time_step > 0.0) return simulate_dynamics(spec, scene, out_dir, log);
-  const rigid::RigidBodySystem& system = scene.system;
-  const Model& model = scene.model;
-  const rigid::RigidContactTerm& contact = *scene.contact;
-  const Vector q0 = system.initial_state();
-
   RigidSimulateRun run;
-  NewtonOptions options = spec.newton;
-  options.progress = log;
-  NewtonSolver newton(model, options);
-  Vector y = model.elimination().restrict_state(q0);
-  run.newton = newton.solve(Vector(), y);
-  run.state = model.state(y, Vector());
-  run.contact_forces = Vector::Zero(run.state.size());
-  contact.add_gradient(run.state, Vector(), run.contact_forces);
-  run.contact_forces = -run.contact_forces;
-  run.min_distance = contact.min_distance(run.state, 1e30);
-  run.active_pairs = contact.potential().num_active(system.world_positions(run.state));
+  solve_static(spec, scene, log, run);
+  contact_results(scene, run);
+  run.min_distance = scene.contact->min_distance(run.state, 1e30);
+  run.intersections = intersections(scene, run.state);
   if (log)
     *log << run.newton.report() << "\nmin distance between bodies " << run.min_distance
-         << ", active contact pairs " << run.active_pairs << "\n";
+         << ", active contact pairs " << run.active_pairs << ", kappa " << run.stiffness
+         << (run.intersections ? ", INTERSECTING" : "") << "\n";
 
   std::filesystem::create_directories(out_dir);
   nlohmann::ordered_json report;
   add_report_header(report);
   report["scene"] = spec.name;
   report["status"] = to_string(run.newton.status);
-  report["iterations"] = run.newton.iterations;
+  report["iterations"] = run.newton_iterations;
   report["final_residual"] = run.newton.final_residual;
   report["seconds"] = run.newton.total_seconds;
   report["min_distance"] = run.min_distance;
+  report["intersections"] = run.intersections;
   report["active_pairs"] = run.active_pairs;
-  report["bodies"] = body_states(system, run.state, run.contact_forces);
-  write_frames(system, run.state, out_dir, "");
+  report["stiffness"] = stiffness_json(spec, scene, run.stiffness);
+  report["bodies"] = body_states(scene, run);
+  if (!scene.fem.empty()) report["fem_bodies"] = fem_states(scene, run);
+  write_frames(scene, run.state, out_dir, "");
   std::ofstream(std::filesystem::path(out_dir) / "report.json") << report.dump(2) << "\n";
   return run;
 }
@@ -327,6 +410,13 @@ TaylorTestResult gradcheck_rigid_scene(const RigidSceneSpec& spec, const std::st
   if (spec.time_step > 0.0)
     throw SceneError(spec.source +
                      ": gradcheck of dynamic rigid scenes is not implemented (static scenes only)");
+  if (!spec.fem_bodies.empty())
+    throw SceneError(spec.source +
+                     ": gradcheck of scenes with FEM bodies is not implemented (rigid bodies only)");
+  if (spec.has_torques() || spec.stiffness.adaptive)
+    throw SceneError(spec.source +
+                     ": gradcheck needs a fixed contact stiffness and no torques (both are updated between "
+                     "solves, the adjoint differentiates one solve)");
   RigidSceneModel scene(spec, true);
   const rigid::RigidBodySystem& system = scene.system;
   std::vector<int> centres;
@@ -341,8 +431,8 @@ TaylorTestResult gradcheck_rigid_scene(const RigidSceneSpec& spec, const std::st
   StaticFunctionalOptions options;
   options.newton = spec.newton;
   options.newton.relative_tolerance = std::min(spec.newton.relative_tolerance, 1e-11);
-  StaticFunctional functional(scene.model, identity_map(system.num_bodies()), objective,
-                              scene.model.elimination().restrict_state(system.initial_state()), options);
+  StaticFunctional functional(*scene.model, identity_map(system.num_bodies()), objective,
+                              scene.model->elimination().restrict_state(system.initial_state()), options);
   Vector masses(system.num_bodies());
   for (int b = 0; b < system.num_bodies(); ++b) masses[b] = system.body(b).mass;
   TaylorTestOptions taylor;

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -74,6 +76,45 @@ TEST(RigidScene, DroppedBoxSceneCompletesWithoutIntersections) {
   EXPECT_THROW(gradcheck_rigid_scene(spec, out, 1, nullptr), SceneError);
 }
 
+// Friction in a scene: the box slides down the 30 degree incline with Coulomb's acceleration
+// a = g (sin 30 - mu cos 30) (mu = 0.5): its velocity grows by 0.5 s x a between steps 50 and
+// 100. The report gives kappa (adaptive, within its bounds) and the friction settings.
+TEST(RigidScene, BoxSlidesDownTheInclineWithCoulombFriction) {
+  RigidSceneSpec spec = read_rigid_scene(kScenes + "box_on_incline.json");
+  const std::string out = temporary_directory("incline");
+  const RigidSimulateRun run = simulate_rigid_scene(spec, out, nullptr);
+  ASSERT_TRUE(run.completed()) << run.newton.report();
+  EXPECT_EQ(run.intersections, 0);
+  spec.steps = 50;
+  const RigidSimulateRun half = simulate_rigid_scene(spec, temporary_directory("incline_half"), nullptr);
+  ASSERT_TRUE(half.completed()) << half.newton.report();
+  const double theta = M_PI / 6, a = 9.81 * (std::sin(theta) - 0.5 * std::cos(theta));
+  const Eigen::Vector3d down(std::cos(theta), 0, -std::sin(theta));
+  const double measured = (run.velocities[1] - half.velocities[1]).dot(down) / 0.5;
+  std::printf("incline scene: acceleration %.6f m/s^2, Coulomb %.6f m/s^2\n", measured, a);
+  EXPECT_NEAR(measured, a, 1e-2 * a);  // the box still rocks a little from its landing
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["stiffness"]["mode"], "adaptive");
+  const double kappa = report["stiffness"]["final"];
+  EXPECT_GE(kappa, report["stiffness"]["min"].get<double>());
+  EXPECT_LE(kappa, report["stiffness"]["max"].get<double>());
+  EXPECT_EQ(report["friction"]["coefficient"], 0.5);
+  EXPECT_GT(report["per_step"][99]["sliding_pairs"].get<int>(), 0);
+}
+
+// A kinematic plate pushes a box (it keeps its prescribed pose exactly, the box moves with it);
+// a torque turns another box about the vertical against friction.
+TEST(RigidScene, KinematicPlateAndTorqueScene) {
+  const RigidSceneSpec spec = read_rigid_scene(kScenes + "plate_pushes_box.json");
+  const RigidSimulateRun run = simulate_rigid_scene(spec, temporary_directory("plate"), nullptr);
+  ASSERT_TRUE(run.completed()) << run.newton.report();
+  EXPECT_EQ(run.intersections, 0);
+  EXPECT_NEAR(run.state[12], -0.32 + 0.5 * 1.0, 1e-12);  // the plate at x0 + v t
+  EXPECT_GT(run.state[6], 0.1);                          // the box went along
+  EXPECT_GT(std::abs(run.state[23]), 0.3);               // the turned box turned about z
+}
+
 void expect_scene_error(const std::string& json, const std::string& fragment) {
   try {
     const RigidSceneSpec spec = parse_rigid_scene(json, "bad.json");
@@ -91,7 +132,8 @@ TEST(RigidScene, BadInputIsReportedWithContext) {
   expect_scene_error(R"({"rigid_bodies": [{"primitive": "cone"}]})", "rigid_bodies[0]");
   expect_scene_error(R"({"rigid_bodies": [{"primitive": "box", "size": [1, 1]}]})", "size");
   expect_scene_error(R"({"rigid_bodies": [{"primitive": "box", "size": [1, 1, 1], "colour": 1}]})", "colour");
-  expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "contact": {"friction": 0.3}})", "friction");
+  expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "contact": {"friction": 0.3}})",
+                     "friction needs a \"dynamics\" section");
   expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "contact": {"stiffness": -1}})", "stiffness");
   expect_scene_error(R"({"rigid_bodies": [)" + ground +
                          R"(, {"primitive": "box", "size": [1, 1, 1], "position": [0, 0, 0.2]}]})",
@@ -102,6 +144,25 @@ TEST(RigidScene, BadInputIsReportedWithContext) {
           R"(, {"primitive": "box", "size": [1, 1, 1], "position": [0, 0, 0.55], "rotation": [0.3, 0, 0]}]})",
       "crossings");
   expect_scene_error("{not json", "invalid JSON");
+  const std::string box = R"({"primitive": "box", "size": [1, 1, 1], "position": [0, 0, 0.505])";
+  expect_scene_error(
+      R"({"rigid_bodies": [)" + ground + "," + box + R"(, "kinematic": {"velocity": [1, 0, 0]}}]})",
+      "kinematic bodies need a \"dynamics\" section");
+  expect_scene_error(
+      R"({"rigid_bodies": [)" + ground + "," + box +
+          R"(, "fixed": true, "kinematic": {}}], "dynamics": {"time_step": 0.01, "steps": 1}})",
+      "either fixed or kinematic");
+  expect_scene_error(
+      R"({"rigid_bodies": [)" + ground + "," + box +
+          R"(, "kinematic": {}, "torque": [0, 0, 1]}], "dynamics": {"time_step": 0.01, "steps": 1}})",
+      "rigid_bodies[1].torque");
+  expect_scene_error(R"({"rigid_bodies": [)" + ground + R"(], "contact": {"stiffness": "stiff"}})",
+                     "contact.stiffness: expected a positive number (a fixed kappa) or \"adaptive\"");
+  expect_scene_error(
+      R"({"rigid_bodies": [)" + ground + R"(], "contact": {"stiffness": 1e5, "min_stiffness": 1}})",
+      "min_stiffness");
+  expect_scene_error(R"({"rigid_bodies": [)" + ground + "," + box + R"(, "velocity": [1, 0, 0]}]})",
+                     "need a \"dynamics\" section");
 }
 
 }  // namespace

@@ -369,9 +369,13 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       if (full_step && last.step_norm <= options_.step_tolerance * x_scale && residual <= accurate)
         return finish(NewtonStatus::converged, "step at round-off level");
       // At the floor: below its estimate, or a full step of an exact factorization that did not
-      // halve the residual (quadratic convergence has stopped).
+      // halve the residual (quadratic convergence has stopped). With a constant Hessian every
+      // step after the first is iterative refinement with the same factor, and the energy is
+      // quadratic: a step of any length that does not halve the residual means the factor's
+      // solves have no digits left (a line search that shortens such steps only hides it).
       const bool exact_step = (last.factorizations == 1 && !last.used_projected) || last.kept_constant_factor;
-      const bool stalled = full_step && exact_step && residual > 0.5 * last.residual;
+      const bool refinement = exact_step && model_.hessian_is_constant();
+      const bool stalled = (full_step || refinement) && exact_step && residual > 0.5 * last.residual;
       if (residual <= result.residual_floor || (stalled && residual <= accurate)) {
         if (residual <= accurate) {
           why << "residual " << residual << " at its round-off floor (requested " << target << ")";
@@ -381,6 +385,14 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
             << residual / scale
             << " of the initial residual): the stiffness matrix is too ill-conditioned for "
             << "double precision (condition number at least " << result.condition_estimate
+            << "; a contrast of moduli?), the solution has no reliable digits";
+        return finish(NewtonStatus::ill_conditioned, why.str());
+      }
+      if (stalled && refinement) {
+        why << "residual " << residual << " (" << residual / scale
+            << " of the initial residual) not halved by a step with the exact factor of a constant "
+            << "Hessian: the stiffness matrix is too ill-conditioned for double precision (condition "
+            << "number at least " << result.condition_estimate
             << "; a contrast of moduli?), the solution has no reliable digits";
         return finish(NewtonStatus::ill_conditioned, why.str());
       }

@@ -376,23 +376,15 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       const bool exact_step = (last.factorizations == 1 && !last.used_projected) || last.kept_constant_factor;
       const bool refinement = exact_step && model_.hessian_is_constant();
       const bool stalled = (full_step || refinement) && exact_step && residual > 0.5 * last.residual;
-      if (residual <= result.residual_floor || (stalled && residual <= accurate)) {
+      if (residual <= result.residual_floor || (stalled && (residual <= accurate || refinement))) {
         if (residual <= accurate) {
           why << "residual " << residual << " at its round-off floor (requested " << target << ")";
           return finish(NewtonStatus::round_off_floor, why.str());
         }
-        why << "residual " << residual << " at its round-off floor (about " << result.residual_floor << ", "
-            << residual / scale
+        why << "residual " << residual << " at its round-off floor (estimated " << result.residual_floor
+            << ", " << residual / scale
             << " of the initial residual): the stiffness matrix is too ill-conditioned for "
             << "double precision (condition number at least " << result.condition_estimate
-            << "; a contrast of moduli?), the solution has no reliable digits";
-        return finish(NewtonStatus::ill_conditioned, why.str());
-      }
-      if (stalled && refinement) {
-        why << "residual " << residual << " (" << residual / scale
-            << " of the initial residual) not halved by a step with the exact factor of a constant "
-            << "Hessian: the stiffness matrix is too ill-conditioned for double precision (condition "
-            << "number at least " << result.condition_estimate
             << "; a contrast of moduli?), the solution has no reliable digits";
         return finish(NewtonStatus::ill_conditioned, why.str());
       }

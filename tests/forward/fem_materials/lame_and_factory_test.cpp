@@ -27,8 +27,11 @@ TEST(Lame, KnownValues) {
 }
 
 TEST(Lame, JacobianMatchesDifferences) {
-  for (const auto& [E, nu] : std::vector<std::pair<double, double>>{
+  for (const auto& [E_value, nu_value] : std::vector<std::pair<double, double>>{
            {1.0, 0.25}, {3.7, 0.3}, {2e5, 0.49}, {0.5, -0.7}, {3.7, 0.4999}}) {
+    // Plain copies: C++17 lambdas cannot capture structured bindings (clang rejects it).
+    const double E = E_value;
+    const double nu = nu_value;
     SCOPED_TRACE("E=" + std::to_string(E) + " nu=" + std::to_string(nu));
     const Eigen::Matrix2d J = lame_jacobian(E, nu);
     for (int which = 0; which < 2; ++which) {

@@ -5,6 +5,8 @@
 // validated with the rest of the scene (parse_scene); checks that need the mesh happen when
 // the inverse problem is built (inverse_problem.hpp), naming the key path kept here.
 #include <Eigen/Core>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <variant>
@@ -100,8 +102,18 @@ struct TikhonovTerm {
   double prior = 1.0;  // J = 1/2 sum_e ((E_e - prior) / prior)^2
 };
 
+// A term of a type the program registered (problems/objective_term_registry.hpp): its JSON,
+// built into an Objective with the problem. (kType is no scene "type": the registered one is.)
+struct ObjectiveTermType;
+struct RegisteredTerm {
+  static constexpr const char* kType = "(registered)";
+  static constexpr bool kIsData = false;
+  std::shared_ptr<const ObjectiveTermType> kind;
+  nlohmann::json value;  // the whole term object
+};
+
 using ObjectiveTerm = std::variant<TargetDisplacementsTerm, ObservationsTerm, SyntheticObservationsTerm,
-                                   SmoothnessTerm, TikhonovTerm, HandlesTerm>;
+                                   SmoothnessTerm, TikhonovTerm, HandlesTerm, RegisteredTerm>;
 
 struct ObjectiveTermSpec {
   ObjectiveTerm term;

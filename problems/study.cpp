@@ -204,13 +204,17 @@ std::vector<EnergyTermCheck> Study::check_energy_terms(unsigned seed) {
 TaylorTestResult Study::taylor_test(std::optional<TaylorTestOptions> options) {
   InverseProblem& p = problem();
   // As gradcheck_problem: J(z + h dz) is only as accurate as the equilibrium.
+  // The run keeps the problem's own tolerances: they are put back afterwards.
   NewtonOptions& newton = p.functional->newton_options();
+  const NewtonOptions kept = newton;
   const double tighter = 1e-14 / newton.relative_tolerance;
   if (tighter < 1.0) {
     newton.relative_tolerance *= tighter;
     newton.absolute_tolerance *= tighter;
   }
-  return tailor::taylor_test(*p.functional, p.z0, options.value_or(p.spec.gradcheck));
+  TaylorTestResult result = tailor::taylor_test(*p.functional, p.z0, options.value_or(p.spec.gradcheck));
+  newton = kept;
+  return result;
 }
 
 InverseRun Study::run(const std::string& out_dir, std::ostream* log, std::ostream* progress) {

@@ -88,7 +88,7 @@ class Study {
   // Derivative checks of every energy term of the problem's model (tailor check).
   std::vector<EnergyTermCheck> check_energy_terms(unsigned seed = 1);
   // Taylor test of J at z0 (the scene's gradcheck settings unless given), with the forward
-  // solves tightened to the round-off floor first (tailor gradcheck). Writes no file.
+  // solves tightened to the round-off floor for it (as tailor gradcheck). Writes no file.
   TaylorTestResult taylor_test(std::optional<TaylorTestOptions> options = std::nullopt);
   // Minimizes from z0 with the scene's (or optimizer()'s) back-end and the constraints; writes
   // out_dir/report.json, result.vtu, convergence.png and youngs_modulus.png like `tailor run`.

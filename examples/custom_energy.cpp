@@ -62,7 +62,8 @@ int main() {
         return std::make_unique<FoundationSprings>(bottom, setup.rest_state(), 1e4, 0.5);
       })
       .design({{"parameter", "youngs_modulus"}, {"granularity", "per_material"}, {"min", 1e3}, {"max", 1e7}})
-      .objective({{"type", "synthetic_observations"}, {"vertices", select::boundary()}, {"youngs_modulus", 1e5}});
+      .objective({{"type", "synthetic_observations"}, {"vertices", select::boundary()}, {"youngs_modulus", 1e5}})
+      .optimizer({{"backend", "nlopt_lbfgs"}, {"gradient_tolerance", 1e-12}});
 
   // Every energy term of the model, the springs included, against central differences.
   bool checked = true;

@@ -328,7 +328,7 @@ nlohmann::json sag_scene(nlohmann::json term) {
           {"dirichlet", {{{"vertices", select::plane("x", 0)}}}},
           {"loads", {{"tractions", {{{"faces", select::plane("x", 4)}, {"traction", {0, 0, -1e2}}}}}}},
           {"inverse",
-           {{"design", {{"parameter", "youngs_modulus"}, {"granularity", "per_material"}}},
+           {{"design", {{"parameter", "youngs_modulus"}, {"granularity", "per_material"}, {"min", 1e3}, {"max", 1e8}}},
             {"objective", {std::move(term)}}}}};
 }
 
@@ -337,14 +337,18 @@ TEST(Study, RegisteredSceneTermTypeIsNamedByScenes) {
   // Scenes name it like tailor's own types, through read_scene and through the facade.
   const fs::path file = fs::path(scratch("registered")) / "sag.json";
   fs::create_directories(file.parent_path());
-  std::ofstream(file) << sag_scene({{"type", "test_mean_sag"}, {"vertices", select::plane("x", 4)}, {"target", -0.01}});
+  // The weight scales J (1/2 (m - t)^2, m ~ 1e-2) to order 1 for the optimizer's absolute tolerances.
+  std::ofstream(file) << sag_scene(
+      {{"type", "test_mean_sag"}, {"vertices", select::plane("x", 4)}, {"target", -0.01}, {"weight", 1e4}});
   const std::unique_ptr<InverseProblem> problem = build_inverse_problem(read_scene(file.string()));
   ASSERT_EQ(problem->terms.size(), 1u);
   EXPECT_EQ(problem->terms[0].type, "test_mean_sag");
   EXPECT_EQ(problem->terms[0].key, "inverse.objective[0]");
+  EXPECT_EQ(problem->terms[0].coefficient, 1e4);  // the weight, not normalized
   Study study = Study::from_file(file.string());
   expect_first_then_second_order(study.taylor_test());
   const InverseRun run = study.run(scratch("registered_run"));
+  ASSERT_TRUE(run.solution.converged) << run.result.report();
   EXPECT_NEAR(dynamic_cast<const MeanSag&>(*run.problem->terms[0].term).mean(run.solution.positions), -0.01, 1e-8);
 
   // Its keys are checked like tailor's: unknown ones and missing required ones name the key path.
@@ -429,18 +433,24 @@ TEST(Study, RunWritesWhatTailorRunWrites) {
 
 TEST(Study, EveryBackendRecoversTheBar) {
   // Reference: the true moduli (1e5, 3e5) the observations were simulated with, from 3x off.
+  // Plain descent converges linearly on this ill-conditioned pair: it is only asked to lower J by
+  // 100x in 300 iterations (tests/validation runs it to 1e-6 in 3000).
   for (OptimizerBackend backend :
        {OptimizerBackend::ipopt, OptimizerBackend::nlopt_lbfgs, OptimizerBackend::nlopt_mma,
         OptimizerBackend::nlopt_slsqp, OptimizerBackend::ceres_lbfgs, OptimizerBackend::ceres_least_squares,
         OptimizerBackend::gradient_descent}) {
     SCOPED_TRACE(to_string(backend));
+    const bool descent = backend == OptimizerBackend::gradient_descent;
     Study study = two_material_bar();
     if (backend == OptimizerBackend::ceres_lbfgs)  // takes no bounds
       study.design({{"parameter", "youngs_modulus"}, {"granularity", "per_material"}});
-    study.optimizer({{"backend", to_string(backend)},
-                     {"max_iterations", backend == OptimizerBackend::gradient_descent ? 3000 : 500},
-                     {"gradient_tolerance", 1e-13}});
+    study.optimizer(
+        {{"backend", to_string(backend)}, {"max_iterations", descent ? 300 : 500}, {"gradient_tolerance", 1e-13}});
     const InverseRun run = study.run(scratch("backend_" + to_string(backend)));
+    if (descent) {
+      EXPECT_LT(run.result.objective, 1e-2 * run.result.history.front().objective) << run.result.report();
+      continue;
+    }
     EXPECT_NEAR(run.design_values[0] / 1e5, 1.0, 1e-6) << run.result.report();
     EXPECT_NEAR(run.design_values[1] / 3e5, 1.0, 1e-6) << run.result.report();
   }

@@ -386,6 +386,25 @@ TEST(Study, ConstraintFunctionalsPassTheirTaylorTests) {
   EXPECT_NEAR(mean_youngs_modulus(p)->value(z), volumes.dot(p.youngs_modulus(z)) / volumes.sum(), 1e-9 * 1e5);
   const std::shared_ptr<ReducedFunctional> compliance = state_functional(p, p.terms.back().term);
   expect_first_then_second_order(taylor_test(*compliance, z));
+  // The constraints made of them: c = -(f - bound) / bound for at_least; its gradient against
+  // central differences of its value (reference), and its value against f's.
+  const Constraint c = at_least(compliance, 0.5, "compliance");
+  const Vector dz = Vector::Random(z.size());
+  Vector gradient;
+  const double value = c.evaluate(z, &gradient);
+  EXPECT_NEAR(value, -(compliance->value(z) - 0.5) / 0.5, 1e-12);
+  const auto along = [&](double t) { return Vector::Constant(1, c.evaluate(z + t * dz, nullptr)); };
+  EXPECT_TRUE(check_directional_derivative("constraint", along, Vector::Constant(1, gradient.dot(dz)), {}).passed);
+}
+
+TEST(Study, MaterialModesDesign) {
+  // granularity "modes" through the facade: 4 Laplacian modes of the 24-tet field.
+  Study study = small_cantilever();
+  study.design({{"parameter", "youngs_modulus"}, {"granularity", "modes"}, {"modes", 4}, {"min", 1e4}, {"max", 1e6}})
+      .objective({{"type", "synthetic_observations"}, {"vertices", select::boundary()}, {"youngs_modulus", 2e5}});
+  ASSERT_EQ(study.problem().num_design(), 4);
+  ASSERT_TRUE(study.problem().modal.has_value());
+  expect_first_then_second_order(study.taylor_test());
 }
 
 TEST(Study, ConstrainedDesignOnEveryConstrainedBackend) {

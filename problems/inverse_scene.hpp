@@ -67,7 +67,9 @@ struct DesignSpec {
 //
 // Adding a term type: a struct here with its JSON "type" (kType) and whether it compares data
 // (kIsData), an alternative in ObjectiveTerm, a parse_term_body overload (inverse_scene.cpp)
-// and a build_term overload (inverse_problem.cpp). A missing overload fails to compile.
+// and a build_term overload (inverse_problem.cpp). A missing overload fails to compile. A program
+// adds its own types without touching these files: register_objective_term
+// (problems/objective_term_registry.hpp), parsed into a RegisteredTerm below.
 struct TargetDisplacementsTerm {
   static constexpr const char* kType = "target_displacements";
   static constexpr bool kIsData = true;

@@ -48,7 +48,7 @@ int main() {
 
   const InverseRun run = study.run("out/constrained_design", &std::cout);
   const double mean = mean_youngs_modulus(*run.problem)->value(run.result.z);
-  std::printf("compliance %.4f of the uniform design's, mean E %.6g (budget %g)\n", run.result.objective, mean,
-              budget);
+  std::printf("compliance %.4f of the uniform design's, mean E %.6g (budget %g)\n", run.result.objective,
+              mean, budget);
   return run.result.objective < 0.9 && mean <= budget * (1 + 1e-6) ? 0 : 1;
 }

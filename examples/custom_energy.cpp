@@ -37,7 +37,8 @@ class FoundationSprings final : public EnergyTerm {
         // k (n n^T + (1 - h/r) (I - n n^T)); projected: the second part only where stretched.
         double lateral = 1.0 - h_ / r;
         if (request.hessian_mode == HessianMode::projected) lateral = std::max(lateral, 0.0);
-        const Eigen::Matrix3d H = k_ * (n * n.transpose() + lateral * (Eigen::Matrix3d::Identity() - n * n.transpose()));
+        const Eigen::Matrix3d H =
+            k_ * (n * n.transpose() + lateral * (Eigen::Matrix3d::Identity() - n * n.transpose()));
         Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(request.hessian_values + 9 * s) = H;
       }
     }
@@ -62,7 +63,8 @@ int main() {
         return std::make_unique<FoundationSprings>(bottom, setup.rest_state(), 1e4, 0.5);
       })
       .design({{"parameter", "youngs_modulus"}, {"granularity", "per_material"}, {"min", 1e3}, {"max", 1e7}})
-      .objective({{"type", "synthetic_observations"}, {"vertices", select::boundary()}, {"youngs_modulus", 1e5}})
+      .objective(
+          {{"type", "synthetic_observations"}, {"vertices", select::boundary()}, {"youngs_modulus", 1e5}})
       .optimizer({{"backend", "nlopt_lbfgs"}, {"gradient_tolerance", 1e-12}});
 
   // Every energy term of the model, the springs included, against central differences.

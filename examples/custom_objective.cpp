@@ -47,8 +47,11 @@ class MeanDisplacement final : public Objective {
 };
 
 int main(int argc, char** argv) {
-  register_objective_term({"mean_displacement", true, {"vertices", "direction", "target"},
-                           {"vertices", "direction", "target"}, [](const ObjectiveTermContext& c) {
+  register_objective_term({"mean_displacement",
+                           true,
+                           {"vertices", "direction", "target"},
+                           {"vertices", "direction", "target"},
+                           [](const ObjectiveTermContext& c) {
                              return std::make_shared<MeanDisplacement>(
                                  c.vertices("vertices"), c.problem.setup.rest_state(),
                                  c.node.at("direction").vector(3), c.node.at("target").positive());

@@ -48,8 +48,8 @@ void print_problem(std::ostream& log, const InverseProblem& problem) {
   log << "scene '" << problem.scene_name << "' (" << problem.scene_source << "): " << mesh.dim() << "D mesh, "
       << mesh.num_vertices() << " vertices, " << mesh.num_elements() << " elements; design: " << d.parameter
       << " " << (problem.element_map ? "element_map" : to_string(d.granularity)) << " ("
-      << problem.num_material_design() << " variable" << (problem.num_material_design() == 1 ? "" : "s") << "), "
-      << (problem.element_map ? "E = " + problem.element_map->name() + "(z)" : design_formula(d));
+      << problem.num_material_design() << " variable" << (problem.num_material_design() == 1 ? "" : "s")
+      << "), " << (problem.element_map ? "E = " + problem.element_map->name() + "(z)" : design_formula(d));
   if (problem.handles) log << ", plus " << problem.handles->size() << " handle displacements";
   log << "\n";
   if (problem.modal && d.modes)

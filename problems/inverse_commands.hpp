@@ -49,6 +49,7 @@ InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std
 // problem. The report, result.vtu and plots are those of run_inverse_scene.
 InverseRun run_inverse_problem(std::unique_ptr<InverseProblem> problem, const std::string& out_dir,
                                std::ostream* log = nullptr, std::ostream* progress = nullptr,
-                               const RunSettings& settings = {}, const std::vector<Constraint>& constraints = {});
+                               const RunSettings& settings = {},
+                               const std::vector<Constraint>& constraints = {});
 
 }  // namespace tailor

@@ -296,7 +296,8 @@ ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const 
                              const RegisteredTerm& t) {
   const ObjectiveTermContext context{scene, problem, SceneNode(t.value, scene.source, spec.key)};
   ObjectivePtr term = t.kind->build(context);
-  if (!term) throw_scene_error(scene, spec.key, "the \"" + t.kind->type + "\" term's build returned no objective");
+  if (!term)
+    throw_scene_error(scene, spec.key, "the \"" + t.kind->type + "\" term's build returned no objective");
   return {spec.key, spec.type(), spec.weight, spec.weight, std::move(term)};
 }
 
@@ -340,8 +341,8 @@ void element_map_design(const InverseExtensions& extensions, InverseProblem& pro
   const int ne = problem.setup.mesh.num_elements();
   const auto fail = [](const std::string& what) { throw std::invalid_argument("the design map " + what); };
   if (map->num_params() != ne)
-    fail("'" + map->name() + "' gives " + std::to_string(map->num_params()) +
-         " values; the mesh has " + std::to_string(ne) + " elements (one E each)");
+    fail("'" + map->name() + "' gives " + std::to_string(map->num_params()) + " values; the mesh has " +
+         std::to_string(ne) + " elements (one E each)");
   if (extensions.z0.size() != map->num_design())
     fail("'" + map->name() + "' takes " + std::to_string(map->num_design()) + " design variables; z0 has " +
          std::to_string(extensions.z0.size()));
@@ -362,7 +363,8 @@ void element_map_design(const InverseExtensions& extensions, InverseProblem& pro
 
 }  // namespace
 
-std::unique_ptr<StaticFunctional> make_static_functional(const InverseProblem& problem, ObjectivePtr objective) {
+std::unique_ptr<StaticFunctional> make_static_functional(const InverseProblem& problem,
+                                                         ObjectivePtr objective) {
   if (!objective) throw std::invalid_argument("make_static_functional: no objective");
   return make_functional(problem, std::move(objective));
 }
@@ -391,7 +393,8 @@ StaticSetup InverseProblem::setup_at(const Vector& z) const {
   return out;
 }
 
-std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene, const InverseExtensions& extensions) {
+std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene,
+                                                      const InverseExtensions& extensions) {
   if (!scene.inverse)
     throw SceneError(
         scene.source +
@@ -446,8 +449,10 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene, const 
   for (std::size_t k = 0; k < extensions.objective_terms.size(); ++k) {
     const InverseExtensions::Term& extra = extensions.objective_terms[k];
     ObjectivePtr term = extra.make ? extra.make(*problem) : nullptr;
-    if (!term) throw std::invalid_argument("the objective term '" + extra.name + "' was not made (no objective)");
-    problem->terms.push_back({"objective term '" + extra.name + "'", extra.name, extra.weight, extra.weight, term});
+    if (!term)
+      throw std::invalid_argument("the objective term '" + extra.name + "' was not made (no objective)");
+    problem->terms.push_back(
+        {"objective term '" + extra.name + "'", extra.name, extra.weight, extra.weight, term});
     parts.push_back(term);
     coefficients.push_back(extra.weight);
   }

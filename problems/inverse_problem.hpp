@@ -92,11 +92,13 @@ struct InverseExtensions {
 // Throws SceneError (no inverse section, selectors that select nothing, sizes that do not fit
 // the mesh, an initial design outside the bounds, a synthetic forward solve that fails, ...)
 // and MeshError; std::invalid_argument for extensions that do not fit (a map of the wrong size).
-std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene, const InverseExtensions& extensions = {});
+std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene,
+                                                      const InverseExtensions& extensions = {});
 
 // The reduced functional J(z) = objective(x*(p(z)), p(z)) on the problem's model and design,
 // with the Newton settings the problem's own functional uses (its objective is problem.objective).
-std::unique_ptr<StaticFunctional> make_static_functional(const InverseProblem& problem, ObjectivePtr objective);
+std::unique_ptr<StaticFunctional> make_static_functional(const InverseProblem& problem,
+                                                         ObjectivePtr objective);
 
 // Errors of a per-element field against the truth: the volume-weighted relative L2 error
 // sqrt(sum_e V_e (E_e - T_e)^2 / sum_e V_e T_e^2) and the largest |E_e - T_e| / T_e.

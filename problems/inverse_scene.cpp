@@ -238,8 +238,8 @@ void parse_term_body(const SceneNode& node, const std::string&, RegisteredTerm& 
     if (!known) {
       std::string expected = "type, weight";
       for (const std::string& k : t.kind->keys) expected += ", " + k;
-      node.at(key.c_str()).fail("unknown key for a \"" + t.kind->type + "\" term (expected one of " + expected +
-                                ")");
+      node.at(key.c_str())
+          .fail("unknown key for a \"" + t.kind->type + "\" term (expected one of " + expected + ")");
     }
   }
   for (const std::string& key : t.kind->required) node.at(key.c_str());
@@ -324,7 +324,8 @@ InverseSpec parse_inverse_section(const SceneNode& node, const std::string& dire
   return parse_inverse_section(node, directory, false);
 }
 
-InverseSpec parse_inverse_section(const SceneNode& node, const std::string& directory, bool other_data_terms) {
+InverseSpec parse_inverse_section(const SceneNode& node, const std::string& directory,
+                                  bool other_data_terms) {
   node.expect_keys({"design", "objective", "ground_truth", "optimizer", "gradcheck"});
   InverseSpec spec;
   spec.design = parse_design(node.at("design"));

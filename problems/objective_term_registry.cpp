@@ -33,14 +33,17 @@ std::vector<int> ObjectiveTermContext::vertices(const char* key) const {
 }
 
 Eigen::MatrixXi ObjectiveTermContext::facets(const char* key) const {
-  return select_boundary_facets(scene, problem.setup.mesh, parse_vertex_selector(node.at(key), scene.directory));
+  return select_boundary_facets(scene, problem.setup.mesh,
+                                parse_vertex_selector(node.at(key), scene.directory));
 }
 
 void register_objective_term(ObjectiveTermType type) {
   if (type.type.empty()) throw std::logic_error("register_objective_term: the type needs a name");
-  if (!type.build) throw std::logic_error("register_objective_term: \"" + type.type + "\" has no build function");
+  if (!type.build)
+    throw std::logic_error("register_objective_term: \"" + type.type + "\" has no build function");
   if (is_builtin_type(type.type, std::make_index_sequence<std::variant_size_v<ObjectiveTerm>>()))
-    throw std::logic_error("register_objective_term: \"" + type.type + "\" is one of tailor's own term types");
+    throw std::logic_error("register_objective_term: \"" + type.type +
+                           "\" is one of tailor's own term types");
   for (const std::string& key : type.required) {
     bool listed = false;
     for (const std::string& k : type.keys) listed = listed || k == key;

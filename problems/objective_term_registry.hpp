@@ -40,9 +40,9 @@ struct ObjectiveTermContext {
 };
 
 struct ObjectiveTermType {
-  std::string type;                // its "type" in the scene
-  bool is_data = false;            // fits data (a scene needs at least one data term)
-  std::vector<std::string> keys;   // its keys besides "type" and "weight"; any other is an error
+  std::string type;                   // its "type" in the scene
+  bool is_data = false;               // fits data (a scene needs at least one data term)
+  std::vector<std::string> keys;      // its keys besides "type" and "weight"; any other is an error
   std::vector<std::string> required;  // of those, the ones it must have
   // The objective; throw SceneError through context.node.fail(...) for bad values.
   std::function<ObjectivePtr(const ObjectiveTermContext& context)> build;

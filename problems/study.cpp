@@ -43,12 +43,14 @@ Study Study::from_file(const std::string& path) {
     throw;
   }
   Study study = from_json(std::move(document), path, std::filesystem::path(path).parent_path().string());
-  if (!study.document_.contains("name")) study.document_["name"] = std::filesystem::path(path).stem().string();
+  if (!study.document_.contains("name"))
+    study.document_["name"] = std::filesystem::path(path).stem().string();
   return study;
 }
 
 Study Study::from_json(nlohmann::json scene, const std::string& source, const std::string& directory) {
-  if (!scene.is_object()) throw SceneError(source + ": (top level): expected a JSON object, got " + describe_json(scene));
+  if (!scene.is_object())
+    throw SceneError(source + ": (top level): expected a JSON object, got " + describe_json(scene));
   Study study;
   study.document_ = std::move(scene);
   study.source_ = source;
@@ -58,7 +60,8 @@ Study Study::from_json(nlohmann::json scene, const std::string& source, const st
 
 void Study::check_unbuilt(const char* what) const {
   if (scene_ || problem_)
-    throw std::logic_error(std::string("Study::") + what + ": the problem is built already (change the study first)");
+    throw std::logic_error(std::string("Study::") + what +
+                           ": the problem is built already (change the study first)");
 }
 
 nlohmann::json& Study::scene() {
@@ -105,7 +108,8 @@ Study& Study::fix(nlohmann::json vertices) {
 
 Study& Study::prescribe(nlohmann::json vertices, std::vector<double> displacement) {
   check_unbuilt("prescribe");
-  document_["dirichlet"].push_back({{"vertices", std::move(vertices)}, {"displacement", std::move(displacement)}});
+  document_["dirichlet"].push_back(
+      {{"vertices", std::move(vertices)}, {"displacement", std::move(displacement)}});
   return *this;
 }
 
@@ -146,7 +150,8 @@ Study& Study::objective(nlohmann::json term) {
 Study& Study::objective(const std::string& name, ObjectiveFactory make, double weight) {
   check_unbuilt("objective");
   if (!make) throw std::invalid_argument("Study::objective: '" + name + "' has no factory");
-  if (!(weight >= 0.0)) throw std::invalid_argument("Study::objective: the weight of '" + name + "' must be >= 0");
+  if (!(weight >= 0.0))
+    throw std::invalid_argument("Study::objective: the weight of '" + name + "' must be >= 0");
   extensions_.objective_terms.push_back({name, weight, std::move(make)});
   return *this;
 }

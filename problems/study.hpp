@@ -33,12 +33,12 @@ namespace tailor {
 
 // The scene format's selectors as JSON values (docs/scenes.md, "Selectors").
 namespace select {
-nlohmann::json plane(const std::string& axis, double value);          // |coordinate - value| <= 1e-9 diag
+nlohmann::json plane(const std::string& axis, double value);           // |coordinate - value| <= 1e-9 diag
 nlohmann::json box(std::vector<double> min, std::vector<double> max);  // vertices inside (bounds included)
-nlohmann::json list(std::vector<int> ids);                            // vertex ids
-nlohmann::json boundary();                                            // every surface vertex
-nlohmann::json all();                                                 // every element
-nlohmann::json region(int region);                                    // elements of a mesh region
+nlohmann::json list(std::vector<int> ids);                             // vertex ids
+nlohmann::json boundary();                                             // every surface vertex
+nlohmann::json all();                                                  // every element
+nlohmann::json region(int region);                                     // elements of a mesh region
 nlohmann::json element_box(std::vector<double> min, std::vector<double> max);  // centroid inside
 }  // namespace select
 
@@ -59,7 +59,7 @@ class Study {
   Study& mesh_file(const std::string& path);
   Study& material(nlohmann::json elements, const std::string& model, double youngs_modulus,
                   double poisson_ratio, double density = 0.0);
-  Study& fix(nlohmann::json vertices);                                  // clamp: zero displacement
+  Study& fix(nlohmann::json vertices);  // clamp: zero displacement
   Study& prescribe(nlohmann::json vertices, std::vector<double> displacement);
   Study& traction(nlohmann::json faces, std::vector<double> traction);  // force per area
   Study& force(nlohmann::json vertices, std::vector<double> force);     // per selected vertex

@@ -2,6 +2,8 @@
 // the library would use them): C++-built scenes against scene files, a user Objective, a user
 // EnergyTerm, a user Parameterization, a user scene term type, constraints on every back-end
 // that takes them, and the files of `tailor run`.
+#include "problems/study.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,7 +18,6 @@
 #include "adjoint/parameterization.hpp"
 #include "forward/mesh/generate.hpp"
 #include "problems/inverse_commands.hpp"
-#include "problems/study.hpp"
 
 namespace tailor {
 namespace {
@@ -66,7 +67,12 @@ class PenalizedCompliance final : public Objective {
  public:
   PenalizedCompliance(Vector forces, Vector rest, int offset, int count, double a, double reference,
                       double gradient_error = 1.0)
-      : f_(std::move(forces)), rest_(std::move(rest)), offset_(offset), n_(count), a_(a), ref_(reference),
+      : f_(std::move(forces)),
+        rest_(std::move(rest)),
+        offset_(offset),
+        n_(count),
+        a_(a),
+        ref_(reference),
         error_(gradient_error) {}
   std::string name() const override { return "penalized_compliance"; }
   double value(const Vector& x, const Vector& p) const override {
@@ -91,8 +97,9 @@ ObjectiveFactory penalized_compliance(double gradient_error = 1.0) {
   return [gradient_error](const InverseProblem& p) {
     const StaticSolution start = solve_static(p.setup);
     const double c0 = p.setup.nodal_forces.dot(start.positions - p.setup.rest_state());
-    return std::make_shared<PenalizedCompliance>(p.setup.nodal_forces / c0, p.setup.rest_state(), p.youngs_offset,
-                                                 p.setup.mesh.num_elements(), 1e-2, 1e5, gradient_error);
+    return std::make_shared<PenalizedCompliance>(p.setup.nodal_forces / c0, p.setup.rest_state(),
+                                                 p.youngs_offset, p.setup.mesh.num_elements(), 1e-2, 1e5,
+                                                 gradient_error);
   };
 }
 
@@ -204,7 +211,9 @@ TEST(Study, UserObjectiveDerivativesAndTaylorTest) {
   J.add_gradient_x(x, params, gx);
   J.add_gradient_p(x, params, gp);
   const auto along = [&](double t) { return Vector::Constant(1, J.value(x + t * dx, params + t * dp)); };
-  EXPECT_TRUE(check_directional_derivative("gradient", along, Vector::Constant(1, gx.dot(dx) + gp.dot(dp)), {}).passed);
+  EXPECT_TRUE(
+      check_directional_derivative("gradient", along, Vector::Constant(1, gx.dot(dx) + gp.dot(dp)), {})
+          .passed);
   Vector hx = Vector::Zero(x.size()), hp = Vector::Zero(params.size());
   J.add_hessian_times(x, params, dx, dp, hx, hp);
   const auto gradient_p_along = [&](double t) {
@@ -226,8 +235,10 @@ TEST(Study, WrongUserGradientFailsTheTaylorTest) {
 
 TEST(Study, UserEnergyTermPassesTheDerivativeCheckAndJoinsEveryModel) {
   Study study = small_cantilever();
-  study.design({{"parameter", "youngs_modulus"}, {"granularity", "per_material"}, {"min", 1e4}, {"max", 1e6}});
-  study.objective({{"type", "synthetic_observations"}, {"vertices", select::boundary()}, {"youngs_modulus", 2e5}});
+  study.design(
+      {{"parameter", "youngs_modulus"}, {"granularity", "per_material"}, {"min", 1e4}, {"max", 1e6}});
+  study.objective(
+      {{"type", "synthetic_observations"}, {"vertices", select::boundary()}, {"youngs_modulus", 2e5}});
   study.energy([](const StaticSetup& s) {
     return std::make_unique<Springs>(vertices_at_z(s.mesh, 0.0), s.rest_state(), 1e3, 0.5);
   });
@@ -246,7 +257,8 @@ TEST(Study, UserEnergyTermPassesTheDerivativeCheckAndJoinsEveryModel) {
   // The springs carry load: the equilibrium differs from the one without them.
   StaticSetup without = p.setup;
   without.extra_terms.clear();
-  const double sag = solve_static(without).max_displacement, supported = solve_static(p.setup).max_displacement;
+  const double sag = solve_static(without).max_displacement,
+               supported = solve_static(p.setup).max_displacement;
   EXPECT_LT(supported, 0.9 * sag);
   expect_first_then_second_order(study.taylor_test());
   // Observations simulated with the springs are fitted with the springs: E comes back.
@@ -255,7 +267,8 @@ TEST(Study, UserEnergyTermPassesTheDerivativeCheckAndJoinsEveryModel) {
 }
 
 TEST(Study, UserParameterizationDesignsTheField) {
-  const Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 1, 1), 4, 1, 1);  // small_cantilever's
+  const Mesh mesh =
+      box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 1, 1), 4, 1, 1);  // small_cantilever's
   Study designed = small_cantilever();
   // Observations of E = 1e5 (1 + 0.25 x), the map's own family: z = (1, 0.25) fits exactly.
   designed.objective({{"type", "synthetic_observations"},
@@ -263,9 +276,10 @@ TEST(Study, UserParameterizationDesignsTheField) {
                       {"youngs_modulus", {{"value", 1e5}, {"gradient", {0.25, 0, 0}}}}});
   auto map = std::make_shared<LinearGradientMap>(mesh, 1e5);
   // The map's Jacobian products against central differences of apply (reference).
-  const Vector z = Eigen::Vector2d(2, 0.1), dz = Eigen::Vector2d(0.1, 0.05), w = Vector::Random(mesh.num_elements());
-  EXPECT_TRUE(check_directional_derivative(
-                  "jacobian", [&](double t) { return map->apply(z + t * dz); }, map->jacobian_times(z, dz), {})
+  const Vector z = Eigen::Vector2d(2, 0.1), dz = Eigen::Vector2d(0.1, 0.05),
+               w = Vector::Random(mesh.num_elements());
+  EXPECT_TRUE(check_directional_derivative("jacobian", [&](double t) { return map->apply(z + t * dz); },
+                                           map->jacobian_times(z, dz), {})
                   .passed);
   EXPECT_NEAR(w.dot(map->jacobian_times(z, dz)), map->jacobian_transpose_times(z, w).dot(dz), 1e-9 * 2e5);
   designed.design(map, Eigen::Vector2d(2, 0.0));
@@ -311,12 +325,11 @@ class MeanSag final : public Objective {
 
 void register_mean_sag() {
   static const bool registered = [] {
-    register_objective_term({"test_mean_sag", true, {"vertices", "target"}, {"vertices"},
-                             [](const ObjectiveTermContext& c) {
-                               const double target = c.node.has("target") ? c.node.at("target").number() : 0.0;
-                               return std::make_shared<MeanSag>(c.vertices("vertices"), c.problem.setup.rest_state(),
-                                                                target);
-                             }});
+    register_objective_term(
+        {"test_mean_sag", true, {"vertices", "target"}, {"vertices"}, [](const ObjectiveTermContext& c) {
+           const double target = c.node.has("target") ? c.node.at("target").number() : 0.0;
+           return std::make_shared<MeanSag>(c.vertices("vertices"), c.problem.setup.rest_state(), target);
+         }});
     return true;
   }();
   (void)registered;
@@ -324,11 +337,13 @@ void register_mean_sag() {
 
 nlohmann::json sag_scene(nlohmann::json term) {
   return {{"mesh", {{"box", {{"min", {0, 0, 0}}, {"max", {4, 1, 1}}, {"cells", {4, 1, 1}}}}}},
-          {"materials", {{{"elements", "all"}, {"model", "linear"}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}}}},
+          {"materials",
+           {{{"elements", "all"}, {"model", "linear"}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.3}}}},
           {"dirichlet", {{{"vertices", select::plane("x", 0)}}}},
           {"loads", {{"tractions", {{{"faces", select::plane("x", 4)}, {"traction", {0, 0, -1e2}}}}}}},
           {"inverse",
-           {{"design", {{"parameter", "youngs_modulus"}, {"granularity", "per_material"}, {"min", 1e3}, {"max", 1e8}}},
+           {{"design",
+             {{"parameter", "youngs_modulus"}, {"granularity", "per_material"}, {"min", 1e3}, {"max", 1e8}}},
             {"objective", {std::move(term)}}}}};
 }
 
@@ -349,15 +364,18 @@ TEST(Study, RegisteredSceneTermTypeIsNamedByScenes) {
   expect_first_then_second_order(study.taylor_test());
   const InverseRun run = study.run(scratch("registered_run"));
   ASSERT_TRUE(run.solution.converged) << run.result.report();
-  EXPECT_NEAR(dynamic_cast<const MeanSag&>(*run.problem->terms[0].term).mean(run.solution.positions), -0.01, 1e-8);
+  EXPECT_NEAR(dynamic_cast<const MeanSag&>(*run.problem->terms[0].term).mean(run.solution.positions), -0.01,
+              1e-8);
 
   // Its keys are checked like tailor's: unknown ones and missing required ones name the key path.
   try {
-    Study::from_json(sag_scene({{"type", "test_mean_sag"}, {"vertices", select::boundary()}, {"bogus", 1}}), "s.json")
+    Study::from_json(sag_scene({{"type", "test_mean_sag"}, {"vertices", select::boundary()}, {"bogus", 1}}),
+                     "s.json")
         .problem();
     ADD_FAILURE() << "an unknown key was accepted";
   } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("s.json: inverse.objective[0].bogus: unknown key"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("s.json: inverse.objective[0].bogus: unknown key"),
+              std::string::npos)
         << e.what();
   }
   EXPECT_THROW(Study::from_json(sag_scene({{"type", "test_mean_sag"}})).problem(), SceneError);
@@ -394,14 +412,21 @@ TEST(Study, ConstraintFunctionalsPassTheirTaylorTests) {
   const double value = c.evaluate(z, &gradient);
   EXPECT_NEAR(value, -(compliance->value(z) - 0.5) / 0.5, 1e-12);
   const auto along = [&](double t) { return Vector::Constant(1, c.evaluate(z + t * dz, nullptr)); };
-  EXPECT_TRUE(check_directional_derivative("constraint", along, Vector::Constant(1, gradient.dot(dz)), {}).passed);
+  EXPECT_TRUE(
+      check_directional_derivative("constraint", along, Vector::Constant(1, gradient.dot(dz)), {}).passed);
 }
 
 TEST(Study, MaterialModesDesign) {
   // granularity "modes" through the facade: 4 Laplacian modes of the 24-tet field.
   Study study = small_cantilever();
-  study.design({{"parameter", "youngs_modulus"}, {"granularity", "modes"}, {"modes", 4}, {"min", 1e4}, {"max", 1e6}})
-      .objective({{"type", "synthetic_observations"}, {"vertices", select::boundary()}, {"youngs_modulus", 2e5}});
+  study
+      .design({{"parameter", "youngs_modulus"},
+               {"granularity", "modes"},
+               {"modes", 4},
+               {"min", 1e4},
+               {"max", 1e6}})
+      .objective(
+          {{"type", "synthetic_observations"}, {"vertices", select::boundary()}, {"youngs_modulus", 2e5}});
   ASSERT_EQ(study.problem().num_design(), 4);
   ASSERT_TRUE(study.problem().modal.has_value());
   expect_first_then_second_order(study.taylor_test());
@@ -412,9 +437,9 @@ TEST(Study, ConstrainedDesignOnEveryConstrainedBackend) {
   for (const char* backend : {"ipopt", "nlopt_slsqp", "nlopt_mma"}) {
     SCOPED_TRACE(backend);
     Study study = small_cantilever(backend);
-    study.objective("penalized_compliance", penalized_compliance()).constraint([budget](const InverseProblem& p) {
-      return at_most(mean_youngs_modulus(p), budget, "mean E");
-    });
+    study.objective("penalized_compliance", penalized_compliance())
+        .constraint(
+            [budget](const InverseProblem& p) { return at_most(mean_youngs_modulus(p), budget, "mean E"); });
     const InverseRun run = study.run(scratch(std::string("constrained_") + backend));
     const double mean = mean_youngs_modulus(*run.problem)->value(run.result.z);
     EXPECT_LE(mean, budget * (1 + 1e-5));
@@ -463,8 +488,9 @@ TEST(Study, EveryBackendRecoversTheBar) {
     Study study = two_material_bar();
     if (backend == OptimizerBackend::ceres_lbfgs)  // takes no bounds
       study.design({{"parameter", "youngs_modulus"}, {"granularity", "per_material"}});
-    study.optimizer(
-        {{"backend", to_string(backend)}, {"max_iterations", descent ? 300 : 500}, {"gradient_tolerance", 1e-13}});
+    study.optimizer({{"backend", to_string(backend)},
+                     {"max_iterations", descent ? 300 : 500},
+                     {"gradient_tolerance", 1e-13}});
     const InverseRun run = study.run(scratch("backend_" + to_string(backend)));
     if (descent) {
       EXPECT_LT(run.result.objective, 1e-2 * run.result.history.front().objective) << run.result.report();

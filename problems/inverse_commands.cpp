@@ -47,8 +47,9 @@ void print_problem(std::ostream& log, const InverseProblem& problem) {
   const Mesh& mesh = problem.setup.mesh;
   log << "scene '" << problem.scene_name << "' (" << problem.scene_source << "): " << mesh.dim() << "D mesh, "
       << mesh.num_vertices() << " vertices, " << mesh.num_elements() << " elements; design: " << d.parameter
-      << " " << to_string(d.granularity) << " (" << problem.num_material_design() << " variable"
-      << (problem.num_material_design() == 1 ? "" : "s") << "), " << design_formula(d);
+      << " " << (problem.element_map ? "element_map" : to_string(d.granularity)) << " ("
+      << problem.num_material_design() << " variable" << (problem.num_material_design() == 1 ? "" : "s")
+      << "), " << (problem.element_map ? "E = " + problem.element_map->name() + "(z)" : design_formula(d));
   if (problem.handles) log << ", plus " << problem.handles->size() << " handle displacements";
   log << "\n";
   if (problem.modal && d.modes)
@@ -98,6 +99,12 @@ void print_design(std::ostream& log, const InverseRun& run) {
 GradcheckRun gradcheck_scene(const Scene& scene, const std::string& out_dir,
                              const GradcheckSettings& settings, std::ostream* log) {
   const std::unique_ptr<InverseProblem> problem = build_inverse_problem(scene);
+  return gradcheck_problem(*problem, out_dir, settings, log);
+}
+
+GradcheckRun gradcheck_problem(InverseProblem& built, const std::string& out_dir,
+                               const GradcheckSettings& settings, std::ostream* log) {
+  InverseProblem* problem = &built;
   TaylorTestOptions options = problem->spec.gradcheck;
   if (settings.seed) options.seed = *settings.seed;
   GradcheckRun run;
@@ -130,9 +137,18 @@ GradcheckRun gradcheck_scene(const Scene& scene, const std::string& out_dir,
 
 InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std::ostream* log,
                              std::ostream* progress, const RunSettings& settings) {
-  const auto t_start = Clock::now();
+  return run_inverse_problem(build_inverse_problem(scene), out_dir, log, progress, settings);
+}
+
+InverseRun run_inverse_problem(std::unique_ptr<InverseProblem> built, const std::string& out_dir,
+                               std::ostream* log, std::ostream* progress, const RunSettings& settings,
+                               const std::vector<Constraint>& constraints) {
+  if (!built) throw std::invalid_argument("run_inverse_problem: no problem");
+  // The setup counts as part of the run, as for run_inverse_scene.
+  const auto t_start = Clock::now() - std::chrono::duration_cast<Clock::duration>(
+                                          std::chrono::duration<double>(built->setup_seconds));
   InverseRun run;
-  run.problem = build_inverse_problem(scene);
+  run.problem = std::move(built);
   InverseProblem& problem = *run.problem;
   run.timings.setup = problem.setup_seconds;
   if (problem.modal) run.timings.modes = problem.modal->seconds;
@@ -157,7 +173,7 @@ InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std
       write_checkpoint_json(run.checkpoint_path, owner, checkpoint);
     };
   }
-  run.result = minimize(*problem.functional, problem.z0, problem.bounds, {}, options,
+  run.result = minimize(*problem.functional, problem.z0, problem.bounds, constraints, options,
                         resume ? &resume->checkpoint : nullptr);
   run.timings.optimization = run.result.seconds;
   run.timings.forward = run.result.counters.forward_seconds;

@@ -4,8 +4,10 @@
 // section and throw SceneError / MeshError for bad input, std::runtime_error when an output
 // cannot be written; a failed check or optimization is not an exception.
 #include <iosfwd>
+#include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "problems/inverse_report.hpp"
 #include "problems/scene.hpp"
@@ -22,6 +24,10 @@ struct GradcheckSettings {
 // out_dir/gradcheck.json (creating out_dir).
 GradcheckRun gradcheck_scene(const Scene& scene, const std::string& out_dir,
                              const GradcheckSettings& settings, std::ostream* log = nullptr);
+// The same for a problem built already (build_inverse_problem with extensions). Tightens the
+// problem's functional's Newton tolerances to the round-off floor (they stay so).
+GradcheckRun gradcheck_problem(InverseProblem& problem, const std::string& out_dir,
+                               const GradcheckSettings& settings, std::ostream* log = nullptr);
 
 struct RunSettings {
   std::optional<int> checkpoint_every;  // overrides inverse.optimizer.checkpoint_every (0: none)
@@ -38,5 +44,12 @@ struct RunSettings {
 // `progress`, a summary to `log`, each when set.
 InverseRun run_inverse_scene(const Scene& scene, const std::string& out_dir, std::ostream* log = nullptr,
                              std::ostream* progress = nullptr, const RunSettings& settings = {});
+// The same for a problem built already, with constraints c(z) <= 0 or = 0 on the design (for
+// the back-ends that take them: ipopt, nlopt_slsqp, nlopt_mma inequalities); the run owns the
+// problem. The report, result.vtu and plots are those of run_inverse_scene.
+InverseRun run_inverse_problem(std::unique_ptr<InverseProblem> problem, const std::string& out_dir,
+                               std::ostream* log = nullptr, std::ostream* progress = nullptr,
+                               const RunSettings& settings = {},
+                               const std::vector<Constraint>& constraints = {});
 
 }  // namespace tailor

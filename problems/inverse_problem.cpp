@@ -13,6 +13,7 @@
 #include "objectives/tikhonov.hpp"
 #include "objectives/weighted_sum.hpp"
 #include "problems/inverse_handles.hpp"
+#include "problems/objective_term_registry.hpp"
 #include "problems/scene_selection.hpp"
 
 namespace tailor {
@@ -170,7 +171,9 @@ ParameterizationPtr design_map(const InverseProblem& problem) {
   const int n = problem.num_material_design();
   const int ne = problem.setup.mesh.num_elements();
   ParameterizationPtr per_element;
-  if (problem.modal) {
+  if (problem.element_map) {
+    per_element = problem.element_map;
+  } else if (problem.modal) {
     per_element = problem.modal->element_map;
   } else {
     ParameterizationPtr values = problem.spec.design.map == DesignMap::log ? exp_map(n) : identity_map(n);
@@ -289,6 +292,15 @@ ObjectiveTermInfo build_term(const Scene&, InverseProblem& problem, const Object
   return {spec.key, spec.type(), spec.weight, spec.weight, term};
 }
 
+ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
+                             const RegisteredTerm& t) {
+  const ObjectiveTermContext context{scene, problem, SceneNode(t.value, scene.source, spec.key)};
+  ObjectivePtr term = t.kind->build(context);
+  if (!term)
+    throw_scene_error(scene, spec.key, "the \"" + t.kind->type + "\" term's build returned no objective");
+  return {spec.key, spec.type(), spec.weight, spec.weight, std::move(term)};
+}
+
 ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec) {
   return std::visit([&](const auto& term) { return build_term(scene, problem, spec, term); }, spec.term);
 }
@@ -296,7 +308,7 @@ ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const 
 // The reduced functional. Its first Newton solve starts from rest, unless the scene ramps its
 // loads: then from the ramped equilibrium at the initial design (later solves warm-start from
 // the last one).
-std::unique_ptr<StaticFunctional> make_functional(const InverseProblem& problem) {
+std::unique_ptr<StaticFunctional> make_functional(const InverseProblem& problem, ObjectivePtr objective) {
   const Elimination& elimination = problem.model->elimination();
   const Vector rest = elimination.restrict_state(problem.setup.rest_state());
   Vector start = rest;
@@ -319,13 +331,46 @@ std::unique_ptr<StaticFunctional> make_functional(const InverseProblem& problem)
           .norm();
   options.newton.absolute_tolerance =
       std::max(scene_newton.absolute_tolerance, options.newton.relative_tolerance * rest_residual);
-  return std::make_unique<StaticFunctional>(*problem.model, problem.parameterization, problem.objective,
+  return std::make_unique<StaticFunctional>(*problem.model, problem.parameterization, std::move(objective),
                                             start, options);
+}
+
+// A program's own design map (InverseExtensions::element_map), checked against the mesh.
+void element_map_design(const InverseExtensions& extensions, InverseProblem& problem) {
+  const ParameterizationPtr& map = extensions.element_map;
+  const int ne = problem.setup.mesh.num_elements();
+  const auto fail = [](const std::string& what) { throw std::invalid_argument("the design map " + what); };
+  if (map->num_params() != ne)
+    fail("'" + map->name() + "' gives " + std::to_string(map->num_params()) + " values; the mesh has " +
+         std::to_string(ne) + " elements (one E each)");
+  if (extensions.z0.size() != map->num_design())
+    fail("'" + map->name() + "' takes " + std::to_string(map->num_design()) + " design variables; z0 has " +
+         std::to_string(extensions.z0.size()));
+  for (const Vector* b : {&extensions.bounds.lower, &extensions.bounds.upper})
+    if (b->size() != 0 && b->size() != map->num_design())
+      fail("bounds need one entry per design variable (" + std::to_string(map->num_design()) + "), got " +
+           std::to_string(b->size()));
+  const Vector E = map->apply(extensions.z0);
+  for (int e = 0; e < ne; ++e)
+    if (!(E[e] > 0.0))
+      fail("'" + map->name() + "' gives E = " + format_number(E[e]) + " (not > 0) at z0 for element " +
+           std::to_string(e));
+  problem.element_map = map;
+  problem.z0 = extensions.z0;
+  problem.bounds = extensions.bounds;
+  for (int k = 0; k < map->num_design(); ++k) problem.design_labels.push_back("z[" + std::to_string(k) + "]");
 }
 
 }  // namespace
 
+std::unique_ptr<StaticFunctional> make_static_functional(const InverseProblem& problem,
+                                                         ObjectivePtr objective) {
+  if (!objective) throw std::invalid_argument("make_static_functional: no objective");
+  return make_functional(problem, std::move(objective));
+}
+
 Eigen::VectorXd InverseProblem::design_values(const Vector& z) const {
+  if (element_map) return z.head(num_material_design());
   if (modal) return youngs_modulus(z);
   const Vector material = z.head(num_material_design());
   return spec.design.map == DesignMap::log ? Eigen::VectorXd(material.array().exp())
@@ -333,6 +378,7 @@ Eigen::VectorXd InverseProblem::design_values(const Vector& z) const {
 }
 
 Eigen::VectorXd InverseProblem::youngs_modulus(const Vector& z) const {
+  if (element_map) return element_map->apply(Vector(z.head(num_material_design())));
   if (modal) return modal->element_map->apply(Vector(z.head(num_material_design())));
   const Eigen::VectorXd values = design_values(z);
   Eigen::VectorXd out(design_of_element.size());
@@ -347,7 +393,8 @@ StaticSetup InverseProblem::setup_at(const Vector& z) const {
   return out;
 }
 
-std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene) {
+std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene,
+                                                      const InverseExtensions& extensions) {
   if (!scene.inverse)
     throw SceneError(
         scene.source +
@@ -359,6 +406,7 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene) {
   problem->scene_source = scene.source;
   problem->spec = *scene.inverse;
   problem->setup = setup_static_scene(scene);
+  for (const EnergyTermFactory& make : extensions.energy_terms) problem->setup.extra_terms.push_back(make);
   // Spline materials keep their curves (their elements' Young's modulus is not used), so at
   // least one material must take E from the design.
   bool designable = false;
@@ -371,7 +419,9 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene) {
   if (problem->spec.ground_truth)
     set_truth(scene, *problem, expand_field(scene, problem->setup, *problem->spec.ground_truth),
               problem->spec.ground_truth->key);
-  if (problem->spec.design.granularity == DesignGranularity::modes) {
+  if (extensions.element_map) {
+    element_map_design(extensions, *problem);
+  } else if (problem->spec.design.granularity == DesignGranularity::modes) {
     modal_initial_design(scene, *problem);
   } else {
     assign_design_groups(scene, *problem);
@@ -396,9 +446,20 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene) {
     parts.push_back(problem->terms.back().term);
     coefficients.push_back(problem->terms.back().coefficient);
   }
+  for (std::size_t k = 0; k < extensions.objective_terms.size(); ++k) {
+    const InverseExtensions::Term& extra = extensions.objective_terms[k];
+    ObjectivePtr term = extra.make ? extra.make(*problem) : nullptr;
+    if (!term)
+      throw std::invalid_argument("the objective term '" + extra.name + "' was not made (no objective)");
+    problem->terms.push_back(
+        {"objective term '" + extra.name + "'", extra.name, extra.weight, extra.weight, term});
+    parts.push_back(term);
+    coefficients.push_back(extra.weight);
+  }
+  if (parts.empty()) throw_scene_error(scene, "inverse.objective", "the objective has no terms");
   problem->objective = std::make_shared<WeightedSum>(std::move(parts), std::move(coefficients));
 
-  problem->functional = make_functional(*problem);
+  problem->functional = make_functional(*problem, problem->objective);
   problem->setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return problem;
 }

@@ -9,6 +9,7 @@
 // displacements at equilibrium, u* the wanted or observed ones; |u*|^2 is replaced by
 // n L^2, L the mesh's bounding-box diagonal, when every u* is zero), so a weight of 1 means the
 // same in every scene and the optimizer's absolute tolerances carry over between scenes.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -43,6 +44,9 @@ struct InverseProblem {
   // Per material variable: "element e", "region r", "materials[m]", "mode j".
   std::vector<std::string> design_labels;
   std::optional<ModalDesign> modal;  // granularity modes: Phi, y0 and z -> E
+  // A program's own design map z -> E per element (InverseExtensions::element_map); it replaces
+  // the granularity's. design_values are then z itself, labelled "z[k]".
+  ParameterizationPtr element_map;
   ParameterizationPtr parameterization;
   std::vector<ObjectiveTermInfo> terms;
   ObjectivePtr objective;
@@ -66,10 +70,35 @@ struct InverseProblem {
   StaticSetup setup_at(const Vector& z) const;
 };
 
+// What a program adds to a scene's inverse problem in C++ (problems/study.hpp composes it).
+struct InverseExtensions {
+  // Energy terms added to every model of the problem (StaticSetup::extra_terms).
+  std::vector<EnergyTermFactory> energy_terms;
+  // Objective terms added after the scene's: weight * make(problem), made once the model and
+  // the design map exist.
+  struct Term {
+    std::string name;  // its "type" in reports
+    double weight = 1.0;
+    std::function<ObjectivePtr(const InverseProblem& problem)> make;
+  };
+  std::vector<Term> objective_terms;
+  // A design map z -> E per element instead of the scene's granularity and map, with its start
+  // and bounds (in z; empty: none). The scene's design min/max/initial do not apply then.
+  ParameterizationPtr element_map;
+  Vector z0;
+  Bounds bounds;
+};
+
 // Throws SceneError (no inverse section, selectors that select nothing, sizes that do not fit
 // the mesh, an initial design outside the bounds, a synthetic forward solve that fails, ...)
-// and MeshError.
-std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene);
+// and MeshError; std::invalid_argument for extensions that do not fit (a map of the wrong size).
+std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene,
+                                                      const InverseExtensions& extensions = {});
+
+// The reduced functional J(z) = objective(x*(p(z)), p(z)) on the problem's model and design,
+// with the Newton settings the problem's own functional uses (its objective is problem.objective).
+std::unique_ptr<StaticFunctional> make_static_functional(const InverseProblem& problem,
+                                                         ObjectivePtr objective);
 
 // Errors of a per-element field against the truth: the volume-weighted relative L2 error
 // sqrt(sum_e V_e (E_e - T_e)^2 / sum_e V_e T_e^2) and the largest |E_e - T_e| / T_e.

@@ -139,6 +139,14 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
     design["labels"] = problem.design_labels;
     design["values"] = to_json(run.design_values);
   }
+  if (problem.element_map) {  // a program's own map z -> E (InverseExtensions): z itself
+    design["granularity"] = "element_map";
+    design["map"] = problem.element_map->name();
+    design["min"] = nullptr;
+    design["max"] = nullptr;
+    design["labels"] = problem.design_labels;
+    design["values"] = to_json(run.design_values);
+  }
   report["design"] = design;
   if (problem.handles) report["handles"] = handles_json(problem, run.handles);
   if (run.error) {

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "forward/core/format_number.hpp"
+#include "problems/objective_term_registry.hpp"
 #include "problems/scene_parsing.hpp"
 
 namespace tailor {
@@ -27,10 +28,12 @@ std::string to_string(DesignGranularity granularity) {
 std::string to_string(DesignMap map) { return map == DesignMap::log ? "log" : "identity"; }
 
 std::string ObjectiveTermSpec::type() const {
+  if (const auto* registered = std::get_if<RegisteredTerm>(&term)) return registered->kind->type;
   return std::visit([](const auto& t) { return std::string(std::decay_t<decltype(t)>::kType); }, term);
 }
 
 bool ObjectiveTermSpec::is_data() const {
+  if (const auto* registered = std::get_if<RegisteredTerm>(&term)) return registered->kind->is_data;
   return std::visit([](const auto& t) { return std::decay_t<decltype(t)>::kIsData; }, term);
 }
 
@@ -225,9 +228,32 @@ void parse_term_body(const SceneNode& node, const std::string& directory, Handle
   t = parse_handles_term(node, directory);
 }
 
+// A registered type's keys: only those it lists (and type, weight), the required ones present.
+void parse_term_body(const SceneNode& node, const std::string&, RegisteredTerm& t) {
+  for (const auto& item : node.json().items()) {
+    const std::string& key = item.key();
+    if (key == "type" || key == "weight") continue;
+    bool known = false;
+    for (const std::string& k : t.kind->keys) known = known || k == key;
+    if (!known) {
+      std::string expected = "type, weight";
+      for (const std::string& k : t.kind->keys) expected += ", " + k;
+      node.at(key.c_str())
+          .fail("unknown key for a \"" + t.kind->type + "\" term (expected one of " + expected + ")");
+    }
+  }
+  for (const std::string& key : t.kind->required) node.at(key.c_str());
+  t.value = node.json();
+}
+
+// tailor's own types (RegisteredTerm is none), then the program's.
 template <std::size_t... I>
 std::vector<std::string> term_types(std::index_sequence<I...>) {
-  return {std::variant_alternative_t<I, ObjectiveTerm>::kType...};
+  std::vector<std::string> types;
+  for (const char* type : {std::variant_alternative_t<I, ObjectiveTerm>::kType...})
+    if (std::string(type) != RegisteredTerm::kType) types.push_back(type);
+  for (const std::string& type : registered_objective_term_types()) types.push_back(type);
+  return types;
 }
 
 // Parses the alternative whose kType is `type` (one exists: `type` is one of term_types).
@@ -236,8 +262,13 @@ void parse_alternative(const std::string& type, const SceneNode& node, const std
                        ObjectiveTerm& term) {
   if constexpr (I < std::variant_size_v<ObjectiveTerm>) {
     using Term = std::variant_alternative_t<I, ObjectiveTerm>;
-    if (type != Term::kType) return parse_alternative<I + 1>(type, node, directory, term);
     Term parsed;
+    if constexpr (std::is_same_v<Term, RegisteredTerm>) {
+      parsed.kind = find_objective_term_type(type);
+      if (!parsed.kind) return;
+    } else if (type != Term::kType) {
+      return parse_alternative<I + 1>(type, node, directory, term);
+    }
     parse_term_body(node, directory, parsed);
     term = std::move(parsed);
   }
@@ -246,7 +277,7 @@ void parse_alternative(const std::string& type, const SceneNode& node, const std
 ObjectiveTermSpec parse_term(const SceneNode& node, const std::string& directory) {
   ObjectiveTermSpec spec;
   spec.key = node.path();
-  static const std::vector<std::string> types =
+  const std::vector<std::string> types =
       term_types(std::make_index_sequence<std::variant_size_v<ObjectiveTerm>>());
   parse_alternative(node.at("type").choice(types), node, directory, spec.term);
   if (auto w = node.find("weight")) spec.weight = w->non_negative();
@@ -290,6 +321,11 @@ TaylorTestOptions parse_gradcheck(const SceneNode& node) {
 }  // namespace
 
 InverseSpec parse_inverse_section(const SceneNode& node, const std::string& directory) {
+  return parse_inverse_section(node, directory, false);
+}
+
+InverseSpec parse_inverse_section(const SceneNode& node, const std::string& directory,
+                                  bool other_data_terms) {
   node.expect_keys({"design", "objective", "ground_truth", "optimizer", "gradcheck"});
   InverseSpec spec;
   spec.design = parse_design(node.at("design"));
@@ -299,7 +335,7 @@ InverseSpec parse_inverse_section(const SceneNode& node, const std::string& dire
     spec.objective.push_back(parse_term(item, directory));
     has_data = has_data || spec.objective.back().is_data();
   }
-  if (!has_data)
+  if (!has_data && !other_data_terms)
     objective.fail(
         "needs at least one data term (target_displacements, observations, synthetic_observations or "
         "handles); "

@@ -5,6 +5,8 @@
 // validated with the rest of the scene (parse_scene); checks that need the mesh happen when
 // the inverse problem is built (inverse_problem.hpp), naming the key path kept here.
 #include <Eigen/Core>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <variant>
@@ -65,7 +67,9 @@ struct DesignSpec {
 //
 // Adding a term type: a struct here with its JSON "type" (kType) and whether it compares data
 // (kIsData), an alternative in ObjectiveTerm, a parse_term_body overload (inverse_scene.cpp)
-// and a build_term overload (inverse_problem.cpp). A missing overload fails to compile.
+// and a build_term overload (inverse_problem.cpp). A missing overload fails to compile. A program
+// adds its own types without touching these files: register_objective_term
+// (problems/objective_term_registry.hpp), parsed into a RegisteredTerm below.
 struct TargetDisplacementsTerm {
   static constexpr const char* kType = "target_displacements";
   static constexpr bool kIsData = true;
@@ -100,8 +104,18 @@ struct TikhonovTerm {
   double prior = 1.0;  // J = 1/2 sum_e ((E_e - prior) / prior)^2
 };
 
+// A term of a type the program registered (problems/objective_term_registry.hpp): its JSON,
+// built into an Objective with the problem. (kType is no scene "type": the registered one is.)
+struct ObjectiveTermType;
+struct RegisteredTerm {
+  static constexpr const char* kType = "(registered)";
+  static constexpr bool kIsData = false;
+  std::shared_ptr<const ObjectiveTermType> kind;
+  nlohmann::json value;  // the whole term object
+};
+
 using ObjectiveTerm = std::variant<TargetDisplacementsTerm, ObservationsTerm, SyntheticObservationsTerm,
-                                   SmoothnessTerm, TikhonovTerm, HandlesTerm>;
+                                   SmoothnessTerm, TikhonovTerm, HandlesTerm, RegisteredTerm>;
 
 struct ObjectiveTermSpec {
   ObjectiveTerm term;

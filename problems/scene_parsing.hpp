@@ -41,6 +41,9 @@ HandlesTerm parse_handles_term(const SceneNode& node, const std::string& directo
 
 // The "inverse" section (inverse_scene.cpp).
 InverseSpec parse_inverse_section(const SceneNode& node, const std::string& directory);
+// The same, where the program adds data terms of its own (problems/study.hpp): the list may
+// then hold none (or be empty).
+InverseSpec parse_inverse_section(const SceneNode& node, const std::string& directory, bool other_data_terms);
 // The "dynamics" section (dynamic_scene.cpp).
 DynamicsSpec parse_dynamics_section(const SceneNode& node, const std::string& directory);
 

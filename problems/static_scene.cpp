@@ -218,6 +218,11 @@ std::unique_ptr<Model> build_static_model(const StaticSetup& setup, double load_
     add_elastic_terms<2>(setup, *model, youngs_offset, poisson_offset);
   if (setup.has_loads)
     model->add(std::make_unique<ExternalForceTerm>(load_factor * setup.nodal_forces, "external_force"));
+  for (const EnergyTermFactory& make : setup.extra_terms) {
+    std::unique_ptr<EnergyTerm> term = make(setup);
+    if (!term) throw std::invalid_argument("build_static_model: an extra energy term's factory returned null");
+    model->add(std::move(term));
+  }
   model->set_elimination(Elimination::dirichlet(
       setup.fixed_dofs, setup.rest_state() + load_factor * setup.prescribed_displacement));
   return model;

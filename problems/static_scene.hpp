@@ -4,6 +4,7 @@
 // Model from them, and solve with Newton, optionally ramping loads over several steps.
 //
 // Units are whatever the scene uses, consistently (e.g. SI: m, Pa, N, kg/m^3).
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -24,6 +25,12 @@ struct MaterialBlock {
   std::shared_ptr<const PrincipalStretchCurves> spline_curves;  // set: a SplineMaterial (kind unused)
 };
 
+struct StaticSetup;
+// A user's energy term, made for a setup (its mesh, supports, loads): added to every model
+// build_static_model makes, at full strength (not ramped by load steps). It sees the parameter
+// layout of build_static_model ("youngs_modulus", "poisson_ratio", then a design's own blocks).
+using EnergyTermFactory = std::function<std::unique_ptr<EnergyTerm>(const StaticSetup& setup)>;
+
 // Everything a static solve needs, checked against the mesh. Vectors over DOFs are interleaved
 // like the state (index dim * vertex + component).
 struct StaticSetup {
@@ -38,6 +45,7 @@ struct StaticSetup {
   Vector nodal_forces;               // per DOF, the total external load at full load
   bool has_loads = false;            // whether the scene has any load (adds an ExternalForceTerm)
   SolverSpec solver;
+  std::vector<EnergyTermFactory> extra_terms;  // user energy terms (not from the scene file)
 
   int dim() const { return mesh.dim(); }
   int num_dofs() const { return mesh.dim() * mesh.num_vertices(); }
@@ -53,7 +61,7 @@ StaticSetup setup_static_scene(const Scene& scene);
 void require_supported(const Scene& scene, const StaticSetup& setup);
 
 // The Model at a load factor s in (0, 1]: one ElasticTerm per material block, one
-// ExternalForceTerm with s * nodal_forces when the scene has loads, and Dirichlet
+// ExternalForceTerm with s * nodal_forces when the scene has loads, the extra_terms, and Dirichlet
 // elimination with x = rest + s * prescribed_displacement on the fixed DOFs.
 std::unique_ptr<Model> build_static_model(const StaticSetup& setup, double load_factor);
 

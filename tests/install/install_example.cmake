@@ -6,10 +6,12 @@ set(prefix ${WORK_DIR}/prefix)
 set(example_build ${WORK_DIR}/examples-build)
 # Start clean: a stale prefix could hide a file the install no longer provides.
 file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
 
 function(run)
   message(STATUS "+ ${ARGN}")
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE result OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  execute_process(COMMAND ${ARGN} WORKING_DIRECTORY ${WORK_DIR} RESULT_VARIABLE result OUTPUT_VARIABLE out
+                  ERROR_VARIABLE out)
   message("${out}")
   if(NOT result EQUAL 0)
     message(FATAL_ERROR "failed (${result}): ${ARGN}")
@@ -54,6 +56,13 @@ if(found EQUAL -1)
   message(FATAL_ERROR "minimal did not report tailor ${EXPECTED_VERSION}")
 endif()
 
-# A whole inverse problem through the installed API; it exits non-zero unless its Taylor test
-# passes and both moduli are recovered to 1e-6.
-run(${example_build}/inverse_bar)
+# Whole problems through the installed API (problems/study.hpp); each exits non-zero unless its
+# checks pass (Taylor test, derivative checks) and it reaches what it states (inverse_bar: both
+# moduli to 1e-6; custom_objective: the target deflection to 1e-6; custom_energy: the modulus to
+# 1e-6; constrained_design: the budget kept and the compliance lowered by 10% or more).
+foreach(example inverse_bar custom_objective custom_energy constrained_design)
+  run(${example_build}/${example})
+  if(NOT EXISTS ${WORK_DIR}/out/${example}/report.json OR NOT EXISTS ${WORK_DIR}/out/${example}/result.vtu)
+    message(FATAL_ERROR "${example} did not write out/${example}/report.json and result.vtu")
+  endif()
+endforeach()

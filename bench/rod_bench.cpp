@@ -7,8 +7,8 @@
 // and prints a table.
 //
 // Second part, rest-shape design (problems/rods/rod_inverse.hpp, the scenes' "inverse" section):
-// --strands strands of --strand-vertices vertices (hair-like: length 0.2, r = 5e-5, E = 3e9,
-// density 1300, clamped at the root, curling down with a radius that differs per strand), each
+// --strands strands of --strand-vertices vertices (nylon: length 0.5, r = 1e-3, E = 3e9,
+// density 1150, clamped at the root, curling up with a radius that differs per strand), each
 // designed separately (rest curvatures and rest lengths, target: the drawn shape, Ceres
 // Levenberg-Marquardt); reports per strand the time until the RMS shape error (over the
 // vertices, relative to the length) is below --shape-error, the median and the total, and the
@@ -99,20 +99,20 @@ struct StrandResult {
   std::string status;
 };
 
-// The hair strand k of `strands`: a planar arc of length 0.2 leaving the root horizontally and
-// curling downwards under gravity's side, radius of curvature 0.15 .. 0.45.
+// Strand k of `strands`: a planar arc of length 0.5 leaving the root horizontally and curling
+// up against gravity, radius of curvature 0.3 .. 0.6 (the scene rod_rest_shape_design.json).
 nlohmann::json strand_scene(int k, int strands, int vertices) {
-  const double L = 0.2, R = 0.15 + 0.3 * k / std::max(1, strands - 1);
+  const double L = 0.5, R = 0.3 + 0.3 * k / std::max(1, strands - 1);
   nlohmann::json points = nlohmann::json::array();
   for (int i = 0; i < vertices; ++i) {
     const double phi = L * i / (vertices - 1) / R;
-    points.push_back({R * std::sin(phi), -R * (1.0 - std::cos(phi)), 0.0});
+    points.push_back({R * std::sin(phi), R * (1.0 - std::cos(phi)), 0.0});
   }
   return {{"rods",
            {{{"name", "strand"},
              {"points", points},
-             {"cross_section", {{"radius", 5e-5}}},
-             {"material", {{"youngs_modulus", 3e9}, {"density", 1300}}},
+             {"cross_section", {{"radius", 1e-3}}},
+             {"material", {{"youngs_modulus", 3e9}, {"density", 1150}}},
              {"clamp", {"first"}}}}},
           {"gravity", {0, -9.81, 0}},
           {"inverse",

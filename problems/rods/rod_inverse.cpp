@@ -139,7 +139,16 @@ RodInverseSpec parse_inverse(const SceneNode& root, const RodSceneSpec& scene) {
     for (int v = 0; v < nv; ++v) spec.target_vertices.push_back(v);
     spec.target_positions = rod.points;
   } else {
-    target->expect_keys({"vertices", "positions", "displacements"});
+    target->expect_keys({"vertices", "positions", "displacements", "components"});
+    if (const auto comps = target->find("components")) {
+      spec.components = comps->integers(0);
+      if (spec.components.empty()) comps->fail("expected at least one of 0, 1, 2");
+      for (std::size_t i = 0; i < spec.components.size(); ++i) {
+        if (spec.components[i] > 2) comps->fail("components are 0, 1, 2 (x, y, z)");
+        for (std::size_t j = 0; j < i; ++j)
+          if (spec.components[i] == spec.components[j]) comps->fail("a component given twice");
+      }
+    }
     spec.target_vertices = target->at("vertices").integers(0);
     for (int v : spec.target_vertices)
       if (v >= nv) target->at("vertices").fail("vertex " + std::to_string(v) + " out of range (the rod has " +
@@ -193,8 +202,10 @@ double RodInverseProblem::shape_error(const Vector& x) const {
   double e = 0.0;
   for (std::size_t i = 0; i < spec.target_vertices.size(); ++i) {
     const int g = first + spec.target_vertices[i];
-    e = std::max(e, (x.segment<3>(3 * g) - spec.target_positions.row(static_cast<Eigen::Index>(i)).transpose())
-                        .norm());
+    double d2 = 0.0;
+    for (int c : spec.components)
+      d2 += std::pow(x[3 * g + c] - spec.target_positions(static_cast<Eigen::Index>(i), c), 2);
+    e = std::max(e, std::sqrt(d2));
   }
   return e / length;
 }
@@ -261,19 +272,24 @@ std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& docum
 
   // 1/2 sum |x_v - t_v|^2 / (m L^2): the misfit relative to the rod's length, m targets.
   std::vector<int> dofs;
-  Vector targets(3 * static_cast<Eigen::Index>(P.spec.target_vertices.size()));
+  std::vector<double> targets;
   for (std::size_t i = 0; i < P.spec.target_vertices.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
+    for (int c : P.spec.components) {
       dofs.push_back(rod.position_dof(P.spec.target_vertices[i], c));
-      targets[static_cast<Eigen::Index>(3 * i) + c] = P.spec.target_positions(static_cast<Eigen::Index>(i), c);
+      targets.push_back(P.spec.target_positions(static_cast<Eigen::Index>(i), c));
     }
   const double w = 1.0 / (static_cast<double>(P.spec.target_vertices.size()) * P.length * P.length);
-  parts.insert(parts.begin(), std::make_shared<RodTargetPositions>(dofs, targets, w));
+  parts.insert(parts.begin(), std::make_shared<RodTargetPositions>(
+                                   dofs, Eigen::Map<const Vector>(targets.data(), static_cast<Eigen::Index>(targets.size())), w));
   coefficients.insert(coefficients.begin(), 1.0);
   P.objective = parts.size() == 1 ? parts[0] : std::make_shared<WeightedSum>(parts, coefficients);
 
   StaticFunctionalOptions options;
   options.newton.max_iterations = P.scene.max_newton_iterations;
+  // Convergence against the loads: in a rest-shape design the drawn (rest) state is nearly the
+  // equilibrium near the optimum, so the residual there, which a warm start's relative tolerance
+  // refers to, becomes tiny and the relative tolerance unreachable in double precision.
+  options.newton.absolute_tolerance = options.newton.relative_tolerance * P.model.load->forces().norm();
   P.functional = std::make_unique<StaticFunctional>(*P.model.model, P.parameterization, P.objective,
                                                     P.model.model->elimination().restrict_state(P.model.rest),
                                                     options);

@@ -30,6 +30,7 @@ struct RodInverseSpec {
   // Target positions of the rod's vertices (local indices), one row each.
   std::vector<int> target_vertices;
   Matrix target_positions;
+  std::vector<int> components = {0, 1, 2};  // the coordinates that are matched
   double regularization = 0.0;  // Tikhonov weight on the designed blocks (docs/rods.md)
   OptimizerOptions optimizer;
   unsigned seed = 1;  // of the gradcheck's random direction
@@ -47,7 +48,8 @@ struct RodInverseProblem {
   Vector z0;
   std::vector<std::string> labels;  // per design variable: "rest_curvature[i][a]", "radius[j]", ...
 
-  // Largest distance of a target vertex from its target at the equilibrium x, over `length`.
+  // Largest distance of a target vertex from its target at the equilibrium x (in the matched
+  // components), over `length`.
   double shape_error(const Vector& x) const;
 };
 

@@ -50,6 +50,7 @@ class RodLoadTerm final : public EnergyTerm {
   explicit RodLoadTerm(Vector forces) : forces_(std::move(forces)) {}
   std::string name() const override { return "rod_loads"; }
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override;
+  const Vector& forces() const { return forces_; }  // at factor 1
   double factor = 1.0;
 
  private:

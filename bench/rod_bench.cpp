@@ -1,6 +1,8 @@
 // Newton iteration cost of a discrete elastic rod against its vertex count (should be linear:
-// the Hessian is banded). A helical rod of length 1 (EI = 1, circular section r = 1e-2) clamped
-// at its first edge sags under gravity (total weight 2); Newton runs a fixed number of
+// the Hessian is banded). A helical rod with edges of length ~0.01 (length 0.01 (N - 1) for N
+// vertices; EI = 1, circular section r = 1e-2) clamped at its first edge sags under gravity
+// (weight 2 per unit length; a rod of fixed length 1 would, at 10^5 vertices, start below
+// Newton's round-off floor estimate and stop at once); Newton runs a fixed number of
 // iterations and the medians of the per-iteration times are reported: assembly (energy,
 // gradient, Hessian of the stretching, bending, twisting and load terms), factorization,
 // solve, line search, and the whole iteration. Writes JSON (--out, default bench_rods.json)
@@ -48,7 +50,7 @@ struct SizeResult {
 SizeResult run(int vertices, int iterations) {
   Eigen::MatrixX3d positions(vertices, 3);
   for (int i = 0; i < vertices; ++i) {
-    const double s = double(i) / (vertices - 1), phi = 4.0 * M_PI * s;
+    const double s = 0.01 * i, phi = 4.0 * M_PI * s;  // edges of length ~0.01 at every size
     positions.row(i) << s, 0.05 * std::cos(phi), 0.05 * std::sin(phi);
   }
   auto rod = std::make_shared<DiscreteRod>(positions, 0, 3 * vertices, Eigen::Vector3d::UnitZ());

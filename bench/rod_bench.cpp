@@ -191,7 +191,8 @@ int main(int argc, char** argv) {
   if (strands > 0) {
     std::printf("\nrest-shape design, %d strands of %d vertices, to a shape error of %.1e of the length\n",
                 strands, strand_vertices, shape_error);
-    std::printf("%8s %8s %12s %12s %10s %12s\n", "strand", "iters", "error0", "max_error", "seconds", "status");
+    std::printf("%8s %8s %12s %12s %10s %12s\n", "strand", "iters", "error0", "max_error", "seconds",
+                "status");
     bench::Json designs = bench::Json::array();
     std::vector<double> times;
     double total = 0.0;

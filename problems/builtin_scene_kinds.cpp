@@ -159,9 +159,9 @@ int simulate_elastic_rods(const SceneFile& file, const VerbArguments& args, std:
 }
 
 int gradcheck_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  return exit_code(gradcheck_rod_scene_file(file.path, args.out_dir_or("out/" + file.stem()), args.seed,
-                                            args.hessian, out)
-                       .passed());
+  return exit_code(
+      gradcheck_rod_scene_file(file.path, args.out_dir_or("out/" + file.stem()), args.seed, args.hessian, out)
+          .passed());
 }
 
 int run_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
@@ -280,8 +280,7 @@ std::vector<SceneKind> builtin_scene_kinds() {
       {"rods",
        "a \"rods\" section (docs/rods.md)",
        [](const nlohmann::json& d) { return has_section(d, "rods"); },
-       {{"simulate", simulate_elastic_rods,
-         "equilibrium of discrete elastic rods; DIR defaults to out/rods"},
+       {{"simulate", simulate_elastic_rods, "equilibrium of discrete elastic rods; DIR defaults to out/rods"},
         {"gradcheck", gradcheck_elastic_rods,
          "needs an \"inverse\" section: Taylor test of the rod design's gradient"},
         {"run", run_elastic_rods, "needs an \"inverse\" section: rest-shape or stiffness design of a rod"}}},

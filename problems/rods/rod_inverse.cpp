@@ -21,11 +21,16 @@ namespace tailor {
 
 std::string to_string(RodDesignBlock block) {
   switch (block) {
-    case RodDesignBlock::rest_curvature: return "rest_curvature";
-    case RodDesignBlock::rest_twist: return "rest_twist";
-    case RodDesignBlock::rest_length: return "rest_length";
-    case RodDesignBlock::radius: return "radius";
-    case RodDesignBlock::youngs_modulus: return "youngs_modulus";
+    case RodDesignBlock::rest_curvature:
+      return "rest_curvature";
+    case RodDesignBlock::rest_twist:
+      return "rest_twist";
+    case RodDesignBlock::rest_length:
+      return "rest_length";
+    case RodDesignBlock::radius:
+      return "radius";
+    case RodDesignBlock::youngs_modulus:
+      return "youngs_modulus";
   }
   return "?";
 }
@@ -41,7 +46,8 @@ class RodTargetPositions final : public Objective {
   std::string name() const override { return "rod_target_positions"; }
   double value(const Vector& x, const Vector&) const override {
     double J = 0.0;
-    for (std::size_t i = 0; i < dofs_.size(); ++i) J += sq(x[dofs_[i]] - targets_[static_cast<Eigen::Index>(i)]);
+    for (std::size_t i = 0; i < dofs_.size(); ++i)
+      J += sq(x[dofs_[i]] - targets_[static_cast<Eigen::Index>(i)]);
     return 0.5 * weight_ * J;
   }
   void add_gradient_x(const Vector& x, const Vector&, Vector& gx) const override {
@@ -77,14 +83,16 @@ class RodTargetPositions final : public Objective {
 };
 
 bool is_logarithmic(RodDesignBlock b) {
-  return b == RodDesignBlock::rest_length || b == RodDesignBlock::radius || b == RodDesignBlock::youngs_modulus;
+  return b == RodDesignBlock::rest_length || b == RodDesignBlock::radius ||
+         b == RodDesignBlock::youngs_modulus;
 }
 
 RodDesignBlock parse_block(const SceneNode& node) {
   const std::string s =
       node.choice({"rest_curvature", "rest_twist", "rest_length", "radius", "youngs_modulus"});
-  for (RodDesignBlock b : {RodDesignBlock::rest_curvature, RodDesignBlock::rest_twist, RodDesignBlock::rest_length,
-                           RodDesignBlock::radius, RodDesignBlock::youngs_modulus})
+  for (RodDesignBlock b :
+       {RodDesignBlock::rest_curvature, RodDesignBlock::rest_twist, RodDesignBlock::rest_length,
+        RodDesignBlock::radius, RodDesignBlock::youngs_modulus})
     if (to_string(b) == s) return b;
   node.fail("unknown design block");
 }
@@ -94,11 +102,16 @@ std::pair<int, int> block_range(const RodSceneModel& m, int k, RodDesignBlock b)
   const RodParameterBlocks& blocks = m.blocks[static_cast<std::size_t>(k)];
   const DiscreteRod& rod = *m.rods[static_cast<std::size_t>(k)];
   switch (b) {
-    case RodDesignBlock::rest_curvature: return {blocks.rest_curvature, 2 * rod.num_interior()};
-    case RodDesignBlock::rest_twist: return {blocks.rest_twist, rod.num_interior()};
-    case RodDesignBlock::rest_length: return {blocks.rest_length, rod.num_edges()};
-    case RodDesignBlock::radius: return {blocks.radius, rod.num_edges()};
-    case RodDesignBlock::youngs_modulus: return {blocks.youngs_modulus, rod.num_edges()};
+    case RodDesignBlock::rest_curvature:
+      return {blocks.rest_curvature, 2 * rod.num_interior()};
+    case RodDesignBlock::rest_twist:
+      return {blocks.rest_twist, rod.num_interior()};
+    case RodDesignBlock::rest_length:
+      return {blocks.rest_length, rod.num_edges()};
+    case RodDesignBlock::radius:
+      return {blocks.radius, rod.num_edges()};
+    case RodDesignBlock::youngs_modulus:
+      return {blocks.youngs_modulus, rod.num_edges()};
   }
   return {0, 0};
 }
@@ -129,7 +142,8 @@ RodInverseSpec parse_inverse(const SceneNode& root, const RodSceneSpec& scene) {
   }
   for (std::size_t i = 0; i < spec.design.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
-      if (spec.design[i] == spec.design[j]) design.fail("block '" + to_string(spec.design[i]) + "' given twice");
+      if (spec.design[i] == spec.design[j])
+        design.fail("block '" + to_string(spec.design[i]) + "' given twice");
   if (const auto per = inv.find("per")) spec.per_rod = per->choice({"edge", "rod"}) == "rod";
 
   const RodSpec& rod = scene.rods[static_cast<std::size_t>(spec.rod)];
@@ -151,11 +165,13 @@ RodInverseSpec parse_inverse(const SceneNode& root, const RodSceneSpec& scene) {
     }
     spec.target_vertices = target->at("vertices").integers(0);
     for (int v : spec.target_vertices)
-      if (v >= nv) target->at("vertices").fail("vertex " + std::to_string(v) + " out of range (the rod has " +
-                                               std::to_string(nv) + ")");
+      if (v >= nv)
+        target->at("vertices")
+            .fail("vertex " + std::to_string(v) + " out of range (the rod has " + std::to_string(nv) + ")");
     if (spec.target_vertices.empty()) target->at("vertices").fail("expected at least one vertex");
     const bool displacements = target->has("displacements");
-    if (displacements == target->has("positions")) target->fail("needs exactly one of 'positions', 'displacements'");
+    if (displacements == target->has("positions"))
+      target->fail("needs exactly one of 'positions', 'displacements'");
     const SceneNode rows = target->at(displacements ? "displacements" : "positions");
     const std::vector<SceneNode> items = rows.items();
     if (items.size() != spec.target_vertices.size()) rows.fail("expected one row per vertex");
@@ -173,7 +189,8 @@ RodInverseSpec parse_inverse(const SceneNode& root, const RodSceneSpec& scene) {
   spec.optimizer.gradient_tolerance = 1e-14;
   spec.optimizer.objective_tolerance = 0.0;
   if (const auto opt = inv.find("optimizer")) {
-    opt->expect_keys({"backend", "max_iterations", "gradient_tolerance", "objective_tolerance", "time_limit"});
+    opt->expect_keys(
+        {"backend", "max_iterations", "gradient_tolerance", "objective_tolerance", "time_limit"});
     if (opt->has("backend")) {
       try {
         spec.optimizer.backend = parse_optimizer_backend(opt->at("backend").string());
@@ -210,8 +227,8 @@ double RodInverseProblem::shape_error(const Vector& x) const {
   return e / length;
 }
 
-std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& document, const std::string& source,
-                                                     const std::string& name) {
+std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& document,
+                                                     const std::string& source, const std::string& name) {
   auto problem = std::make_unique<RodInverseProblem>();
   RodInverseProblem& P = *problem;
   P.name = name;
@@ -279,8 +296,10 @@ std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& docum
       targets.push_back(P.spec.target_positions(static_cast<Eigen::Index>(i), c));
     }
   const double w = 1.0 / (static_cast<double>(P.spec.target_vertices.size()) * P.length * P.length);
-  parts.insert(parts.begin(), std::make_shared<RodTargetPositions>(
-                                   dofs, Eigen::Map<const Vector>(targets.data(), static_cast<Eigen::Index>(targets.size())), w));
+  parts.insert(
+      parts.begin(),
+      std::make_shared<RodTargetPositions>(
+          dofs, Eigen::Map<const Vector>(targets.data(), static_cast<Eigen::Index>(targets.size())), w));
   coefficients.insert(coefficients.begin(), 1.0);
   P.objective = parts.size() == 1 ? parts[0] : std::make_shared<WeightedSum>(parts, coefficients);
 
@@ -290,9 +309,9 @@ std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& docum
   // equilibrium near the optimum, so the residual there, which a warm start's relative tolerance
   // refers to, becomes tiny and the relative tolerance unreachable in double precision.
   options.newton.absolute_tolerance = options.newton.relative_tolerance * P.model.load->forces().norm();
-  P.functional = std::make_unique<StaticFunctional>(*P.model.model, P.parameterization, P.objective,
-                                                    P.model.model->elimination().restrict_state(P.model.rest),
-                                                    options);
+  P.functional =
+      std::make_unique<StaticFunctional>(*P.model.model, P.parameterization, P.objective,
+                                         P.model.model->elimination().restrict_state(P.model.rest), options);
   return problem;
 }
 
@@ -364,7 +383,8 @@ RodInverseRun run_rod_inverse(RodInverseProblem& P, const std::string& out_dir, 
   if (log)
     *log << "designing " << P.name << ": " << P.z0.size() << " variables " << scene_json(P)["design"].dump()
          << ", " << P.spec.target_vertices.size() << " target vertices; initial shape error "
-         << run.initial_shape_error << " (of the rod's length), " << to_string(P.spec.optimizer.backend) << "\n";
+         << run.initial_shape_error << " (of the rod's length), " << to_string(P.spec.optimizer.backend)
+         << "\n";
   OptimizerOptions options = P.spec.optimizer;
   options.progress = progress;
   run.result = minimize(f, P.z0, Bounds{}, {}, options);

@@ -31,7 +31,7 @@ struct RodInverseSpec {
   std::vector<int> target_vertices;
   Matrix target_positions;
   std::vector<int> components = {0, 1, 2};  // the coordinates that are matched
-  double regularization = 0.0;  // Tikhonov weight on the designed blocks (docs/rods.md)
+  double regularization = 0.0;              // Tikhonov weight on the designed blocks (docs/rods.md)
   OptimizerOptions optimizer;
   unsigned seed = 1;  // of the gradcheck's random direction
 };
@@ -54,8 +54,8 @@ struct RodInverseProblem {
 };
 
 // The scene document's "inverse" section; throws SceneError naming the key path.
-std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& document, const std::string& source,
-                                                     const std::string& name);
+std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& document,
+                                                     const std::string& source, const std::string& name);
 
 // `tailor gradcheck`: the Taylor test of J at z0 (of the Hessian-vector products too when
 // `hessian`); prints the table to `log` and writes out_dir/gradcheck.json.

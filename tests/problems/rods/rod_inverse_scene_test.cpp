@@ -33,15 +33,14 @@ std::string out_dir(const std::string& name) {
 // under gravity; the rest curvatures of all interior vertices are designed.
 nlohmann::json sagging_rod() {
   const double r = 1e-2, E = 4.0 / (M_PI * std::pow(r, 4)), g = 9.81, density = 2.0 / (M_PI * r * r * g);
-  nlohmann::json scene = {
-      {"rods",
-       {{{"name", "strand"},
-         {"line", {{"from", {0, 0, 0}}, {"to", {1, 0, 0}}, {"vertices", 13}}},
-         {"cross_section", {{"radius", r}}},
-         {"material", {{"youngs_modulus", E}, {"density", density}}},
-         {"clamp", {"first"}}}}},
-      {"gravity", {0, -g, 0}},
-      {"inverse", {{"design", "rest_curvature"}, {"target", "drawn"}}}};
+  nlohmann::json scene = {{"rods",
+                           {{{"name", "strand"},
+                             {"line", {{"from", {0, 0, 0}}, {"to", {1, 0, 0}}, {"vertices", 13}}},
+                             {"cross_section", {{"radius", r}}},
+                             {"material", {{"youngs_modulus", E}, {"density", density}}},
+                             {"clamp", {"first"}}}}},
+                          {"gravity", {0, -g, 0}},
+                          {"inverse", {{"design", "rest_curvature"}, {"target", "drawn"}}}};
   return scene;
 }
 
@@ -80,7 +79,8 @@ TEST(RodInverseScene, RecoversKnownRestCurvaturesThroughTheScene) {
   scene["inverse"]["target"] = {{"vertices", vertices}, {"positions", positions}};
   const auto problem = build_rod_inverse(scene, "sagging_rod", "recovery");
   const RodInverseRun run = run_rod_inverse(*problem, out_dir("recovery"), nullptr, nullptr);
-  const double curvature_error = (run.result.z - truth).lpNorm<Eigen::Infinity>() / truth.lpNorm<Eigen::Infinity>();
+  const double curvature_error =
+      (run.result.z - truth).lpNorm<Eigen::Infinity>() / truth.lpNorm<Eigen::Infinity>();
   std::printf("scene recovery: %d iterations, %.2f s, shape error %.2e -> %.2e, rest-curvature error %.2e\n",
               static_cast<int>(run.result.history.size()), run.result.seconds, run.initial_shape_error,
               run.shape_error, curvature_error);
@@ -113,8 +113,10 @@ TEST(RodInverseScene, ShippedDesignsReachTheirTargets) {
     const Vector& x = problem->functional->state();
     const double tip_y = x[3 * 20 + 1];
     const Vector r = problem->functional->parameters().segment(problem->model.blocks[0].radius, 20);
-    std::printf("stiffness design: %d iterations, %.2f s, tip deflection %.6f (target -0.02), radius %.3f .. %.3f r0\n",
-                static_cast<int>(run.result.history.size()), run.result.seconds, tip_y, r[0] / 0.01, r[19] / 0.01);
+    std::printf(
+        "stiffness design: %d iterations, %.2f s, tip deflection %.6f (target -0.02), radius %.3f .. %.3f "
+        "r0\n",
+        static_cast<int>(run.result.history.size()), run.result.seconds, tip_y, r[0] / 0.01, r[19] / 0.01);
     EXPECT_NEAR(tip_y, -0.02, 1e-5) << run.result.report();
     // Minimal relative change for a stiffer beam: the radii grow most near the clamp, where the
     // moment is largest (reference: the moment P (L - s) of the cantilever).

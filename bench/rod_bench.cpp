@@ -1,13 +1,25 @@
 // Newton iteration cost of a discrete elastic rod against its vertex count (should be linear:
-// the Hessian is banded). A helical rod of length 1 (EI = 1, circular section r = 1e-2) clamped
-// at its first edge sags under gravity (total weight 2); Newton runs a fixed number of
+// the Hessian is banded). A helical rod with edges of length ~0.01 (length 0.01 (N - 1) for N
+// vertices; EI = 1, circular section r = 1e-2) clamped at its first edge sags under gravity
+// (weight 2 per unit length; a rod of fixed length 1 would, at 10^5 vertices, start below
+// Newton's round-off floor estimate and stop at once); Newton runs a fixed number of
 // iterations and the medians of the per-iteration times are reported: assembly (energy,
 // gradient, Hessian of the stretching, bending, twisting and load terms), factorization,
 // solve, line search, and the whole iteration. Writes JSON (--out, default bench_rods.json)
 // and prints a table.
 //
-// usage: rod_bench [--vertices 100,1000,10000,100000] [--iterations N] [--out FILE]
+// Second part, rest-shape design (problems/rods/rod_inverse.hpp, the scenes' "inverse" section):
+// --strands strands of --strand-vertices vertices (nylon: length 0.5, r = 1e-3, E = 3e9,
+// density 1150, clamped at the root, curling up with a radius that differs per strand), each
+// designed separately (rest curvatures and rest lengths, target: the drawn shape, Ceres
+// Levenberg-Marquardt); reports per strand the time until the RMS shape error (over the
+// vertices, relative to the length) is below --shape-error, the median and the total, and the
+// final largest vertex error.
+//
+// usage: rod_bench [--vertices 100,1000,10000,100000] [--iterations N] [--strands S]
+//                  [--strand-vertices V] [--shape-error E] [--out FILE]
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -23,6 +35,7 @@
 #include "forward/rods/stretching_term.hpp"
 #include "forward/rods/twisting_term.hpp"
 #include "forward/solve/newton.hpp"
+#include "problems/rods/rod_inverse.hpp"
 
 using namespace tailor;
 
@@ -37,7 +50,7 @@ struct SizeResult {
 SizeResult run(int vertices, int iterations) {
   Eigen::MatrixX3d positions(vertices, 3);
   for (int i = 0; i < vertices; ++i) {
-    const double s = double(i) / (vertices - 1), phi = 4.0 * M_PI * s;
+    const double s = 0.01 * i, phi = 4.0 * M_PI * s;  // edges of length ~0.01 at every size
     positions.row(i) << s, 0.05 * std::cos(phi), 0.05 * std::sin(phi);
   }
   auto rod = std::make_shared<DiscreteRod>(positions, 0, 3 * vertices, Eigen::Vector3d::UnitZ());
@@ -82,6 +95,60 @@ SizeResult run(int vertices, int iterations) {
           median(iteration)};
 }
 
+struct StrandResult {
+  int iterations;
+  double seconds, initial_error, error;
+  std::string status;
+};
+
+// Strand k of `strands`: a planar arc of length 0.5 leaving the root horizontally and curling
+// up against gravity, radius of curvature 0.3 .. 0.6 (the scene rod_rest_shape_design.json).
+nlohmann::json strand_scene(int k, int strands, int vertices) {
+  const double L = 0.5, R = 0.3 + 0.3 * k / std::max(1, strands - 1);
+  nlohmann::json points = nlohmann::json::array();
+  for (int i = 0; i < vertices; ++i) {
+    const double phi = L * i / (vertices - 1) / R;
+    points.push_back({R * std::sin(phi), R * (1.0 - std::cos(phi)), 0.0});
+  }
+  return {{"rods",
+           {{{"name", "strand"},
+             {"points", points},
+             {"cross_section", {{"radius", 1e-3}}},
+             {"material", {{"youngs_modulus", 3e9}, {"density", 1150}}},
+             {"clamp", {"first"}}}}},
+          {"gravity", {0, -9.81, 0}},
+          {"inverse",
+           {{"design", {"rest_curvature", "rest_length"}},
+            {"optimizer",
+             {{"backend", "ceres_least_squares"},
+              {"max_iterations", 50},
+              {"objective_tolerance", 0.0},
+              {"gradient_tolerance", 1e-20}}}}}};
+}
+
+// One Levenberg-Marquardt run to convergence; the time to the stated error is read from its
+// history: J = 1/2 mean |x - t|^2 / L^2, so the RMS shape error is sqrt(2 J).
+StrandResult design_strand(int k, int strands, int vertices, double shape_error) {
+  auto problem = build_rod_inverse(strand_scene(k, strands, vertices), "strand", "strand");
+  StaticFunctional& f = *problem->functional;
+  const auto start = std::chrono::steady_clock::now();
+  f.value(problem->z0);
+  const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double initial = problem->shape_error(f.state());
+  const OptimizerResult r = minimize(f, problem->z0, Bounds{}, {}, problem->spec.optimizer);
+  StrandResult out{static_cast<int>(r.history.size()), -1.0, initial, 0.0, "not_reached"};
+  for (const OptimizerIteration& it : r.history)
+    if (std::sqrt(2.0 * it.objective) <= shape_error) {
+      out.iterations = it.iteration;
+      out.seconds = setup + it.seconds;
+      out.status = "reached";
+      break;
+    }
+  f.value(r.z);
+  out.error = problem->shape_error(f.state());
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -91,6 +158,11 @@ int main(int argc, char** argv) {
   bench::Cli cli("rod_bench", "Newton iteration cost of a discrete elastic rod against its vertex count.");
   cli.integers("--vertices", sizes, "vertex counts of the rod", 3);
   cli.integer("--iterations", iterations, "Newton iterations run (and timed) per size", 1);
+  int strands = 10, strand_vertices = 100;
+  double shape_error = 1e-6;
+  cli.integer("--strands", strands, "strands designed (0: no design part)", 0);
+  cli.integer("--strand-vertices", strand_vertices, "vertices per strand", 3);
+  cli.number("--shape-error", shape_error, "stated RMS shape error (vertex distance / strand length)", 0.0);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   std::vector<SizeResult> results;
@@ -116,5 +188,34 @@ int main(int argc, char** argv) {
                     {"line_search_s", s.line_search},
                     {"iteration_s", s.iteration}});
   json["sizes"] = rows;
+  if (strands > 0) {
+    std::printf("\nrest-shape design, %d strands of %d vertices, to a shape error of %.1e of the length\n",
+                strands, strand_vertices, shape_error);
+    std::printf("%8s %8s %12s %12s %10s %12s\n", "strand", "iters", "error0", "max_error", "seconds",
+                "status");
+    bench::Json designs = bench::Json::array();
+    std::vector<double> times;
+    double total = 0.0;
+    for (int k = 0; k < strands; ++k) {
+      const StrandResult d = design_strand(k, strands, strand_vertices, shape_error);
+      std::printf("%8d %8d %12.3e %12.3e %10.4f %12s\n", k, d.iterations, d.initial_error, d.error, d.seconds,
+                  d.status.c_str());
+      times.push_back(d.seconds);
+      total += d.seconds;
+      designs.push_back({{"strand", k},
+                         {"iterations", d.iterations},
+                         {"initial_shape_error", d.initial_error},
+                         {"shape_error", d.error},
+                         {"seconds", d.seconds},
+                         {"status", d.status}});
+    }
+    std::printf("median %.4f s per strand, total %.3f s for %d strands\n", median(times), total, strands);
+    json["rest_shape_design"] = {{"strands", strands},
+                                 {"strand_vertices", strand_vertices},
+                                 {"shape_error_target", shape_error},
+                                 {"median_seconds_per_strand", median(times)},
+                                 {"total_seconds", total},
+                                 {"strand_results", designs}};
+  }
   return bench::write_report(out, json, "rod_bench") ? 0 : 1;
 }

@@ -19,6 +19,7 @@
 #include "problems/material_fit/material_fit_scene.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
 #include "problems/modes_command.hpp"
+#include "problems/rods/rod_inverse.hpp"
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene_kinds.hpp"
 
@@ -157,6 +158,20 @@ int simulate_elastic_rods(const SceneFile& file, const VerbArguments& args, std:
   return exit_code(simulate_rod_scene_file(file.path, args.out_dir_or("out/rods"), out));
 }
 
+int gradcheck_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  return exit_code(
+      gradcheck_rod_scene_file(file.path, args.out_dir_or("out/" + file.stem()), args.seed, args.hessian, out)
+          .passed());
+}
+
+int run_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  if (args.resume || args.checkpoint_every)
+    throw UsageError("--resume and --checkpoint-every are not implemented for rod scenes");
+  return exit_code(
+      run_rod_scene_file(file.path, args.out_dir_or("out/" + file.stem()), out, args.quiet ? nullptr : &out)
+          .result.converged());
+}
+
 int homogenize_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const CellScene cell = read_cell_scene(file.path);
   homogenize_scene(cell, args.out_dir_or("out/" + cell.name), &out);
@@ -265,8 +280,10 @@ std::vector<SceneKind> builtin_scene_kinds() {
       {"rods",
        "a \"rods\" section (docs/rods.md)",
        [](const nlohmann::json& d) { return has_section(d, "rods"); },
-       {{"simulate", simulate_elastic_rods,
-         "equilibrium of discrete elastic rods; DIR defaults to out/rods"}}},
+       {{"simulate", simulate_elastic_rods, "equilibrium of discrete elastic rods; DIR defaults to out/rods"},
+        {"gradcheck", gradcheck_elastic_rods,
+         "needs an \"inverse\" section: Taylor test of the rod design's gradient"},
+        {"run", run_elastic_rods, "needs an \"inverse\" section: rest-shape or stiffness design of a rod"}}},
       {"cell_design",
        "\"type\": \"periodic_cell\" with a \"design\" section (docs/homogenization.md)",
        [](const nlohmann::json& d) { return has_type(d, "periodic_cell") && has_section(d, "design"); },

@@ -26,21 +26,6 @@ namespace {
 
 using nlohmann::json;
 
-// The rods' dead loads scaled by the load factor of the current step: E = -factor f . x.
-class ScaledForces final : public EnergyTerm {
- public:
-  explicit ScaledForces(Vector forces) : forces_(std::move(forces)) {}
-  std::string name() const override { return "rod_loads"; }
-  void evaluate(const Vector& x, const Vector&, const EnergyRequest& request) const override {
-    if (request.value) *request.value -= factor * forces_.dot(x);
-    if (request.gradient) *request.gradient -= factor * forces_;
-  }
-  double factor = 1.0;
-
- private:
-  Vector forces_;
-};
-
 [[noreturn]] void fail(const std::string& where, const std::string& what) {
   throw SceneError("rods scene: " + where + ": " + what);
 }
@@ -110,6 +95,17 @@ Eigen::MatrixX3d points_of(const json& r, const std::string& where) {
 }
 
 }  // namespace
+
+void RodLoadTerm::evaluate(const Vector& x, const Vector&, const EnergyRequest& request) const {
+  if (request.value) *request.value -= factor * forces_.dot(x);
+  if (request.gradient) *request.gradient -= factor * forces_;
+}
+
+std::vector<RodOutput> RodSceneModel::outputs() const {
+  std::vector<RodOutput> out;
+  for (std::size_t k = 0; k < rods.size(); ++k) out.push_back({rods[k].get(), blocks[k]});
+  return out;
+}
 
 bool is_rod_scene(const std::string& path) {
   std::ifstream f(path);
@@ -183,39 +179,41 @@ RodSceneSpec parse_rod_scene(const json& scene) {
   return spec;
 }
 
-RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
+RodSceneModel build_rod_model(const RodSceneSpec& spec) {
   int num_positions = 0, num_twists = 0;
   for (const auto& r : spec.rods)
     num_positions += 3 * static_cast<int>(r.points.rows()),
         num_twists += static_cast<int>(r.points.rows()) - 1;
-  Model model(num_positions + num_twists);
-  std::vector<std::shared_ptr<DiscreteRod>> rods;
-  std::vector<RodOutput> outputs;
-  Vector p, rest = Vector::Zero(model.num_dofs()), forces = Vector::Zero(model.num_dofs());
+  RodSceneModel m;
+  m.model = std::make_unique<Model>(num_positions + num_twists);
+  Model& model = *m.model;
+  m.rest = Vector::Zero(model.num_dofs());
+  Vector forces = Vector::Zero(model.num_dofs());
   std::vector<int> fixed;
   int position_offset = 0, twist_offset = num_positions;
-  std::vector<RodParameterBlocks> blocks;
   for (const auto& r : spec.rods) {
     auto rod = std::make_shared<DiscreteRod>(r.points, position_offset, twist_offset);
+    m.first_vertex.push_back(position_offset / 3);
     position_offset += 3 * rod->num_vertices();
     twist_offset += rod->num_edges();
-    blocks.push_back(add_rod_parameters(model.parameter_layout(), *rod, r.name));
-    rod->write_rest_state(rest);
-    rods.push_back(rod);
+    m.blocks.push_back(add_rod_parameters(model.parameter_layout(), *rod, r.name));
+    rod->write_rest_state(m.rest);
+    m.rods.push_back(rod);
   }
-  p = Vector::Zero(model.parameter_layout().size());
-  for (std::size_t k = 0; k < rods.size(); ++k) {
+  m.p = Vector::Zero(model.parameter_layout().size());
+  for (std::size_t k = 0; k < m.rods.size(); ++k) {
     const RodSpec& r = spec.rods[k];
-    const auto& rod = rods[k];
-    write_rod_parameters(*rod, blocks[k], r.material, p);
-    model.add(std::make_unique<RodStretchingTerm>(rod, r.material.section, blocks[k]));
-    model.add(std::make_unique<RodBendingTerm>(rod, r.material.section, blocks[k]));
-    model.add(std::make_unique<RodTwistingTerm>(rod, r.material.section, blocks[k]));
+    const auto& rod = m.rods[k];
+    const RodParameterBlocks& blocks = m.blocks[k];
+    write_rod_parameters(*rod, blocks, r.material, m.p);
+    model.add(std::make_unique<RodStretchingTerm>(rod, r.material.section, blocks));
+    model.add(std::make_unique<RodBendingTerm>(rod, r.material.section, blocks));
+    model.add(std::make_unique<RodTwistingTerm>(rod, r.material.section, blocks));
     if (r.density > 0.0)
       add_gravity_forces(*rod,
                          lumped_vertex_masses(*rod, r.material.section, r.density,
-                                              p.segment(blocks[k].radius, rod->num_edges()),
-                                              p.segment(blocks[k].rest_length, rod->num_edges())),
+                                              m.p.segment(blocks.radius, rod->num_edges()),
+                                              m.p.segment(blocks.rest_length, rod->num_edges())),
                          spec.gravity, forces);
     for (const auto& l : r.point_loads) add_point_load(*rod, l.vertex, l.force, forces);
     for (const auto& [edge, moment] : r.twisting_moments) add_twisting_moment(*rod, edge, moment, forces);
@@ -223,13 +221,22 @@ RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir
       for (int d : clamped_end_dofs(*rod, end)) fixed.push_back(d);
     for (int v : r.pinned)
       for (int d : pinned_vertex_dofs(*rod, v)) fixed.push_back(d);
-    outputs.push_back({rod.get(), blocks[k]});
   }
   std::sort(fixed.begin(), fixed.end());
   fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
-  model.set_elimination(Elimination::dirichlet(fixed, rest));
-  auto& load = model.add(std::make_unique<ScaledForces>(forces));
+  model.set_elimination(Elimination::dirichlet(fixed, m.rest));
+  m.load = &model.add(std::make_unique<RodLoadTerm>(forces));
+  return m;
+}
 
+RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
+  RodSceneModel m = build_rod_model(spec);
+  Model& model = *m.model;
+  auto& load = *m.load;
+  auto& rods = m.rods;
+  const Vector& p = m.p;
+  const Vector& rest = m.rest;
+  const std::vector<RodOutput> outputs = m.outputs();
   RodSimulation result;
   NewtonOptions options;
   options.max_iterations = spec.max_newton_iterations;

@@ -3,12 +3,15 @@
 // assembled into one Model (all rods' positions, then all twists), solved by Newton in load
 // steps (reference frames updated between steps), and written as .vtu polylines.
 #include <iosfwd>
+#include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
+#include "forward/core/model.hpp"
 #include "forward/rods/rod_parameters.hpp"
 #include "forward/rods/rod_supports.hpp"
+#include "problems/rods/rod_vtu.hpp"
 
 namespace tailor {
 
@@ -39,6 +42,35 @@ struct RodSceneSpec {
 bool is_rod_scene(const std::string& path);
 // Throws std::invalid_argument naming the offending key on bad input.
 RodSceneSpec parse_rod_scene(const nlohmann::json& scene);
+
+// The rods' dead loads (gravity, point loads, twisting moments) scaled by a load factor:
+// E = -factor f . x.
+class RodLoadTerm final : public EnergyTerm {
+ public:
+  explicit RodLoadTerm(Vector forces) : forces_(std::move(forces)) {}
+  std::string name() const override { return "rod_loads"; }
+  void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override;
+  const Vector& forces() const { return forces_; }  // at factor 1
+  double factor = 1.0;
+
+ private:
+  Vector forces_;
+};
+
+// All rods of a scene in one Model: every rod's positions (rod k's vertex v is the global
+// vertex first_vertex[k] + v, at x[3 (first_vertex[k] + v) + c]), then every rod's twists; the
+// three energy terms per rod, the supports eliminated, the loads at factor 1; p with the uniform
+// material and the stress-free rest shape of every rod.
+struct RodSceneModel {
+  std::unique_ptr<Model> model;
+  std::vector<std::shared_ptr<DiscreteRod>> rods;
+  std::vector<RodParameterBlocks> blocks;
+  std::vector<int> first_vertex;
+  Vector p, rest;
+  RodLoadTerm* load = nullptr;
+  std::vector<RodOutput> outputs() const;
+};
+RodSceneModel build_rod_model(const RodSceneSpec& spec);
 
 struct RodSimulation {
   bool converged = false;

@@ -1,0 +1,89 @@
+#pragma once
+// Inverse design of rods: the "inverse" section of a rod scene (docs/rods.md, "Inverse design
+// scenes") for `tailor gradcheck` and `tailor run`. The design is one or more per-edge or
+// per-vertex parameter blocks of one rod (rest curvatures, rest twists, rest lengths, radii,
+// Young's moduli), the objective a target shape (by default the rod's own drawn points: the rest
+// shape that, under the scene's loads and supports, settles into the drawn one), through the
+// static adjoint (adjoint/static_functional.hpp) with the exact Hessian.
+#include <iosfwd>
+#include <memory>
+#include <nlohmann/json_fwd.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "adjoint/static_functional.hpp"
+#include "adjoint/taylor_test.hpp"
+#include "optimizers/optimizer.hpp"
+#include "problems/rods/rod_scene.hpp"
+
+namespace tailor {
+
+// A designed parameter block of the rod.
+enum class RodDesignBlock { rest_curvature, rest_twist, rest_length, radius, youngs_modulus };
+std::string to_string(RodDesignBlock block);
+
+struct RodInverseSpec {
+  int rod = 0;  // index into the scene's rods
+  std::vector<RodDesignBlock> design;
+  bool per_rod = false;  // radius / youngs_modulus / rest_length: one variable for the whole rod
+  // Target positions of the rod's vertices (local indices), one row each.
+  std::vector<int> target_vertices;
+  Matrix target_positions;
+  std::vector<int> components = {0, 1, 2};  // the coordinates that are matched
+  double regularization = 0.0;              // Tikhonov weight on the designed blocks (docs/rods.md)
+  OptimizerOptions optimizer;
+  unsigned seed = 1;  // of the gradcheck's random direction
+};
+
+struct RodInverseProblem {
+  std::string name, source;
+  RodSceneSpec scene;
+  RodInverseSpec spec;
+  RodSceneModel model;
+  double length = 0.0;  // the designed rod's drawn length: the shape error's unit
+  ParameterizationPtr parameterization;
+  ObjectivePtr objective;
+  std::unique_ptr<StaticFunctional> functional;
+  Vector z0;
+  std::vector<std::string> labels;  // per design variable: "rest_curvature[i][a]", "radius[j]", ...
+
+  // Largest distance of a target vertex from its target at the equilibrium x (in the matched
+  // components), over `length`.
+  double shape_error(const Vector& x) const;
+};
+
+// The scene document's "inverse" section; throws SceneError naming the key path.
+std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& document,
+                                                     const std::string& source, const std::string& name);
+
+// `tailor gradcheck`: the Taylor test of J at z0 (of the Hessian-vector products too when
+// `hessian`); prints the table to `log` and writes out_dir/gradcheck.json.
+struct RodGradcheck {
+  TaylorTestResult gradient;
+  std::optional<TaylorTestResult> hessian;
+  bool passed() const { return gradient.passed() && (!hessian || hessian->passed()); }
+};
+RodGradcheck gradcheck_rod_scene(const RodInverseProblem& problem, const std::string& out_dir,
+                                 std::optional<unsigned> seed, bool hessian, std::ostream* log);
+
+// `tailor run`: minimizes J from z0; writes out_dir/report.json and out_dir/rods.vtu at the best
+// design (and rods_initial.vtu at z0).
+struct RodInverseRun {
+  OptimizerResult result;
+  double initial_shape_error = 0.0, shape_error = 0.0;  // relative to the rod's length
+  bool final_converged = false;                         // the equilibrium at the best design
+  std::string report_path;
+};
+RodInverseRun run_rod_inverse(RodInverseProblem& problem, const std::string& out_dir, std::ostream* log,
+                              std::ostream* progress);
+
+// File front ends for the CLI: read the scene, build the problem, run.
+RodGradcheck gradcheck_rod_scene_file(const std::string& path, const std::string& out_dir,
+                                      std::optional<unsigned> seed, bool hessian, std::ostream& log);
+RodInverseRun run_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log,
+                                 std::ostream* progress);
+// The scene's default output folder: out/<file stem>.
+std::string rod_scene_stem(const std::string& path);
+
+}  // namespace tailor

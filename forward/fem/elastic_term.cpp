@@ -37,8 +37,7 @@ void ElasticTerm<Dim>::evaluate(const Vector& x, const Vector& p, const EnergyRe
     const ShapeGradients& G = simplices_.gradients[k];
     out.energy = V * m.energy_density;
     // f_a = V P grad N_a (column a of the Dim x kNodes block, node-major like the local DOFs)
-    if (out.want_gradient)
-      Eigen::Map<Eigen::Matrix<double, Dim, kNodes>>(out.gradient.data()).noalias() = V * m.stress * G.transpose();
+    if (out.want_gradient) out.gradient().noalias() = V * m.stress * G.transpose();
     if (out.want_hessian) {
       const auto B = LinearSimplices<Dim>::deformation_jacobian(G);
       out.hessian().noalias() = V * (B.transpose() * m.tangent * B);

@@ -48,54 +48,6 @@ LinearSimplices<Dim>::LinearSimplices(const Mesh& mesh, std::vector<int> covered
     volumes[k] = det / (Dim == 3 ? 6.0 : 2.0);
     for (int a = 0; a < kNodes; ++a) vertices[k][a] = mesh.elements(e, a);
   }
-  colour_elements();
-}
-
-template <int Dim>
-void LinearSimplices<Dim>::colour_elements() {
-  const int n = size();
-  int num_vertices = 0;
-  for (const auto& v : vertices) num_vertices = std::max(num_vertices, v.maxCoeff() + 1);
-  // The covered elements at each vertex (compressed rows, in element order).
-  std::vector<int> start(static_cast<std::size_t>(num_vertices) + 1, 0);
-  for (const auto& v : vertices)
-    for (int a = 0; a < kNodes; ++a) ++start[static_cast<std::size_t>(v[a]) + 1];
-  for (int v = 0; v < num_vertices; ++v) start[v + 1] += start[v];
-  std::vector<int> incident(static_cast<std::size_t>(start.back()));
-  {
-    std::vector<int> next(start.begin(), start.end() - 1);
-    for (int k = 0; k < n; ++k)
-      for (int a = 0; a < kNodes; ++a) incident[next[vertices[k][a]]++] = k;
-  }
-  // Greedy: the smallest colour that no earlier element sharing a vertex has.
-  std::vector<int> colour(static_cast<std::size_t>(n), -1), taken_by;  // taken_by[c]: last k that saw c
-  for (int k = 0; k < n; ++k) {
-    for (int a = 0; a < kNodes; ++a) {
-      const int v = vertices[k][a];
-      for (int i = start[v]; i < start[v + 1]; ++i)
-        if (const int c = colour[incident[i]]; c >= 0) taken_by[c] = k;
-    }
-    int c = 0;
-    while (c < static_cast<int>(taken_by.size()) && taken_by[c] == k) ++c;
-    if (c == static_cast<int>(taken_by.size())) taken_by.push_back(-1);
-    colour[k] = c;
-  }
-  const int colours = static_cast<int>(taken_by.size());
-  std::vector<int> colour_start(static_cast<std::size_t>(colours) + 1, 0);
-  for (int c : colour) ++colour_start[static_cast<std::size_t>(c) + 1];
-  for (int c = 0; c < colours; ++c) colour_start[c + 1] += colour_start[c];
-  colour_order.assign(static_cast<std::size_t>(n), 0);
-  {
-    std::vector<int> next(colour_start.begin(), colour_start.end() - 1);
-    for (int k = 0; k < n; ++k) colour_order[next[colour[k]]++] = k;
-  }
-  chunk_begin.clear();
-  colour_chunks.assign(1, 0);
-  for (int c = 0; c < colours; ++c) {
-    for (int i = colour_start[c]; i < colour_start[c + 1]; i += kChunk) chunk_begin.push_back(i);
-    colour_chunks.push_back(static_cast<int>(chunk_begin.size()));
-  }
-  chunk_begin.push_back(n);
 }
 
 template <int Dim>

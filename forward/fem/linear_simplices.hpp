@@ -15,7 +15,6 @@ template <int Dim>
 struct LinearSimplices {
   static constexpr int kNodes = Dim + 1;
   static constexpr int kLocal = Dim * kNodes;                 // element DOFs
-  static constexpr int kChunk = 128;                          // elements per chunk of a colour
   using ShapeGradients = Eigen::Matrix<double, kNodes, Dim>;  // row a: grad N_a at rest
   using Mat = Eigen::Matrix<double, Dim, Dim>;
   using Jacobian = Eigen::Matrix<double, Dim * Dim, kLocal>;  // d vec(F) / d x_local
@@ -39,18 +38,6 @@ struct LinearSimplices {
   std::vector<Eigen::Matrix<int, kNodes, 1>> vertices;
   std::vector<ShapeGradients> gradients;
   std::vector<double> volumes;
-
-  // The colouring (see the top of this file): colour_order lists the covered elements k colour
-  // by colour (increasing k within a colour); chunk j covers colour_order[chunk_begin[j],
-  // chunk_begin[j + 1]); colour c is chunks [colour_chunks[c], colour_chunks[c + 1]).
-  int num_colours() const { return static_cast<int>(colour_chunks.size()) - 1; }
-  int num_chunks() const { return static_cast<int>(chunk_begin.size()) - 1; }
-  std::vector<int> colour_order;
-  std::vector<int> chunk_begin;
-  std::vector<int> colour_chunks;
-
- private:
-  void colour_elements();
 };
 
 extern template struct LinearSimplices<2>;

@@ -87,7 +87,7 @@ void SplineElasticTerm<Dim>::evaluate(const Vector& x, const Vector& p, const En
     }
     out.energy = V * m.energy_density;
     if (out.want_gradient)  // f_a = V P grad N_a
-      Eigen::Map<Eigen::Matrix<double, Dim, Dim + 1>>(out.gradient.data()).noalias() = V * m.stress * G.transpose();
+      out.gradient().noalias() = V * m.stress * G.transpose();
   });
 }
 

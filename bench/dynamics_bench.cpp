@@ -10,7 +10,7 @@
 // alpha and beta (TransientFunctional), as a ratio of the forward run.
 // Writes JSON (--out, default bench_dynamics.json) and prints a table.
 //
-// usage: dynamics_bench [--tets 58000] [--steps 10] [--reuse-factorization] [--out FILE]
+// usage: dynamics_bench [--tets 58000] [--steps 10] [--reuse-factorization | --no-reuse-factorization] [--out FILE]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -44,7 +44,7 @@ struct Row {
   int factorizations = 0, cg_solves = 0;
 };
 
-Row run(TimeScheme scheme, int target_tets, int steps, bool reuse_factorization) {
+Row run(TimeScheme scheme, int target_tets, int steps, FactorReuse reuse_factorization) {
   DynamicTerms terms;
   const bench::Cantilever bar = bench::make_cantilever(
       4.0, bench::cantilever_cells(target_tets, 4.0), MaterialKind::neo_hookean,
@@ -126,16 +126,23 @@ Row run(TimeScheme scheme, int target_tets, int steps, bool reuse_factorization)
 
 int main(int argc, char** argv) {
   int tets = 58000, steps = 10;
-  bool reuse_factorization = false;
+  FactorReuse reuse_factorization = FactorReuse::automatic;
   std::string out = "bench_dynamics.json";
   bench::Cli cli("dynamics_bench", "Time per implicit step of a Neo-Hookean cantilever, and its adjoint.");
   cli.tets(tets, 24);
   cli.steps(steps);
-  cli.flag("--reuse-factorization", reuse_factorization,
-           "Newton's kept factorization as CG preconditioner instead of refactorizing");
+  CLI::Option* reuse = cli.app().add_flag_callback(
+      "--reuse-factorization", [&reuse_factorization] { reuse_factorization = FactorReuse::on; },
+      "Newton's kept factorization as CG preconditioner whenever it can (default: where it pays)");
+  cli.app()
+      .add_flag_callback(
+          "--no-reuse-factorization", [&reuse_factorization] { reuse_factorization = FactorReuse::off; },
+          "Newton factorizes every iteration")
+      ->excludes(reuse);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
-  std::printf("tailor %s: Neo-Hookean cantilever under gravity, h = 0.01, full space\n", version_string);
+  std::printf("tailor %s: Neo-Hookean cantilever under gravity, h = 0.01, full space, reuse_factorization %s\n",
+              version_string, to_string(reuse_factorization).c_str());
   std::vector<Row> rows;
   for (TimeScheme scheme : {TimeScheme::implicit_euler, TimeScheme::newmark})
     rows.push_back(run(scheme, tets, steps, reuse_factorization));
@@ -155,7 +162,7 @@ int main(int argc, char** argv) {
       "CPU\n"
       " time over the CPU time of the forward run of the same steps)\n");
   bench::Json json = bench::report("dynamics_step");
-  json["reuse_factorization"] = reuse_factorization;
+  json["reuse_factorization"] = to_string(reuse_factorization);
   bench::Json results = bench::Json::array();
   for (const Row& r : rows)
     results.push_back({{"scheme", r.scheme},

@@ -83,14 +83,20 @@ Row run(TimeScheme scheme, int target_tets, int steps, FactorReuse reuse_factori
     cpu.push_back(cpu_seconds() - c0);
     if (!r.converged()) throw std::runtime_error("step " + std::to_string(s + 1) + " failed: " + r.message);
     iterations += r.iterations;
+    int cg_steps = 0;
     for (const auto& it : r.history) {
+      cg_steps += it.reused_factorization ? 1 : 0;
       row.assembly += it.assembly_seconds / steps;
       row.factorization += it.factorization_seconds / steps;
       row.line_search += it.line_search_seconds / steps;
     }
-    std::fprintf(stderr, "  %s step %d: %.3f s, %d Newton iterations\n", row.scheme.c_str(), s + 1,
-                 times.back(), r.iterations);
+    std::fprintf(stderr, "  %s step %d: %.3f s, %d Newton iterations (%d factorizations, %d by CG)\n",
+                 row.scheme.c_str(), s + 1, times.back(), r.iterations, r.factorizations(), cg_steps);
   }
+  const SparseCholesky& factor = integrator.newton().factorization();
+  std::fprintf(stderr, "  factorization %.2f GFlop = %.0f back-solves, %.0f flops per assembled Hessian slot\n",
+               1e-9 * factor.factorization_flops(), factor.factorization_flops() / (4.0 * factor.factor_nonzeros()),
+               factor.factorization_flops() / static_cast<double>(integrator.newton().assembler().num_slots()));
   row.median_step = median(times);
   row.median_cpu = median(cpu);
   row.min_step = *std::min_element(times.begin(), times.end());

@@ -10,7 +10,7 @@
 // alpha and beta (TransientFunctional), as a ratio of the forward run.
 // Writes JSON (--out, default bench_dynamics.json) and prints a table.
 //
-// usage: dynamics_bench [--tets 58000] [--steps 10] [--reuse-factorization] [--out FILE]
+// usage: dynamics_bench [--tets 58000] [--steps 10] [--reuse-factorization | --no-reuse-factorization] [--out FILE]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -44,7 +44,7 @@ struct Row {
   int factorizations = 0, cg_solves = 0;
 };
 
-Row run(TimeScheme scheme, int target_tets, int steps, bool reuse_factorization) {
+Row run(TimeScheme scheme, int target_tets, int steps, FactorReuse reuse_factorization) {
   DynamicTerms terms;
   const bench::Cantilever bar = bench::make_cantilever(
       4.0, bench::cantilever_cells(target_tets, 4.0), MaterialKind::neo_hookean,
@@ -83,14 +83,20 @@ Row run(TimeScheme scheme, int target_tets, int steps, bool reuse_factorization)
     cpu.push_back(cpu_seconds() - c0);
     if (!r.converged()) throw std::runtime_error("step " + std::to_string(s + 1) + " failed: " + r.message);
     iterations += r.iterations;
+    int cg_steps = 0;
     for (const auto& it : r.history) {
+      cg_steps += it.reused_factorization ? 1 : 0;
       row.assembly += it.assembly_seconds / steps;
       row.factorization += it.factorization_seconds / steps;
       row.line_search += it.line_search_seconds / steps;
     }
-    std::fprintf(stderr, "  %s step %d: %.3f s, %d Newton iterations\n", row.scheme.c_str(), s + 1,
-                 times.back(), r.iterations);
+    std::fprintf(stderr, "  %s step %d: %.3f s, %d Newton iterations (%d factorizations, %d by CG)\n",
+                 row.scheme.c_str(), s + 1, times.back(), r.iterations, r.factorizations(), cg_steps);
   }
+  const SparseCholesky& factor = integrator.newton().factorization();
+  std::fprintf(stderr, "  factorization %.2f GFlop = %.0f back-solves, %.0f flops per assembled Hessian slot\n",
+               1e-9 * factor.factorization_flops(), factor.factorization_flops() / (4.0 * factor.factor_nonzeros()),
+               factor.factorization_flops() / static_cast<double>(integrator.newton().assembler().num_slots()));
   row.median_step = median(times);
   row.median_cpu = median(cpu);
   row.min_step = *std::min_element(times.begin(), times.end());
@@ -126,16 +132,23 @@ Row run(TimeScheme scheme, int target_tets, int steps, bool reuse_factorization)
 
 int main(int argc, char** argv) {
   int tets = 58000, steps = 10;
-  bool reuse_factorization = false;
+  FactorReuse reuse_factorization = FactorReuse::automatic;
   std::string out = "bench_dynamics.json";
   bench::Cli cli("dynamics_bench", "Time per implicit step of a Neo-Hookean cantilever, and its adjoint.");
   cli.tets(tets, 24);
   cli.steps(steps);
-  cli.flag("--reuse-factorization", reuse_factorization,
-           "Newton's kept factorization as CG preconditioner instead of refactorizing");
+  CLI::Option* reuse = cli.app().add_flag_callback(
+      "--reuse-factorization", [&reuse_factorization] { reuse_factorization = FactorReuse::on; },
+      "Newton's kept factorization as CG preconditioner whenever it can (default: where it pays)");
+  cli.app()
+      .add_flag_callback(
+          "--no-reuse-factorization", [&reuse_factorization] { reuse_factorization = FactorReuse::off; },
+          "Newton factorizes every iteration")
+      ->excludes(reuse);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
-  std::printf("tailor %s: Neo-Hookean cantilever under gravity, h = 0.01, full space\n", version_string);
+  std::printf("tailor %s: Neo-Hookean cantilever under gravity, h = 0.01, full space, reuse_factorization %s\n",
+              version_string, to_string(reuse_factorization).c_str());
   std::vector<Row> rows;
   for (TimeScheme scheme : {TimeScheme::implicit_euler, TimeScheme::newmark})
     rows.push_back(run(scheme, tets, steps, reuse_factorization));
@@ -155,7 +168,7 @@ int main(int argc, char** argv) {
       "CPU\n"
       " time over the CPU time of the forward run of the same steps)\n");
   bench::Json json = bench::report("dynamics_step");
-  json["reuse_factorization"] = reuse_factorization;
+  json["reuse_factorization"] = to_string(reuse_factorization);
   bench::Json results = bench::Json::array();
   for (const Row& r : rows)
     results.push_back({{"scheme", r.scheme},

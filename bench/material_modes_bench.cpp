@@ -142,7 +142,8 @@ double time_to_error(const Row& row, double error) {
 
 Row run(const Settings& settings, const Setting& setting) {
   Scene scene = read_scene(scene_file(settings, setting.scene));
-  if (settings.reuse_factorization) scene.solver.newton.reuse_factorization = *settings.reuse_factorization;
+  if (settings.reuse_factorization)
+    scene.solver.newton.reuse_factorization = *settings.reuse_factorization ? FactorReuse::on : FactorReuse::off;
   auto spec = std::make_shared<InverseSpec>(*scene.inverse);
   spec->design.granularity = DesignGranularity::modes;
   spec->design.modes = setting.modes;

@@ -31,6 +31,9 @@ struct SizeResult {
   int target_tets, tets, vertices, free_dofs, iterations;
   std::string status;
   double analysis, assembly, factorization, solve, line_search, iteration, ratio, total;
+  // What FactorReuse::automatic decides by (NewtonOptions): the factorization's flops per
+  // back-solve (4 nnz(L)) and per assembled Hessian slot.
+  double factor_flops, factor_over_solve, flops_per_slot;
 };
 
 SizeResult run(int target_tets, int max_iterations) {
@@ -72,6 +75,9 @@ SizeResult run(int target_tets, int max_iterations) {
   s.iteration = median(iteration);
   s.ratio = median(ratio);
   s.total = r.total_seconds;
+  s.factor_flops = solver.factorization().factorization_flops();
+  s.factor_over_solve = s.factor_flops / (4.0 * solver.factorization().factor_nonzeros());
+  s.flops_per_slot = s.factor_flops / static_cast<double>(solver.assembler().num_slots());
   return s;
 }
 
@@ -90,17 +96,20 @@ int main(int argc, char** argv) {
   std::printf("tailor %s, Newton on a Neo-Hookean block (clamped base, shear + compression on top)\n",
               version_string);
   std::printf("BLAS: %s, hardware threads: %u\n", blas.c_str(), std::thread::hardware_concurrency());
-  std::printf("%8s %9s %6s %-10s %9s %9s %9s %9s %9s %7s\n", "tets", "free DOFs", "iters", "status", "assembly",
-              "factor", "solve", "l.search", "iter", "ratio");
+  std::printf("%8s %9s %6s %-10s %9s %9s %9s %9s %9s %7s %8s %8s %8s\n", "tets", "free DOFs", "iters", "status",
+              "assembly", "factor", "solve", "l.search", "iter", "ratio", "GFlop", "f/solve", "f/slot");
   std::vector<SizeResult> results;
   for (int size : sizes) {
     const SizeResult s = run(size, max_iterations);
     results.push_back(s);
-    std::printf("%8d %9d %6d %-10s %9.4f %9.4f %9.4f %9.4f %9.4f %7.3f\n", s.tets, s.free_dofs, s.iterations,
-                s.status.c_str(), s.assembly, s.factorization, s.solve, s.line_search, s.iteration, s.ratio);
+    std::printf("%8d %9d %6d %-10s %9.4f %9.4f %9.4f %9.4f %9.4f %7.3f %8.2f %8.0f %8.0f\n", s.tets, s.free_dofs,
+                s.iterations, s.status.c_str(), s.assembly, s.factorization, s.solve, s.line_search, s.iteration,
+                s.ratio, 1e-9 * s.factor_flops, s.factor_over_solve, s.flops_per_slot);
     std::fflush(stdout);
   }
-  std::printf("(seconds, medians over Newton iterations; ratio = iteration / (factorization + solve))\n");
+  std::printf(
+      "(seconds, medians over Newton iterations; ratio = iteration / (factorization + solve); GFlop, f/solve, "
+      "f/slot:\n the factorization's flops, per back-solve (4 nnz(L)) and per assembled Hessian slot)\n");
 
   bench::Json json = bench::report("newton_iteration");
   json["blas"] = blas;
@@ -120,7 +129,10 @@ int main(int argc, char** argv) {
                     {"median_line_search_s", s.line_search},
                     {"median_iteration_s", s.iteration},
                     {"median_ratio", s.ratio},
-                    {"total_s", s.total}});
+                    {"total_s", s.total},
+                    {"factorization_flops", s.factor_flops},
+                    {"factorization_over_solve_flops", s.factor_over_solve},
+                    {"factorization_flops_per_slot", s.flops_per_slot}});
   json["results"] = rows;
   return bench::write_report(out, json, "newton_bench") ? 0 : 1;
 }

@@ -1,8 +1,10 @@
 // The solver's defaults against the configuration before them, side by side in one run:
 //   old  CHOLMOD's OpenMP loops at its compiled 4 threads, every Newton iteration and time
-//        step factorizes (NewtonOptions::keep_constant_factorization = false);
+//        step factorizes (NewtonOptions::keep_constant_factorization = false, reuse_factorization
+//        off);
 //   new  the defaults: CHOLMOD's loops serialized (forward/solve/threads.hpp), the factor of a
-//        constant Hessian kept across iterations, time steps and the adjoint.
+//        constant Hessian kept across iterations, time steps and the adjoint, and Newton's kept
+//        factor as CG preconditioner where it pays (FactorReuse::automatic).
 // Figures (medians over repeats in this run):
 //   factorization  one numeric factorization (and one back-solve) of the linear block's Hessian;
 //   inverse        one forward solve + one gradient of a linear per-element inverse problem
@@ -41,9 +43,10 @@ struct Config {
   const char* name;
   int factorization_threads;
   bool keep_constant;
+  FactorReuse reuse;  // Newton's kept factor as CG preconditioner
 };
-constexpr Config kOld{"old", 0, false};
-constexpr Config kNew{"new", 1, true};
+constexpr Config kOld{"old", 0, false, FactorReuse::off};
+constexpr Config kNew{"new", 1, true, FactorReuse::automatic};
 
 void use(const Config& config) {
   ThreadSettings threads = thread_settings();
@@ -91,6 +94,7 @@ InverseFigures inverse_problem(const bench::LoadedBlock& block, const Config& co
         block.mesh.rest_positions.row(block.top_vertices[k]) + Eigen::RowVector3d(0.02, 0.0, -0.03);
   StaticFunctionalOptions options;
   options.newton.keep_constant_factorization = config.keep_constant;
+  options.newton.reuse_factorization = config.reuse;
   StaticFunctional f(*block.model, embed_blocks(block.parameters, {{0, exp_map(m)}}),
                      std::make_shared<TargetPositions>(3, block.top_vertices, targets), block.rest_unknowns(),
                      options);
@@ -139,6 +143,7 @@ DynamicsFigures linear_dynamics(int target_tets, int steps, const Config& config
   options.scheme = TimeScheme::implicit_euler;
   options.time_step = 0.01;
   options.newton.keep_constant_factorization = config.keep_constant;
+  options.newton.reuse_factorization = config.reuse;
   TimeIntegrator integrator(*bar.model, options);
   DynamicState state = integrator.initial_state(bar.rest, Vector::Zero(bar.rest.size()), p);
   std::vector<double> times;
@@ -162,7 +167,9 @@ DynamicsFigures linear_dynamics(int target_tets, int steps, const Config& config
 // Mean seconds per Newton iteration of a Neo-Hookean solve from rest.
 double newton_iteration(const bench::LoadedBlock& block, const Config& config) {
   use(config);
-  NewtonSolver newton(*block.model);
+  NewtonOptions options;
+  options.reuse_factorization = config.reuse;
+  NewtonSolver newton(*block.model, options);
   Vector y = block.rest_unknowns();
   const NewtonResult r = newton.solve(block.parameters, y);
   if (!r.converged()) throw std::runtime_error("Neo-Hookean solve failed: " + r.message);

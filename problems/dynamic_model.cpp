@@ -34,6 +34,7 @@ DynamicSceneModel build_dynamic_scene(const Scene& scene) {
   d.options.time_step = spec.time_step;
   d.options.newton.max_iterations = std::max(d.setup.solver.newton.max_iterations, 1);
   d.options.newton.hessian = d.setup.solver.newton.hessian;
+  d.options.newton.reuse_factorization = d.setup.solver.newton.reuse_factorization;
   d.rest = d.setup.rest_state();
   d.initial_velocities = Vector::Zero(d.rest.size());
   if (spec.initial_velocity)

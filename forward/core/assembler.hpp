@@ -27,6 +27,8 @@ class ReducedAssembler {
 
   // A zero-valued upper-triangular matrix with the reduced Hessian's pattern.
   SparseMatrix hessian_pattern_matrix() const { return pattern_; }
+  // Hessian values the terms write per evaluation (the slots of their patterns).
+  std::size_t num_slots() const { return buffer_.size(); }
 
  private:
   const Model& model_;

@@ -1,6 +1,7 @@
 #include "forward/fem/elastic_term.hpp"
 
-#include <algorithm>
+#include "forward/fem/element_loop.hpp"
+
 #include <stdexcept>
 #include <string>
 
@@ -28,43 +29,20 @@ Eigen::Matrix<double, Dim, Dim> ElasticTerm<Dim>::deformation_gradient(const Vec
 
 template <int Dim>
 void ElasticTerm<Dim>::evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const {
-  const auto num = static_cast<std::ptrdiff_t>(simplices_.elements.size());
-  const bool want_stress = request.gradient != nullptr;
-  const bool want_tangent = request.hessian_values != nullptr;
-  if (want_stress) local_gradients_.resize(simplices_.elements.size() * kLocal);
-  double energy = 0.0;
-  constexpr int kSlots = kLocal * kLocal;
-
-#pragma omp parallel for schedule(static) reduction(+ : energy) if (num > 256)
-  for (std::ptrdiff_t k = 0; k < num; ++k) {
-    const auto F = deformation_gradient(x, static_cast<int>(k));
+  evaluate_elements<Dim>(simplices_, request, [&](int k, ElementOutput<Dim>& out) {
     MaterialEvaluation<Dim> m;
-    material_->evaluate(F, lame(p, simplices_.elements[k]), want_stress, want_tangent, request.hessian_mode,
-                        m);
+    material_->evaluate(deformation_gradient(x, k), lame(p, simplices_.elements[k]), out.want_gradient,
+                        out.want_hessian, out.hessian_mode, m);
     const double V = simplices_.volumes[k];
-    energy += V * m.energy_density;
     const ShapeGradients& G = simplices_.gradients[k];
-    if (want_stress) {
-      // f_a = V P grad N_a
-      const Eigen::Matrix<double, Dim, kNodes> local = V * m.stress * G.transpose();
-      std::copy(local.data(), local.data() + kLocal, local_gradients_.data() + k * kLocal);
-    }
-    if (want_tangent) {
+    out.energy = V * m.energy_density;
+    // f_a = V P grad N_a (column a of the Dim x kNodes block, node-major like the local DOFs)
+    if (out.want_gradient) out.gradient().noalias() = V * m.stress * G.transpose();
+    if (out.want_hessian) {
       const auto B = LinearSimplices<Dim>::deformation_jacobian(G);
-      const Eigen::Matrix<double, kLocal, kLocal> H = V * (B.transpose() * m.tangent * B);
-      // Row-major slots match hessian_pattern(); H is symmetric so column-major storage is
-      // the same sequence.
-      std::copy(H.data(), H.data() + kSlots, request.hessian_values + k * kSlots);
+      out.hessian().noalias() = V * (B.transpose() * m.tangent * B);
     }
-  }
-  if (request.value) *request.value += energy;
-  if (want_stress) {
-    Vector& g = *request.gradient;
-    for (std::size_t k = 0; k < simplices_.elements.size(); ++k)
-      for (int a = 0; a < kNodes; ++a)
-        g.template segment<Dim>(Dim * simplices_.vertices[k][a]) +=
-            Eigen::Map<const Eigen::Matrix<double, Dim, 1>>(local_gradients_.data() + k * kLocal + Dim * a);
-  }
+  });
 }
 
 template <int Dim>

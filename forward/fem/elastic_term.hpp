@@ -58,7 +58,6 @@ class ElasticTerm final : public EnergyTerm {
   std::shared_ptr<const Material<Dim>> material_;
   int youngs_offset_, poisson_offset_;
   LinearSimplices<Dim> simplices_;
-  mutable std::vector<double> local_gradients_;  // kLocal per element, reused between calls
 };
 
 extern template class ElasticTerm<2>;

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "forward/fem/element_loop.hpp"
 #include "forward/fem/materials/spline_material.hpp"
 
 namespace tailor {
@@ -13,7 +14,7 @@ namespace {
 // for the element's shape gradients G (rows grad N_a), so a mode u v^T maps to u (G v)^T.
 template <int Dim, int Local>
 void modal_element_hessian(const SplineTangentModes<Dim>& modes, const Eigen::Matrix<double, Dim + 1, Dim>& G,
-                           double volume, Eigen::Matrix<double, Local, Local>& H) {
+                           double volume, typename ElementOutput<Dim>::LocalHessian H) {
   constexpr int kPairs = SplineTangentModes<Dim>::kPairs;
   constexpr int kModes = Dim + 2 * kPairs;
   constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
@@ -66,49 +67,28 @@ PrincipalStretchCurves SplineElasticTerm<Dim>::curves(const Vector& p) const {
 template <int Dim>
 void SplineElasticTerm<Dim>::evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const {
   const PrincipalStretchCurves c = curves(p);
-  const auto num = static_cast<std::ptrdiff_t>(simplices_.size());
-  const bool want_stress = request.gradient != nullptr;
-  const bool want_tangent = request.hessian_values != nullptr;
-  if (want_stress) local_gradients_.resize(simplices_.size() * kLocal);
-  double energy = 0.0;
-  constexpr int kSlots = kLocal * kLocal;
-
-#pragma omp parallel for schedule(static) reduction(+ : energy) if (num > 256)
-  for (std::ptrdiff_t k = 0; k < num; ++k) {
-    const int ki = static_cast<int>(k);
+  evaluate_elements<Dim>(simplices_, request, [&](int k, ElementOutput<Dim>& out) {
     MaterialEvaluation<Dim> m;
     const double V = simplices_.volumes[k];
     const auto& G = simplices_.gradients[k];
     // Exact Hessians contract the tangent's modes with B directly (about half the flops of
     // forming T and B^T T B); projected ones clamp T in the material.
-    const bool modal = want_tangent && request.hessian_mode == HessianMode::exact;
-    Eigen::Matrix<double, kLocal, kLocal> H;
-    if (modal) {
+    if (out.want_hessian && out.hessian_mode == HessianMode::exact) {
       SplineTangentModes<Dim> modes;
-      evaluate_spline_material_modes<Dim>(c, simplices_.field_gradient(x, ki), m, modes);
-      modal_element_hessian<Dim, kLocal>(modes, G, V, H);
+      evaluate_spline_material_modes<Dim>(c, simplices_.field_gradient(x, k), m, modes);
+      modal_element_hessian<Dim, kLocal>(modes, G, V, out.hessian());
     } else {
-      evaluate_spline_material<Dim>(c, simplices_.field_gradient(x, ki), want_stress, want_tangent,
-                                    request.hessian_mode, m);
+      evaluate_spline_material<Dim>(c, simplices_.field_gradient(x, k), out.want_gradient, out.want_hessian,
+                                    out.hessian_mode, m);
+      if (out.want_hessian) {
+        const auto B = LinearSimplices<Dim>::deformation_jacobian(G);
+        out.hessian().noalias() = V * (B.transpose() * m.tangent * B);
+      }
     }
-    energy += V * m.energy_density;
-    if (want_stress) {
-      const Eigen::Matrix<double, Dim, Dim + 1> local = V * m.stress * G.transpose();  // f_a = V P grad N_a
-      std::copy(local.data(), local.data() + kLocal, local_gradients_.data() + k * kLocal);
-    }
-    if (want_tangent) {
-      if (!modal)
-        H.noalias() = V * (LinearSimplices<Dim>::deformation_jacobian(G).transpose() * m.tangent *
-                           LinearSimplices<Dim>::deformation_jacobian(G));
-      std::copy(H.data(), H.data() + kSlots, request.hessian_values + k * kSlots);  // symmetric
-    }
-  }
-  if (request.value) *request.value += energy;
-  if (want_stress) {
-    Vector& g = *request.gradient;
-    for (int k = 0; k < simplices_.size(); ++k)
-      for (int r = 0; r < kLocal; ++r) g[simplices_.dof(k, r)] += local_gradients_[k * kLocal + r];
-  }
+    out.energy = V * m.energy_density;
+    if (out.want_gradient)  // f_a = V P grad N_a
+      out.gradient().noalias() = V * m.stress * G.transpose();
+  });
 }
 
 template <int Dim>

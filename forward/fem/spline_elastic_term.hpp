@@ -43,7 +43,6 @@ class SplineElasticTerm final : public EnergyTerm {
   PrincipalStretchCurves knots_;
   int control_offset_;
   LinearSimplices<Dim> simplices_;
-  mutable std::vector<double> local_gradients_;  // kLocal per element, reused between calls
 };
 
 extern template class SplineElasticTerm<2>;

@@ -43,6 +43,18 @@ std::string to_string(NewtonHessian hessian) {
   return "unknown";
 }
 
+std::string to_string(FactorReuse reuse) {
+  switch (reuse) {
+    case FactorReuse::automatic:
+      return "automatic";
+    case FactorReuse::on:
+      return "on";
+    case FactorReuse::off:
+      return "off";
+  }
+  return "unknown";
+}
+
 std::string NewtonResult::report() const {
   std::ostringstream s;
   s << "Newton: " << to_string(status) << " after " << iterations << " iterations (" << message << ")\n"
@@ -80,6 +92,15 @@ int NewtonResult::factorizations() const {
 bool NewtonSolver::can_precondition() const {
   return factor_is_exact_ && cholesky_.has_factor() && !cholesky_.is_ldlt() &&
          !cholesky_.has_low_rank_update() && cholesky_.rows() == hessian_.rows();
+}
+
+bool NewtonSolver::reuse_pays() const {
+  // Flops, not timings, so that the choice (and with it the iterates) is the same on every run.
+  const double factor = cholesky_.factorization_flops();
+  const double solve = 4.0 * cholesky_.factor_nonzeros();
+  const double slots = static_cast<double>(assembler_.num_slots());
+  return factor > 0.0 && factor >= options_.reuse_min_factor_over_solve * solve &&
+         factor >= options_.reuse_min_factor_flops_per_slot * slots;
 }
 
 NewtonSolver::NewtonSolver(const Model& model, NewtonOptions options)
@@ -317,6 +338,7 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
   double energy = 0.0;
   Vector gradient;
   HessianChoice choice;
+  bool cg_in_this_solve = true;  // FactorReuse::automatic: no CG step of this solve has stalled
   for (int k = 0;; ++k) {
     NewtonIteration it;
     it.iteration = k;
@@ -403,8 +425,16 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       // Terms' low-rank Hessian parts go on top of the sparse factor (Woodbury); CG with the
       // kept factor sees only the sparse part, so it is tried only without them.
       const LowRankHessian low_rank = assembler_.low_rank_hessian(y, p, mode);
-      if (options_.reuse_factorization && low_rank.empty() && mode == HessianMode::exact &&
-          !kept_factor_stale_ && can_precondition())
+      bool try_cg = options_.reuse_factorization == FactorReuse::on;
+      if (options_.reuse_factorization == FactorReuse::automatic && cg_in_this_solve) {
+        // Converging: a first iteration next to the kept factor's state, or a full step that at
+        // least halved the residual. A CG step that did not ends CG for this solve.
+        const NewtonIteration* last = k > 0 ? &result.history.back() : nullptr;
+        const bool converging = !last || (last->step_length == 1.0 && residual <= 0.5 * last->residual);
+        if (last && last->reused_factorization && !converging) cg_in_this_solve = false;
+        try_cg = cg_in_this_solve && converging && reuse_pays();
+      }
+      if (try_cg && low_rank.empty() && mode == HessianMode::exact && !kept_factor_stale_ && can_precondition())
         it.reused_factorization = kept_factor_step(gradient, residual, scale, target, it, dy);
       if (!it.reused_factorization) {
         condition_hint_ = result.condition_estimate;

@@ -43,6 +43,11 @@ namespace tailor {
 enum class NewtonHessian { adaptive, exact, projected };
 std::string to_string(NewtonHessian hessian);
 
+// Whether Newton's steps may come from CG preconditioned by a kept factorization
+// (NewtonOptions::reuse_factorization).
+enum class FactorReuse { automatic, on, off };
+std::string to_string(FactorReuse reuse);
+
 struct NewtonOptions {
   int max_iterations = 100;
   double relative_tolerance = 1e-9;
@@ -61,18 +66,31 @@ struct NewtonOptions {
   //            convergence where the exact Hessian differs (large rotations, compression).
   //  exact     always exact; an indefinite matrix is shifted until it is positive definite.
   NewtonHessian hessian = NewtonHessian::adaptive;
-  // Inexact Newton with a kept factorization (opt-in). The numeric factorization is kept
-  // across iterations and solve() calls; an iteration that would factorize the exact Hessian
-  // first solves H dy = -g by conjugate gradients preconditioned with the kept factor, when
-  // that factor is an exact, positive definite (LL^T) Hessian of a nearby state or nearby
-  // parameters. CG aims at the forcing tolerance min(0.1, ||g|| / scale) within
-  // reuse_max_cg_iterations; when it ends above 0.1 or its step is not a descent direction,
-  // the iteration factorizes as without reuse (and keeps that fresh factor); when it ends
-  // between the forcing tolerance and 0.1, the step is taken and the next iteration factorizes.
-  // Worth it for sequences of nearby solves (an optimizer's warm-started forward solves),
-  // where a factorization costs far more than a few triangular solves. The convergence test
-  // is unchanged, so the equilibrium is the same to the tolerance.
-  bool reuse_factorization = false;
+  // Inexact Newton with a kept factorization. The numeric factorization is kept across
+  // iterations and solve() calls; an iteration that would factorize the exact Hessian first
+  // solves H dy = -g by conjugate gradients preconditioned with the kept factor, when that factor
+  // is an exact, positive definite (LL^T) Hessian of a nearby state or nearby parameters. CG
+  // aims at the forcing tolerance min(0.1, ||g|| / scale) within reuse_max_cg_iterations; when
+  // it ends above 0.1 or its step is not a descent direction, the iteration factorizes as
+  // without reuse (and keeps that fresh factor); when it ends between the forcing tolerance and
+  // 0.1, the step is taken and the next iteration factorizes. The convergence test is
+  // unchanged, so the equilibrium is the same to the tolerance.
+  //  automatic (default) CG with the kept factor where it pays and while it converges:
+  //            - cost: the factorization's flop count (CHOLMOD's, from the symbolic analysis:
+  //              the same on every run) is at least reuse_min_factor_over_solve back-solves
+  //              (4 nnz(L) flops each) and reuse_min_factor_flops_per_slot times the number of
+  //              Hessian slots assembled per iteration; below that a factorization is about as
+  //              cheap as the extra assembly an inexact step may cost (small meshes);
+  //            - convergence: within a solve(), CG is tried at the first iteration (a warm start
+  //              next to the kept factor's state) and after full steps (line-search factor 1)
+  //              that at least halved the residual; after a CG step that did not (a shortened
+  //              step or a residual above half the last one), that solve factorizes every
+  //              iteration, as without reuse.
+  //  on        CG whenever the kept factor allows it (the rule above without its tests).
+  //  off       every iteration that needs a new Hessian factorizes it.
+  FactorReuse reuse_factorization = FactorReuse::automatic;
+  double reuse_min_factor_over_solve = 30.0;
+  double reuse_min_factor_flops_per_slot = 1000.0;
   // With a constant Hessian (see above), keep its factorization while p is unchanged. Off only
   // to measure what it saves.
   bool keep_constant_factorization = true;
@@ -193,6 +211,9 @@ class NewtonSolver {
   void apply_low_rank(const LowRankHessian& low_rank);
   // The kept factor can precondition CG on the exact Hessian: exact, unshifted, LL^T.
   bool can_precondition() const;
+  // FactorReuse::automatic's cost test: a factorization costs enough flops against a back-solve
+  // and against an iteration's assembly for CG with the kept factor to pay.
+  bool reuse_pays() const;
 
   const Model& model_;
   NewtonOptions options_;

@@ -63,7 +63,10 @@ struct Factor {
     factor = cholmod_analyze(a, &common);
     if (!factor || common.status < CHOLMOD_OK)
       throw std::runtime_error("CHOLMOD symbolic analysis failed (status " + std::to_string(common.status) + ")");
+    flops = common.fl;
+    nonzeros = common.lnz;
   }
+  double flops = 0.0, nonzeros = 0.0;  // of the analysed factor (cholmod_analyze's estimates)
 };
 
 }  // namespace
@@ -135,6 +138,9 @@ FactorizationResult SparseCholesky::factorize(const SparseMatrix& upper) {
   impl_->active = &ldlt;
   return result;
 }
+
+double SparseCholesky::factorization_flops() const { return impl_->llt.flops; }
+double SparseCholesky::factor_nonzeros() const { return impl_->llt.nonzeros; }
 
 bool SparseCholesky::has_factor() const { return impl_->active != nullptr; }
 bool SparseCholesky::is_ldlt() const { return impl_->active == impl_->ldlt.get() && impl_->active; }

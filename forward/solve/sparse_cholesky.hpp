@@ -48,6 +48,10 @@ class SparseCholesky {
   bool has_factor() const;
   bool is_ldlt() const;
   int rows() const { return rows_; }
+  // From the last symbolic analysis of the LL^T factor (0 before one): CHOLMOD's flop count of
+  // a numeric factorization and the nonzeros of L (a back-solve costs about 4 nnz(L) flops).
+  double factorization_flops() const;
+  double factor_nonzeros() const;
 
  private:
   struct Impl;

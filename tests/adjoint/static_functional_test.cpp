@@ -84,7 +84,7 @@ TEST(StaticFunctional, TaylorTestNeoHookeanLargeDeformation) {
 TEST(StaticFunctional, TaylorTestWithKeptFactorization) {
   BarProblem bar(MaterialKind::neo_hookean, 60.0);
   StaticFunctionalOptions options;
-  options.newton.reuse_factorization = true;
+  options.newton.reuse_factorization = FactorReuse::on;
   StaticFunctional f = bar.functional(1e-6, options);
   const TaylorTestResult t = taylor_test(f, bar.z0());
   std::printf("Neo-Hookean bar, forward solves reusing factorizations:\n%s", t.table().c_str());

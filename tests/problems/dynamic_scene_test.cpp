@@ -8,6 +8,7 @@
 
 #include "../support/temp_folder.hpp"
 #include "problems/dynamic_commands.hpp"
+#include "problems/dynamic_scene.hpp"
 #include "scene_text.hpp"
 
 namespace tailor {
@@ -47,6 +48,19 @@ TEST(DynamicScene, ParsesAndReportsErrorsWithKeyPaths) {
             std::string::npos);
   EXPECT_NE(error_of(R"({"time_step": 0.1, "steps": 3, "damping": 1})").find("dynamics.damping"),
             std::string::npos);
+}
+
+TEST(DynamicScene, SolverSetsTheKeptFactorizationRule) {
+  // The time integrator's Newton takes solver.reuse_factorization from the scene [automatic].
+  const auto reuse = [](const std::string& key) {
+    const std::string text = with(R"("solver": {"load_steps": 1})", R"("solver": {"load_steps": 1)" + key + "}",
+                                  dynamic_box(R"({"time_step": 0.05, "steps": 2})"));
+    return build_dynamic_scene(parse_scene(text, "box.json", "")).options.newton.reuse_factorization;
+  };
+  EXPECT_EQ(reuse(""), FactorReuse::automatic);
+  EXPECT_EQ(reuse(R"(, "reuse_factorization": false)"), FactorReuse::off);
+  EXPECT_EQ(reuse(R"(, "reuse_factorization": true)"), FactorReuse::on);
+  EXPECT_EQ(reuse(R"(, "reuse_factorization": "auto")"), FactorReuse::automatic);
 }
 
 TEST(DynamicScene, MissingDensityIsASceneError) {

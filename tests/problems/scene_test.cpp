@@ -86,11 +86,16 @@ TEST(Scene, DefaultsComeFromNewtonOptions) {
   EXPECT_EQ(scene.solver.newton.relative_tolerance, defaults.relative_tolerance);
   EXPECT_EQ(scene.solver.newton.hessian, defaults.hessian);
   EXPECT_EQ(scene.solver.newton.reuse_factorization, defaults.reuse_factorization);
-  EXPECT_FALSE(defaults.reuse_factorization);
-  EXPECT_TRUE(
-      parse_scene(testing::with("\"load_steps\": 1", "\"load_steps\": 1, \"reuse_factorization\": true"),
-                  "test.json", "")
-          .solver.newton.reuse_factorization);
+  EXPECT_EQ(defaults.reuse_factorization, FactorReuse::automatic);
+  const auto reuse = [](const std::string& value) {
+    return parse_scene(
+               testing::with("\"load_steps\": 1", "\"load_steps\": 1, \"reuse_factorization\": " + value),
+               "test.json", "")
+        .solver.newton.reuse_factorization;
+  };
+  EXPECT_EQ(reuse("true"), FactorReuse::on);
+  EXPECT_EQ(reuse("false"), FactorReuse::off);
+  EXPECT_EQ(reuse("\"auto\""), FactorReuse::automatic);
   EXPECT_EQ(scene.solver.load_steps, 1);
   EXPECT_EQ(scene.materials[0].density, 0.0);
   EXPECT_EQ(scene_error(testing::small_box_scene()), "");
@@ -183,7 +188,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"bad_load_steps", with("\"load_steps\": 1", "\"load_steps\": 0"),
                  "solver.load_steps: expected an integer >= 1, got 0"},
         BadScene{"bad_reuse", with("\"load_steps\": 1", "\"load_steps\": 1, \"reuse_factorization\": 1"),
-                 "solver.reuse_factorization: expected true or false, got 1"},
+                 "solver.reuse_factorization: expected true, false or \"auto\", got 1"},
         BadScene{"bad_tolerance", with("\"load_steps\": 1", "\"load_steps\": 1, \"relative_tolerance\": 0"),
                  "solver.relative_tolerance: expected a number in (0, 1), got 0"},
         BadScene{"invalid_json", with("\"name\": \"box\",", "\"name\": \"box\""), "invalid JSON"},

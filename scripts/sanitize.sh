@@ -20,6 +20,7 @@ subset=(
   "problems_homogenization_tests|"
   "problems_material_fit_tests|MaterialFitScene"
   "problems_damping_design_tests|DampingDesignScene"
+  "study_tests|"                            # C++-built scenes, registered scene term types
   # Energy terms: their derivative checks (check_energy_term) and the terms' own tests.
   "forward_fem_tests|"
   "forward_fem_materials_tests|"

@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "adjoint/parameterization.hpp"
+#include "objectives/target_dofs.hpp"
 #include "objectives/tikhonov.hpp"
 #include "objectives/weighted_sum.hpp"
 #include "problems/optimizer_report.hpp"
@@ -36,51 +37,6 @@ std::string to_string(RodDesignBlock block) {
 }
 
 namespace {
-
-// 1/2 sum_i w |x_{d_i} - t_i|^2 over the position DOFs d_i (TargetPositions needs a state of
-// positions only; a rod state also holds the twists).
-class RodTargetPositions final : public Objective {
- public:
-  RodTargetPositions(std::vector<int> dofs, Vector targets, double weight)
-      : dofs_(std::move(dofs)), targets_(std::move(targets)), weight_(weight) {}
-  std::string name() const override { return "rod_target_positions"; }
-  double value(const Vector& x, const Vector&) const override {
-    double J = 0.0;
-    for (std::size_t i = 0; i < dofs_.size(); ++i)
-      J += sq(x[dofs_[i]] - targets_[static_cast<Eigen::Index>(i)]);
-    return 0.5 * weight_ * J;
-  }
-  void add_gradient_x(const Vector& x, const Vector&, Vector& gx) const override {
-    for (std::size_t i = 0; i < dofs_.size(); ++i)
-      gx[dofs_[i]] += weight_ * (x[dofs_[i]] - targets_[static_cast<Eigen::Index>(i)]);
-  }
-  void add_hessian_times(const Vector&, const Vector&, const Vector& dx, const Vector&, Vector& out_x,
-                         Vector&) const override {
-    for (int d : dofs_) out_x[d] += weight_ * dx[d];
-  }
-  bool is_least_squares() const override { return true; }
-  int num_residuals() const override { return static_cast<int>(dofs_.size()); }
-  void residuals(const Vector& x, const Vector& p, Vector& r, SparseMatrix* dr_dx,
-                 SparseMatrix* dr_dp) const override {
-    const double s = std::sqrt(weight_);
-    r.resize(num_residuals());
-    for (std::size_t i = 0; i < dofs_.size(); ++i)
-      r[static_cast<Eigen::Index>(i)] = s * (x[dofs_[i]] - targets_[static_cast<Eigen::Index>(i)]);
-    if (dr_dx) {
-      std::vector<Eigen::Triplet<double>> t;
-      for (std::size_t i = 0; i < dofs_.size(); ++i) t.emplace_back(static_cast<int>(i), dofs_[i], s);
-      dr_dx->resize(num_residuals(), x.size());
-      dr_dx->setFromTriplets(t.begin(), t.end());
-    }
-    if (dr_dp) dr_dp->resize(num_residuals(), p.size());
-  }
-
- private:
-  static double sq(double v) { return v * v; }
-  std::vector<int> dofs_;
-  Vector targets_;
-  double weight_;
-};
 
 bool is_logarithmic(RodDesignBlock b) {
   return b == RodDesignBlock::rest_length || b == RodDesignBlock::radius ||
@@ -298,7 +254,7 @@ std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& docum
   const double w = 1.0 / (static_cast<double>(P.spec.target_vertices.size()) * P.length * P.length);
   parts.insert(
       parts.begin(),
-      std::make_shared<RodTargetPositions>(
+      std::make_shared<TargetDofs>(
           dofs, Eigen::Map<const Vector>(targets.data(), static_cast<Eigen::Index>(targets.size())), w));
   coefficients.insert(coefficients.begin(), 1.0);
   P.objective = parts.size() == 1 ? parts[0] : std::make_shared<WeightedSum>(parts, coefficients);

@@ -29,6 +29,17 @@ std::string out_dir(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("tailor_rod_inverse_" + name)).string();
 }
 
+// The "target" section that asks every vertex of the 13-vertex rod to sit where state x has it
+// (x: the positions, 3 per vertex, then the twists).
+nlohmann::json target_of_every_vertex(const Vector& x) {
+  nlohmann::json vertices = nlohmann::json::array(), positions = nlohmann::json::array();
+  for (int v = 0; v < 13; ++v) {
+    vertices.push_back(v);
+    positions.push_back({x[3 * v], x[3 * v + 1], x[3 * v + 2]});
+  }
+  return {{"vertices", vertices}, {"positions", positions}};
+}
+
 // A horizontal rod of length 1 (12 edges), EI = 1, clamped at its first edge, total weight 2
 // under gravity; the rest curvatures of all interior vertices are designed.
 nlohmann::json sagging_rod() {
@@ -70,13 +81,7 @@ TEST(RodInverseScene, RecoversKnownRestCurvaturesThroughTheScene) {
     truth[2 * i + 1] = 0.2 * (1.0 - u);        // curls up against gravity
   }
   probe->functional->value(truth);
-  const Vector x = probe->functional->state();
-  nlohmann::json vertices = nlohmann::json::array(), positions = nlohmann::json::array();
-  for (int v = 0; v < 13; ++v) {
-    vertices.push_back(v);
-    positions.push_back({x[3 * v], x[3 * v + 1], x[3 * v + 2]});
-  }
-  scene["inverse"]["target"] = {{"vertices", vertices}, {"positions", positions}};
+  scene["inverse"]["target"] = target_of_every_vertex(probe->functional->state());
   const auto problem = build_rod_inverse(scene, "sagging_rod", "recovery");
   const RodInverseRun run = run_rod_inverse(*problem, out_dir("recovery"), nullptr, nullptr);
   const double curvature_error =
@@ -101,13 +106,7 @@ TEST(RodInverseScene, RecoversKnownRodRadiusThroughTheScene) {
   ASSERT_EQ(probe->z0.size(), 1);
   const Vector truth = Vector::Constant(1, std::log(1.2));
   probe->functional->value(truth);
-  const Vector x = probe->functional->state();
-  nlohmann::json vertices = nlohmann::json::array(), positions = nlohmann::json::array();
-  for (int v = 0; v < 13; ++v) {
-    vertices.push_back(v);
-    positions.push_back({x[3 * v], x[3 * v + 1], x[3 * v + 2]});
-  }
-  scene["inverse"]["target"] = {{"vertices", vertices}, {"positions", positions}};
+  scene["inverse"]["target"] = target_of_every_vertex(probe->functional->state());
   const auto problem = build_rod_inverse(scene, "sagging_rod", "radius_recovery");
   const RodInverseRun run = run_rod_inverse(*problem, out_dir("radius_recovery"), nullptr, nullptr);
   const double radius_ratio = std::exp(run.result.z[0]);

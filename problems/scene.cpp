@@ -371,8 +371,7 @@ SolverSpec parse_solver(const SceneNode& node) {
 
 std::string axis_name(int axis) { return std::string(1, static_cast<char>('x' + axis)); }
 
-Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& directory) {
-  nlohmann::json document;
+nlohmann::json parse_scene_document(const std::string& json_text, const std::string& source) {
   // The last object key read, to say where a number that overflows double stands (nlohmann
   // reports that without a position).
   std::string last_key;
@@ -381,7 +380,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
     return true;
   };
   try {
-    document = nlohmann::json::parse(json_text, track_keys);
+    return nlohmann::json::parse(json_text, track_keys);
   } catch (const nlohmann::json::parse_error& e) {
     // e.what() reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
     std::string what = e.what();
@@ -394,6 +393,28 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
                      (last_key.empty() ? std::string() : " (at or after key \"" + last_key + "\")") +
                      "; numbers must be finite and below about 1.8e308");
   }
+}
+
+namespace {
+
+std::string read_scene_text(const std::string& path) {
+  std::error_code error;
+  if (fs::is_directory(path, error)) throw SceneError(path + ": is a folder, not a scene file");
+  std::ifstream in(path);
+  if (!in) throw SceneError(path + ": cannot open the scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+nlohmann::json read_scene_document(const std::string& path) {
+  return parse_scene_document(read_scene_text(path), path);
+}
+
+Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& directory) {
+  const nlohmann::json document = parse_scene_document(json_text, source);
   Scene scene;
   scene.source = source;
   scene.directory = directory;
@@ -421,14 +442,8 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
 }
 
 Scene read_scene(const std::string& path) {
-  std::error_code error;
-  if (fs::is_directory(path, error)) throw SceneError(path + ": is a folder, not a scene file");
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
   const fs::path file(path);
-  Scene scene = parse_scene(text.str(), path, file.parent_path().string());
+  Scene scene = parse_scene(read_scene_text(path), path, file.parent_path().string());
   if (scene.name.empty()) scene.name = file.stem().string();
   return scene;
 }

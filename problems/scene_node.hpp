@@ -12,6 +12,12 @@
 
 namespace tailor {
 
+// The JSON document of a scene's text, or of a scene file. SceneError, naming the source, when
+// the file is a folder or cannot be read, for JSON syntax errors (with the byte and nlohmann's
+// line and column) and for numbers beyond double precision (with the last key read).
+nlohmann::json parse_scene_document(const std::string& json_text, const std::string& source);
+nlohmann::json read_scene_document(const std::string& path);
+
 class SceneNode {
  public:
   SceneNode(const nlohmann::json& value, const std::string& source, std::string path)

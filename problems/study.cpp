@@ -30,19 +30,8 @@ nlohmann::json element_box(std::vector<double> min, std::vector<double> max) { r
 Study::Study() : document_(nlohmann::json::object()) {}
 
 Study Study::from_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  nlohmann::json document;
-  try {
-    document = nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::exception&) {
-    // parse_scene words JSON syntax errors with their position.
-    parse_scene(text.str(), path, std::filesystem::path(path).parent_path().string());
-    throw;
-  }
-  Study study = from_json(std::move(document), path, std::filesystem::path(path).parent_path().string());
+  const std::string directory = std::filesystem::path(path).parent_path().string();
+  Study study = from_json(read_scene_document(path), path, directory);
   if (!study.document_.contains("name"))
     study.document_["name"] = std::filesystem::path(path).stem().string();
   return study;

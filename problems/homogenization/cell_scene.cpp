@@ -194,16 +194,6 @@ CellScene parse_cell_scene(const SceneNode& root, const std::string& directory) 
   return scene;
 }
 
-nlohmann::json read_scene_document(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  nlohmann::json document = nlohmann::json::parse(text.str(), nullptr, false);
-  if (document.is_discarded()) throw SceneError(path + ": invalid JSON");
-  return document;
-}
-
 CellScene read_cell_scene(const std::string& path) {
   const nlohmann::json document = read_scene_document(path);
   const SceneNode root(document, path, "");

@@ -26,6 +26,7 @@
 
 #include "forward/fem/material.hpp"
 #include "forward/homogenization/linear_homogenization.hpp"
+#include "problems/scene_node.hpp"
 
 namespace tailor {
 
@@ -63,8 +64,6 @@ bool is_periodic_cell_scene(const std::string& path);
 // Reads the file; throws SceneError naming file and key, MeshError for mesh files, and
 // SceneError carrying the PeriodicityError message for a non-periodic mesh.
 CellScene read_cell_scene(const std::string& path);
-// The JSON document of a scene file; SceneError when it cannot be read or parsed.
-nlohmann::json read_scene_document(const std::string& path);
 // The parts of read_cell_scene on an already-parsed root (the design section reuses it).
 CellScene parse_cell_scene(const SceneNode& root, const std::string& directory);
 

@@ -41,8 +41,13 @@ void set_thread_settings(const ThreadSettings& settings) {
         "factorization threads must be 1 (CHOLMOD's OpenMP regions serialized) or 0 "
         "(as CHOLMOD was built); got " +
         std::to_string(settings.factorization));
-  omp_set_num_threads(settings.assembly > 0 ? settings.assembly : omp_get_num_procs());
-  if (const SetThreads set = openblas_set()) set(settings.blas > 0 ? settings.blas : omp_get_num_procs());
+  // 0 restores what the process started with, which honours OMP_NUM_THREADS and
+  // OPENBLAS_NUM_THREADS (each runtime's default is the number of cores without them). The
+  // values are read before the first change, so later calls cannot lose them.
+  static const int initial_assembly = omp_get_max_threads();
+  static const int initial_blas = openblas_get() ? openblas_get()() : 0;
+  omp_set_num_threads(settings.assembly > 0 ? settings.assembly : initial_assembly);
+  if (const SetThreads set = openblas_set()) set(settings.blas > 0 ? settings.blas : initial_blas);
   settings_storage() = settings;
 }
 

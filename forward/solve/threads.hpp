@@ -18,8 +18,9 @@
 namespace tailor {
 
 struct ThreadSettings {
-  int assembly = 0;  // OpenMP threads for tailor's loops; 0 = the OpenMP default (cores)
-  int blas = 0;      // OpenBLAS threads; 0 = OpenBLAS's default (cores)
+  int assembly = 0;  // OpenMP threads for tailor's loops; 0 = the process's start value
+                    // (OMP_NUM_THREADS if set, else the cores)
+  int blas = 0;      // OpenBLAS threads; 0 = the start value (OPENBLAS_NUM_THREADS, else cores)
   // CHOLMOD's OpenMP regions: 1 = serialized (default, fastest measured), 0 = as CHOLMOD was
   // built (4 threads in Debian's build). No other count can be imposed on a num_threads
   // clause from outside, so other values are rejected.

@@ -81,6 +81,51 @@ TEST(FactorizationThreads, SerializedByDefaultAndTheCountCanSeeWorkers) {
   EXPECT_GT(threads_added_in_child(0), 0);
 }
 
+// Default settings (0 = the process's start value) keep the thread counts the environment
+// asked for: a child run with OMP_NUM_THREADS / OPENBLAS_NUM_THREADS reports them after
+// set_thread_settings({}) and after an explicit count was set and reset to 0.
+TEST(EnvironmentThreadsProbe, Run) {
+  if (!std::getenv("TAILOR_ENV_THREAD_PROBE")) GTEST_SKIP() << "run in a child process";
+  set_thread_settings(ThreadSettings{});
+  const ThreadReport first = current_threads();
+  ThreadSettings two;
+  two.assembly = 2;
+  two.blas = 2;
+  set_thread_settings(two);
+  set_thread_settings(ThreadSettings{});
+  const ThreadReport again = current_threads();
+  std::printf("assembly=%d blas=%d assembly_again=%d blas_again=%d\n", first.assembly, first.blas,
+              again.assembly, again.blas);
+}
+
+TEST(FactorizationThreads, DefaultsKeepTheEnvironmentsCounts) {
+  const std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
+  for (const int n : {1, 3}) {
+    const std::string command = "TAILOR_ENV_THREAD_PROBE=1 OMP_NUM_THREADS=" + std::to_string(n) +
+                                " OPENBLAS_NUM_THREADS=" + std::to_string(n) + " '" + exe +
+                                "' --gtest_filter=EnvironmentThreadsProbe.Run 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::array<char, 512> line{};
+    int assembly = -1, blas = -1, assembly_again = -1, blas_again = -1;
+    while (std::fgets(line.data(), line.size(), pipe))
+      if (std::sscanf(line.data(), "assembly=%d blas=%d assembly_again=%d blas_again=%d", &assembly, &blas,
+                      &assembly_again, &blas_again) == 4)
+        break;
+    while (std::fgets(line.data(), line.size(), pipe)) {
+    }
+    pclose(pipe);
+    EXPECT_EQ(assembly, n) << "OMP_NUM_THREADS=" << n;
+    EXPECT_EQ(assembly_again, n) << "OMP_NUM_THREADS=" << n << " after a reset to 0";
+    // -1: the BLAS in this process is not OpenBLAS. OpenBLAS caps its count at the cores, so
+    // only 1 must come back exactly (before this was kept, the reset set the cores: 2 here).
+    if (blas != -1 && n == 1) {
+      EXPECT_EQ(blas, 1) << "OPENBLAS_NUM_THREADS=1";
+      EXPECT_EQ(blas_again, 1) << "OPENBLAS_NUM_THREADS=1 after a reset to 0";
+    }
+  }
+}
+
 TEST(FactorizationThreads, BadSettingsAreRejected) {
   ThreadSettings bad;
   bad.factorization = 2;

@@ -32,11 +32,19 @@ void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p,
   if (request.value || request.gradient) {
     Vector Mv = Vector::Zero(v.size());
     mass_->add_times(p, v, Mv, alpha);
-    if (request.value) *request.value += 0.5 * v.dot(Mv) + beta * stiffness_->value(X_plus_v, p);
+    // One pass over the elements for E_lin and its gradient together.
+    double E_lin = 0.0;
+    Vector Kv;
+    EnergyRequest k_request;
+    if (request.value) k_request.value = &E_lin;
+    if (request.gradient) {
+      Kv = Vector::Zero(v.size());
+      k_request.gradient = &Kv;
+    }
+    stiffness_->evaluate(X_plus_v, p, k_request);
+    if (request.value) *request.value += 0.5 * v.dot(Mv) + beta * E_lin;
     if (request.gradient) {
       *request.gradient += Mv;
-      Vector Kv = Vector::Zero(v.size());
-      stiffness_->add_gradient(X_plus_v, p, Kv);
       *request.gradient += beta * Kv;
     }
   }

@@ -40,7 +40,9 @@ void ElasticTerm<Dim>::evaluate(const Vector& x, const Vector& p, const EnergyRe
     if (out.want_gradient) out.gradient().noalias() = V * m.stress * G.transpose();
     if (out.want_hessian) {
       const auto B = LinearSimplices<Dim>::deformation_jacobian(G);
-      out.hessian().noalias() = V * (B.transpose() * m.tangent * B);
+      // Coefficient-based products: Eigen sends a fixed 12x9 * 9x9 * 9x12 product through its
+      // blocked GEMM path otherwise, about 1.5x slower at this size.
+      out.hessian().noalias() = V * B.transpose().lazyProduct(m.tangent.lazyProduct(B));
     }
   });
 }
@@ -73,7 +75,7 @@ void ElasticTerm<Dim>::add_mixed(const Vector& x, const Vector& p, Triplets& mix
     const Eigen::Matrix<double, Dim * Dim, 2> dP =
         d.stress * lame_jacobian(p[youngs_offset_ + e], p[poisson_offset_ + e]);
     const auto B = LinearSimplices<Dim>::deformation_jacobian(simplices_.gradients[k]);
-    const Eigen::Matrix<double, kLocal, 2> local = simplices_.volumes[k] * (B.transpose() * dP);
+    const Eigen::Matrix<double, kLocal, 2> local = simplices_.volumes[k] * B.transpose().lazyProduct(dP);
     for (int r = 0; r < kLocal; ++r) {
       const int dof = simplices_.dof(static_cast<int>(k), r);
       mixed.emplace_back(dof, youngs_offset_ + e, local(r, 0));

@@ -82,7 +82,8 @@ void SplineElasticTerm<Dim>::evaluate(const Vector& x, const Vector& p, const En
                                     out.hessian_mode, m);
       if (out.want_hessian) {
         const auto B = LinearSimplices<Dim>::deformation_jacobian(G);
-        out.hessian().noalias() = V * (B.transpose() * m.tangent * B);
+        // Coefficient-based products (see elastic_term.cpp).
+        out.hessian().noalias() = V * B.transpose().lazyProduct(m.tangent.lazyProduct(B));
       }
     }
     out.energy = V * m.energy_density;

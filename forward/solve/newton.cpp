@@ -286,6 +286,16 @@ bool NewtonSolver::line_search(const Vector& p, Vector& y, const Vector& dy, dou
   const double slope = gradient.dot(dy);
   const double round_off = 64.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(energy), 1e-300);
   bool accepted = false;
+  if (it.kept_constant_factor && alpha == 1.0 && slope < 0.0 && model_.hessian_is_constant()) {
+    // The energy is quadratic with the factorized Hessian H, and dy = -H^-1 g: the full step
+    // lowers it by exactly -g.dy / 2 > 0, so evaluating the energy there would only confirm the
+    // Armijo condition. The next iteration's residual still checks the step.
+    y += dy;
+    it.line_search_seconds = seconds_since(t0);
+    it.step_length = 1.0;
+    it.step_norm = dx.lpNorm<Eigen::Infinity>();
+    return true;
+  }
   for (int ls = 0; ls <= options_.max_line_search_steps; ++ls, alpha *= 0.5) {
     it.line_search_steps = ls;
     const Vector trial = y + alpha * dy;

@@ -2,6 +2,9 @@
 //  - A linear elastic bar: Newton factorizes once per parameter vector; a second solve with
 //    the same p uses the kept factor (no factorization), a new p factorizes again, and the
 //    equilibria equal those of Newton without the kept factor.
+//  - A kept-factor step of a constant Hessian is taken without evaluating the energy at the
+//    trial point (the quadratic's decrease is exact), while a step whose length a term limits
+//    is still searched.
 //  - The floor: a tolerance below what floating point can reach ends at the floor within two
 //    iterations after the solve (not at the iteration limit), as converged; a state already in
 //    equilibrium to round-off (a sliver tet at rest) converges at iteration 0; a 1e15 contrast
@@ -58,6 +61,47 @@ TEST(NewtonConstantHessian, OneFactorizationPerParameterVector) {
   ASSERT_TRUE(ref.converged());
   EXPECT_GE(ref.factorizations(), 1);
   EXPECT_LT((yq - yr).norm(), 1e-9 * (yr - bar.rest).norm());
+}
+
+// Zero energy with a constant (empty) Hessian that counts energy-only evaluations, which only
+// the line search asks for; max_step optionally limits every step.
+class CountingTerm : public EnergyTerm {
+ public:
+  explicit CountingTerm(int* energy_only, double max_step = 1.0) : energy_only_(energy_only), max_(max_step) {}
+  std::string name() const override { return "counting"; }
+  void evaluate(const Vector&, const Vector&, const EnergyRequest& request) const override {
+    if (request.value && !request.gradient && !request.hessian_values) ++*energy_only_;
+  }
+  bool hessian_is_constant() const override { return true; }
+  double max_step(const Vector&, const Vector&) const override { return max_; }
+
+ private:
+  int* energy_only_;
+  double max_;
+};
+
+TEST(NewtonConstantHessian, KeptFactorStepSkipsTheTrialEnergy) {
+  for (const double limit : {1.0, 0.9}) {
+    LinearBar bar;
+    int energy_only = 0;
+    bar.model.add(std::make_unique<CountingTerm>(&energy_only, limit));
+    ASSERT_TRUE(bar.model.hessian_is_constant());
+    NewtonSolver newton(bar.model);
+    const Vector p = bar.parameters(1.0);
+    Vector y = bar.rest;
+    ASSERT_TRUE(newton.solve(p, y).converged());
+    energy_only = 0;
+    Vector y2 = bar.rest;
+    const NewtonResult kept = newton.solve(p, y2);  // every step with the kept factor
+    ASSERT_TRUE(kept.converged()) << kept.report();
+    ASSERT_EQ(kept.factorizations(), 0);
+    if (limit == 1.0) {
+      EXPECT_EQ(energy_only, 0) << "full kept-factor steps need no trial energy";
+      EXPECT_LT((y2 - y).norm(), 1e-12 * y.norm());
+    } else {
+      EXPECT_GE(energy_only, 1) << "a step limited by a term is line-searched";
+    }
+  }
 }
 
 TEST(NewtonConstantHessian, NonlinearMaterialIsNotConstant) {

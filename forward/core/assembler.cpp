@@ -86,14 +86,32 @@ void ReducedAssembler::evaluate(const Vector& y, const Vector& p, double* energy
   if (energy) *energy = 0.0;
 
   const auto& terms = model_.terms();
+  if (hessian_y) {
+    cached_.resize(terms.size());
+    if (cached_p_.size() != p.size() || !(cached_p_.array() == p.array()).all()) {
+      for (CachedHessian& c : cached_) c.valid = false;
+      cached_p_ = p;
+    }
+  }
   for (std::size_t k = 0; k < terms.size(); ++k) {
     EnergyRequest request;
     request.value = energy;
     request.gradient = gradient_y ? &gx : nullptr;
     const bool has_slots = term_slot_begin_[k + 1] > term_slot_begin_[k];
-    request.hessian_values = (hessian_y && has_slots) ? buffer_.data() + term_slot_begin_[k] : nullptr;
+    CachedHessian written;  // what the slots hold after this evaluation, when they are written
+    if (hessian_y && has_slots) {
+      const CachedHessian& cache = cached_[k];
+      written.valid = terms[k]->hessian_is_constant();
+      written.revision = written.valid ? terms[k]->hessian_revision() : 0;
+      written.mode = mode;
+      if (!(written.valid && cache.valid && cache.revision == written.revision && cache.mode == mode)) {
+        request.hessian_values = buffer_.data() + term_slot_begin_[k];
+        cached_[k].valid = false;  // until the term has written them (it may throw)
+      }
+    }
     request.hessian_mode = mode;
     if (request.value || request.gradient || request.hessian_values) terms[k]->evaluate(x, p, request);
+    if (request.hessian_values) cached_[k] = written;
   }
 
   if (gradient_y) *gradient_y = elim.reduce(gx);

@@ -6,6 +6,11 @@
 // computed once from the terms' hessian_pattern(); every evaluation only gathers element
 // values into it through a precomputed entry -> slots map (no triplet sorting per iteration;
 // the gather runs in parallel because every matrix entry is written by one thread).
+//
+// Constant Hessians are evaluated once: a term whose hessian_is_constant() keeps the slot
+// values it wrote while p (compared exactly), its hessian_revision() and the Hessian mode are
+// unchanged, so a dynamic step assembles only the terms that depend on the state (the mass
+// and Rayleigh damping of a nonlinear solid, say). Its energy and gradient are still evaluated.
 #include "forward/core/model.hpp"
 
 namespace tailor {
@@ -34,6 +39,15 @@ class ReducedAssembler {
   const Model& model_;
   std::vector<std::size_t> term_slot_begin_;  // per term: first slot in buffer_
   std::vector<double> buffer_;                // per-slot values written by the terms
+  // Constant-Hessian terms whose slots in buffer_ hold their Hessian at cached_p_, with the
+  // revision and mode they were written with.
+  struct CachedHessian {
+    bool valid = false;
+    std::uint64_t revision = 0;
+    HessianMode mode = HessianMode::exact;
+  };
+  std::vector<CachedHessian> cached_;
+  Vector cached_p_;
   // Matrix entry e of pattern_ = sum over t in [entry_begin_[e], entry_begin_[e+1]) of
   // weight_[t] * buffer_[entry_slot_[t]] (weights omitted when all are 1).
   std::vector<std::int64_t> entry_begin_;

@@ -90,7 +90,10 @@ struct NewtonOptions {
   //  off       every iteration that needs a new Hessian factorizes it.
   FactorReuse reuse_factorization = FactorReuse::automatic;
   double reuse_min_factor_over_solve = 30.0;
-  double reuse_min_factor_flops_per_slot = 1000.0;
+  // Measured with dynamics_bench (Neo-Hookean implicit steps, one thread, CPU time per step,
+  // docs/performance.md): at 47 flops per slot (6k tets) CG and factorizing cost the same, at
+  // 232 (20k tets) CG costs 17-20% less, at 502 (58k tets) 36-40% less.
+  double reuse_min_factor_flops_per_slot = 100.0;
   // With a constant Hessian (see above), keep its factorization while p is unchanged. Off only
   // to measure what it saves.
   bool keep_constant_factorization = true;

@@ -70,6 +70,72 @@ TEST(ReducedAssembler, GeneralBasisMatchesExplicitProjection) {
   expect_reduction_matches(e);
 }
 
+// E = p0 / 2 x^T A x: a Hessian p0 A that is constant in x; counts how often it is written.
+class ScaledQuadratic final : public EnergyTerm {
+ public:
+  explicit ScaledQuadratic(SparseMatrix A) : A_(std::move(A)) {}
+  std::string name() const override { return "scaled quadratic"; }
+  void evaluate(const Vector& x, const Vector& p, const EnergyRequest& r) const override {
+    if (r.value) *r.value += 0.5 * p[0] * x.dot(A_ * x);
+    if (r.gradient) *r.gradient += p[0] * (A_ * x);
+    if (r.hessian_values) {
+      ++writes;
+      std::size_t k = 0;
+      for (int j = 0; j < A_.outerSize(); ++j)
+        for (SparseMatrix::InnerIterator it(A_, j); it; ++it) r.hessian_values[k++] = p[0] * it.value();
+    }
+  }
+  void hessian_pattern(HessianPattern& pattern) const override {
+    for (int j = 0; j < A_.outerSize(); ++j)
+      for (SparseMatrix::InnerIterator it(A_, j); it; ++it) pattern.push_back({static_cast<int>(it.row()), j});
+  }
+  bool hessian_is_constant() const override { return true; }
+  std::uint64_t hessian_revision() const override { return revision; }
+  mutable int writes = 0;
+  std::uint64_t revision = 0;
+
+ private:
+  SparseMatrix A_;
+};
+
+// A constant Hessian is written once per (p, revision, mode); the assembled matrix is always
+// the current one (the state-dependent term next to it is re-evaluated every time).
+TEST(ReducedAssembler, ConstantHessiansAreKeptWhileParametersAndRevisionHold) {
+  const int n = 9;
+  Model model(n);
+  auto constant = std::make_unique<ScaledQuadratic>(random_spd(n, 3));
+  ScaledQuadratic* c = constant.get();
+  model.add(std::move(constant));
+  model.add(std::make_unique<QuadraticTerm>(random_spd(n, 4), Vector::Ones(n)));  // cubic: not constant
+  model.set_elimination(Elimination::dirichlet({2, 7}, Vector::Constant(n, 0.1)));
+  ReducedAssembler assembler(model);
+  SparseMatrix hy = assembler.hessian_pattern_matrix();
+  auto check = [&](const Vector& y, const Vector& p, HessianMode mode, int expected_writes) {
+    assembler.evaluate(y, p, nullptr, nullptr, &hy, mode);
+    EXPECT_EQ(c->writes, expected_writes);
+    const Vector x = model.elimination().expand(y);
+    const SparseMatrix& S = model.elimination().basis();
+    const SparseMatrix H = model.terms()[0]->hessian(x, p, mode) + model.terms()[1]->hessian(x, p, mode);
+    const Matrix expected = Matrix(S.transpose() * H * S);
+    const Matrix got = Matrix(SparseMatrix(hy.selfadjointView<Eigen::Upper>()));
+    EXPECT_LT((got - expected).norm(), 1e-12 * expected.norm()) << "writes " << expected_writes;
+    c->writes = expected_writes;  // the reference Hessian above was a write too
+  };
+  const Vector y0 = Vector::LinSpaced(n - 2, 0.3, -0.7), y1 = Vector::LinSpaced(n - 2, -0.2, 0.9);
+  Vector p(1);
+  p[0] = 0.25;
+  check(y0, p, HessianMode::exact, 1);
+  check(y1, p, HessianMode::exact, 1);  // another state: kept
+  assembler.evaluate(y1, p, nullptr, nullptr, nullptr);  // no Hessian asked: nothing changes
+  check(y0, p, HessianMode::exact, 1);
+  p[0] = 0.5;
+  check(y0, p, HessianMode::exact, 2);  // new p
+  c->revision = 1;
+  check(y0, p, HessianMode::exact, 3);  // new revision (a new time step, say)
+  check(y0, p, HessianMode::projected, 4);  // another mode
+  check(y1, p, HessianMode::projected, 4);
+}
+
 TEST(ParameterLayout, BlocksAreContiguousAndNamed) {
   ParameterLayout layout;
   EXPECT_EQ(layout.add("youngs_modulus", 4), 0);

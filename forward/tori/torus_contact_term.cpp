@@ -111,6 +111,21 @@ double TorusContactTerm::min_distance(const Vector& q, const Vector& p, double r
   return best;
 }
 
+std::vector<TorusPairForce> TorusContactTerm::pair_forces(const Vector& q, const Vector& p) const {
+  std::vector<TorusPairForce> out;
+  const double d_hat = options_.activation_distance;
+  for (const TorusPair& pair : close_pairs(q, p, d_hat, true)) {
+    const contact::ScalarDerivatives e = pair_energy(pair.distance.distance, d_hat, options_.stiffness);
+    TorusPairForce f;
+    f.a = pair.a;
+    f.b = pair.b;
+    f.distance = pair.distance.distance;
+    f.force_on_b = -e.first * pair.distance.gradient.segment<3>(6);
+    out.push_back(f);
+  }
+  return out;
+}
+
 int TorusContactTerm::active_pairs(const Vector& q, const Vector& p) const {
   return static_cast<int>(close_pairs(q, p, options_.activation_distance, false).size());
 }

@@ -38,6 +38,13 @@ struct TorusContactOptions {
   DistanceOptions distance;
 };
 
+// The contact force of one pair: -dB/dT_b on torus b (a gets the opposite) [force].
+struct TorusPairForce {
+  int a = 0, b = 0;
+  double distance = 0.0;
+  Eigen::Vector3d force_on_b = Eigen::Vector3d::Zero();
+};
+
 struct TorusPair {
   int a = 0, b = 0;
   TorusDistance distance;
@@ -67,6 +74,8 @@ class TorusContactTerm final : public EnergyTerm {
   std::vector<TorusPair> close_pairs(const Vector& q, const Vector& p, double range, bool derivatives) const;
   // Smallest distance over the pairs within `range` (infinity if none).
   double min_distance(const Vector& q, const Vector& p, double range) const;
+  // The active pairs' forces at q.
+  std::vector<TorusPairForce> pair_forces(const Vector& q, const Vector& p) const;
   // Pairs with d < d_hat at q.
   int active_pairs(const Vector& q, const Vector& p) const;
 

@@ -171,7 +171,8 @@ TorusDistance torus_distance(const TorusPose& a, const TorusPose& b, bool deriva
   const Eigen::Matrix2d Huu = f.h.topLeftCorner<2, 2>();
   const Eigen::Matrix<double, 2, 14> Huy = f.h.topRightCorner<2, 14>();
   const Eigen::Matrix<double, 14, 1> g2 = f.g.tail<14>();
-  const Eigen::Matrix<double, 14, 14> H2 = f.h.bottomRightCorner<14, 14>() - Huy.transpose() * Huu.ldlt().solve(Huy);
+  Eigen::Matrix<double, 14, 14> H2 = f.h.bottomRightCorner<14, 14>();
+  if (options.implicit_correction) H2 -= Huy.transpose() * Huu.ldlt().solve(Huy);
   const double D = out.core_distance;
   const Eigen::Matrix<double, 14, 1> gD = g2 / (2.0 * D);
   const Eigen::Matrix<double, 14, 14> HD = H2 / (2.0 * D) - g2 * g2.transpose() / (4.0 * D * D * D);

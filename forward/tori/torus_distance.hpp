@@ -48,6 +48,9 @@ struct DistanceOptions {
   int samples = 32;      // angles of a sampled for the starts
   int max_starts = 4;    // Newton runs from the lowest local minima of the samples
   int max_iterations = 50;
+  // false drops the -f_yu f_uu^-1 f_uy term (a deliberately wrong Hessian: only for the test
+  // that shows the derivative check catches it).
+  bool implicit_correction = true;
 };
 
 // The distance between tori a and b; with `derivatives` its gradient and Hessian in the 16

@@ -51,7 +51,10 @@ double nearest_angle(const Circle& b, const Eigen::Vector3d& p) {
   return (x == 0.0 && y == 0.0) ? 0.0 : std::atan2(y, x);
 }
 
-// Newton with a backtracking line search from (t, s); returns f at the end.
+// Newton with a backtracking line search from (t, s); returns f at the end. A decrease of f
+// resolves the minimizer only to ~sqrt(eps) in the angles (f is flat there), and the
+// derivatives f_y at the minimizer are first order in that error: so the end polishes the
+// angles by plain Newton steps on f_u = 0 while they shrink |f_u| (quadratic convergence).
 double polish(const Circle& a, const Circle& b, double& t, double& s, int max_iterations) {
   Eigen::Vector2d g;
   Eigen::Matrix2d H;
@@ -61,7 +64,7 @@ double polish(const Circle& a, const Circle& b, double& t, double& s, int max_it
     const Eigen::Vector2d lambda = eig.eigenvalues();
     const double scale = std::max(1e-300, lambda.cwiseAbs().maxCoeff());
     // Eigenvalues floored to a positive fraction of the largest (a descent direction).
-    Eigen::Vector2d floored = lambda.cwiseMax(1e-8 * scale);
+    Eigen::Vector2d floored = lambda;
     for (int k = 0; k < 2; ++k)
       if (lambda[k] < 1e-8 * scale) floored[k] = std::max(std::abs(lambda[k]), 1e-3 * scale);
     const Eigen::Vector2d step =
@@ -69,19 +72,36 @@ double polish(const Circle& a, const Circle& b, double& t, double& s, int max_it
     if (!(step.norm() > 1e-15)) break;
     double alpha = 1.0, f_new = f;
     double tn = t, sn = s;
+    bool decreased = false;
     for (int ls = 0; ls < 40; ++ls) {
       tn = t + alpha * step[0];
       sn = s + alpha * step[1];
       f_new = core_function(a, b, tn, sn, nullptr, nullptr);
-      if (f_new <= f + 1e-4 * alpha * g.dot(step)) break;
+      if (f_new <= f + 1e-4 * alpha * g.dot(step)) {
+        decreased = true;
+        break;
+      }
       alpha *= 0.5;
     }
-    if (!(f_new <= f)) break;  // no decrease at round-off: converged
+    if (!decreased) break;  // f resolved to round-off: the gradient polish below
     const bool tiny = alpha * step.norm() < 1e-14;
     t = tn;
     s = sn;
     f = core_function(a, b, t, s, &g, &H);
     if (tiny) break;
+  }
+  for (int it = 0; it < 8; ++it) {
+    if (!(H.determinant() > 0.0 && H(0, 0) > 0.0)) break;
+    const Eigen::Vector2d step = -H.ldlt().solve(g);
+    Eigen::Vector2d gn;
+    Eigen::Matrix2d Hn;
+    const double fn = core_function(a, b, t + step[0], s + step[1], &gn, &Hn);
+    if (!(gn.norm() < g.norm())) break;
+    t += step[0];
+    s += step[1];
+    f = fn;
+    g = gn;
+    H = Hn;
   }
   return f;
 }

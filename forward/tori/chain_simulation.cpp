@@ -87,7 +87,10 @@ ChainSimulation::ChainSimulation(const ChainSpec& chain_spec, const ChainSimulat
   model_->set_elimination(Elimination::dirichlet(system_->fixed_dofs(), system_->initial_state()));
   if (min_distance(std::numeric_limits<double>::infinity()) <= 0.0)
     throw std::invalid_argument("ChainSimulation: the links intersect at the start");
-  stepper_ = std::make_unique<rigid::RigidTimeStepper>(*system_, *model_, *inertia_, options.newton, step_options);
+  NewtonOptions newton = options.newton;
+  if (!(newton.absolute_tolerance > 0.0))
+    newton.absolute_tolerance = options.residual_tolerance > 0.0 ? options.residual_tolerance : 1e-6 * weight;
+  stepper_ = std::make_unique<rigid::RigidTimeStepper>(*system_, *model_, *inertia_, newton, step_options);
 }
 
 double ChainSimulation::min_distance(double range) const {

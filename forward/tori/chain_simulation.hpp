@@ -40,6 +40,9 @@ struct ChainSimulationOptions {
   // residual's relative tolerance alone is out of reach: the energy of a stiff barrier cannot
   // resolve the last Newton steps in double precision (its round-off floor).
   double direction_tolerance = 0.0;
+  // Newton's absolute residual floor [force]; 0: 1e-6 x the free links' weight (the mesh model's
+  // energy, summed over many pairs, stalls above the relative tolerance).
+  double residual_tolerance = 0.0;
   NewtonOptions newton;
 };
 

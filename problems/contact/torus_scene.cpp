@@ -29,7 +29,7 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
   t.expect_keys({"count", "major_radius", "minor_radius", "minor_radius_1", "spacing", "gap", "density", "tilt",
                  "fix_first", "segments", "contact_model", "activation_distance", "stiffness", "pair_band",
                  "gravity", "mode", "time_step", "steps", "output_every", "static_time_step", "static_tolerance",
-                 "max_static_steps", "check_intersections"});
+                 "max_static_steps", "check_intersections", "direction_tolerance", "newton_iterations"});
   tori::ChainSpec& c = spec.chain;
   c.count = t.at("count").integer(2);
   if (c.count > 1000) t.at("count").fail("at most 1000 links");
@@ -62,6 +62,8 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
   if (t.has("stiffness")) o.stiffness = t.at("stiffness").positive();
   if (t.has("pair_band")) o.pair_band = t.at("pair_band").integer(0);
   if (t.has("gravity")) o.gravity = t.at("gravity").vector(3);
+  if (t.has("direction_tolerance")) o.direction_tolerance = t.at("direction_tolerance").positive();
+  if (t.has("newton_iterations")) o.newton.max_iterations = t.at("newton_iterations").integer(1);
   if (t.has("check_intersections")) o.check_intersections = t.at("check_intersections").boolean();
   const std::string mode = t.has("mode") ? t.at("mode").choice({"static", "dynamic"}) : "static";
   spec.dynamic = mode == "dynamic";

@@ -85,8 +85,16 @@ ChainSimulation::ChainSimulation(const ChainSpec& chain_spec, const ChainSimulat
     step_options.contact = mesh_;
   }
   model_->set_elimination(Elimination::dirichlet(system_->fixed_dofs(), system_->initial_state()));
-  if (min_distance(std::numeric_limits<double>::infinity()) <= 0.0)
-    throw std::invalid_argument("ChainSimulation: the links intersect at the start");
+  // The start: the implicit tori apart (every pair, cheap), and the meshes of the mesh model too
+  // (their chords can reach past the implicit surface).
+  {
+    TorusContactOptions o;
+    const TorusContactTerm exact(*system_, shapes_, o);
+    if (!(exact.min_distance(system_->initial_state(), Vector(), 1e300) > 0.0))
+      throw std::invalid_argument("ChainSimulation: the tori intersect at the start");
+    if (mesh_ && count_body_intersections(*system_, system_->initial_state()) > 0)
+      throw std::invalid_argument("ChainSimulation: the tori's meshes intersect at the start (more segments?)");
+  }
   NewtonOptions newton = options.newton;
   if (!(newton.absolute_tolerance > 0.0))
     newton.absolute_tolerance = options.residual_tolerance > 0.0 ? options.residual_tolerance : 1e-6 * weight;

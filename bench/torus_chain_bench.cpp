@@ -12,7 +12,9 @@
 //
 // usage: torus_chain_bench [--links 100] [--steps 20] [--time-step 0.01] [--tilt 0.3]
 //                          [--mesh-segments 24] [--static-links 10] [--segments 12,16,24,32]
-//                          [--pair-band 2] [--out FILE]
+//                          [--pair-band 2] [--max-iterations 100] [--out FILE]
+// Contact pairs: torus pairs within d_hat (implicit), primitive point-triangle and edge-edge
+// pairs within d_hat (mesh).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -38,8 +40,10 @@ struct DynamicSummary {
   std::string failure;
 };
 
-DynamicSummary run_dynamic(const ChainSpec& chain, ContactModel model, double h, int steps, int band, bench::Json& out) {
+DynamicSummary run_dynamic(const ChainSpec& chain, ContactModel model, double h, int steps, int band, int max_iterations,
+                           bench::Json& out) {
   ChainSimulationOptions o;
+  o.newton.max_iterations = max_iterations;
   o.model = model;
   o.time_step = h;
   o.pair_band = band;
@@ -116,7 +120,7 @@ StaticResult run_static(const ChainSpec& chain, ContactModel model) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int links = 100, steps = 20, mesh_segments = 24, static_links = 10, band = 2;
+  int links = 100, steps = 20, mesh_segments = 24, static_links = 10, band = 2, max_iterations = 100;
   double h = 0.01, tilt = 0.3;
   std::vector<int> segments = {12, 16, 24, 32};
   std::string out = "bench_torus_chain.json";
@@ -128,6 +132,7 @@ int main(int argc, char** argv) {
   cli.integer("--mesh-segments", mesh_segments, "major segments of the dynamic run's meshes (minor: a quarter, >= 6)", 8);
   cli.integer("--static-links", static_links, "tori in the static comparison", 2);
   cli.integers("--segments", segments, "major segments of the static comparison's meshes", 8);
+  cli.integer("--max-iterations", max_iterations, "Newton iteration cap per step (dynamic run)", 1);
   cli.integer("--pair-band", band, "implicit model: candidate pairs |i - j| <= band (0: all)", 0);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
@@ -140,14 +145,15 @@ int main(int argc, char** argv) {
   chain.major_segments = mesh_segments;
   chain.minor_segments = std::max(6, mesh_segments / 4);
   json["dynamic"] = {{"links", links}, {"steps", steps}, {"time_step", h}, {"tilt", tilt},
-                     {"mesh_segments", {chain.major_segments, chain.minor_segments}}, {"pair_band", band}};
+                     {"mesh_segments", {chain.major_segments, chain.minor_segments}}, {"pair_band", band},
+                     {"max_iterations", max_iterations}};
   std::printf("dynamic chain: %d links, %d steps of %g s, released %g rad from the vertical\n", links, steps, h, tilt);
   std::printf("%-9s %9s %12s %12s %9s %11s %12s %8s\n", "model", "steps", "s/step", "Newton/step", "CCD %",
               "pairs", "min dist", "crossing");
   bench::Json models = bench::Json::array();
   for (ContactModel model : {ContactModel::implicit, ContactModel::mesh}) {
     bench::Json m;
-    const DynamicSummary s = run_dynamic(chain, model, h, steps, band, m);
+    const DynamicSummary s = run_dynamic(chain, model, h, steps, band, max_iterations, m);
     models.push_back(m);
     std::printf("%-9s %9d %12.4f %12.1f %9.1f %11.0f %12.3e %8d%s\n",
                 model == ContactModel::implicit ? "implicit" : "mesh", s.completed, s.median_seconds,

@@ -108,7 +108,7 @@ double ChainSimulation::min_distance(double range) const {
     const double r = std::isfinite(range) ? range : 1e300;
     return implicit_->min_distance(q, Vector(), r);
   }
-  return mesh_->min_distance(q, std::isfinite(range) ? range : 1e300);
+  return mesh_->min_distance(q, std::min(range, 10.0 * d_hat_));
 }
 
 int ChainSimulation::active_pairs() const {

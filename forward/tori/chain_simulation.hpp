@@ -74,6 +74,9 @@ class ChainSimulation {
   const TorusContactTerm* implicit_term() const { return implicit_; }
   const rigid::RigidContactTerm* mesh_term() const { return mesh_; }
   const std::vector<TorusShape>& shapes() const { return shapes_; }
+  // Smallest distance over pairs within `range` (infinity if none): implicit, every pair in
+  // range; mesh, primitive pairs within min(range, 10 d_hat) (all-pairs mesh distances are
+  // quadratic in the mesh size).
   double min_distance(double range) const;
   int active_pairs() const;
   std::string last_message() const { return result_.message; }

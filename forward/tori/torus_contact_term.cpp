@@ -1,7 +1,6 @@
 // The IPC barrier on implicit torus distances (see torus_contact_term.hpp).
 #include "forward/tori/torus_contact_term.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -201,12 +200,6 @@ void TorusContactTerm::add_mixed(const Vector& q, const Vector& p, Triplets& mix
 
 double TorusContactTerm::max_step(const Vector& q, const Vector& dq) const {
   ++ccd_calls;
-  const auto start = std::chrono::steady_clock::now();
-  struct Timer {
-    std::chrono::steady_clock::time_point start;
-    double& seconds;
-    ~Timer() { seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
-  } timer{start, ccd_seconds};
   // max_step() has no p: it uses the shapes given at construction.
   const int n = num_tori();
   const double keep = 1.0 - options_.ccd_fraction;

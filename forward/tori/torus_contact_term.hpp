@@ -79,9 +79,8 @@ class TorusContactTerm final : public EnergyTerm {
   // Pairs with d < d_hat at q.
   int active_pairs(const Vector& q, const Vector& p) const;
 
-  // Work counters of max_step (for benches): calls, distance queries, wall seconds.
+  // Work counters of max_step: calls and distance queries.
   mutable long ccd_calls = 0, ccd_queries = 0;
-  mutable double ccd_seconds = 0.0;
 
  private:
   const rigid::RigidBodySystem& system_;

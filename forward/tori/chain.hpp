@@ -3,7 +3,7 @@
 // (0, 0, -k spacing), even links in the xz plane, odd links in the yz plane (alternating 90
 // degrees), the whole chain then tilted by `tilt` about the x axis through link 0's centre.
 // Neighbouring core circles are 2R - spacing apart (each passes through the other's hole), so
-// spacing < 2 (R - r) keeps every pair apart at the start (checked).
+// R < spacing < 2 (R - r) keeps them interlocked and every pair apart at the start (checked).
 #include <string>
 #include <vector>
 

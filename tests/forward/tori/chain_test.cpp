@@ -58,24 +58,28 @@ TEST(TorusChain, HundredAndOneLinksHangInEquilibriumWithTheWeightBelowEachPair) 
   expect_vertical_equilibrium(101, 2, 1e-5);  // candidate pairs |i - j| <= 2
 }
 
-TEST(TorusChain, SwingingChainNeverIntersects) {
-  ChainSpec spec = chain(5);
+void expect_swing_without_intersections(int count, int steps) {
+  ChainSpec spec = chain(count);
   spec.tilt = 0.4;  // released 0.4 rad from the vertical: it swings down through it
   ChainSimulationOptions o;
   o.time_step = 1e-2;
   ChainSimulation sim(spec, o);
-  const double z0 = sim.state()[6 * 4 + 2];
+  const int last = 6 * (count - 1) + 2;
+  const double z0 = sim.state()[last];
   double smallest = std::numeric_limits<double>::infinity();
-  for (int n = 0; n < 40; ++n) {
+  for (int n = 0; n < steps; ++n) {
     const ChainStepRecord r = sim.step();
     ASSERT_TRUE(r.converged) << "step " << n << ": " << sim.last_message();
     EXPECT_EQ(r.intersections, 0) << "step " << n;
     ASSERT_GT(sim.min_distance(1e300), 0.0) << "step " << n;
     smallest = std::min(smallest, r.min_distance);
   }
-  EXPECT_LT(sim.state()[6 * 4 + 2], z0);  // the last link fell while swinging towards the vertical
+  EXPECT_LT(sim.state()[last], z0);  // the last link fell while swinging towards the vertical
   EXPECT_LT(smallest, sim.activation_distance());  // contacts were active
 }
+
+TEST(TorusChain, SwingingChainNeverIntersects) { expect_swing_without_intersections(5, 40); }
+TEST(TorusChain, ElevenLinkSwingingChainNeverIntersects) { expect_swing_without_intersections(11, 20); }
 
 }  // namespace
 }  // namespace tailor::tori

@@ -12,6 +12,7 @@
 #include "problems/cli/flag_checks.hpp"
 #include "problems/commands.hpp"
 #include "problems/contact/rigid_scene.hpp"
+#include "problems/contact/torus_scene.hpp"
 #include "problems/damping_design/damping_design_scene.hpp"
 #include "problems/dynamic_commands.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
@@ -154,6 +155,12 @@ int gradcheck_rigid(const SceneFile& file, const VerbArguments& args, std::ostre
       gradcheck_rigid_scene(spec, args.out_dir_or("out/" + spec.name), args.seed.value_or(1), &out).passed());
 }
 
+int simulate_tori(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  TorusSceneSpec spec = parse_torus_scene(file.text, file.path);
+  if (spec.name.empty()) spec.name = file.stem();
+  return exit_code(simulate_torus_scene(spec, args.out_dir_or("out/" + spec.name), &out).completed());
+}
+
 int simulate_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   return exit_code(simulate_rod_scene_file(file.path, args.out_dir_or("out/rods"), out));
 }
@@ -277,6 +284,11 @@ std::vector<SceneKind> builtin_scene_kinds() {
        {{"simulate", simulate_rigid,
          "static equilibrium, or implicit Euler steps, of rigid bodies in contact"},
         {"gradcheck", gradcheck_rigid, "Taylor test of the body centres' gradient in the body masses"}}},
+      {"tori",
+       "a \"tori\" section (docs/tori.md)",
+       [](const nlohmann::json& d) { return has_section(d, "tori"); },
+       {{"simulate", simulate_tori,
+         "a hanging chain of tori (implicit or mesh contact), static or implicit Euler steps"}}},
       {"rods",
        "a \"rods\" section (docs/rods.md)",
        [](const nlohmann::json& d) { return has_section(d, "rods"); },

@@ -1,0 +1,244 @@
+// The IPC barrier on implicit torus distances (see torus_contact_term.hpp).
+#include "forward/tori/torus_contact_term.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "forward/contact/barrier.hpp"
+#include "forward/contact/psd_projection.hpp"
+
+namespace tailor::tori {
+namespace {
+
+// kappa b(d^2) with its first and second derivatives in d.
+contact::ScalarDerivatives pair_energy(double d, double d_hat, double kappa) {
+  contact::ScalarDerivatives out;
+  if (!(d > 0.0)) {
+    out.value = std::numeric_limits<double>::infinity();
+    return out;
+  }
+  const contact::ScalarDerivatives b = contact::barrier(d * d, d_hat * d_hat);
+  out.value = kappa * b.value;
+  out.first = kappa * 2.0 * d * b.first;
+  out.second = kappa * (4.0 * d * d * b.second + 2.0 * b.first);
+  return out;
+}
+
+std::string pair_name(int a, int b) { return "tori " + std::to_string(a) + " and " + std::to_string(b); }
+
+}  // namespace
+
+TorusContactTerm::TorusContactTerm(const rigid::RigidBodySystem& system, std::vector<TorusShape> shapes,
+                                   TorusContactOptions options)
+    : system_(system), shapes_(std::move(shapes)), options_(options) {
+  const int n = system.num_bodies();
+  if (static_cast<int>(shapes_.size()) != n)
+    throw std::invalid_argument("TorusContactTerm: " + std::to_string(shapes_.size()) + " shapes for " +
+                                std::to_string(n) + " bodies");
+  for (int i = 0; i < n; ++i) validate_shape(shapes_[static_cast<std::size_t>(i)], "TorusContactTerm: torus " + std::to_string(i));
+  if (!(options_.activation_distance > 0.0) || !(options_.stiffness > 0.0))
+    throw std::invalid_argument("TorusContactTerm: activation_distance and stiffness must be positive");
+  if (options_.pair_band < 0) throw std::invalid_argument("TorusContactTerm: pair_band must be >= 0");
+  if (!(options_.ccd_fraction > 0.0 && options_.ccd_fraction < 1.0))
+    throw std::invalid_argument("TorusContactTerm: ccd_fraction must lie in (0, 1)");
+  pair_slot_.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), -1);
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b) {
+      if (options_.pair_band > 0 && b - a > options_.pair_band) continue;
+      if (system.body(a).fixed && system.body(b).fixed) continue;
+      pair_slot_[static_cast<std::size_t>(a * n + b)] = num_slots_;
+      num_slots_ += 144;
+    }
+}
+
+bool TorusContactTerm::is_candidate(int a, int b) const {
+  if (a > b) std::swap(a, b);
+  return pair_slot_[static_cast<std::size_t>(a * num_tori() + b)] >= 0;
+}
+
+TorusShape TorusContactTerm::shape(int i, const Vector& p) const {
+  if (options_.parameter_offset < 0) return shapes_[static_cast<std::size_t>(i)];
+  const int k = options_.parameter_offset + 2 * i;
+  if (k + 1 >= p.size())
+    throw std::invalid_argument("TorusContactTerm: the parameter vector has " + std::to_string(p.size()) +
+                                " entries, torus " + std::to_string(i) + " reads " + std::to_string(k + 1));
+  return {p[k], p[k + 1]};
+}
+
+TorusPose TorusContactTerm::pose(int i, const Vector& q, const Vector& p) const {
+  return {q.segment<3>(6 * i), q.segment<3>(6 * i + 3), shape(i, p)};
+}
+
+void TorusContactTerm::hessian_pattern(HessianPattern& pattern) const {
+  const int n = num_tori();
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b) {
+      if (pair_slot_[static_cast<std::size_t>(a * n + b)] < 0) continue;
+      for (int i = 0; i < 12; ++i)
+        for (int j = 0; j < 12; ++j)
+          pattern.push_back({(i < 6 ? 6 * a + i : 6 * b + i - 6), (j < 6 ? 6 * a + j : 6 * b + j - 6)});
+    }
+}
+
+std::vector<TorusPair> TorusContactTerm::close_pairs(const Vector& q, const Vector& p, double range,
+                                                     bool derivatives) const {
+  const int n = num_tori();
+  std::vector<TorusPose> poses;
+  for (int i = 0; i < n; ++i) poses.push_back(pose(i, q, p));
+  std::vector<TorusPair> out;
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b) {
+      if (system_.body(a).fixed && system_.body(b).fixed) continue;
+      const TorusShape &sa = poses[static_cast<std::size_t>(a)].shape, &sb = poses[static_cast<std::size_t>(b)].shape;
+      const double reach = sa.major_radius + sa.minor_radius + sb.major_radius + sb.minor_radius + range;
+      if ((poses[static_cast<std::size_t>(a)].position - poses[static_cast<std::size_t>(b)].position).norm() >= reach)
+        continue;
+      TorusPair pair;
+      pair.a = a;
+      pair.b = b;
+      pair.distance = torus_distance(poses[static_cast<std::size_t>(a)], poses[static_cast<std::size_t>(b)],
+                                     derivatives, options_.distance);
+      if (pair.distance.distance < range) out.push_back(pair);
+    }
+  return out;
+}
+
+double TorusContactTerm::min_distance(const Vector& q, const Vector& p, double range) const {
+  double best = std::numeric_limits<double>::infinity();
+  for (const TorusPair& pair : close_pairs(q, p, range, false)) best = std::min(best, pair.distance.distance);
+  return best;
+}
+
+std::vector<TorusPairForce> TorusContactTerm::pair_forces(const Vector& q, const Vector& p) const {
+  std::vector<TorusPairForce> out;
+  const double d_hat = options_.activation_distance;
+  for (const TorusPair& pair : close_pairs(q, p, d_hat, true)) {
+    const contact::ScalarDerivatives e = pair_energy(pair.distance.distance, d_hat, options_.stiffness);
+    TorusPairForce f;
+    f.a = pair.a;
+    f.b = pair.b;
+    f.distance = pair.distance.distance;
+    f.force_on_b = -e.first * pair.distance.gradient.segment<3>(6);
+    out.push_back(f);
+  }
+  return out;
+}
+
+int TorusContactTerm::active_pairs(const Vector& q, const Vector& p) const {
+  return static_cast<int>(close_pairs(q, p, options_.activation_distance, false).size());
+}
+
+void TorusContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRequest& request) const {
+  if (request.hessian_values) std::fill(request.hessian_values, request.hessian_values + num_slots_, 0.0);
+  const bool derivatives = request.gradient || request.hessian_values;
+  if (!request.value && !derivatives) return;
+  const double d_hat = options_.activation_distance;
+  double energy = 0.0;
+  for (const TorusPair& pair : close_pairs(q, p, d_hat, derivatives)) {
+    const contact::ScalarDerivatives e = pair_energy(pair.distance.distance, d_hat, options_.stiffness);
+    energy += e.value;
+    if (!derivatives || !std::isfinite(e.value)) continue;
+    if (pair.distance.degenerate)
+      throw std::runtime_error("torus_contact: " + pair_name(pair.a, pair.b) +
+                               " have a degenerate closest-point set (coaxial core circles): no derivatives");
+    const int a = pair.a, b = pair.b;
+    const Eigen::Matrix<double, 12, 1> g = e.first * pair.distance.gradient.head<12>();
+    if (request.gradient) {
+      request.gradient->segment<6>(6 * a) += g.head<6>();
+      request.gradient->segment<6>(6 * b) += g.tail<6>();
+    }
+    if (request.hessian_values) {
+      const int slot = pair_slot_[static_cast<std::size_t>(a * num_tori() + b)];
+      if (slot < 0)
+        throw std::runtime_error("torus_contact: " + pair_name(a, b) +
+                                 " came within the activation distance but are not a candidate pair "
+                                 "(pair_band " + std::to_string(options_.pair_band) + ")");
+      Eigen::Matrix<double, 12, 12> H =
+          e.second * pair.distance.gradient.head<12>() * pair.distance.gradient.head<12>().transpose() +
+          e.first * pair.distance.hessian.topLeftCorner<12, 12>();
+      if (request.hessian_mode == HessianMode::projected) contact::project_to_psd<12>(H);
+      double* out = request.hessian_values + slot;
+      for (int i = 0; i < 12; ++i)
+        for (int j = 0; j < 12; ++j) *out++ = H(i, j);
+    }
+  }
+  if (request.value) *request.value += energy;
+}
+
+void TorusContactTerm::add_param_gradient(const Vector& q, const Vector& p, Vector& gradient_p) const {
+  if (options_.parameter_offset < 0) return;
+  const double d_hat = options_.activation_distance;
+  for (const TorusPair& pair : close_pairs(q, p, d_hat, true)) {
+    const contact::ScalarDerivatives e = pair_energy(pair.distance.distance, d_hat, options_.stiffness);
+    if (!std::isfinite(e.value) || pair.distance.degenerate) continue;
+    const int ka = options_.parameter_offset + 2 * pair.a, kb = options_.parameter_offset + 2 * pair.b;
+    gradient_p.segment<2>(ka) += e.first * pair.distance.gradient.segment<2>(12);
+    gradient_p.segment<2>(kb) += e.first * pair.distance.gradient.segment<2>(14);
+  }
+}
+
+void TorusContactTerm::add_mixed(const Vector& q, const Vector& p, Triplets& mixed) const {
+  if (options_.parameter_offset < 0) return;
+  const double d_hat = options_.activation_distance;
+  for (const TorusPair& pair : close_pairs(q, p, d_hat, true)) {
+    const contact::ScalarDerivatives e = pair_energy(pair.distance.distance, d_hat, options_.stiffness);
+    if (!std::isfinite(e.value) || pair.distance.degenerate) continue;
+    const PairGradient& g = pair.distance.gradient;
+    const PairHessian M = e.second * g * g.transpose() + e.first * pair.distance.hessian;
+    const int ka = options_.parameter_offset + 2 * pair.a, kb = options_.parameter_offset + 2 * pair.b;
+    for (int i = 0; i < 12; ++i) {
+      const int row = i < 6 ? 6 * pair.a + i : 6 * pair.b + i - 6;
+      for (int j = 0; j < 4; ++j) {
+        const int col = j < 2 ? ka + j : kb + j - 2;
+        if (M(i, 12 + j) != 0.0) mixed.emplace_back(row, col, M(i, 12 + j));
+      }
+    }
+  }
+}
+
+double TorusContactTerm::max_step(const Vector& q, const Vector& dq) const {
+  ++ccd_calls;
+  // max_step() has no p: it uses the shapes given at construction.
+  const int n = num_tori();
+  const double keep = 1.0 - options_.ccd_fraction;
+  double alpha = 1.0;
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b) {
+      if (system_.body(a).fixed && system_.body(b).fixed) continue;
+      const TorusShape &sa = shapes_[static_cast<std::size_t>(a)], &sb = shapes_[static_cast<std::size_t>(b)];
+      const Eigen::Vector3d dTa = dq.segment<3>(6 * a), dTb = dq.segment<3>(6 * b);
+      const double reach = sa.major_radius + sa.minor_radius + sb.major_radius + sb.minor_radius;
+      const double gap = (q.segment<3>(6 * a) - q.segment<3>(6 * b)).norm() - (dTa - dTb).norm();
+      if (gap > reach) continue;  // the bounding spheres never meet along the step
+      const double L = dTa.norm() + dq.segment<3>(6 * a + 3).norm() * sa.major_radius + dTb.norm() +
+                       dq.segment<3>(6 * b + 3).norm() * sb.major_radius;
+      if (!(L > 0.0)) continue;
+      auto distance_at = [&](double t) {
+        ++ccd_queries;
+        const Vector qt = q + t * dq;
+        return torus_distance({qt.segment<3>(6 * a), qt.segment<3>(6 * a + 3), sa},
+                              {qt.segment<3>(6 * b), qt.segment<3>(6 * b + 3), sb}, false, options_.distance)
+            .distance;
+      };
+      const double d0 = distance_at(0.0);
+      if (!(d0 > 0.0)) return 0.0;
+      const double floor = keep * d0;
+      double t = 0.0, d = d0;
+      for (int it = 0; it < 200 && t < alpha; ++it) {
+        const double dt = (d - floor) / L;  // d >= floor on [t, t + dt]
+        if (!(dt > 1e-12 * std::max(t, 1e-300)) && it > 0) break;
+        if (t + dt >= alpha) {
+          t = alpha;
+          break;
+        }
+        t += dt;
+        d = distance_at(t);
+      }
+      alpha = std::min(alpha, t);
+    }
+  return alpha;
+}
+
+}  // namespace tailor::tori

@@ -1,0 +1,183 @@
+// Torus chain scenes: parsing and `tailor simulate` (see torus_scene.hpp).
+#include "problems/contact/torus_scene.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <sstream>
+
+#include "forward/rigid/rotation.hpp"
+#include "problems/contact/surface_vtu.hpp"
+#include "problems/scene.hpp"
+#include "problems/scene_node.hpp"
+
+namespace tailor {
+
+TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string& source) {
+  const nlohmann::json document = parse_scene_document(json_text, source);
+  const SceneNode root(document, source, "");
+  root.expect_keys({"name", "description", "tori"});
+  TorusSceneSpec spec;
+  spec.source = source;
+  if (root.has("name")) spec.name = root.at("name").string();
+  if (root.has("description")) spec.description = root.at("description").string();
+  const SceneNode t = root.at("tori");
+  t.expect_keys({"count", "major_radius", "minor_radius", "minor_radius_1", "spacing", "gap", "density", "tilt",
+                 "fix_first", "segments", "contact_model", "activation_distance", "stiffness", "pair_band",
+                 "gravity", "mode", "time_step", "steps", "output_every", "static_time_step", "static_tolerance",
+                 "max_static_steps", "check_intersections", "direction_tolerance", "newton_iterations"});
+  tori::ChainSpec& c = spec.chain;
+  c.count = t.at("count").integer(2);
+  if (c.count > 1000) t.at("count").fail("at most 1000 links");
+  c.shape.major_radius = t.at("major_radius").positive();
+  c.shape.minor_radius = t.at("minor_radius").positive();
+  if (!(c.shape.minor_radius < c.shape.major_radius)) t.at("minor_radius").fail("must be smaller than major_radius");
+  if (t.has("minor_radius_1") && t.at("minor_radius_1").positive() != c.shape.minor_radius)
+    t.at("minor_radius_1").fail("elliptic tubes (minor_radius_1 != minor_radius) are not supported");
+  if (t.has("spacing")) c.spacing = t.at("spacing").positive();
+  if (t.has("gap")) c.gap = t.at("gap").positive();
+  if (t.has("density")) c.density = t.at("density").positive();
+  if (t.has("tilt")) c.tilt = t.at("tilt").number();
+  if (!(std::abs(c.tilt) < M_PI)) t.at("tilt").fail("expected |tilt| < pi");
+  if (t.has("fix_first")) c.fix_first = t.at("fix_first").boolean();
+  if (t.has("segments")) {
+    const std::vector<int> s = t.at("segments").integers(3);
+    if (s.size() != 2) t.at("segments").fail("expected [major, minor] segment counts");
+    c.major_segments = s[0];
+    c.minor_segments = s[1];
+  }
+  const double s = c.effective_spacing(), R = c.shape.major_radius, r = c.shape.minor_radius;
+  if (!(s > R && s < 2.0 * (R - r)))
+    (t.has("spacing") ? t.at("spacing") : t.at("count"))
+        .fail("links are interlocked and apart for major_radius < spacing < 2 (major_radius - minor_radius)");
+  tori::ChainSimulationOptions& o = spec.options;
+  if (t.has("contact_model"))
+    o.model = t.at("contact_model").choice({"implicit", "mesh"}) == "mesh" ? tori::ContactModel::mesh
+                                                                           : tori::ContactModel::implicit;
+  if (t.has("activation_distance")) o.activation_distance = t.at("activation_distance").positive();
+  if (t.has("stiffness")) o.stiffness = t.at("stiffness").positive();
+  if (t.has("pair_band")) o.pair_band = t.at("pair_band").integer(0);
+  if (t.has("gravity")) o.gravity = t.at("gravity").vector(3);
+  if (t.has("direction_tolerance")) o.direction_tolerance = t.at("direction_tolerance").positive();
+  if (t.has("newton_iterations")) o.newton.max_iterations = t.at("newton_iterations").integer(1);
+  if (t.has("check_intersections")) o.check_intersections = t.at("check_intersections").boolean();
+  const std::string mode = t.has("mode") ? t.at("mode").choice({"static", "dynamic"}) : "static";
+  spec.dynamic = mode == "dynamic";
+  if (t.has("time_step")) o.time_step = t.at("time_step").positive();
+  if (t.has("steps")) spec.steps = t.at("steps").integer(1);
+  if (t.has("output_every")) spec.output_every = t.at("output_every").integer(1);
+  if (t.has("static_time_step")) spec.static_time_step = t.at("static_time_step").positive();
+  if (t.has("static_tolerance")) spec.static_tolerance = t.at("static_tolerance").positive();
+  if (t.has("max_static_steps")) spec.max_static_steps = t.at("max_static_steps").integer(1);
+  if (!spec.dynamic) o.time_step = spec.static_time_step;
+  return spec;
+}
+
+namespace {
+
+void write_frame(const tori::ChainSimulation& sim, const std::string& dir, const std::string& suffix) {
+  const Vector& q = sim.state();
+  for (int b = 0; b < sim.system().num_bodies(); ++b) {
+    const rigid::RigidBody& body = sim.system().body(b);
+    const Eigen::Matrix3d Q = rigid::rotation_matrix(q.segment<3>(6 * b + 3));
+    const Eigen::MatrixX3d x = (body.vertices * Q.transpose()).rowwise() + q.segment<3>(6 * b).transpose();
+    write_surface_vtu((std::filesystem::path(dir) / (body.name + suffix + ".vtu")).string(), x, body.faces);
+  }
+}
+
+std::string frame_suffix(int frame) {
+  std::ostringstream s;
+  s << "_" << std::setw(4) << std::setfill('0') << frame;
+  return s.str();
+}
+
+double finite_or(double v, double fallback) { return std::isfinite(v) ? v : fallback; }
+
+}  // namespace
+
+TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
+  std::filesystem::create_directories(out_dir);
+  tori::ChainSimulation sim(spec.chain, spec.options);
+  TorusSimulateRun run;
+  run.min_distance = std::numeric_limits<double>::infinity();
+  nlohmann::json steps = nlohmann::json::array();
+  auto record_step = [&](int n, const tori::ChainStepRecord& r) {
+    steps.push_back({{"step", n},
+                     {"converged", r.converged},
+                     {"newton_iterations", r.newton_iterations},
+                     {"seconds", r.seconds},
+                     {"ccd_seconds", r.ccd_seconds},
+                     {"min_distance", finite_or(r.min_distance, -1.0)},
+                     {"active_pairs", r.active_pairs},
+                     {"intersections", r.intersections}});
+    run.intersections += std::max(0, r.intersections);
+    run.min_distance = std::min(run.min_distance, r.min_distance);
+    ++run.steps;
+    if (log)
+      *log << "step " << n << ": " << (r.converged ? "converged" : "FAILED") << ", " << r.newton_iterations
+           << " Newton iterations, min distance " << r.min_distance << ", " << r.active_pairs
+           << " active pairs, " << r.intersections << " intersections\n";
+  };
+  const bool implicit = spec.options.model == tori::ContactModel::implicit;
+  if (log)
+    *log << "torus chain: " << spec.chain.count << " links, " << (implicit ? "implicit" : "mesh")
+         << " contact, d_hat " << sim.activation_distance() << ", kappa " << sim.stiffness() << "\n";
+  write_frame(sim, out_dir, frame_suffix(0));
+  if (spec.dynamic) {
+    run.converged = true;
+    for (int n = 1; n <= spec.steps; ++n) {
+      const tori::ChainStepRecord r = sim.step();
+      record_step(n, r);
+      if (!r.converged) {
+        run.converged = false;
+        if (log) *log << "step " << n << " failed: " << sim.last_message() << "\n";
+        break;
+      }
+      if (n % spec.output_every == 0) write_frame(sim, out_dir, frame_suffix(n / spec.output_every));
+    }
+  } else {
+    std::vector<tori::ChainStepRecord> records;
+    const double tolerance =
+        spec.static_tolerance > 0.0 ? spec.static_tolerance : 1e-10 * spec.chain.shape.major_radius;
+    run.converged = sim.relax(tolerance, spec.max_static_steps, &records);
+    for (std::size_t n = 0; n < records.size(); ++n) record_step(static_cast<int>(n) + 1, records[n]);
+    if (!run.converged && log) *log << "no rest within " << spec.max_static_steps << " steps: " << sim.last_message() << "\n";
+    write_frame(sim, out_dir, frame_suffix(1));
+  }
+  nlohmann::json links = nlohmann::json::array();
+  const Vector& q = sim.state();
+  for (int b = 0; b < sim.system().num_bodies(); ++b)
+    links.push_back({{"name", sim.system().body(b).name},
+                     {"position", {q[6 * b], q[6 * b + 1], q[6 * b + 2]}},
+                     {"rotation", {q[6 * b + 3], q[6 * b + 4], q[6 * b + 5]}},
+                     {"mass", sim.system().body(b).mass}});
+  nlohmann::json pairs = nlohmann::json::array();
+  if (sim.implicit_term())
+    for (const tori::TorusPairForce& f : sim.implicit_term()->pair_forces(q, Vector()))
+      pairs.push_back({{"a", f.a}, {"b", f.b}, {"distance", f.distance},
+                       {"force_on_b", {f.force_on_b.x(), f.force_on_b.y(), f.force_on_b.z()}}});
+  nlohmann::json report = {{"scene", spec.name},
+                           {"contact_model", implicit ? "implicit" : "mesh"},
+                           {"mode", spec.dynamic ? "dynamic" : "static"},
+                           {"links", spec.chain.count},
+                           {"activation_distance", sim.activation_distance()},
+                           {"stiffness", sim.stiffness()},
+                           {"converged", run.converged},
+                           {"steps", run.steps},
+                           {"intersections", run.intersections},
+                           {"min_distance", finite_or(run.min_distance, -1.0)},
+                           {"per_step", steps},
+                           {"bodies", links},
+                           {"pairs", pairs}};
+  std::ofstream(std::filesystem::path(out_dir) / "report.json") << report.dump(2) << "\n";
+  if (log)
+    *log << (run.completed() ? "completed" : "NOT completed") << ": " << run.steps << " steps, "
+         << run.intersections << " intersections, min distance " << run.min_distance << "\n";
+  return run;
+}
+
+}  // namespace tailor

@@ -1,0 +1,119 @@
+// Torus chain scenes: the shipped scene runs its steps without intersections and writes every
+// torus per frame; a static chain's report carries the closed-form pair forces (each pair holds
+// the weight below it); the mesh model runs the same chain; bad input gets a SceneError naming
+// the key path.
+#include "problems/contact/torus_scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "problems/scene.hpp"
+
+namespace tailor {
+namespace {
+
+const std::string kScenes = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/contact/";
+
+std::string temporary_directory(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("tailor_tori_" + name);
+  std::filesystem::remove_all(dir);
+  return dir.string();
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(TorusScene, ShippedChainSwingsWithoutIntersectionsAndWritesEveryTorusPerFrame) {
+  const TorusSceneSpec spec = parse_torus_scene(read_text(kScenes + "torus_chain.json"), "torus_chain.json");
+  ASSERT_TRUE(spec.dynamic);
+  const std::string out = temporary_directory("shipped");
+  const TorusSimulateRun run = simulate_torus_scene(spec, out, nullptr);
+  EXPECT_TRUE(run.completed());
+  EXPECT_EQ(run.steps, spec.steps);
+  EXPECT_EQ(run.intersections, 0);
+  EXPECT_GT(run.min_distance, 0.0);
+  const int frames = spec.steps / spec.output_every + 1;
+  for (int b = 0; b < spec.chain.count; ++b)
+    for (int f = 0; f < frames; ++f) {
+      char name[64];
+      std::snprintf(name, sizeof name, "/link_%d_%04d.vtu", b, f);
+      EXPECT_TRUE(std::filesystem::exists(out + name)) << name;
+    }
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/report.json"));
+  EXPECT_EQ(report["per_step"].size(), static_cast<std::size_t>(spec.steps));
+  EXPECT_EQ(report["intersections"], 0);
+}
+
+// Static by relaxation with 10 s steps, at rest when no DOF moves more than 1e-7 in a step (the
+// mesh model's facets let the links creep slowly towards their rest).
+const char* kStatic = R"({"tori": {"count": 4, "major_radius": 1.0, "minor_radius": 0.2, "segments": [24, 6],
+  "mode": "static", "contact_model": "MODEL", "static_time_step": 10, "static_tolerance": 1e-7}})";
+
+std::string static_scene(const std::string& model) {
+  std::string s = kStatic;
+  s.replace(s.find("MODEL"), 5, model);
+  return s;
+}
+
+TEST(TorusScene, StaticChainReportsTheWeightBelowEachPair) {
+  const TorusSceneSpec spec = parse_torus_scene(static_scene("implicit"), "static.json");
+  const std::string out = temporary_directory("static");
+  const TorusSimulateRun run = simulate_torus_scene(spec, out, nullptr);
+  ASSERT_TRUE(run.completed());
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/report.json"));
+  const double weight = report["bodies"][1]["mass"].get<double>() * 9.81;
+  ASSERT_EQ(report["pairs"].size(), 3u);
+  for (const nlohmann::json& pair : report["pairs"]) {
+    const int below = 4 - pair["b"].get<int>();
+    EXPECT_NEAR(pair["force_on_b"][2].get<double>(), below * weight, 1e-6 * 4 * weight);
+  }
+}
+
+TEST(TorusScene, MeshModelHangsTheSameChainWithoutIntersections) {
+  // Reference: the implicit model's equilibrium; the triangulated tori (24 x 6) differ from the
+  // implicit ones by their chord sag, so the link heights agree to a fraction of the tube radius.
+  const std::string out_mesh = temporary_directory("mesh"), out_implicit = temporary_directory("implicit");
+  const TorusSimulateRun mesh = simulate_torus_scene(parse_torus_scene(static_scene("mesh"), "m.json"), out_mesh, nullptr);
+  const TorusSimulateRun implicit =
+      simulate_torus_scene(parse_torus_scene(static_scene("implicit"), "i.json"), out_implicit, nullptr);
+  ASSERT_TRUE(mesh.completed());
+  ASSERT_TRUE(implicit.completed());
+  const nlohmann::json a = nlohmann::json::parse(std::ifstream(out_mesh + "/report.json"));
+  const nlohmann::json b = nlohmann::json::parse(std::ifstream(out_implicit + "/report.json"));
+  for (int k = 1; k < 4; ++k) {
+    const double za = a["bodies"][k]["position"][2].get<double>(), zb = b["bodies"][k]["position"][2].get<double>();
+    EXPECT_NEAR(za, zb, 0.1) << k;
+    EXPECT_NE(za, zb) << k;  // two different models
+  }
+}
+
+TEST(TorusScene, BadInputNamesTheKey) {
+  auto message = [](const std::string& text) {
+    try {
+      parse_torus_scene(text, "bad.json");
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "minor_radius_1": 0.3}})")
+                .find("tori.minor_radius_1"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "spacing": 1.7}})")
+                .find("tori.spacing"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 1.2}})").find("tori.minor_radius"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"tori": {"count": 1, "major_radius": 1, "minor_radius": 0.2}})").find("tori.count"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "colour": 1}})").find("colour"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace tailor

@@ -1,0 +1,25 @@
+// tailor._tailor: the compiled part of the Python package tailor (python/tailor/ is the rest).
+// Errors: bad input (SceneError, MeshError, std::invalid_argument) is a ValueError -- SceneError
+// and MeshError as their own subclasses -- and the failures of a run (std::runtime_error, such
+// as an output that cannot be written or a forward solve that failed) a RuntimeError, each with
+// the C++ message (key path, file and line).
+#include <pybind11/pybind11.h>
+
+#include "adjoint/reduced_functional.hpp"
+#include "bindings.hpp"
+#include "forward/mesh/mesh.hpp"
+#include "problems/scene.hpp"
+#include "tailor_version.hpp"
+
+namespace py = pybind11;
+
+PYBIND11_MODULE(_tailor, m) {
+  m.doc() = "tailor's scenes, verbs and reduced functionals (see docs/python.md)";
+  m.attr("__version__") = tailor::version_string;
+  // pybind11 tries the translators registered last first: the subclasses go after their bases.
+  py::register_exception<tailor::EvaluationError>(m, "EvaluationError", PyExc_RuntimeError);
+  py::register_exception<tailor::SceneError>(m, "SceneError", PyExc_ValueError);
+  py::register_exception<tailor::MeshError>(m, "MeshError", PyExc_ValueError);
+  tailor::python::bind_scene(m);
+  tailor::python::bind_functional(m);
+}

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "bindings.hpp"
+#include "problems/scene.hpp"
 #include "problems/study.hpp"
 
 namespace py = pybind11;
@@ -18,6 +19,10 @@ namespace {
 class Functional {
  public:
   explicit Functional(const SceneDocument& doc) {
+    if (!doc.document.is_object() || !doc.document.contains("inverse"))
+      throw SceneError(doc.source +
+                       ": (top level): the scene has no \"inverse\" section (a reduced functional needs one; "
+                       "see docs/scenes.md)");
     Study made = Study::from_json(doc.document, doc.source, doc.directory);
     if (!doc.path.empty() && !made.scene().contains("name"))
       made.scene()["name"] = std::filesystem::path(doc.path).stem().string();

@@ -170,11 +170,11 @@ py::tuple gradcheck(const SceneDocument& doc, const std::string& out_dir, std::o
 }
 
 // The optimizer stops itself on Ctrl-C (its own SIGINT handler while it runs) and writes its
-// report: no signal checks in its output, which may come from inside a back-end's callback.
+// report; before and after it, a Ctrl-C raises KeyboardInterrupt at the next line of output.
 py::tuple run(const SceneDocument& doc, const std::string& out_dir, py::object log, bool progress,
               std::optional<int> checkpoint_every, std::optional<std::string> resume) {
   const std::string kind = doc.kind();
-  PythonStream out(std::move(log), /*check_signals=*/false);
+  PythonStream out(std::move(log), /*check_signals=*/true);
   py::dict fields;
   int code = kFailure;
   if (is_mesh_scene(kind)) {

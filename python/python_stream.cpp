@@ -5,7 +5,9 @@ namespace py = pybind11;
 namespace tailor::python {
 
 PythonStreamBuf::PythonStreamBuf(py::object target, bool check_signals)
-    : target_(std::move(target)), check_signals_(check_signals) {}
+    : target_(std::move(target)), check_signals_(check_signals) {
+  if (sigaction(SIGINT, nullptr, &python_handler_) != 0) check_signals_ = false;
+}
 
 PythonStreamBuf::~PythonStreamBuf() {
   // The owner may be destroyed while the GIL is released; the reference needs it.
@@ -44,7 +46,10 @@ void PythonStreamBuf::flush_line() {
     }
   }
   pending_.clear();
-  if (check_signals_ && PyErr_CheckSignals() != 0) throw PythonErrorPending();
+  if (!check_signals_) return;
+  struct sigaction now {};
+  if (sigaction(SIGINT, nullptr, &now) != 0 || now.sa_handler != python_handler_.sa_handler) return;
+  if (PyErr_CheckSignals() != 0) throw PythonErrorPending();
 }
 
 PythonStream::PythonStream(py::object target, bool check_signals)

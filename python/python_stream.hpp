@@ -2,8 +2,13 @@
 // Output of tailor's commands in Python: a std::ostream whose text goes to a Python file-like
 // object (its write(), under the GIL, line by line), and that checks Python's signal handlers on
 // every line: after a Ctrl-C the next line throws PythonErrorPending (the KeyboardInterrupt stays
-// set), which unwinds the C++ call; bindings() turns it back into the Python exception.
+// set), which unwinds the C++ call; without_gil() turns it back into the Python exception.
+// While an optimizer runs, SIGINT has tailor's own handler (optimizers/interrupt.hpp: the run
+// stops itself and reports) and its lines may come from inside a back-end's C callback, where
+// nothing may be thrown: the signals are checked only while SIGINT's handler is the one it had
+// when the stream was made (Python's).
 #include <pybind11/pybind11.h>
+#include <signal.h>
 
 #include <memory>
 #include <ostream>
@@ -34,6 +39,7 @@ class PythonStreamBuf : public std::streambuf {
   void flush_line();  // may throw PythonErrorPending
   pybind11::object target_;
   bool check_signals_;
+  struct sigaction python_handler_ {};  // SIGINT's when the stream was made
   std::string pending_;
 };
 

@@ -42,10 +42,18 @@ if(DEFINED _missing)
 endif()
 
 set(TAILOR_PYTHON_FOUND ON)
-# site-packages of that Python under the install prefix, e.g. lib/python3.11/site-packages.
-execute_process(COMMAND ${Python3_EXECUTABLE} -c
-  "import sysconfig; print(sysconfig.get_path('platlib', 'posix_prefix', vars={'platbase': '', 'base': ''}).lstrip('/'))"
-  OUTPUT_VARIABLE _site OUTPUT_STRIP_TRAILING_WHITESPACE)
+# The interpreter's own folder for packages under CMAKE_INSTALL_PREFIX when it has one there
+# (Debian's python3 with /usr/local: lib/python3.11/dist-packages, on its sys.path), else the
+# standard layout (lib/python3.X/site-packages).
+execute_process(COMMAND ${Python3_EXECUTABLE} -c [=[
+import os, sys, sysconfig
+prefix = os.path.normpath(sys.argv[1])
+platlib = os.path.normpath(sysconfig.get_path('platlib'))
+if platlib.startswith(prefix + os.sep):
+    print(os.path.relpath(platlib, prefix))
+else:
+    print(os.path.relpath(sysconfig.get_path('platlib', 'posix_prefix', vars={'platbase': prefix, 'base': prefix}), prefix))
+]=] ${CMAKE_INSTALL_PREFIX} OUTPUT_VARIABLE _site OUTPUT_STRIP_TRAILING_WHITESPACE)
 set(TAILOR_PYTHON_INSTALL_DIR "${_site}" CACHE STRING
     "Where `cmake --install` puts the Python package tailor, relative to CMAKE_INSTALL_PREFIX")
 message(STATUS "tailor: Python module for ${Python3_EXECUTABLE} (NumPy ${Python3_NumPy_VERSION}, "

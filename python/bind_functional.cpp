@@ -146,6 +146,14 @@ void bind_functional(py::module_& m) {
                                return py::cast(f.problem().truth);
                              })
       .def_property_readonly("counters", &Functional::counters)
+      // Views of the problem's mesh, kept alive by the functional.
+      .def_property_readonly(
+          "rest_positions",
+          [](const Functional& f) -> const Eigen::MatrixXd& { return f.problem().setup.mesh.rest_positions; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "elements", [](const Functional& f) -> const Eigen::MatrixXi& { return f.problem().setup.mesh.elements; },
+          py::return_value_policy::reference_internal)
       .def("taylor_test", &Functional::taylor_test, py::arg("seed") = py::none(), py::arg("min_rate") = py::none());
 }
 

@@ -112,6 +112,8 @@ py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::obj
     fields["youngs_modulus"] = view(keep, run->setup.youngs_modulus);
     fields["poisson_ratio"] = view(keep, run->setup.poisson_ratio);
     fields["density"] = view(keep, run->setup.density);
+    fields["rest_positions"] = view(keep, run->setup.mesh.rest_positions);
+    fields["elements"] = view(keep, run->setup.mesh.elements);
     code = run->solution.converged ? kSuccess : kFailure;
   } else if (kind == "dynamic") {
     code = without_gil([&] {
@@ -189,6 +191,8 @@ py::tuple run(const SceneDocument& doc, const std::string& out_dir, py::object l
     fields["design_values"] = view(keep, result->design_values);
     fields["youngs_modulus"] = view(keep, result->youngs_modulus);
     fields["displacement"] = view(keep, result->solution.displacement);
+    fields["rest_positions"] = view(keep, result->problem->setup.mesh.rest_positions);
+    fields["elements"] = view(keep, result->problem->setup.mesh.elements);
     fields["status"] = to_string(result->result.status);
     code = result->result.converged() ? kSuccess : kFailure;
   } else {

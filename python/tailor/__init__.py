@@ -65,6 +65,8 @@ class Functional:
     truth = property(lambda self: self._f.truth, doc="per-element true E when the scene knows it")
     has_hessian_vector = property(lambda self: self._f.has_hessian_vector)
     counters = property(lambda self: self._f.counters, doc="evaluations, forward and adjoint solves")
+    rest_positions = property(lambda self: self._f.rest_positions, doc="the mesh: num_vertices x dim")
+    elements = property(lambda self: self._f.elements, doc="the mesh: num_elements x (dim + 1) vertex ids")
 
     def value(self, z):
         return self._f.value(z)
@@ -139,7 +141,7 @@ class Scene:
     def simulate(self, out_dir=None, log=None):
         """`tailor simulate`: static equilibrium or time integration; the report as a Report.
         Static scenes' fields: displacement, positions, stresses, youngs_modulus, poisson_ratio,
-        density. log: a file-like object for the solver's output (None: quiet)."""
+        density, rest_positions, elements. log: a file-like object for the solver's output (None: quiet)."""
         with _OutDir(out_dir) as d:
             return d.report(self._doc.simulate(d.path, log=log))
 
@@ -158,7 +160,7 @@ class Scene:
 
     def run(self, out_dir=None, log=None, progress=None, checkpoint_every=None, resume=None):
         """`tailor run`: minimizes the objective with the scene's back-end. Fields: design (z),
-        design_values, youngs_modulus (per element), displacement; fields["status"] is the
+        design_values, youngs_modulus (per element), displacement, rest_positions, elements; fields["status"] is the
         optimizer's status ("interrupted" after Ctrl-C: the run stops and still reports).
         progress: one line per iteration to log (default: when log is given)."""
         if progress is None:

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <mutex>
 
 #include "bindings.hpp"
 #include "problems/scene.hpp"
@@ -35,12 +36,14 @@ class Functional {
   double value(const Vector& z) {
     check_size(z, "z");
     py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
     return problem_->functional->value(z);
   }
   std::pair<double, Vector> value_and_gradient(const Vector& z) {
     check_size(z, "z");
     Vector gradient(z.size());
     py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
     const double value = problem_->functional->value_and_gradient(z, gradient);
     return {value, std::move(gradient)};
   }
@@ -54,6 +57,7 @@ class Functional {
                                   ": this objective has no Hessian-vector products (a term without second "
                                   "derivatives)");
     py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
     return problem_->functional->hessian_vector(z, v);
   }
   py::object bounds() const {
@@ -69,6 +73,7 @@ class Functional {
     }
     const TaylorTestResult r = [&] {
       py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(mutex_);
       return study_->taylor_test(options);
     }();
     py::list rows;
@@ -119,6 +124,8 @@ class Functional {
   }
   std::unique_ptr<Study> study_;
   InverseProblem* problem_ = nullptr;
+  // The GIL is released while J is evaluated: Python threads sharing a functional take turns.
+  std::mutex mutex_;
 };
 
 }  // namespace

@@ -20,6 +20,13 @@ PYBIND11_MODULE(_tailor, m) {
   py::register_exception<tailor::EvaluationError>(m, "EvaluationError", PyExc_RuntimeError);
   py::register_exception<tailor::SceneError>(m, "SceneError", PyExc_ValueError);
   py::register_exception<tailor::MeshError>(m, "MeshError", PyExc_ValueError);
+  // A Python exception raised inside a call (Ctrl-C, a log whose write() failed) is already set.
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const tailor::python::PythonErrorPending&) {
+    }
+  });
   tailor::python::bind_scene(m);
   tailor::python::bind_functional(m);
 }

@@ -25,12 +25,12 @@ template <class Derived>
 pybind11::array view(const std::shared_ptr<const void>& owner, const Eigen::PlainObjectBase<Derived>& v) {
   static_assert(Derived::IsVectorAtCompileTime || !Derived::IsRowMajor, "column-major storage expected");
   if constexpr (Derived::IsVectorAtCompileTime) {
-    return read_only(pybind11::array_t<typename Derived::Scalar>({v.size()}, {sizeof(typename Derived::Scalar)},
-                                                                  v.data(), keep_alive(owner)));
+    return read_only(pybind11::array_t<typename Derived::Scalar>(
+        {v.size()}, {sizeof(typename Derived::Scalar)}, v.data(), keep_alive(owner)));
   } else {
     const auto s = static_cast<pybind11::ssize_t>(sizeof(typename Derived::Scalar));
-    return read_only(pybind11::array_t<typename Derived::Scalar>(
-        {v.rows(), v.cols()}, {s, s * v.rows()}, v.data(), keep_alive(owner)));
+    return read_only(pybind11::array_t<typename Derived::Scalar>({v.rows(), v.cols()}, {s, s * v.rows()},
+                                                                 v.data(), keep_alive(owner)));
   }
 }
 

@@ -143,10 +143,12 @@ void bind_functional(py::module_& m) {
       .def_property_readonly("bounds", &Functional::bounds)
       .def_property_readonly("x0", [](const Functional& f) { return f.problem().z0; })
       .def_property_readonly("design_labels", [](const Functional& f) { return f.problem().design_labels; })
-      .def("design_values", [](const Functional& f, const Vector& z) { return f.problem().design_values(z); },
-           py::arg("z"))
-      .def("youngs_modulus", [](const Functional& f, const Vector& z) { return f.problem().youngs_modulus(z); },
-           py::arg("z"))
+      .def(
+          "design_values", [](const Functional& f, const Vector& z) { return f.problem().design_values(z); },
+          py::arg("z"))
+      .def(
+          "youngs_modulus",
+          [](const Functional& f, const Vector& z) { return f.problem().youngs_modulus(z); }, py::arg("z"))
       .def_property_readonly("truth",
                              [](const Functional& f) -> py::object {
                                if (f.problem().truth.size() == 0) return py::none();
@@ -159,9 +161,11 @@ void bind_functional(py::module_& m) {
           [](const Functional& f) -> const Eigen::MatrixXd& { return f.problem().setup.mesh.rest_positions; },
           py::return_value_policy::reference_internal)
       .def_property_readonly(
-          "elements", [](const Functional& f) -> const Eigen::MatrixXi& { return f.problem().setup.mesh.elements; },
+          "elements",
+          [](const Functional& f) -> const Eigen::MatrixXi& { return f.problem().setup.mesh.elements; },
           py::return_value_policy::reference_internal)
-      .def("taylor_test", &Functional::taylor_test, py::arg("seed") = py::none(), py::arg("min_rate") = py::none());
+      .def("taylor_test", &Functional::taylor_test, py::arg("seed") = py::none(),
+           py::arg("min_rate") = py::none());
 }
 
 }  // namespace tailor::python

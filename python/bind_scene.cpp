@@ -37,7 +37,8 @@ SceneDocument scene_from_file(const std::string& path) {
   return scene;
 }
 
-SceneDocument scene_from_json(const std::string& text, const std::string& source, const std::string& directory) {
+SceneDocument scene_from_json(const std::string& text, const std::string& source,
+                              const std::string& directory) {
   SceneDocument scene;
   scene.document = parse_scene_document(text, source);
   scene.text = text;
@@ -236,16 +237,17 @@ void bind_scene(py::module_& m) {
       .def_readonly("directory", &SceneDocument::directory)
       .def_readonly("path", &SceneDocument::path)
       .def_property_readonly("text", [](const SceneDocument& s) { return s.document.dump(); })
-      .def("name",
-           [](const SceneDocument& doc) {
-             if (doc.document.is_object() && doc.document.contains("name") && doc.document["name"].is_string())
-               return doc.document["name"].get<std::string>();
-             return doc.path.empty() ? std::string("scene") : std::filesystem::path(doc.path).stem().string();
-           })
+      .def(
+          "name",
+          [](const SceneDocument& doc) {
+            if (doc.document.is_object() && doc.document.contains("name") && doc.document["name"].is_string())
+              return doc.document["name"].get<std::string>();
+            return doc.path.empty() ? std::string("scene") : std::filesystem::path(doc.path).stem().string();
+          })
       .def("simulate", &simulate, py::arg("out_dir"), py::arg("log") = py::none())
       .def("modes", &modes, py::arg("out_dir"), py::arg("count") = 10, py::arg("log") = py::none())
-      .def("gradcheck", &gradcheck, py::arg("out_dir"), py::arg("seed") = py::none(), py::arg("hessian") = false,
-           py::arg("log") = py::none())
+      .def("gradcheck", &gradcheck, py::arg("out_dir"), py::arg("seed") = py::none(),
+           py::arg("hessian") = false, py::arg("log") = py::none())
       .def("run", &run, py::arg("out_dir"), py::arg("log") = py::none(), py::arg("progress") = true,
            py::arg("checkpoint_every") = py::none(), py::arg("resume") = py::none())
       .def("check", &check, py::arg("seed") = 1, py::arg("log") = py::none());

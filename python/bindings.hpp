@@ -2,10 +2,10 @@
 // The parts of the module tailor._tailor (module.cpp puts them together).
 #include <pybind11/pybind11.h>
 
-#include "python_stream.hpp"
-
 #include <nlohmann/json.hpp>
 #include <string>
+
+#include "python_stream.hpp"
 
 namespace tailor::python {
 
@@ -20,7 +20,8 @@ struct SceneDocument {
 };
 
 SceneDocument scene_from_file(const std::string& path);
-SceneDocument scene_from_json(const std::string& text, const std::string& source, const std::string& directory);
+SceneDocument scene_from_json(const std::string& text, const std::string& source,
+                              const std::string& directory);
 
 void bind_scene(pybind11::module_& m);
 void bind_functional(pybind11::module_& m);

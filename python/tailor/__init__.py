@@ -160,8 +160,9 @@ class Scene:
 
     def run(self, out_dir=None, log=None, progress=None, checkpoint_every=None, resume=None):
         """`tailor run`: minimizes the objective with the scene's back-end. Fields: design (z),
-        design_values, youngs_modulus (per element), displacement, rest_positions, elements; fields["status"] is the
-        optimizer's status ("interrupted" after Ctrl-C: the run stops and still reports).
+        design_values, youngs_modulus (per element), displacement, rest_positions, elements;
+        fields["status"] is the optimizer's status ("interrupted" after Ctrl-C: the run stops
+        and still reports).
         progress: one line per iteration to log (default: when log is given)."""
         if progress is None:
             progress = log is not None

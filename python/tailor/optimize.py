@@ -25,7 +25,8 @@ def scipy_minimize(functional, x0=None, method="L-BFGS-B", bounds="scene", hessp
 
     z0 = np.array(functional.x0 if x0 is None else x0, dtype=float)
     if z0.shape != (functional.size,):
-        raise ValueError(f"scipy_minimize: x0 has shape {z0.shape}, the design has {functional.size} entries")
+        raise ValueError(f"scipy_minimize: x0 has shape {z0.shape}, "
+                         f"the design has {functional.size} entries")
     name = method.lower() if isinstance(method, str) else ""
     if isinstance(bounds, str) and bounds == "scene":
         given = functional.bounds
@@ -34,7 +35,8 @@ def scipy_minimize(functional, x0=None, method="L-BFGS-B", bounds="scene", hessp
             bounds = scipy.optimize.Bounds(given[0], given[1])
             z0 = np.clip(z0, given[0], given[1])
     if isinstance(hessp, str) and hessp == "auto":
-        hessp = functional.hessian_vector_product if functional.has_hessian_vector and name in _HESSP else None
+        hessp = (functional.hessian_vector_product
+                 if functional.has_hessian_vector and name in _HESSP else None)
 
     def fun(z):
         try:

@@ -16,7 +16,8 @@ def cantilever():
 def test_bad_value_names_the_key_path():
     scene = cantilever()
     scene["materials"][0]["youngs_modulus"] = -1
-    with pytest.raises(ValueError, match=r"^\(scene\): materials\[0\]\.youngs_modulus: expected a number > 0, got -1$"):
+    message = r"^\(scene\): materials\[0\]\.youngs_modulus: expected a number > 0, got -1$"
+    with pytest.raises(ValueError, match=message):
         tailor.load(scene).simulate()
 
 
@@ -49,7 +50,8 @@ def test_missing_file():
 
 def test_verbs_that_need_an_inverse_section():
     scene = tailor.load(str(scene_path("cantilever.json")))
-    with pytest.raises(ValueError, match=r'cantilever\.json: \(top level\): the scene has no "inverse" section'):
+    message = r'cantilever\.json: \(top level\): the scene has no "inverse" section'
+    with pytest.raises(ValueError, match=message):
         scene.gradcheck()
     with pytest.raises(ValueError, match=r'the scene has no "inverse" section'):
         scene.run()

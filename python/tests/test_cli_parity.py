@@ -105,3 +105,15 @@ def test_gradcheck_matches_cli(cli, tmp_path):
     report = tailor.gradcheck(str(scene), hessian=True, out_dir=tmp_path / "py")
     assert report.ok
     assert_same_report(read_json(tmp_path / "cli" / "gradcheck.json"), report)
+
+
+def test_dynamic_gradcheck_matches_cli(cli, tmp_path):
+    # Without an "inverse" section: the time-dependent adjoint of dynamics.objective.
+    scene = small_dynamic_scene()
+    path = tmp_path / "beam.json"
+    path.write_text(json.dumps(scene))
+    code, output = cli("gradcheck", path, tmp_path / "cli")
+    assert code == 0, output
+    report = tailor.load(scene).gradcheck(out_dir=tmp_path / "py")
+    assert report.ok and report["passed"]
+    assert_same_report(read_json(tmp_path / "cli" / "gradcheck.json"), report)

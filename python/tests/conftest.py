@@ -14,13 +14,15 @@ SCENES = SOURCE_DIR / "scenes"
 
 @pytest.fixture(scope="session")
 def cli():
-    """Runs the tailor executable: cli(verb, scene, out_dir, *flags) -> exit code."""
+    """Runs the tailor executable: cli(verb, scene, out_dir, *flags) -> (exit code, output);
+    out_dir None: no --out."""
     executable = os.environ.get("TAILOR_CLI", str(SOURCE_DIR / "build" / "bin" / "tailor"))
     if not os.path.isfile(executable):
         pytest.fail(f"the tailor executable {executable} is missing (set TAILOR_CLI)")
 
     def run(verb, scene, out_dir, *flags):
-        command = [executable, verb, str(scene), "--out", str(out_dir), *flags]
+        out = [] if out_dir is None else ["--out", str(out_dir)]
+        command = [executable, verb, str(scene), *out, *flags]
         done = subprocess.run(command, capture_output=True, text=True)
         return done.returncode, done.stdout + done.stderr
 

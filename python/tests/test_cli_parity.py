@@ -1,6 +1,7 @@
 # The bindings run the same scene as the tailor executable: the numbers of the reports they
 # write are equal to round-off (reference: the executable's report.json for the same scene),
 # and the NumPy fields agree with the report's summary numbers.
+import io
 import json
 
 import numpy as np
@@ -117,3 +118,12 @@ def test_dynamic_gradcheck_matches_cli(cli, tmp_path):
     report = tailor.load(scene).gradcheck(out_dir=tmp_path / "py")
     assert report.ok and report["passed"]
     assert_same_report(read_json(tmp_path / "cli" / "gradcheck.json"), report)
+
+
+def test_check_agrees_with_cli(cli):
+    scene = scene_path("cantilever.json")
+    code, output = cli("check", scene, None)
+    assert code == 0, output
+    log = io.StringIO()
+    assert tailor.load(str(scene)).check(log=log) is True
+    assert log.getvalue() == output  # the same tables

@@ -8,6 +8,7 @@
 #include <memory>
 #include <mutex>
 
+#include "adjoint/taylor_test.hpp"
 #include "bindings.hpp"
 #include "problems/scene.hpp"
 #include "problems/study.hpp"
@@ -64,17 +65,36 @@ class Functional {
     if (problem_->bounds.lower.size() == 0) return py::none();
     return py::make_tuple(problem_->bounds.lower, problem_->bounds.upper);
   }
-  py::dict taylor_test(std::optional<unsigned> seed, std::optional<double> min_rate) {
-    std::optional<TaylorTestOptions> options;
-    if (seed || min_rate) {
-      options = problem_->spec.gradcheck;
-      if (seed) options->seed = *seed;
-      if (min_rate) options->min_rate = *min_rate;
-    }
+  // As Study::taylor_test (and tailor gradcheck): J(z + h dz) is only as accurate as the
+  // equilibrium, so the forward solves are tightened to the round-off floor for the test and
+  // put back afterwards. At z0 unless z is given; of the Hessian-vector products with hessian.
+  py::dict taylor_test(std::optional<Vector> z, std::optional<unsigned> seed, std::optional<double> min_rate,
+                       bool hessian) {
+    if (z) check_size(*z, "z");
+    if (hessian && !has_hessian_vector())
+      throw std::invalid_argument(problem_->scene_source +
+                                  ": this objective has no Hessian-vector products to test");
+    TaylorTestOptions options = problem_->spec.gradcheck;
+    if (seed) options.seed = *seed;
+    if (min_rate) options.min_rate = *min_rate;
     const TaylorTestResult r = [&] {
       py::gil_scoped_release release;
       const std::lock_guard<std::mutex> lock(mutex_);
-      return study_->taylor_test(options);
+      NewtonOptions& newton = problem_->functional->newton_options();
+      const NewtonOptions kept = newton;
+      const double tighter = 1e-14 / newton.relative_tolerance;
+      if (tighter < 1.0) {
+        newton.relative_tolerance *= tighter;
+        newton.absolute_tolerance *= tighter;
+      }
+      struct Restore {
+        NewtonOptions& options;
+        NewtonOptions kept;
+        ~Restore() { options = kept; }
+      } restore{newton, kept};
+      const Vector& at = z ? *z : problem_->z0;
+      return hessian ? taylor_test_hessian(*problem_->functional, at, options)
+                     : tailor::taylor_test(*problem_->functional, at, options);
     }();
     py::list rows;
     for (const TaylorRow& row : r.rows) {
@@ -164,8 +184,8 @@ void bind_functional(py::module_& m) {
           "elements",
           [](const Functional& f) -> const Eigen::MatrixXi& { return f.problem().setup.mesh.elements; },
           py::return_value_policy::reference_internal)
-      .def("taylor_test", &Functional::taylor_test, py::arg("seed") = py::none(),
-           py::arg("min_rate") = py::none());
+      .def("taylor_test", &Functional::taylor_test, py::arg("z") = py::none(), py::arg("seed") = py::none(),
+           py::arg("min_rate") = py::none(), py::arg("hessian") = false);
 }
 
 }  // namespace tailor::python

@@ -88,10 +88,11 @@ class Functional:
         """E per element at z."""
         return self._f.youngs_modulus(z)
 
-    def taylor_test(self, seed=None, min_rate=None):
-        """Taylor test of J at x0 (docs/methods.md): a dict with status, passed, rate0, rate1,
-        message, rows and table. seed and min_rate default to the scene's inverse.gradcheck."""
-        return self._f.taylor_test(seed=seed, min_rate=min_rate)
+    def taylor_test(self, z=None, seed=None, min_rate=None, hessian=False):
+        """Taylor test of J at z (default x0), as `tailor gradcheck` (docs/methods.md): a dict
+        with status, passed, rate0, rate1, message, rows and table. seed and min_rate default to
+        the scene's inverse.gradcheck; hessian=True tests the Hessian-vector products instead."""
+        return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate, hessian=hessian)
 
 
 class _OutDir:

@@ -70,3 +70,13 @@ def test_a_design_of_the_wrong_size_is_an_error(bar):
         bar.value(np.zeros(3))
     with pytest.raises(ValueError, match="v has 1 entries"):
         bar.hessian_vector_product(bar.x0, np.zeros(1))
+
+
+def test_taylor_test_of_hessian_vector_products_and_at_another_design(bar):
+    # The same verdicts tailor gradcheck --hessian gives at z0 (test_cli_parity), and away from z0.
+    hessian = bar.taylor_test(hessian=True)
+    assert hessian["passed"], hessian["table"]
+    assert hessian["rate1"] >= 1.9
+    elsewhere = bar.taylor_test(z=bar.x0 + np.array([0.5, -0.5]), seed=3)
+    assert elsewhere["passed"], elsewhere["table"]
+    assert elsewhere["value"] == pytest.approx(bar.value(bar.x0 + np.array([0.5, -0.5])), rel=1e-10)

@@ -83,3 +83,13 @@ def test_unwritable_output_is_a_runtime_error(tmp_path):
 def test_file_kinds_need_their_file():
     with pytest.raises(ValueError, match="a rods scene is read from its file"):
         tailor.load({"rods": {}}).simulate()
+
+
+def test_bad_mesh_file_is_a_mesh_error_with_file_and_line(tmp_path):
+    # A dict scene's relative paths start from `directory`.
+    (tmp_path / "bad.msh").write_text("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 x\n")
+    scene = cantilever()
+    scene["mesh"] = {"file": "bad.msh"}
+    with pytest.raises(tailor.MeshError, match=r"bad\.msh:6: expected node coordinate \(a number\), found 'x'"):
+        tailor.load(scene, directory=tmp_path).simulate()
+    assert issubclass(tailor.MeshError, ValueError)

@@ -2,13 +2,15 @@
 // Errors: bad input (SceneError, MeshError, std::invalid_argument) is a ValueError -- SceneError
 // and MeshError as their own subclasses -- and the failures of a run (std::runtime_error, such
 // as an output that cannot be written or a forward solve that failed) a RuntimeError, each with
-// the C++ message (key path, file and line).
+// the C++ message (key path, file and line). A verb's option that the kind of scene cannot
+// honour (UsageError) is a ValueError too.
 #include <pybind11/pybind11.h>
 
 #include "adjoint/reduced_functional.hpp"
 #include "bindings.hpp"
 #include "forward/mesh/mesh.hpp"
 #include "problems/scene.hpp"
+#include "problems/scene_kinds.hpp"
 #include "tailor_version.hpp"
 
 namespace py = pybind11;
@@ -25,6 +27,8 @@ PYBIND11_MODULE(_tailor, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const tailor::python::PythonErrorPending&) {
+    } catch (const tailor::UsageError& e) {  // a verb's option its kind of scene cannot honour
+      PyErr_SetString(PyExc_ValueError, e.what());
     }
   });
   tailor::python::bind_scene(m);

@@ -127,3 +127,21 @@ def test_check_agrees_with_cli(cli):
     log = io.StringIO()
     assert tailor.load(str(scene)).check(log=log) is True
     assert log.getvalue() == output  # the same tables
+
+
+def test_file_kind_scene_matches_cli(cli, tmp_path):
+    # A kind read by its own reader (rigid bodies in contact): the command line's handler.
+    scene = scene_path("contact/box_on_ground.json")
+    code, output = cli("simulate", scene, tmp_path / "cli")
+    assert code == 0, output
+    loaded = tailor.load(str(scene))
+    assert loaded.kind == "rigid_bodies"
+    report = loaded.simulate(out_dir=tmp_path / "py")
+    assert report.ok and report.fields == {}
+    assert_same_report(read_json(tmp_path / "cli" / "report.json"), report)
+
+
+def test_option_a_kind_cannot_honour_is_a_value_error():
+    rods = tailor.load(str(scene_path("rods/rod_stiffness_design.json")))
+    with pytest.raises(ValueError, match="--resume and --checkpoint-every are not implemented for rod scenes"):
+        rods.run(checkpoint_every=5)

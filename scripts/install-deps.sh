@@ -9,6 +9,9 @@ packages=(
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libnlopt-cxx-dev libarpack2-dev libceres-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
   libpng-dev
+  # The Python module (python/, docs/python.md) and its tests; python3-matplotlib is optional
+  # (examples/python plots with it when it is there).
+  pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest
   # CHOLMOD's speed is BLAS's speed: OpenBLAS must provide libblas.so.3 (see below).
   libopenblas0-pthread libopenblas-pthread-dev
 )

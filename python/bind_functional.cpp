@@ -1,0 +1,191 @@
+// The reduced functional of a scene's inverse problem: tailor._tailor.Functional. J(z), dJ/dz
+// and Hessian-vector products are those the optimizer back-ends of `tailor run` see, and
+// taylor_test() is `tailor gradcheck`'s test (forward solves tightened to the round-off floor).
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include <filesystem>
+#include <memory>
+#include <mutex>
+
+#include "adjoint/taylor_test.hpp"
+#include "bindings.hpp"
+#include "problems/scene.hpp"
+#include "problems/study.hpp"
+
+namespace py = pybind11;
+
+namespace tailor::python {
+namespace {
+
+class Functional {
+ public:
+  explicit Functional(const SceneDocument& doc) {
+    if (!doc.document.is_object() || !doc.document.contains("inverse"))
+      throw SceneError(doc.source +
+                       ": (top level): the scene has no \"inverse\" section (a reduced functional needs one; "
+                       "see docs/scenes.md)");
+    Study made = Study::from_json(doc.document, doc.source, doc.directory);
+    if (!doc.path.empty() && !made.scene().contains("name"))
+      made.scene()["name"] = std::filesystem::path(doc.path).stem().string();
+    study_ = std::make_unique<Study>(std::move(made));
+    py::gil_scoped_release release;
+    problem_ = &study_->problem();
+  }
+
+  int size() const { return problem_->num_design(); }
+  double value(const Vector& z) {
+    check_size(z, "z");
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return problem_->functional->value(z);
+  }
+  std::pair<double, Vector> value_and_gradient(const Vector& z) {
+    check_size(z, "z");
+    Vector gradient(z.size());
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const double value = problem_->functional->value_and_gradient(z, gradient);
+    return {value, std::move(gradient)};
+  }
+  Vector gradient(const Vector& z) { return value_and_gradient(z).second; }
+  bool has_hessian_vector() const { return problem_->functional->has_hessian_vector(); }
+  Vector hessian_vector_product(const Vector& z, const Vector& v) {
+    check_size(z, "z");
+    check_size(v, "v");
+    if (!has_hessian_vector())
+      throw std::invalid_argument(problem_->scene_source +
+                                  ": this objective has no Hessian-vector products (a term without second "
+                                  "derivatives)");
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return problem_->functional->hessian_vector(z, v);
+  }
+  py::object bounds() const {
+    if (problem_->bounds.lower.size() == 0) return py::none();
+    return py::make_tuple(problem_->bounds.lower, problem_->bounds.upper);
+  }
+  // As Study::taylor_test (and tailor gradcheck): J(z + h dz) is only as accurate as the
+  // equilibrium, so the forward solves are tightened to the round-off floor for the test and
+  // put back afterwards. At z0 unless z is given; of the Hessian-vector products with hessian.
+  py::dict taylor_test(std::optional<Vector> z, std::optional<unsigned> seed, std::optional<double> min_rate,
+                       bool hessian) {
+    if (z) check_size(*z, "z");
+    if (hessian && !has_hessian_vector())
+      throw std::invalid_argument(problem_->scene_source +
+                                  ": this objective has no Hessian-vector products to test");
+    TaylorTestOptions options = problem_->spec.gradcheck;
+    if (seed) options.seed = *seed;
+    if (min_rate) options.min_rate = *min_rate;
+    const TaylorTestResult r = [&] {
+      py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      NewtonOptions& newton = problem_->functional->newton_options();
+      const NewtonOptions kept = newton;
+      const double tighter = 1e-14 / newton.relative_tolerance;
+      if (tighter < 1.0) {
+        newton.relative_tolerance *= tighter;
+        newton.absolute_tolerance *= tighter;
+      }
+      struct Restore {
+        NewtonOptions& options;
+        NewtonOptions kept;
+        ~Restore() { options = kept; }
+      } restore{newton, kept};
+      const Vector& at = z ? *z : problem_->z0;
+      return hessian ? taylor_test_hessian(*problem_->functional, at, options)
+                     : tailor::taylor_test(*problem_->functional, at, options);
+    }();
+    py::list rows;
+    for (const TaylorRow& row : r.rows) {
+      py::dict d;
+      d["step"] = row.step;
+      d["value"] = row.value;
+      d["remainder0"] = row.remainder0;
+      d["remainder1"] = row.remainder1;
+      d["rate0"] = row.rate0;
+      d["rate1"] = row.rate1;
+      d["round_off"] = row.round_off;
+      d["noise"] = row.noise;
+      d["judged"] = row.judged;
+      rows.append(d);
+    }
+    py::dict d;
+    d["status"] = to_string(r.status);
+    d["passed"] = r.passed();
+    d["message"] = r.message;
+    d["value"] = r.value;
+    d["directional_derivative"] = r.directional_derivative;
+    d["rate0"] = r.rate0;
+    d["rate1"] = r.rate1;
+    d["step"] = r.step;
+    d["direction"] = r.direction;
+    d["rows"] = rows;
+    d["table"] = r.table();
+    return d;
+  }
+  py::dict counters() const {
+    const FunctionalCounters& c = problem_->functional->counters();
+    py::dict d;
+    d["evaluations"] = c.evaluations;
+    d["forward_solves"] = c.forward_solves;
+    d["adjoint_solves"] = c.adjoint_solves;
+    d["forward_seconds"] = c.forward_seconds;
+    d["adjoint_seconds"] = c.adjoint_seconds;
+    return d;
+  }
+  const InverseProblem& problem() const { return *problem_; }
+
+ private:
+  void check_size(const Vector& z, const char* name) const {
+    if (z.size() != size())
+      throw std::invalid_argument(problem_->scene_source + ": " + name + " has " + std::to_string(z.size()) +
+                                  " entries, the design has " + std::to_string(size()));
+  }
+  std::unique_ptr<Study> study_;
+  InverseProblem* problem_ = nullptr;
+  // The GIL is released while J is evaluated: Python threads sharing a functional take turns.
+  std::mutex mutex_;
+};
+
+}  // namespace
+
+void bind_functional(py::module_& m) {
+  py::class_<Functional>(m, "Functional",
+                         "The reduced functional J(z) of a scene's inverse problem (docs/python.md).")
+      .def(py::init<const SceneDocument&>(), py::arg("scene"))
+      .def_property_readonly("size", &Functional::size)
+      .def("value", &Functional::value, py::arg("z"))
+      .def("gradient", &Functional::gradient, py::arg("z"))
+      .def("value_and_gradient", &Functional::value_and_gradient, py::arg("z"))
+      .def_property_readonly("has_hessian_vector", &Functional::has_hessian_vector)
+      .def("hessian_vector_product", &Functional::hessian_vector_product, py::arg("z"), py::arg("v"))
+      .def_property_readonly("bounds", &Functional::bounds)
+      .def_property_readonly("x0", [](const Functional& f) { return f.problem().z0; })
+      .def_property_readonly("design_labels", [](const Functional& f) { return f.problem().design_labels; })
+      .def(
+          "design_values", [](const Functional& f, const Vector& z) { return f.problem().design_values(z); },
+          py::arg("z"))
+      .def(
+          "youngs_modulus",
+          [](const Functional& f, const Vector& z) { return f.problem().youngs_modulus(z); }, py::arg("z"))
+      .def_property_readonly("truth",
+                             [](const Functional& f) -> py::object {
+                               if (f.problem().truth.size() == 0) return py::none();
+                               return py::cast(f.problem().truth);
+                             })
+      .def_property_readonly("counters", &Functional::counters)
+      // Views of the problem's mesh, kept alive by the functional.
+      .def_property_readonly(
+          "rest_positions",
+          [](const Functional& f) -> const Eigen::MatrixXd& { return f.problem().setup.mesh.rest_positions; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "elements",
+          [](const Functional& f) -> const Eigen::MatrixXi& { return f.problem().setup.mesh.elements; },
+          py::return_value_policy::reference_internal)
+      .def("taylor_test", &Functional::taylor_test, py::arg("z") = py::none(), py::arg("seed") = py::none(),
+           py::arg("min_rate") = py::none(), py::arg("hessian") = false);
+}
+
+}  // namespace tailor::python

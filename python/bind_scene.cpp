@@ -1,0 +1,256 @@
+// Scenes and the command line's verbs: tailor._tailor.Scene. Each verb does what `tailor <verb>`
+// does with the same scene (the same functions, or the command line's own handler for the kinds
+// of scene that are read from their file) and returns the exit code and the result fields as
+// NumPy views; the Python layer adds the report.json it wrote.
+#include <pybind11/stl.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "arrays.hpp"
+#include "bindings.hpp"
+#include "problems/commands.hpp"
+#include "problems/dynamic_commands.hpp"
+#include "problems/inverse_commands.hpp"
+#include "problems/modes_command.hpp"
+#include "problems/scene.hpp"
+#include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
+#include "python_stream.hpp"
+
+namespace py = pybind11;
+
+namespace tailor::python {
+
+std::string SceneDocument::kind() const { return recognise_scene_kind(document).name; }
+
+SceneDocument scene_from_file(const std::string& path) {
+  SceneDocument scene;
+  scene.document = read_scene_document(path);  // SceneError with the position for bad JSON
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  scene.text = text.str();
+  scene.source = scene.path = path;
+  scene.directory = std::filesystem::path(path).parent_path().string();
+  return scene;
+}
+
+SceneDocument scene_from_json(const std::string& text, const std::string& source,
+                              const std::string& directory) {
+  SceneDocument scene;
+  scene.document = parse_scene_document(text, source);
+  scene.text = text;
+  scene.source = source;
+  scene.directory = directory;
+  return scene;
+}
+
+namespace {
+
+constexpr int kSuccess = 0, kFailure = 1;
+
+// The static or dynamic scene (docs/scenes.md), named after its file when it has no name, with
+// its solver.threads applied as the command line does.
+Scene parse(const SceneDocument& doc) {
+  Scene scene = parse_scene(doc.text, doc.source, doc.directory);
+  if (scene.name.empty())
+    scene.name = doc.path.empty() ? std::string("scene") : std::filesystem::path(doc.path).stem().string();
+  apply_thread_flags(VerbArguments{}, scene.solver.threads);
+  return scene;
+}
+
+bool is_mesh_scene(const std::string& kind) { return kind == "static" || kind == "dynamic"; }
+
+// The command line's handler for `verb` on a scene of another kind (rods, rigid bodies, cells,
+// ...): those are read from their file.
+int dispatch(const SceneDocument& doc, const std::string& verb, VerbArguments args, std::ostream& out) {
+  const SceneKind& kind = recognise_scene_kind(doc.document);
+  const KindVerb* entry = kind.find_verb(verb);
+  if (!entry)
+    throw SceneError(doc.source + ": '" + verb + "' does not apply to a " + kind.name +
+                     " scene; its verbs: " + kind.verb_list());
+  if (doc.path.empty())
+    throw SceneError(doc.source + ": a " + kind.name +
+                     " scene is read from its file: load it with tailor.load(path)");
+  SceneFile file;
+  file.path = doc.path;
+  file.text = doc.text;
+  file.document = doc.document;
+  args.verb = verb;
+  args.scene = doc.path;
+  apply_thread_flags(args, std::nullopt);
+  return entry->handler(file, args, out);
+}
+
+void require_verb(const SceneDocument& doc, const std::string& verb) {
+  const SceneKind& kind = recognise_scene_kind(doc.document);
+  if (!kind.find_verb(verb))
+    throw SceneError(doc.source + ": '" + verb + "' does not apply to a " + kind.name +
+                     " scene; its verbs: " + kind.verb_list());
+}
+
+template <class T>
+std::shared_ptr<const void> owner(const std::shared_ptr<T>& p) {
+  return std::static_pointer_cast<const void>(p);
+}
+
+py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::object log) {
+  const std::string kind = doc.kind();
+  PythonStream out(std::move(log), /*check_signals=*/true);
+  py::dict fields;
+  int code = kFailure;
+  if (kind == "static") {
+    auto run = without_gil([&] {
+      const Scene scene = parse(doc);
+      return std::make_shared<SimulateRun>(simulate_scene(scene, out_dir, &out));
+    });
+    const auto keep = owner(run);
+    fields["displacement"] = view(keep, run->solution.displacement);
+    fields["positions"] = view(keep, run->solution.positions);
+    fields["stresses"] = view(keep, run->solution.stresses);
+    fields["youngs_modulus"] = view(keep, run->setup.youngs_modulus);
+    fields["poisson_ratio"] = view(keep, run->setup.poisson_ratio);
+    fields["density"] = view(keep, run->setup.density);
+    fields["rest_positions"] = view(keep, run->setup.mesh.rest_positions);
+    fields["elements"] = view(keep, run->setup.mesh.elements);
+    code = run->solution.converged ? kSuccess : kFailure;
+  } else if (kind == "dynamic") {
+    code = without_gil([&] {
+      const Scene scene = parse(doc);
+      return simulate_dynamic_scene(scene, out_dir, &out).completed ? kSuccess : kFailure;
+    });
+  } else {
+    code = without_gil([&] {
+      VerbArguments args;
+      args.out_dir = out_dir;
+      return dispatch(doc, "simulate", args, out);
+    });
+  }
+  out.flush();
+  return py::make_tuple(code, fields);
+}
+
+py::tuple modes(const SceneDocument& doc, const std::string& out_dir, int count, py::object log) {
+  require_verb(doc, "modes");
+  PythonStream out(std::move(log), /*check_signals=*/true);
+  auto run = without_gil([&] {
+    const Scene scene = parse(doc);
+    return std::make_shared<ModesRun>(modes_scene(scene, count, out_dir, &out));
+  });
+  const auto keep = owner(run);
+  py::dict fields;
+  fields["frequencies"] = view(keep, run->modes.frequencies);
+  fields["eigenvalues"] = view(keep, run->modes.eigenvalues);
+  fields["modes"] = view(keep, run->modes.modes);
+  fields["rigid_modes"] = view(keep, run->modes.rigid_modes);
+  out.flush();
+  return py::make_tuple(kSuccess, fields);
+}
+
+py::tuple gradcheck(const SceneDocument& doc, const std::string& out_dir, std::optional<unsigned> seed,
+                    bool hessian, py::object log) {
+  const std::string kind = doc.kind();
+  PythonStream out(std::move(log), /*check_signals=*/true);
+  py::dict fields;
+  const int code = without_gil([&] {
+    if (!is_mesh_scene(kind)) {
+      VerbArguments args;
+      args.out_dir = out_dir;
+      args.seed = seed;
+      args.hessian = hessian;
+      return dispatch(doc, "gradcheck", args, out);
+    }
+    const Scene scene = parse(doc);
+    const GradcheckRun run = kind == "dynamic" && !scene.inverse
+                                 ? gradcheck_dynamic_scene(scene, out_dir, seed.value_or(1), &out)
+                                 : gradcheck_scene(scene, out_dir, {seed, hessian}, &out);
+    return run.passed() ? kSuccess : kFailure;
+  });
+  out.flush();
+  return py::make_tuple(code, fields);
+}
+
+// The optimizer stops itself on Ctrl-C (its own SIGINT handler while it runs) and writes its
+// report; before and after it, a Ctrl-C raises KeyboardInterrupt at the next line of output.
+py::tuple run(const SceneDocument& doc, const std::string& out_dir, py::object log, bool progress,
+              std::optional<int> checkpoint_every, std::optional<std::string> resume) {
+  const std::string kind = doc.kind();
+  PythonStream out(std::move(log), /*check_signals=*/true);
+  py::dict fields;
+  int code = kFailure;
+  if (is_mesh_scene(kind)) {
+    require_verb(doc, "run");
+    auto result = without_gil([&] {
+      const Scene scene = parse(doc);
+      return std::make_shared<InverseRun>(
+          run_inverse_scene(scene, out_dir, &out, progress ? &out : nullptr, {checkpoint_every, resume}));
+    });
+    const auto keep = owner(result);
+    fields["design"] = view(keep, result->result.z);
+    fields["design_values"] = view(keep, result->design_values);
+    fields["youngs_modulus"] = view(keep, result->youngs_modulus);
+    fields["displacement"] = view(keep, result->solution.displacement);
+    fields["rest_positions"] = view(keep, result->problem->setup.mesh.rest_positions);
+    fields["elements"] = view(keep, result->problem->setup.mesh.elements);
+    fields["status"] = to_string(result->result.status);
+    code = result->result.converged() ? kSuccess : kFailure;
+  } else {
+    code = without_gil([&] {
+      VerbArguments args;
+      args.out_dir = out_dir;
+      args.quiet = !progress;
+      args.checkpoint_every = checkpoint_every;
+      args.resume = resume;
+      return dispatch(doc, "run", args, out);
+    });
+  }
+  out.flush();
+  return py::make_tuple(code, fields);
+}
+
+int check(const SceneDocument& doc, unsigned seed, py::object log) {
+  const std::string kind = doc.kind();
+  PythonStream out(std::move(log), /*check_signals=*/true);
+  const int code = without_gil([&] {
+    if (!is_mesh_scene(kind)) {
+      VerbArguments args;
+      args.seed = seed;
+      return dispatch(doc, "check", args, out);
+    }
+    return check_scene(parse(doc), seed, out) ? kSuccess : kFailure;
+  });
+  out.flush();
+  return code;
+}
+
+}  // namespace
+
+void bind_scene(py::module_& m) {
+  py::class_<SceneDocument>(m, "Scene", "A scene document (docs/scenes.md), as the command line reads it.")
+      .def_static("from_file", &scene_from_file, py::arg("path"))
+      .def_static("from_json", &scene_from_json, py::arg("text"), py::arg("source") = "(scene)",
+                  py::arg("directory") = "")
+      .def_property_readonly("kind", &SceneDocument::kind)
+      .def_readonly("source", &SceneDocument::source)
+      .def_readonly("directory", &SceneDocument::directory)
+      .def_readonly("path", &SceneDocument::path)
+      .def_property_readonly("text", [](const SceneDocument& s) { return s.document.dump(); })
+      .def(
+          "name",
+          [](const SceneDocument& doc) {
+            if (doc.document.is_object() && doc.document.contains("name") && doc.document["name"].is_string())
+              return doc.document["name"].get<std::string>();
+            return doc.path.empty() ? std::string("scene") : std::filesystem::path(doc.path).stem().string();
+          })
+      .def("simulate", &simulate, py::arg("out_dir"), py::arg("log") = py::none())
+      .def("modes", &modes, py::arg("out_dir"), py::arg("count") = 10, py::arg("log") = py::none())
+      .def("gradcheck", &gradcheck, py::arg("out_dir"), py::arg("seed") = py::none(),
+           py::arg("hessian") = false, py::arg("log") = py::none())
+      .def("run", &run, py::arg("out_dir"), py::arg("log") = py::none(), py::arg("progress") = true,
+           py::arg("checkpoint_every") = py::none(), py::arg("resume") = py::none())
+      .def("check", &check, py::arg("seed") = 1, py::arg("log") = py::none());
+}
+
+}  // namespace tailor::python

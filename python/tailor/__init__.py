@@ -1,0 +1,221 @@
+"""tailor from Python: scenes, the command line's verbs and reduced functionals.
+
+    import tailor
+    bar = tailor.load("scenes/two_material_bar_inverse.json")   # or a dict in the scene format
+    report = bar.simulate()                 # report.json of `tailor simulate`, as a dict
+    u = report["fields"]["displacement"]    # NumPy (num_vertices x dim), no copy
+    J = bar.functional()                    # J(z), dJ/dz, H v, bounds, taylor_test()
+    result = tailor.scipy_minimize(J)       # scipy.optimize.minimize on J
+    print(J.design_values(result.x))        # the moduli found
+
+docs/python.md describes the API.
+"""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import tempfile
+
+from ._tailor import EvaluationError, MeshError, SceneError, __version__
+from ._tailor import Functional as _Functional
+from ._tailor import Scene as _Scene
+from .optimize import scipy_minimize
+
+__all__ = [
+    "EvaluationError", "Functional", "MeshError", "Report", "Scene", "SceneError", "__version__",
+    "gradcheck", "load", "modes", "run", "scipy_minimize", "simulate",
+]
+
+
+class Report(dict):
+    """The JSON file a verb wrote (report.json, or gradcheck.json for gradcheck), as a dict.
+
+    The bindings add one key, "fields": NumPy arrays of the result (displacement, per-element
+    moduli, ...; which ones depends on the verb), views of the C++ result without copies. The
+    attributes say how the verb ended: exit_code is the command line's (0 success, 1 the solve,
+    check or optimization failed), ok is exit_code == 0, and out_dir is the folder the files
+    are in (None when the verb wrote into a temporary folder that is gone).
+    """
+
+    def __init__(self, content, fields, exit_code, out_dir):
+        super().__init__(content)
+        self["fields"] = fields
+        self.fields = fields
+        self.exit_code = exit_code
+        self.ok = exit_code == 0
+        self.out_dir = out_dir
+
+
+class Functional:
+    """J(z) of a scene's inverse problem, as the optimizer back-ends of `tailor run` see it.
+
+    z is the design (the scene's inverse.design: log E per variable with the log map); value,
+    gradient and hessian_vector_product take NumPy vectors of length size. bounds is
+    (lower, upper) or None, x0 the scene's initial design. taylor_test() is `tailor gradcheck`.
+    """
+
+    def __init__(self, scene):
+        self._f = _Functional(scene._doc)
+
+    size = property(lambda self: self._f.size)
+    x0 = property(lambda self: self._f.x0, doc="the initial design z0")
+    bounds = property(lambda self: self._f.bounds, doc="(lower, upper) arrays in z, or None")
+    design_labels = property(lambda self: self._f.design_labels)
+    truth = property(lambda self: self._f.truth, doc="per-element true E when the scene knows it")
+    has_hessian_vector = property(lambda self: self._f.has_hessian_vector)
+    counters = property(lambda self: self._f.counters, doc="evaluations, forward and adjoint solves")
+    rest_positions = property(lambda self: self._f.rest_positions, doc="the mesh: num_vertices x dim")
+    elements = property(lambda self: self._f.elements, doc="the mesh: num_elements x (dim + 1) vertex ids")
+
+    def value(self, z):
+        return self._f.value(z)
+
+    def gradient(self, z):
+        return self._f.gradient(z)
+
+    def value_and_gradient(self, z):
+        return self._f.value_and_gradient(z)
+
+    def hessian_vector_product(self, z, v):
+        return self._f.hessian_vector_product(z, v)
+
+    def design_values(self, z):
+        """E per design variable at z."""
+        return self._f.design_values(z)
+
+    def youngs_modulus(self, z):
+        """E per element at z."""
+        return self._f.youngs_modulus(z)
+
+    def taylor_test(self, z=None, seed=None, min_rate=None, hessian=False):
+        """Taylor test of J at z (default x0), as `tailor gradcheck` (docs/methods.md): a dict
+        with status, passed, rate0, rate1, message, rows and table. seed and min_rate default to
+        the scene's inverse.gradcheck; hessian=True tests the Hessian-vector products instead."""
+        return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate, hessian=hessian)
+
+
+class _OutDir:
+    """out_dir as given, or a temporary folder that is removed once the report is read."""
+
+    def __init__(self, out_dir):
+        self.temporary = out_dir is None
+        self.path = tempfile.mkdtemp(prefix="tailor-") if self.temporary else os.fspath(out_dir)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self.temporary:
+            shutil.rmtree(self.path, ignore_errors=True)
+
+    def report(self, result, names=("report.json",)):
+        exit_code, fields = result
+        content = {}
+        for name in names:
+            path = os.path.join(self.path, name)
+            if os.path.isfile(path):
+                with open(path) as f:
+                    content = json.load(f)
+                break
+        return Report(content, dict(fields), exit_code, None if self.temporary else self.path)
+
+
+class Scene:
+    """A scene document (docs/scenes.md). Make one with tailor.load."""
+
+    def __init__(self, doc):
+        self._doc = doc
+
+    kind = property(lambda self: self._doc.kind, doc='"static", "dynamic", "rods", ...')
+    source = property(lambda self: self._doc.source, doc="the name in messages: the file, or as given")
+    name = property(lambda self: self._doc.name(), doc="the scene's name (default: the file's stem)")
+
+    @property
+    def document(self):
+        """The scene as a dict (a copy)."""
+        return json.loads(self._doc.text)
+
+    def __repr__(self):
+        return f"tailor.Scene({self.source!r}, kind={self.kind!r})"
+
+    def simulate(self, out_dir=None, log=None):
+        """`tailor simulate`: static equilibrium or time integration; the report as a Report.
+        Static scenes' fields: displacement, positions, stresses, youngs_modulus, poisson_ratio,
+        density, rest_positions, elements. log: a file-like object for the solver's output (None: quiet)."""
+        with _OutDir(out_dir) as d:
+            return d.report(self._doc.simulate(d.path, log=log))
+
+    def modes(self, count=10, out_dir=None, log=None):
+        """`tailor modes`: the count lowest vibration modes. Fields: frequencies (Hz),
+        eigenvalues, modes (num_dofs x count), rigid_modes."""
+        with _OutDir(out_dir) as d:
+            return d.report(self._doc.modes(d.path, count=count, log=log))
+
+    def gradcheck(self, out_dir=None, seed=None, hessian=False, log=None):
+        """`tailor gradcheck`: the Taylor test of the inverse problem's gradient (and Hessian);
+        the content of gradcheck.json."""
+        with _OutDir(out_dir) as d:
+            return d.report(self._doc.gradcheck(d.path, seed=seed, hessian=hessian, log=log),
+                            names=("gradcheck.json", "report.json"))
+
+    def run(self, out_dir=None, log=None, progress=None, checkpoint_every=None, resume=None):
+        """`tailor run`: minimizes the objective with the scene's back-end. Fields: design (z),
+        design_values, youngs_modulus (per element), displacement, rest_positions, elements;
+        fields["status"] is the optimizer's status ("interrupted" after Ctrl-C: the run stops
+        and still reports).
+        progress: one line per iteration to log (default: when log is given)."""
+        if progress is None:
+            progress = log is not None
+        with _OutDir(out_dir) as d:
+            return d.report(self._doc.run(d.path, log=log, progress=progress,
+                                          checkpoint_every=checkpoint_every, resume=resume))
+
+    def check(self, seed=1, log=None):
+        """`tailor check`: derivative checks of every energy term; True when none failed."""
+        return self._doc.check(seed=seed, log=log) == 0
+
+    def functional(self):
+        """The reduced functional of the scene's inverse problem."""
+        return Functional(self)
+
+
+def load(scene, directory=None, name=None):
+    """A scene from a file path or from a dict in the scene format.
+
+    For a dict, name is what messages call it (default "(scene)") and directory the folder its
+    relative paths (mesh files) start from (default: the current folder). Bad JSON is a
+    SceneError (a ValueError) naming the file, line and column; bad keys are found when a verb
+    builds the scene, as SceneErrors naming the key path.
+    """
+    if isinstance(scene, (str, os.PathLike)):
+        if directory is not None or name is not None:
+            raise TypeError("tailor.load: directory and name are for a scene given as a dict")
+        return Scene(_Scene.from_file(os.fspath(scene)))
+    if isinstance(scene, dict):
+        text = json.dumps(scene, allow_nan=False)
+        return Scene(_Scene.from_json(text, name or "(scene)",
+                                      "" if directory is None else os.fspath(directory)))
+    if isinstance(scene, Scene):
+        return scene
+    raise TypeError(f"tailor.load: expected a path or a dict, got {type(scene).__name__}")
+
+
+def simulate(scene, **kwargs):
+    """tailor.load(scene).simulate(**kwargs)"""
+    return load(scene).simulate(**kwargs)
+
+
+def modes(scene, **kwargs):
+    """tailor.load(scene).modes(**kwargs)"""
+    return load(scene).modes(**kwargs)
+
+
+def gradcheck(scene, **kwargs):
+    """tailor.load(scene).gradcheck(**kwargs)"""
+    return load(scene).gradcheck(**kwargs)
+
+
+def run(scene, **kwargs):
+    """tailor.load(scene).run(**kwargs)"""
+    return load(scene).run(**kwargs)

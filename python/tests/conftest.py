@@ -1,0 +1,48 @@
+# Shared by the tests of the Python module. ctest runs them with PYTHONPATH=build/python and
+# TAILOR_CLI=build/bin/tailor; run by hand:
+#   PYTHONPATH=build/python TAILOR_CLI=build/bin/tailor python3 -m pytest python/tests
+import json
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+SOURCE_DIR = pathlib.Path(os.environ.get("TAILOR_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
+SCENES = SOURCE_DIR / "scenes"
+
+
+@pytest.fixture(scope="session")
+def cli():
+    """Runs the tailor executable: cli(verb, scene, out_dir, *flags) -> (exit code, output);
+    out_dir None: no --out."""
+    executable = os.environ.get("TAILOR_CLI", str(SOURCE_DIR / "build" / "bin" / "tailor"))
+    if not os.path.isfile(executable):
+        pytest.fail(f"the tailor executable {executable} is missing (set TAILOR_CLI)")
+
+    def run(verb, scene, out_dir, *flags):
+        out = [] if out_dir is None else ["--out", str(out_dir)]
+        command = [executable, verb, str(scene), *out, *flags]
+        done = subprocess.run(command, capture_output=True, text=True)
+        return done.returncode, done.stdout + done.stderr
+
+    return run
+
+
+def read_json(path):
+    with open(path) as f:
+        return json.load(f)
+
+
+def scene_path(name):
+    return SCENES / name
+
+
+def small_dynamic_scene():
+    """The swinging beam of scenes/swinging_beam.json on a coarser mesh, for 10 steps."""
+    scene = read_json(SCENES / "swinging_beam.json")
+    scene["name"] = "small_swinging_beam"
+    scene["mesh"]["box"]["cells"] = [8, 1, 1]
+    scene["dynamics"]["steps"] = 10
+    scene["dynamics"]["objective"]["steps"] = [5, 10]
+    return scene

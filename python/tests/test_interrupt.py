@@ -1,0 +1,63 @@
+# Ctrl-C (SIGINT to the process, sent when the log shows a given iteration) during a long call:
+# a forward solve stops at that line of output with KeyboardInterrupt (reference: no later
+# iteration, and no report, which it writes at the end); an optimization stops itself and still
+# writes its report, with status "interrupted" (reference: it converges after 16 iterations).
+import json
+import os
+import signal
+import time
+
+import pytest
+
+import tailor
+from conftest import read_json, scene_path
+
+
+class InterruptAtIteration:
+    """A log that sends SIGINT to the process when the optimizer prints iteration `at`: from
+    inside the optimization, as a Ctrl-C would arrive."""
+
+    def __init__(self, at):
+        self.at, self.lines = at, []
+
+    def write(self, text):
+        self.lines.append(text)
+        fields = text.split()
+        if fields and fields[0] == str(self.at) and len(fields) == 7:
+            os.kill(os.getpid(), signal.SIGINT)
+
+
+def test_ctrl_c_stops_an_optimization_with_its_report(tmp_path):
+    # Without the interrupt this run converges after 16 iterations (test_cli_parity).
+    log = InterruptAtIteration(2)
+    report = tailor.load(str(scene_path("two_material_bar_inverse.json"))).run(out_dir=tmp_path, log=log)
+    assert report.fields["status"] == "interrupted"
+    assert report["status"] == "interrupted" and not report.ok
+    assert 2 <= report["iterations"] <= 4
+    assert json.loads((tmp_path / "report.json").read_text())["status"] == "interrupted"
+    # Python's own handler is back: a Ctrl-C now is a KeyboardInterrupt again.
+    with pytest.raises(KeyboardInterrupt):
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(1)
+
+
+class InterruptAtNewton:
+    """A log that sends SIGINT when Newton prints iteration `at`."""
+
+    def __init__(self, at):
+        self.at, self.lines = at, []
+
+    def write(self, text):
+        self.lines.append(text)
+        if text.split()[:2] == ["newton", str(self.at)]:
+            os.kill(os.getpid(), signal.SIGINT)
+
+
+def test_ctrl_c_stops_a_forward_solve(tmp_path):
+    scene = read_json(scene_path("cantilever.json"))  # converges after 8 Newton iterations
+    log = InterruptAtNewton(2)
+    with pytest.raises(KeyboardInterrupt):
+        tailor.load(scene).simulate(out_dir=tmp_path, log=log)
+    newton = [line for line in log.lines if line.split()[:1] == ["newton"]]
+    assert newton[-1].split()[1] == "2"  # stopped at the line that saw the signal
+    assert not (tmp_path / "report.json").exists()  # written at the end

@@ -19,6 +19,7 @@
 #include "problems/material_fit/material_fit_scene.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
 #include "problems/modes_command.hpp"
+#include "problems/reduced_design.hpp"
 #include "problems/rods/rod_inverse.hpp"
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene_kinds.hpp"
@@ -116,6 +117,14 @@ int gradcheck_dynamic(const SceneFile& file, const VerbArguments& args, std::ost
 
 int run_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
+  if (scene.inverse && scene.inverse->design.reduction) {
+    // The reduced design loop (problems/reduced_design.hpp): no checkpoints.
+    if (args.resume || args.checkpoint_every)
+      throw SceneError(scene.source + ": " + scene.inverse->design.reduction->key +
+                       ": --resume and --checkpoint-every are not supported by the reduced design loop");
+    const ReducedDesignRun run = run_reduced_design_scene(scene, out_dir(args, scene), &out, args.quiet ? nullptr : &out);
+    return exit_code(run.result.converged() || run.result.status == OptimizerStatus::max_iterations);
+  }
   // `run --resume DIR` writes into DIR (the checkpoint's folder) unless --out says otherwise.
   std::string dir = out_dir(args, scene);
   if (args.resume && !args.out_dir) {

@@ -129,7 +129,8 @@ void parse_mode_keys(const SceneNode& node, DesignSpec& d) {
 
 ReductionSpec parse_reduction(const SceneNode& node) {
   node.expect_keys({"displacement_modes", "modal_derivatives", "derivative_modes", "static_responses", "design_responses",
-                    "smoothness", "full_space_check", "min_relative_modulus", "positivity_weight"});
+                    "smoothness", "full_space_check", "min_relative_modulus", "positivity_weight", "refinements",
+                    "full_space_tolerance"});
   ReductionSpec r;
   r.key = node.path();
   if (auto k = node.find("displacement_modes")) r.displacement_modes = k->integer(1);
@@ -139,6 +140,8 @@ ReductionSpec parse_reduction(const SceneNode& node) {
   if (auto k = node.find("design_responses")) r.design_responses = k->boolean();
   if (auto k = node.find("smoothness")) r.smoothness = k->non_negative();
   if (auto k = node.find("full_space_check")) r.full_space_check = k->boolean();
+  if (auto k = node.find("refinements")) r.refinements = k->integer(0);
+  if (auto k = node.find("full_space_tolerance")) r.full_space_tolerance = k->positive();
   if (auto k = node.find("min_relative_modulus")) r.min_relative_modulus = k->open_interval(0.0, 1.0);
   if (auto k = node.find("positivity_weight")) r.positivity_weight = k->non_negative();
   return r;

@@ -58,6 +58,11 @@ struct ReductionSpec {
   bool design_responses = true;   // -K^-1 K_j u0 per material mode j (u0: the static response)
   double smoothness = 0.0;        // rho_j = smoothness * lambda_j on 1/2 sum_j rho_j w_j^2
   bool full_space_check = true;   // re-solve the final design in full space
+  // While the full-space handle error exceeds full_space_tolerance, at most `refinements` times:
+  // add the full-space equilibrium and its design sensitivities at the design to the basis,
+  // precompute again and continue from the design.
+  int refinements = 2;
+  double full_space_tolerance = 0.01;
   // Positivity: E / E0 >= eps is kept by a C2 penalty kappa/3 sum_e v_e ((eps - E_e/E0_e)_+ / eps)^3
   // (v_e volume fractions), and E <= 0 is an infeasible point.
   double min_relative_modulus = 0.05;  // eps in (0, 1)

@@ -111,12 +111,95 @@ std::vector<double> ReducedDesign::handle_errors(const Vector& displacement) con
   const int dim = setup.dim();
   std::vector<double> out;
   for (const ReducedDesignHandle& h : handles) {
-    double worst = 0.0;
-    for (int v : h.vertices)
-      worst = std::max(worst, (displacement.segment(dim * v, dim) - h.target).norm());
-    out.push_back(worst / h.target.norm());
+    Vector mean = Vector::Zero(dim);
+    for (int v : h.vertices) mean += displacement.segment(dim * v, dim);
+    mean /= static_cast<double>(h.vertices.size());
+    out.push_back((mean - h.target).norm() / h.target.norm());
   }
   return out;
+}
+
+namespace {
+
+// The reduced coefficients and the functional for design.basis.
+void precompute(ReducedDesign& design) {
+  const StaticSetup& setup = design.setup;
+  const Mesh& mesh = setup.mesh;
+  const int dim = mesh.dim();
+  const Model& model = *design.model;
+  const Vector p0 = setup.parameters();
+  const double volume = element_volumes(mesh).sum();
+  const ReductionSpec& reduction = design.spec;
+  auto t = Clock::now();
+  // Reduced coefficients: G_0 at E0, G_j at E0 y_j.
+  const int m = static_cast<int>(design.material_modes.cols());
+  Matrix weights(mesh.num_elements(), m + 1);
+  weights.col(0).setOnes();
+  weights.rightCols(m) = design.material_modes;
+  std::vector<Matrix> coefficients = reduced_stvk_coefficients(model, p0, design.basis, weights);
+  design.timings.coefficients = seconds_since(t);
+
+  ReducedEquilibriumData data;
+  data.base = std::move(coefficients[0]);
+  data.modes.assign(std::make_move_iterator(coefficients.begin() + 1), std::make_move_iterator(coefficients.end()));
+  data.load = design.basis.transpose() * setup.nodal_forces;
+  // Observations: the mean displacement of each handle's vertices.
+  const Eigen::Index rows = dim * static_cast<Eigen::Index>(design.handles.size());
+  data.rows = Matrix::Zero(rows, design.basis.cols());
+  data.target.resize(rows);
+  data.row_weights.resize(rows);
+  for (std::size_t h = 0; h < design.handles.size(); ++h) {
+    const ReducedDesignHandle& handle = design.handles[h];
+    const double share = 1.0 / static_cast<double>(handle.vertices.size());
+    for (int k = 0; k < dim; ++k) {
+      const Eigen::Index row = dim * static_cast<Eigen::Index>(h) + k;
+      for (int v : handle.vertices) data.rows.row(row) += share * design.basis.row(dim * v + k);
+      data.target[row] = handle.target[k];
+      data.row_weights[row] = handle.weight / handle.target.squaredNorm();
+    }
+  }
+  data.regularization = reduction.smoothness * design.material_eigenvalues.cwiseMax(0.0);  // lambda_1 ~ -eps
+  data.element_modes = design.material_modes;
+  data.element_weights = element_volumes(mesh) / volume;
+  data.positivity_floor = reduction.min_relative_modulus;
+  data.positivity_weight = reduction.positivity_weight;
+  design.functional = std::make_unique<ReducedEquilibriumFunctional>(std::move(data));
+}
+
+}  // namespace
+
+double refine_basis(ReducedDesign& design, const Vector& w, const Vector& displacement) {
+  const auto t0 = Clock::now();
+  const StaticSetup& setup = design.setup;
+  const Model& model = *design.model;
+  const int ne = setup.mesh.num_elements();
+  const Vector x = setup.rest_state() + displacement;
+  StaticSetup at_w = setup;
+  at_w.youngs_modulus = design.youngs_modulus(w);
+  const Vector p0 = setup.parameters(), pw = at_w.parameters();
+  const int offset = model.parameter_layout().at("youngs_modulus").offset;
+  // The gradient g(x, p) = F(x; E) - f is linear in E, F the internal force and f the loads:
+  // F(x; E0 y_j) = g(x, p(E0 (y_j + c))) - c g(x, p0) + (1 - c) f.
+  const Vector g0 = model.gradient(x, p0);
+  const int m = design.num_design();
+  Matrix rhs(setup.num_dofs(), m);
+  for (int j = 0; j < m; ++j) {
+    const double c = 1.0 - std::min(design.material_modes.col(j).minCoeff(), 0.0);
+    Vector p = p0;
+    p.segment(offset, ne) = setup.youngs_modulus.cwiseProduct((design.material_modes.col(j).array() + c).matrix());
+    rhs.col(j) = -(model.gradient(x, p) - c * g0 + (1.0 - c) * setup.nodal_forces);
+  }
+  // du/dw_j = -K_t^-1 dF/dw_j at the design's full-space equilibrium.
+  const RestStiffness tangent(model, x, pw);
+  Matrix candidates(setup.num_dofs(), design.basis.cols() + 1 + m);
+  candidates << design.basis, displacement, tangent.solve(rhs);
+  design.basis_candidates += 1 + m;
+  design.basis = mass_orthonormal_basis(candidates, design.mass, 1e-6);
+  const double seconds = seconds_since(t0);
+  precompute(design);
+  design.timings.refinement += seconds;
+  design.timings.total += seconds_since(t0);
+  return seconds_since(t0);
 }
 
 ReducedDesign build_reduced_design(const Scene& scene) {
@@ -286,40 +369,8 @@ ReducedDesign build_reduced_design(const Scene& scene) {
   design.basis_candidates = static_cast<int>(columns);
   design.basis = mass_orthonormal_basis(candidates, mass, 1e-6);
 
-  // Reduced coefficients: G_0 at E0, G_j at E0 y_j.
-  t = Clock::now();
-  const int m = static_cast<int>(design.material_modes.cols());
-  Matrix weights(mesh.num_elements(), m + 1);
-  weights.col(0).setOnes();
-  weights.rightCols(m) = design.material_modes;
-  std::vector<Matrix> coefficients = reduced_stvk_coefficients(model, p0, design.basis, weights);
-  design.timings.coefficients = seconds_since(t);
-
-  ReducedEquilibriumData data;
-  data.base = std::move(coefficients[0]);
-  data.modes.assign(std::make_move_iterator(coefficients.begin() + 1), std::make_move_iterator(coefficients.end()));
-  data.load = design.basis.transpose() * setup.nodal_forces;
-  Eigen::Index rows = 0;
-  for (const ReducedDesignHandle& h : design.handles) rows += static_cast<Eigen::Index>(dim * h.vertices.size());
-  data.rows.resize(rows, design.basis.cols());
-  data.target.resize(rows);
-  data.row_weights.resize(rows);
-  rows = 0;
-  for (const ReducedDesignHandle& h : design.handles) {
-    const double c = h.weight / (static_cast<double>(h.vertices.size()) * h.target.squaredNorm());
-    for (int v : h.vertices)
-      for (int k = 0; k < dim; ++k, ++rows) {
-        data.rows.row(rows) = design.basis.row(dim * v + k);
-        data.target[rows] = h.target[k];
-        data.row_weights[rows] = c;
-      }
-  }
-  data.regularization = reduction.smoothness * design.material_eigenvalues.cwiseMax(0.0);  // lambda_1 ~ -eps
-  data.element_modes = design.material_modes;
-  data.element_weights = element_volumes(mesh) / volume;
-  data.positivity_floor = reduction.min_relative_modulus;
-  data.positivity_weight = reduction.positivity_weight;
-  design.functional = std::make_unique<ReducedEquilibriumFunctional>(std::move(data));
+  design.mass = mass;
+  precompute(design);
   design.timings.total = seconds_since(t_begin);
   return design;
 }
@@ -369,19 +420,74 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
   MillisecondsColumn column(progress ? *progress : std::cout);
   std::ostream with_ms(&column);
   options.progress = progress ? &with_ms : nullptr;
-  const Vector w0 = Vector::Zero(design.num_design());
-  run.result = minimize(*design.functional, w0, Bounds{}, {}, options);
-  with_ms.flush();
-  for (std::size_t i = 1; i < run.result.history.size(); ++i)
-    run.iteration_ms.push_back(1e3 * (run.result.history[i].seconds - run.result.history[i - 1].seconds));
-  run.median_iteration_ms = median(run.iteration_ms);
-  try {
-    run.q = design.functional->solve(run.result.z);
-    run.reduced_errors = design.handle_errors(design.reduced_displacement(run.q));
-  } catch (const EvaluationError& e) {
-    if (log) *log << "the reduced equilibrium at the best design failed: " << e.what() << "\n";
+  // Reduced optimization; then, while the full-space handle error exceeds the tolerance, refine
+  // the basis at the design reached and continue from it.
+  Vector w = Vector::Zero(design.num_design());
+  for (int pass = 0;; ++pass) {
+    OptimizerResult result = minimize(*design.functional, w, Bounds{}, {}, options);
+    with_ms.flush();
+    for (std::size_t i = 1; i < result.history.size(); ++i)
+      run.iteration_ms.push_back(1e3 * (result.history[i].seconds - result.history[i - 1].seconds));
+    ReducedDesignPass record;
+    record.reduced_size = static_cast<int>(design.basis.cols());
+    record.iterations = result.history.empty() ? 0 : result.history.back().iteration;
+    record.seconds = result.seconds;
+    record.status = to_string(result.status);
+    w = result.z;
+    run.q.resize(0);
+    run.reduced_errors.clear();
+    try {
+      run.q = design.functional->solve(w);
+      run.reduced_errors = design.handle_errors(design.reduced_displacement(run.q));
+    } catch (const EvaluationError& e) {
+      if (log) *log << "the reduced equilibrium at the best design failed: " << e.what() << "\n";
+    }
+    if (!run.reduced_errors.empty())
+      record.reduced_error = *std::max_element(run.reduced_errors.begin(), run.reduced_errors.end());
+    if (pass == 0) {
+      run.result = std::move(result);
+    } else {
+      // One result over the passes: the history goes on, counts and seconds add up.
+      const double t_offset = run.result.history.empty() ? 0.0 : run.result.history.back().seconds;
+      const int i_offset = run.result.history.empty() ? 0 : run.result.history.back().iteration;
+      for (std::size_t i = 1; i < result.history.size(); ++i) {
+        OptimizerIteration row = result.history[i];
+        row.iteration += i_offset;
+        row.seconds += t_offset;
+        run.result.history.push_back(row);
+      }
+      run.result.status = result.status;
+      run.result.message = result.message;
+      run.result.z = result.z;
+      run.result.objective = result.objective;
+      run.result.evaluations += result.evaluations;
+      run.result.failed_evaluations += result.failed_evaluations;
+      run.result.seconds += result.seconds;
+      run.result.counters = result.counters;
+    }
+    if (!design.spec.full_space_check) {
+      run.passes.push_back(record);
+      break;
+    }
+    run.full = full_space_check(design, w);
+    if (!run.full->handle_errors.empty())
+      record.full_error = *std::max_element(run.full->handle_errors.begin(), run.full->handle_errors.end());
+    run.passes.push_back(record);
+    if (log)
+      *log << "pass " << pass << ": r = " << record.reduced_size << ", " << record.iterations
+           << " iterations, reduced handle error " << record.reduced_error << ", full-space " << record.full_error
+           << "\n";
+    if (!run.full->converged || record.full_error <= design.spec.full_space_tolerance ||
+        pass >= design.spec.refinements)
+      break;
+    const double seconds = refine_basis(design, w, run.full->displacement);
+    if (log) *log << "refined the basis at the design: r = " << design.basis.cols() << " (" << seconds << " s)\n";
   }
-  if (design.spec.full_space_check) run.full = full_space_check(design, run.result.z);
+  run.timings = design.timings;
+  run.reduced_size = static_cast<int>(design.basis.cols());
+  run.coefficient_width = static_cast<int>(design.functional->data().base.rows());
+  run.basis_candidates = design.basis_candidates;
+  run.median_iteration_ms = median(run.iteration_ms);
 
   if (!out_dir.empty()) {
     std::filesystem::create_directories(out_dir);
@@ -396,6 +502,8 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
                            {"static_responses", design.spec.static_responses},
                            {"design_responses", design.spec.design_responses},
                            {"smoothness", design.spec.smoothness},
+                           {"refinements", design.spec.refinements},
+                           {"full_space_tolerance", design.spec.full_space_tolerance},
                            {"min_relative_modulus", design.spec.min_relative_modulus},
                            {"positivity_weight", design.spec.positivity_weight}};
     report["sizes"] = {{"elements", design.setup.mesh.num_elements()},
@@ -411,8 +519,18 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
                                         {"modal_derivatives", tm.modal_derivatives},
                                         {"material_modes", tm.material_modes},
                                         {"coefficients", tm.coefficients},
+                                        {"refinement", tm.refinement},
                                         {"total", tm.total}};
     const OptimizerResult& r = run.result;
+    nlohmann::ordered_json passes = nlohmann::ordered_json::array();
+    for (const ReducedDesignPass& pr : run.passes)
+      passes.push_back({{"reduced_coordinates", pr.reduced_size},
+                        {"iterations", pr.iterations},
+                        {"seconds", pr.seconds},
+                        {"status", pr.status},
+                        {"reduced_error", pr.reduced_error},
+                        {"full_error", pr.full_error}});
+    report["passes"] = passes;
     report["optimizer"] = {{"backend", to_string(design.optimizer.backend)},
                            {"status", to_string(r.status)},
                            {"message", r.message},

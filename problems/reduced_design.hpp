@@ -9,7 +9,7 @@
 //    the design responses -K^-1 K_j u0 and the modal derivatives of the modes and responses
 //    (StVK only);
 //  - the handles are free vertices loaded with their forces fbar; the objective is their
-//    displacement misfit 1/2 sum_h W_h mean_v |u_v - ubar_h|^2 / |ubar_h|^2 plus
+//    mean displacement's misfit 1/2 sum_h W_h |mean_v u_v - ubar_h|^2 / |ubar_h|^2 plus
 //    1/2 smoothness sum_j lambda_j w_j^2 (lambda_j the modes' Laplacian eigenvalues);
 //  - per optimizer iteration: Newton in q and the adjoint gradient in w, O(m (r + P)^2),
 //    independent of the mesh (adjoint/reduced_equilibrium_functional.hpp);
@@ -42,7 +42,8 @@ struct ReducedDesignTimings {
   double responses = 0.0;         // static and design responses
   double modal_derivatives = 0.0;
   double material_modes = 0.0;
-  double coefficients = 0.0;      // the reduced StVK coefficients of G_0 and every mode
+  double coefficients = 0.0;      // the reduced StVK coefficients of G_0 and every mode (last pass)
+  double refinement = 0.0;        // basis refinements (without their coefficients)
   double total = 0.0;
 };
 
@@ -52,6 +53,7 @@ struct ReducedDesign {
   StaticSetup setup;  // handles free, their forces among the loads; youngs_modulus = E0
   std::unique_ptr<Model> model;
   Matrix basis;                // Phi, num_dofs x r, M-orthonormal
+  SparseMatrix mass;           // the inner product of the basis
   int basis_candidates = 0;    // columns before orthonormalization dropped the dependent ones
   Matrix material_modes;       // y, num_elements x m
   Vector material_eigenvalues; // lambda_j
@@ -62,7 +64,8 @@ struct ReducedDesign {
 
   int num_design() const { return static_cast<int>(material_modes.cols()); }
   Eigen::VectorXd youngs_modulus(const Vector& w) const;  // E0 (1 + y w), per element
-  // Per handle: max over its vertices of |u_v - ubar| / |ubar| for displacements u (num_dofs).
+  // Per handle: |mean_v u_v - ubar| / |ubar| (the mean over its vertices) for displacements u
+  // (num_dofs).
   std::vector<double> handle_errors(const Vector& displacement) const;
   Vector reduced_displacement(const Vector& q) const { return basis * q; }
 };
@@ -72,6 +75,11 @@ struct ReducedDesign {
 // terms) and std::invalid_argument naming inverse.design.reduction for a material other than
 // StVK or linear (they would need a cubature rule).
 ReducedDesign build_reduced_design(const Scene& scene);
+
+// Adds the full-space equilibrium displacement of design w and its sensitivities du/dw_j (at
+// that equilibrium, exact tangent) to the basis, mass-orthonormalizes and precomputes the
+// coefficients again (a new functional). Returns the seconds spent.
+double refine_basis(ReducedDesign& design, const Vector& w, const Vector& displacement);
 
 struct FullSpaceCheck {
   bool converged = false;
@@ -84,7 +92,16 @@ struct FullSpaceCheck {
 // Solves the design w in full space (the scene's solver, handle forces as loads).
 FullSpaceCheck full_space_check(const ReducedDesign& design, const Vector& w);
 
+// One reduced optimization (the first, then one after each basis refinement).
+struct ReducedDesignPass {
+  int reduced_size = 0, iterations = 0;
+  double seconds = 0.0;
+  std::string status;
+  double reduced_error = 0.0, full_error = 0.0;  // largest over the handles (full: 0 without a check)
+};
+
 struct ReducedDesignRun {
+  std::vector<ReducedDesignPass> passes;
   OptimizerResult result;
   std::vector<double> iteration_ms;  // per optimizer iteration (wall time between iterations)
   double median_iteration_ms = 0.0;

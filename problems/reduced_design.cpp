@@ -376,10 +376,14 @@ ReducedDesign build_reduced_design(const Scene& scene) {
 }
 
 FullSpaceCheck full_space_check(const ReducedDesign& design, const Vector& w) {
+  return full_space_solve(design, design.youngs_modulus(w));
+}
+
+FullSpaceCheck full_space_solve(const ReducedDesign& design, const Eigen::VectorXd& youngs_modulus) {
   const auto t0 = Clock::now();
   FullSpaceCheck check;
   StaticSetup setup = design.setup;
-  setup.youngs_modulus = design.youngs_modulus(w);
+  setup.youngs_modulus = youngs_modulus;
   check.min_youngs_modulus = setup.youngs_modulus.minCoeff();
   if (!(check.min_youngs_modulus > 0.0)) {
     check.message = "the design has a Young's modulus <= 0 (" + std::to_string(check.min_youngs_modulus) +

@@ -91,6 +91,8 @@ struct FullSpaceCheck {
 };
 // Solves the design w in full space (the scene's solver, handle forces as loads).
 FullSpaceCheck full_space_check(const ReducedDesign& design, const Vector& w);
+// The same for any per-element field E (e.g. a full-space design's).
+FullSpaceCheck full_space_solve(const ReducedDesign& design, const Eigen::VectorXd& youngs_modulus);
 
 // One reduced optimization (the first, then one after each basis refinement).
 struct ReducedDesignPass {

@@ -101,6 +101,20 @@ int report_gradcheck(const GradcheckRun& run, std::ostream& out) {
 
 int gradcheck_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
+  if (scene.inverse && scene.inverse->design.reduction) {
+    // The reduced design loop's functional (problems/reduced_design.hpp) at w = 0.
+    if (args.hessian)
+      throw SceneError(scene.source + ": " + scene.inverse->design.reduction->key +
+                       ": the reduced design loop has no Hessian-vector products (--hessian)");
+    ReducedDesign design = build_reduced_design(scene);
+    TaylorTestOptions options = scene.inverse->gradcheck;
+    if (args.seed) options.seed = *args.seed;
+    const TaylorTestResult r = taylor_test(*design.functional, Vector::Zero(design.num_design()), options);
+    out << "Taylor test of the reduced design functional (r = " << design.basis.cols()
+        << ", m = " << design.num_design() << ") at w = 0\n"
+        << r.table() << to_string(r.status) << ": " << r.message << "\n";
+    return exit_code(r.passed());
+  }
   return report_gradcheck(gradcheck_scene(scene, out_dir(args, scene), {args.seed, args.hessian}, &out), out);
 }
 

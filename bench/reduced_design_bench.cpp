@@ -78,7 +78,7 @@ Scene parse(const std::string& text) { return parse_scene(text, "reduced_design_
 struct Row {
   int cells = 0, tets = 0, k = 0, m = 0, r = 0, passes = 0, iterations = 0;
   double precompute = 0, coefficients = 0, refinement = 0, median_ms = 0, optimize = 0;
-  double reduced_error = 0, full_error = 0;
+  double reduced_error = 0, full_error = 0, full_solve = 0;
   std::string status;
 };
 
@@ -148,6 +148,7 @@ int main(int argc, char** argv) {
         row.reduced_error = run.passes.back().reduced_error;
         row.full_error = run.passes.back().full_error;
         row.status = to_string(run.result.status);
+        row.full_solve = run.full ? run.full->seconds : 0.0;
         worst_full = std::max(worst_full, row.full_error);
         rows.push_back(row);
         rows_json.push_back({{"cells", c},
@@ -164,6 +165,7 @@ int main(int argc, char** argv) {
                              {"optimization_seconds", row.optimize},
                              {"reduced_handle_error", row.reduced_error},
                              {"full_space_handle_error", row.full_error},
+                             {"full_space_solve_seconds", row.full_solve},
                              {"status", row.status}});
         std::printf("  k %2d m %2d: r %3d, %d pass(es), %4d iterations, precompute %8.3f s, %8.3f ms/iteration, "
                     "handle error reduced %.2e full %.2e\n",
@@ -214,11 +216,11 @@ int main(int argc, char** argv) {
   json["reduced"] = rows_json;
   json["full"] = full_json;
 
-  std::printf("\n%6s %6s %3s %3s %4s %6s %5s %12s %10s %10s %10s\n", "cells", "tets", "k", "m", "r", "passes", "iter",
-              "precomp[s]", "ms/iter", "err red", "err full");
+  std::printf("\n%6s %6s %3s %3s %4s %6s %5s %12s %10s %10s %10s %12s\n", "cells", "tets", "k", "m", "r", "passes",
+              "iter", "precomp[s]", "ms/iter", "err red", "err full", "full solve[s]");
   for (const Row& r : rows)
-    std::printf("%6d %6d %3d %3d %4d %6d %5d %12.3f %10.3f %10.2e %10.2e\n", r.cells, r.tets, r.k, r.m, r.r, r.passes,
-                r.iterations, r.precompute, r.median_ms, r.reduced_error, r.full_error);
+    std::printf("%6d %6d %3d %3d %4d %6d %5d %12.3f %10.3f %10.2e %10.2e %12.3f\n", r.cells, r.tets, r.k, r.m, r.r,
+                r.passes, r.iterations, r.precompute, r.median_ms, r.reduced_error, r.full_error, r.full_solve);
   for (const auto& f : full_json)
     std::printf("full-space design, cells %d: %.2f ms/iteration (%d iterations), handle error %.2e\n",
                 f["cells"].get<int>(), f["median_iteration_ms"].get<double>(), f["iterations"].get<int>(),

@@ -67,7 +67,8 @@ ReducedEquilibriumFunctional::ReducedEquilibriumFunctional(ReducedEquilibriumDat
   if (data_.element_modes.size() > 0) {
     if (data_.element_modes.cols() != size()) fail("the element modes need one column per design coordinate");
     if (data_.element_weights.size() != data_.element_modes.rows()) fail("one element weight per element");
-    if (!(data_.positivity_floor > 0.0 && data_.positivity_floor < 1.0)) fail("positivity floor not in (0, 1)");
+    if (!(data_.positivity_floor > 0.0 && data_.positivity_floor < 1.0))
+      fail("positivity floor not in (0, 1)");
     if (!(data_.positivity_weight >= 0.0)) fail("negative positivity weight");
   }
 }
@@ -150,8 +151,8 @@ const Vector& ReducedEquilibriumFunctional::solve(const Vector& w) {
       Vector f_trial;
       evaluate_with(g, quadratic_, trial, &e_trial, &f_trial, nullptr);
       const double p_trial = e_trial - f.dot(trial);
-      if (std::isfinite(p_trial) &&
-          (p_trial <= potential + 1e-4 * t * std::min(slope, 0.0) || (f_trial - f).norm() < residual.norm())) {
+      if (std::isfinite(p_trial) && (p_trial <= potential + 1e-4 * t * std::min(slope, 0.0) ||
+                                     (f_trial - f).norm() < residual.norm())) {
         q = trial;
         accepted = true;
       }
@@ -191,8 +192,8 @@ double ReducedEquilibriumFunctional::positivity(const Vector& w, Vector* gradien
   const Vector e = Vector::Ones(data_.element_modes.rows()) + data_.element_modes * w;
   Eigen::Index worst = 0;
   if (e.minCoeff(&worst) <= 0.0)
-    throw EvaluationError("reduced design: the relative modulus of element " + std::to_string(worst) + " is " +
-                          std::to_string(e[worst]) + " <= 0");
+    throw EvaluationError("reduced design: the relative modulus of element " + std::to_string(worst) +
+                          " is " + std::to_string(e[worst]) + " <= 0");
   const double eps = data_.positivity_floor, kappa = data_.positivity_weight;
   double penalty = 0.0;
   Vector de = Vector::Zero(e.size());

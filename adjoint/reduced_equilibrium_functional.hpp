@@ -37,10 +37,10 @@ struct ReducedEquilibriumData {
   // none): the penalty kappa/3 sum_e v_e ((eps - e_e)_+ / eps)^3 (C2), and an evaluation
   // error where some e_e <= 0. This part costs O(elements * m) per evaluation (a product with
   // Y), the only one that grows with the mesh.
-  Matrix element_modes;       // Y
-  Vector element_weights;     // v_e (volume fractions), one per row of Y
-  double positivity_floor = 0.05;    // eps, in (0, 1)
-  double positivity_weight = 1.0;    // kappa >= 0
+  Matrix element_modes;            // Y
+  Vector element_weights;          // v_e (volume fractions), one per row of Y
+  double positivity_floor = 0.05;  // eps, in (0, 1)
+  double positivity_weight = 1.0;  // kappa >= 0
 };
 
 struct ReducedEquilibriumOptions {

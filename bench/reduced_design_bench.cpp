@@ -63,8 +63,8 @@ std::string scene_text(int c, const std::string& design, const std::string& targ
       {"vertices": {"plane": {"axis": "x", "value": 10}}, "force": [0, 0, -100], "displacement": )" +
          target + R"(}]}],
     "optimizer": {"backend": ")" +
-         backend + R"(", "max_iterations": )" +
-         std::to_string(max_iterations) + R"(, "gradient_tolerance": 1e-8, "objective_tolerance": 1e-12}}})";
+         backend + R"(", "max_iterations": )" + std::to_string(max_iterations) +
+         R"(, "gradient_tolerance": 1e-8, "objective_tolerance": 1e-12}}})";
 }
 
 std::string reduced_design_key(int k, int m) {
@@ -94,7 +94,8 @@ int main(int argc, char** argv) {
   cli.integers("--displacement-modes", ks, "linear vibration modes in the reduced basis", 1);
   cli.integers("--material-modes", ms, "Laplacian material modes", 2);
   cli.integer("--max-iterations", max_iterations, "optimizer iterations per pass (and full design)", 1);
-  cli.integer("--full-iterations", full_iterations, "largest iteration cap of the full-space design (25, 50, ...)", 1);
+  cli.integer("--full-iterations", full_iterations,
+              "largest iteration cap of the full-space design (25, 50, ...)", 1);
   cli.flag("--quick", quick, "cells 2, one grid point (4 x 4)");
   cli.flag("--no-full", no_full, "skip the full-space design");
   cli.out(out);
@@ -110,7 +111,8 @@ int main(int argc, char** argv) {
     std::string target;
     double target_norm = 1.0;
     {
-      const ReducedDesign probe = build_reduced_design(parse(scene_text(c, reduced_design_key(2, 2), "[0, 0, -1]", 1)));
+      const ReducedDesign probe =
+          build_reduced_design(parse(scene_text(c, reduced_design_key(2, 2), "[0, 0, -1]", 1)));
       Vector w = Vector::Zero(probe.num_design());
       w[0] = -0.6;
       w[1] = 0.2;
@@ -130,7 +132,8 @@ int main(int argc, char** argv) {
     double worst_full = 0.0;
     for (int k : ks)
       for (int m : ms) {
-        ReducedDesign design = build_reduced_design(parse(scene_text(c, reduced_design_key(k, m), target, max_iterations)));
+        ReducedDesign design =
+            build_reduced_design(parse(scene_text(c, reduced_design_key(k, m), target, max_iterations)));
         const ReducedDesignRun run = run_reduced_design(design, "");
         Row row;
         row.cells = c;
@@ -167,10 +170,11 @@ int main(int argc, char** argv) {
                              {"full_space_handle_error", row.full_error},
                              {"full_space_solve_seconds", row.full_solve},
                              {"status", row.status}});
-        std::printf("  k %2d m %2d: r %3d, %d pass(es), %4d iterations, precompute %8.3f s, %8.3f ms/iteration, "
-                    "handle error reduced %.2e full %.2e\n",
-                    k, m, row.r, row.passes, row.iterations, row.precompute, row.median_ms, row.reduced_error,
-                    row.full_error);
+        std::printf(
+            "  k %2d m %2d: r %3d, %d pass(es), %4d iterations, precompute %8.3f s, %8.3f ms/iteration, "
+            "handle error reduced %.2e full %.2e\n",
+            k, m, row.r, row.passes, row.iterations, row.precompute, row.median_ms, row.reduced_error,
+            row.full_error);
         std::fflush(stdout);
       }
     if (no_full) continue;
@@ -179,16 +183,18 @@ int main(int argc, char** argv) {
     // worst. Its final E is checked the same way (handle force applied, mean tip displacement).
     const std::string full_design = R"({"parameter": "youngs_modulus", "granularity": "modes", "modes": )" +
                                     std::to_string(m_full) + R"(, "map": "log", "min": 1e3, "max": 1e8})";
-    const ReducedDesign checker = build_reduced_design(parse(scene_text(c, reduced_design_key(2, 2), target, 1)));
+    const ReducedDesign checker =
+        build_reduced_design(parse(scene_text(c, reduced_design_key(2, 2), target, 1)));
     int iterations = 0;
     double error = 1.0, seconds = 0.0;
     std::vector<double> per_iteration;
     std::string status = "not run";
     for (int cap = 25; cap <= full_iterations; cap *= 2) {
       // Weights as in scenes/cantilever_handle.json: alpha = 1 / |fbar|^2, alpha beta = 1 / |ubar|^2.
-      const Scene s = parse(scene_text(c, full_design, target, cap, 1e4 / (target_norm * target_norm),
-                                      "ceres_lbfgs"));
-      const InverseRun run = run_inverse_scene(s, (std::filesystem::temp_directory_path() / "reduced_design_bench_full").string());
+      const Scene s =
+          parse(scene_text(c, full_design, target, cap, 1e4 / (target_norm * target_norm), "ceres_lbfgs"));
+      const InverseRun run = run_inverse_scene(
+          s, (std::filesystem::temp_directory_path() / "reduced_design_bench_full").string());
       const FullSpaceCheck check = full_space_solve(checker, run.youngs_modulus);
       iterations = run.result.history.empty() ? 0 : run.result.history.back().iteration;
       seconds = run.result.seconds;
@@ -197,7 +203,8 @@ int main(int argc, char** argv) {
         per_iteration.push_back(run.result.history[i].seconds - run.result.history[i - 1].seconds);
       error = check.handle_errors.empty() ? 1.0 : check.handle_errors[0];
       status = to_string(run.result.status);
-      if (run.result.status == OptimizerStatus::failed) std::printf("  full-space design failed: %s\n", run.result.message.c_str());
+      if (run.result.status == OptimizerStatus::failed)
+        std::printf("  full-space design failed: %s\n", run.result.message.c_str());
       if (error <= worst_full || run.result.converged()) break;
     }
     const double median_s = median_of(per_iteration);
@@ -209,18 +216,20 @@ int main(int argc, char** argv) {
                          {"full_space_handle_error", error},
                          {"reduced_worst_full_space_error", worst_full},
                          {"status", status}});
-    std::printf("  full-space design (m %d): %d iterations, %.3f s, %.2f ms/iteration, handle error %.2e (%s)\n", m_full,
-                iterations, seconds, 1e3 * median_s, error, status.c_str());
+    std::printf(
+        "  full-space design (m %d): %d iterations, %.3f s, %.2f ms/iteration, handle error %.2e (%s)\n",
+        m_full, iterations, seconds, 1e3 * median_s, error, status.c_str());
     std::fflush(stdout);
   }
   json["reduced"] = rows_json;
   json["full"] = full_json;
 
-  std::printf("\n%6s %6s %3s %3s %4s %6s %5s %12s %10s %10s %10s %12s\n", "cells", "tets", "k", "m", "r", "passes",
-              "iter", "precomp[s]", "ms/iter", "err red", "err full", "full solve[s]");
+  std::printf("\n%6s %6s %3s %3s %4s %6s %5s %12s %10s %10s %10s %12s\n", "cells", "tets", "k", "m", "r",
+              "passes", "iter", "precomp[s]", "ms/iter", "err red", "err full", "full solve[s]");
   for (const Row& r : rows)
-    std::printf("%6d %6d %3d %3d %4d %6d %5d %12.3f %10.3f %10.2e %10.2e %12.3f\n", r.cells, r.tets, r.k, r.m, r.r,
-                r.passes, r.iterations, r.precompute, r.median_ms, r.reduced_error, r.full_error, r.full_solve);
+    std::printf("%6d %6d %3d %3d %4d %6d %5d %12.3f %10.3f %10.2e %10.2e %12.3f\n", r.cells, r.tets, r.k, r.m,
+                r.r, r.passes, r.iterations, r.precompute, r.median_ms, r.reduced_error, r.full_error,
+                r.full_solve);
   for (const auto& f : full_json)
     std::printf("full-space design, cells %d: %.2f ms/iteration (%d iterations), handle error %.2e\n",
                 f["cells"].get<int>(), f["median_iteration_ms"].get<double>(), f["iterations"].get<int>(),

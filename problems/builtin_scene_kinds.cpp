@@ -136,7 +136,8 @@ int run_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& 
     if (args.resume || args.checkpoint_every)
       throw SceneError(scene.source + ": " + scene.inverse->design.reduction->key +
                        ": --resume and --checkpoint-every are not supported by the reduced design loop");
-    const ReducedDesignRun run = run_reduced_design_scene(scene, out_dir(args, scene), &out, args.quiet ? nullptr : &out);
+    const ReducedDesignRun run =
+        run_reduced_design_scene(scene, out_dir(args, scene), &out, args.quiet ? nullptr : &out);
     return exit_code(run.result.converged() || run.result.status == OptimizerStatus::max_iterations);
   }
   // `run --resume DIR` writes into DIR (the checkpoint's folder) unless --out says otherwise.

@@ -111,11 +111,14 @@ void parse_mode_keys(const SceneNode& node, DesignSpec& d) {
         .fail(
             "with granularity \"modes\" give both min and max (a smooth box keeps E inside them) or neither");
   if (d.reduction) {
-    if (!d.modes) node.at("modes").fail("the reduced design loop needs a number of material modes, not \"full\"");
+    if (!d.modes)
+      node.at("modes").fail("the reduced design loop needs a number of material modes, not \"full\"");
     if (d.map != DesignMap::identity || !node.has("map"))
-      node.at("reduction").fail("give \"map\": \"identity\": the reduced loop designs E = E0 (1 + sum_j w_j y_j), "
-                            "linear in the mode coordinates w, which makes its precomputed reduced forces exact "
-                            "(the log map and the smooth box are not linear)");
+      node.at("reduction")
+          .fail(
+              "give \"map\": \"identity\": the reduced loop designs E = E0 (1 + sum_j w_j y_j), "
+              "linear in the mode coordinates w, which makes its precomputed reduced forces exact "
+              "(the log map and the smooth box are not linear)");
     if (d.min || d.max)
       node.at(d.min ? "min" : "max")
           .fail("not with \"reduction\": E = E0 (1 + sum_j w_j y_j) is linear in w and has no box");
@@ -128,9 +131,9 @@ void parse_mode_keys(const SceneNode& node, DesignSpec& d) {
 }
 
 ReductionSpec parse_reduction(const SceneNode& node) {
-  node.expect_keys({"displacement_modes", "modal_derivatives", "derivative_modes", "static_responses", "design_responses",
-                    "smoothness", "full_space_check", "min_relative_modulus", "positivity_weight", "refinements",
-                    "full_space_tolerance"});
+  node.expect_keys({"displacement_modes", "modal_derivatives", "derivative_modes", "static_responses",
+                    "design_responses", "smoothness", "full_space_check", "min_relative_modulus",
+                    "positivity_weight", "refinements", "full_space_tolerance"});
   ReductionSpec r;
   r.key = node.path();
   if (auto k = node.find("displacement_modes")) r.displacement_modes = k->integer(1);

@@ -67,7 +67,7 @@ struct ReductionSpec {
   // (v_e volume fractions), and E <= 0 is an infeasible point.
   double min_relative_modulus = 0.05;  // eps in (0, 1)
   double positivity_weight = 1.0;      // kappa
-  std::string key;                // "inverse.design.reduction"
+  std::string key;                     // "inverse.design.reduction"
 };
 
 struct DesignSpec {

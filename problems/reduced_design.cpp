@@ -43,7 +43,8 @@ class RestStiffness {
     upper.makeCompressed();
     const FactorizationResult f = factor_.factorize(upper);
     if (!f.success || !f.positive_definite)
-      throw std::runtime_error("reduced design: the stiffness at rest is not positive definite: " + f.message);
+      throw std::runtime_error("reduced design: the stiffness at rest is not positive definite: " +
+                               f.message);
   }
   Matrix solve(const Matrix& rhs) const {
     const SparseMatrix& s = model_.elimination().basis();
@@ -141,7 +142,8 @@ void precompute(ReducedDesign& design) {
 
   ReducedEquilibriumData data;
   data.base = std::move(coefficients[0]);
-  data.modes.assign(std::make_move_iterator(coefficients.begin() + 1), std::make_move_iterator(coefficients.end()));
+  data.modes.assign(std::make_move_iterator(coefficients.begin() + 1),
+                    std::make_move_iterator(coefficients.end()));
   data.load = design.basis.transpose() * setup.nodal_forces;
   // Observations: the mean displacement of each handle's vertices.
   const Eigen::Index rows = dim * static_cast<Eigen::Index>(design.handles.size());
@@ -186,7 +188,8 @@ double refine_basis(ReducedDesign& design, const Vector& w, const Vector& displa
   for (int j = 0; j < m; ++j) {
     const double c = 1.0 - std::min(design.material_modes.col(j).minCoeff(), 0.0);
     Vector p = p0;
-    p.segment(offset, ne) = setup.youngs_modulus.cwiseProduct((design.material_modes.col(j).array() + c).matrix());
+    p.segment(offset, ne) =
+        setup.youngs_modulus.cwiseProduct((design.material_modes.col(j).array() + c).matrix());
     rhs.col(j) = -(model.gradient(x, p) - c * g0 + (1.0 - c) * setup.nodal_forces);
   }
   // du/dw_j = -K_t^-1 dF/dw_j at the design's full-space equilibrium.
@@ -222,8 +225,8 @@ ReducedDesign build_reduced_design(const Scene& scene) {
       continue;
     }
     scene_fail(scene, t.key,
-               "the reduced design loop (" + reduction.key + ") takes only a \"handles\" term; \"" + t.type() +
-                   "\" is not supported there (regularize with " + reduction.key + ".smoothness)");
+               "the reduced design loop (" + reduction.key + ") takes only a \"handles\" term; \"" +
+                   t.type() + "\" is not supported there (regularize with " + reduction.key + ".smoothness)");
   }
   if (!term) scene_fail(scene, "inverse.objective", "the reduced design loop needs a \"handles\" term");
 
@@ -250,9 +253,10 @@ ReducedDesign build_reduced_design(const Scene& scene) {
   std::vector<Vector> handle_loads;
   for (const HandleSpec& h : term->handles) {
     if (!h.force || !h.displacement)
-      scene_fail(scene, h.key,
-                 "the reduced design loop applies each handle's force and targets its displacement: give both "
-                 "\"force\" (or \"force_per_vertex\") and \"displacement\"");
+      scene_fail(
+          scene, h.key,
+          "the reduced design loop applies each handle's force and targets its displacement: give both "
+          "\"force\" (or \"force_per_vertex\") and \"displacement\"");
     check_dimension(scene, mesh, *h.displacement, h.key + ".displacement");
     check_dimension(scene, mesh, *h.force, h.key + (h.force_per_vertex ? ".force_per_vertex" : ".force"));
     if (!(h.displacement->norm() > 0.0)) scene_fail(scene, h.key + ".displacement", "must not be zero");
@@ -297,7 +301,8 @@ ReducedDesign build_reduced_design(const Scene& scene) {
   }();
   {
     Matrix rhs(setup.num_dofs(), static_cast<Eigen::Index>(handle_loads.size()) + 1);
-    for (std::size_t h = 0; h < handle_loads.size(); ++h) rhs.col(static_cast<Eigen::Index>(h)) = handle_loads[h];
+    for (std::size_t h = 0; h < handle_loads.size(); ++h)
+      rhs.col(static_cast<Eigen::Index>(h)) = handle_loads[h];
     rhs.col(rhs.cols() - 1) = other_loads;
     if (other_loads.norm() == 0.0) rhs.conservativeResize(Eigen::NoChange, rhs.cols() - 1);
     responses = stiffness.solve(rhs);
@@ -415,9 +420,11 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
   run.coefficient_width = static_cast<int>(design.functional->data().base.rows());
   run.basis_candidates = design.basis_candidates;
   if (log)
-    *log << "reduced design of " << design.scene_name << ": r = " << run.reduced_size << " displacement coordinates ("
-         << run.basis_candidates << " candidates), m = " << run.material_modes << " material modes, "
-         << design.setup.mesh.num_elements() << " elements; precomputation " << design.timings.total << " s\n";
+    *log << "reduced design of " << design.scene_name << ": r = " << run.reduced_size
+         << " displacement coordinates (" << run.basis_candidates
+         << " candidates), m = " << run.material_modes << " material modes, "
+         << design.setup.mesh.num_elements() << " elements; precomputation " << design.timings.total
+         << " s\n";
   OptimizerOptions options = design.optimizer;
   options.checkpoint_every = 0;
   options.on_checkpoint = nullptr;
@@ -479,13 +486,14 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
     run.passes.push_back(record);
     if (log)
       *log << "pass " << pass << ": r = " << record.reduced_size << ", " << record.iterations
-           << " iterations, reduced handle error " << record.reduced_error << ", full-space " << record.full_error
-           << "\n";
+           << " iterations, reduced handle error " << record.reduced_error << ", full-space "
+           << record.full_error << "\n";
     if (!run.full->converged || record.full_error <= design.spec.full_space_tolerance ||
         pass >= design.spec.refinements)
       break;
     const double seconds = refine_basis(design, w, run.full->displacement);
-    if (log) *log << "refined the basis at the design: r = " << design.basis.cols() << " (" << seconds << " s)\n";
+    if (log)
+      *log << "refined the basis at the design: r = " << design.basis.cols() << " (" << seconds << " s)\n";
   }
   run.timings = design.timings;
   run.reduced_size = static_cast<int>(design.basis.cols());
@@ -510,12 +518,10 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
                            {"full_space_tolerance", design.spec.full_space_tolerance},
                            {"min_relative_modulus", design.spec.min_relative_modulus},
                            {"positivity_weight", design.spec.positivity_weight}};
-    report["sizes"] = {{"elements", design.setup.mesh.num_elements()},
-                       {"dofs", design.setup.num_dofs()},
-                       {"reduced_coordinates", run.reduced_size},
-                       {"basis_candidates", run.basis_candidates},
-                       {"material_modes", run.material_modes},
-                       {"coefficient_width", run.coefficient_width}};
+    report["sizes"] = {
+        {"elements", design.setup.mesh.num_elements()}, {"dofs", design.setup.num_dofs()},
+        {"reduced_coordinates", run.reduced_size},      {"basis_candidates", run.basis_candidates},
+        {"material_modes", run.material_modes},         {"coefficient_width", run.coefficient_width}};
     const ReducedDesignTimings& tm = design.timings;
     report["precomputation_seconds"] = {{"setup", tm.setup},
                                         {"displacement_modes", tm.displacement_modes},
@@ -559,11 +565,11 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
     if (!run.reduced_errors.empty())
       report["max_reduced_error"] = *std::max_element(run.reduced_errors.begin(), run.reduced_errors.end());
     if (run.full) {
-      report["full_space"] = {{"converged", run.full->converged},
-                              {"message", run.full->message},
-                              {"seconds", run.full->seconds}};
+      report["full_space"] = {
+          {"converged", run.full->converged}, {"message", run.full->message}, {"seconds", run.full->seconds}};
       if (!run.full->handle_errors.empty())
-        report["max_full_error"] = *std::max_element(run.full->handle_errors.begin(), run.full->handle_errors.end());
+        report["max_full_error"] =
+            *std::max_element(run.full->handle_errors.begin(), run.full->handle_errors.end());
     }
     std::ofstream out(run.report_path);
     if (!out) throw std::runtime_error("cannot write " + run.report_path);

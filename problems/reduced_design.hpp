@@ -37,13 +37,13 @@ struct ReducedDesignHandle {
 };
 
 struct ReducedDesignTimings {
-  double setup = 0.0;             // scene, model, mass
+  double setup = 0.0;  // scene, model, mass
   double displacement_modes = 0.0;
-  double responses = 0.0;         // static and design responses
+  double responses = 0.0;  // static and design responses
   double modal_derivatives = 0.0;
   double material_modes = 0.0;
-  double coefficients = 0.0;      // the reduced StVK coefficients of G_0 and every mode (last pass)
-  double refinement = 0.0;        // basis refinements (without their coefficients)
+  double coefficients = 0.0;  // the reduced StVK coefficients of G_0 and every mode (last pass)
+  double refinement = 0.0;    // basis refinements (without their coefficients)
   double total = 0.0;
 };
 
@@ -52,11 +52,11 @@ struct ReducedDesign {
   ReductionSpec spec;
   StaticSetup setup;  // handles free, their forces among the loads; youngs_modulus = E0
   std::unique_ptr<Model> model;
-  Matrix basis;                // Phi, num_dofs x r, M-orthonormal
-  SparseMatrix mass;           // the inner product of the basis
-  int basis_candidates = 0;    // columns before orthonormalization dropped the dependent ones
-  Matrix material_modes;       // y, num_elements x m
-  Vector material_eigenvalues; // lambda_j
+  Matrix basis;                 // Phi, num_dofs x r, M-orthonormal
+  SparseMatrix mass;            // the inner product of the basis
+  int basis_candidates = 0;     // columns before orthonormalization dropped the dependent ones
+  Matrix material_modes;        // y, num_elements x m
+  Vector material_eigenvalues;  // lambda_j
   std::vector<ReducedDesignHandle> handles;
   std::unique_ptr<ReducedEquilibriumFunctional> functional;
   ReducedDesignTimings timings;
@@ -107,7 +107,7 @@ struct ReducedDesignRun {
   OptimizerResult result;
   std::vector<double> iteration_ms;  // per optimizer iteration (wall time between iterations)
   double median_iteration_ms = 0.0;
-  Vector q;                          // the reduced equilibrium at the best design
+  Vector q;  // the reduced equilibrium at the best design
   std::vector<double> reduced_errors;
   std::optional<FullSpaceCheck> full;
   ReducedDesignTimings timings;

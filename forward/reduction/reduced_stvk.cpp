@@ -3,8 +3,8 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <chrono>
-#include <string>
 #include <stdexcept>
+#include <string>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -121,7 +121,8 @@ int accumulate_model(const Model& model, const Vector& p, const Matrix& basis, c
     if (name == "stvk" || (allow_linear && name == "linear")) return name == "stvk";
     throw std::invalid_argument(std::string(who) + ": term '" + term + "' uses the material '" + name +
                                 "'; the exact polynomial precomputation needs StVK" +
-                                (allow_linear ? " or linear" : "") + " (other materials need a cubature rule)");
+                                (allow_linear ? " or linear" : "") +
+                                " (other materials need a cubature rule)");
   };
   for (const auto& term : model.terms()) {
     if (const auto* t3 = dynamic_cast<const ElasticTerm<3>*>(term.get())) {
@@ -204,8 +205,8 @@ void evaluate_stvk_polynomial(const Matrix& gram_, const Vector& q, double* ener
   if (gram_.rows() != r + P || gram_.cols() != r + P)
     throw std::invalid_argument("evaluate_stvk_polynomial: the coefficients are " +
                                 std::to_string(gram_.rows()) + " x " + std::to_string(gram_.cols()) +
-                                ", q has " + std::to_string(r) + " entries (expected r + r (r + 1) / 2 = " +
-                                std::to_string(r + P) + ")");
+                                ", q has " + std::to_string(r) +
+                                " entries (expected r + r (r + 1) / 2 = " + std::to_string(r + P) + ")");
   Vector w(r + P);
   w.head(r) = q;
   for (int a = 0, k = r; a < r; ++a)

@@ -37,7 +37,8 @@ std::string scene_text(const std::string& model, const std::string& target, cons
 })";
 }
 
-Scene scene(const std::string& model, const std::string& target = "[0, 0, -0.1]", const std::string& extra = "") {
+Scene scene(const std::string& model, const std::string& target = "[0, 0, -0.1]",
+            const std::string& extra = "") {
   return parse_scene(scene_text(model, target, extra), "small_handle_reduced.json", ".");
 }
 
@@ -104,10 +105,11 @@ TEST(ReducedDesign, ReducedDesignMatchesTheFullSpaceSolve) {
     ASSERT_TRUE(truth.converged) << truth.message;
     const int tip = probe.handles[0].vertices[0];
     const Vector u = truth.displacement.segment(3 * tip, 3);
-    const std::string target = "[" + std::to_string(u[0]) + ", " + std::to_string(u[1]) + ", " +
-                               std::to_string(u[2]) + "]";
+    const std::string target =
+        "[" + std::to_string(u[0]) + ", " + std::to_string(u[1]) + ", " + std::to_string(u[2]) + "]";
     ReducedDesign design = build_reduced_design(scene(model, target));
-    const std::string out = (std::filesystem::temp_directory_path() / ("reduced_design_test_" + model)).string();
+    const std::string out =
+        (std::filesystem::temp_directory_path() / ("reduced_design_test_" + model)).string();
     const ReducedDesignRun run = run_reduced_design(design, out);
     ASSERT_FALSE(run.reduced_errors.empty());
     ASSERT_TRUE(run.full && run.full->converged);
@@ -135,7 +137,8 @@ TEST(ReducedDesign, SceneKeysAreChecked) {
   text.replace(text.find("\"map\": \"identity\""), 17, "\"map\": \"log\"");
   EXPECT_THROW(parse_scene(text, "s.json", "."), SceneError);
   // Unknown key under reduction.
-  EXPECT_THROW(parse_scene(scene_text("stvk", "[0, 0, -0.1]", R"(, "cubature": true)"), "s.json", "."), SceneError);
+  EXPECT_THROW(parse_scene(scene_text("stvk", "[0, 0, -0.1]", R"(, "cubature": true)"), "s.json", "."),
+               SceneError);
   try {
     parse_scene(scene_text("stvk", "[0, 0, -0.1]", R"(, "min_relative_modulus": 2)"), "s.json", ".");
     FAIL();
@@ -149,7 +152,8 @@ TEST(ReducedDesign, SceneKeysAreChecked) {
 // softer beam, so a design exists; the reduced loop (with its basis refinements) must reach it
 // within 1% in full space.
 TEST(ReducedDesign, ShippedSceneReachesItsTargetInFullSpace) {
-  const Scene s = read_scene(std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/cantilever_handle_reduced.json");
+  const Scene s =
+      read_scene(std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/cantilever_handle_reduced.json");
   ASSERT_TRUE(s.inverse && s.inverse->design.reduction);
   EXPECT_EQ(s.inverse->design.reduction->key, "inverse.design.reduction");
   const std::string out = (std::filesystem::temp_directory_path() / "reduced_design_test_scene").string();

@@ -51,7 +51,7 @@ Vector parameters_at(const ReducedDesign& design, const Vector& w) {
 // Reference: ProjectedReducedModel, W(q) = E(x_rest + Phi q, p(w)) assembled over the mesh
 // with the scene's StVK elements. The precomputed polynomial must agree to round-off.
 TEST(ReducedDesign, PrecomputedForcesMatchProjectedFullForces) {
-  for (const std::string model : {"stvk", "linear"}) {
+  for (const char* model : {"stvk", "linear"}) {
     const ReducedDesign design = build_reduced_design(scene(model));
     const ReducedEquilibriumFunctional& f = *design.functional;
     ASSERT_GE(f.reduced_size(), 8);
@@ -81,7 +81,7 @@ TEST(ReducedDesign, PrecomputedForcesMatchProjectedFullForces) {
 // The exact adjoint gradient of J(w) (Newton in q, adjoint in w), Taylor test at a design
 // away from w = 0 and with the smoothness term on.
 TEST(ReducedDesign, TaylorTestOfTheReducedFunctional) {
-  for (const std::string model : {"stvk", "linear"}) {
+  for (const char* model : {"stvk", "linear"}) {
     ReducedDesign design = build_reduced_design(scene(model, "[0, 0, -0.1]", R"(, "smoothness": 1e-3)"));
     std::srand(5);
     const Vector w = 0.2 * Vector::Random(design.num_design());
@@ -96,7 +96,7 @@ TEST(ReducedDesign, TaylorTestOfTheReducedFunctional) {
 // root by the first two modes). The reduced design must reach it in reduced coordinates and,
 // solved again in full space, within 1% (the reduction error at the designed material).
 TEST(ReducedDesign, ReducedDesignMatchesTheFullSpaceSolve) {
-  for (const std::string model : {"stvk", "linear"}) {
+  for (const char* model : {"stvk", "linear"}) {
     const ReducedDesign probe = build_reduced_design(scene(model));
     Vector w_star = Vector::Zero(probe.num_design());
     w_star[0] = -0.5;
@@ -109,7 +109,7 @@ TEST(ReducedDesign, ReducedDesignMatchesTheFullSpaceSolve) {
         "[" + std::to_string(u[0]) + ", " + std::to_string(u[1]) + ", " + std::to_string(u[2]) + "]";
     ReducedDesign design = build_reduced_design(scene(model, target));
     const std::string out =
-        (std::filesystem::temp_directory_path() / ("reduced_design_test_" + model)).string();
+        (std::filesystem::temp_directory_path() / (std::string("reduced_design_test_") + model)).string();
     const ReducedDesignRun run = run_reduced_design(design, out);
     ASSERT_FALSE(run.reduced_errors.empty());
     ASSERT_TRUE(run.full && run.full->converged);

@@ -20,6 +20,7 @@
 #include "problems/material_fit/material_fit_scene.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
 #include "problems/modes_command.hpp"
+#include "problems/reduced_design.hpp"
 #include "problems/rods/rod_inverse.hpp"
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene_kinds.hpp"
@@ -101,6 +102,20 @@ int report_gradcheck(const GradcheckRun& run, std::ostream& out) {
 
 int gradcheck_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
+  if (scene.inverse && scene.inverse->design.reduction) {
+    // The reduced design loop's functional (problems/reduced_design.hpp) at w = 0.
+    if (args.hessian)
+      throw SceneError(scene.source + ": " + scene.inverse->design.reduction->key +
+                       ": the reduced design loop has no Hessian-vector products (--hessian)");
+    ReducedDesign design = build_reduced_design(scene);
+    TaylorTestOptions options = scene.inverse->gradcheck;
+    if (args.seed) options.seed = *args.seed;
+    const TaylorTestResult r = taylor_test(*design.functional, Vector::Zero(design.num_design()), options);
+    out << "Taylor test of the reduced design functional (r = " << design.basis.cols()
+        << ", m = " << design.num_design() << ") at w = 0\n"
+        << r.table() << to_string(r.status) << ": " << r.message << "\n";
+    return exit_code(r.passed());
+  }
   return report_gradcheck(gradcheck_scene(scene, out_dir(args, scene), {args.seed, args.hessian}, &out), out);
 }
 
@@ -117,6 +132,15 @@ int gradcheck_dynamic(const SceneFile& file, const VerbArguments& args, std::ost
 
 int run_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
+  if (scene.inverse && scene.inverse->design.reduction) {
+    // The reduced design loop (problems/reduced_design.hpp): no checkpoints.
+    if (args.resume || args.checkpoint_every)
+      throw SceneError(scene.source + ": " + scene.inverse->design.reduction->key +
+                       ": --resume and --checkpoint-every are not supported by the reduced design loop");
+    const ReducedDesignRun run =
+        run_reduced_design_scene(scene, out_dir(args, scene), &out, args.quiet ? nullptr : &out);
+    return exit_code(run.result.converged() || run.result.status == OptimizerStatus::max_iterations);
+  }
   // `run --resume DIR` writes into DIR (the checkpoint's folder) unless --out says otherwise.
   std::string dir = out_dir(args, scene);
   if (args.resume && !args.out_dir) {

@@ -85,7 +85,7 @@ ModulusField parse_modulus_field(const SceneNode& node, const std::string& direc
 // inverse_modes.hpp needs both ends (the log map alone already keeps E > 0).
 void parse_mode_keys(const SceneNode& node, DesignSpec& d) {
   const bool modal = d.granularity == DesignGranularity::modes;
-  for (const char* key : {"modes", "mode_weighting", "output_modes"})
+  for (const char* key : {"modes", "mode_weighting", "output_modes", "reduction"})
     if (auto k = node.find(key); k && !modal)
       k->fail("only with \"granularity\": \"modes\" (the granularity is " + to_string(d.granularity) + ")");
   if (!modal) return;
@@ -110,16 +110,51 @@ void parse_mode_keys(const SceneNode& node, DesignSpec& d) {
     node.at(d.min ? "min" : "max")
         .fail(
             "with granularity \"modes\" give both min and max (a smooth box keeps E inside them) or neither");
+  if (d.reduction) {
+    if (!d.modes)
+      node.at("modes").fail("the reduced design loop needs a number of material modes, not \"full\"");
+    if (d.map != DesignMap::identity || !node.has("map"))
+      node.at("reduction")
+          .fail(
+              "give \"map\": \"identity\": the reduced loop designs E = E0 (1 + sum_j w_j y_j), "
+              "linear in the mode coordinates w, which makes its precomputed reduced forces exact "
+              "(the log map and the smooth box are not linear)");
+    if (d.min || d.max)
+      node.at(d.min ? "min" : "max")
+          .fail("not with \"reduction\": E = E0 (1 + sum_j w_j y_j) is linear in w and has no box");
+    return;
+  }
   if (d.map == DesignMap::identity && !d.min)
     node.fail(
         "granularity \"modes\" with the identity map needs min and max (E = Phi z alone may turn negative); "
         "or use the log map");
 }
 
+ReductionSpec parse_reduction(const SceneNode& node) {
+  node.expect_keys({"displacement_modes", "modal_derivatives", "derivative_modes", "static_responses",
+                    "design_responses", "smoothness", "full_space_check", "min_relative_modulus",
+                    "positivity_weight", "refinements", "full_space_tolerance"});
+  ReductionSpec r;
+  r.key = node.path();
+  if (auto k = node.find("displacement_modes")) r.displacement_modes = k->integer(1);
+  if (auto k = node.find("modal_derivatives")) r.modal_derivatives = k->boolean();
+  if (auto k = node.find("derivative_modes")) r.derivative_modes = k->integer(0);
+  if (auto k = node.find("static_responses")) r.static_responses = k->boolean();
+  if (auto k = node.find("design_responses")) r.design_responses = k->boolean();
+  if (auto k = node.find("smoothness")) r.smoothness = k->non_negative();
+  if (auto k = node.find("full_space_check")) r.full_space_check = k->boolean();
+  if (auto k = node.find("refinements")) r.refinements = k->integer(0);
+  if (auto k = node.find("full_space_tolerance")) r.full_space_tolerance = k->positive();
+  if (auto k = node.find("min_relative_modulus")) r.min_relative_modulus = k->open_interval(0.0, 1.0);
+  if (auto k = node.find("positivity_weight")) r.positivity_weight = k->non_negative();
+  return r;
+}
+
 DesignSpec parse_design(const SceneNode& node) {
   node.expect_keys({"parameter", "granularity", "map", "min", "max", "initial", "modes", "mode_weighting",
-                    "output_modes"});
+                    "output_modes", "reduction"});
   DesignSpec d;
+  if (auto k = node.find("reduction")) d.reduction = parse_reduction(*k);
   const SceneNode parameter = node.at("parameter");
   d.parameter = parameter.string();
   if (d.parameter != "youngs_modulus")

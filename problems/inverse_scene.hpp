@@ -46,6 +46,30 @@ enum class DesignMap { log, identity };  // z = log E, or z = E
 std::string to_string(DesignGranularity granularity);
 std::string to_string(DesignMap map);
 
+// "inverse.design.reduction": the design loop in reduced displacements and reduced materials
+// (problems/reduced_design.hpp, docs/reduction.md). The material is E = E0 (1 + sum_j w_j y_j)
+// over the granularity's material modes y_j, linear in w, so the reduced StVK coefficients are
+// precomputed exactly once per mode.
+struct ReductionSpec {
+  int displacement_modes = 6;     // linear vibration modes of the constrained mesh
+  bool modal_derivatives = true;  // of the modes and static responses (none for linear materials)
+  int derivative_modes = 3;       // how many of the lowest modes get derivatives (with the responses)
+  bool static_responses = true;   // K^-1 f per handle force (and the other loads)
+  bool design_responses = true;   // -K^-1 K_j u0 per material mode j (u0: the static response)
+  double smoothness = 0.0;        // rho_j = smoothness * lambda_j on 1/2 sum_j rho_j w_j^2
+  bool full_space_check = true;   // re-solve the final design in full space
+  // While the full-space handle error exceeds full_space_tolerance, at most `refinements` times:
+  // add the full-space equilibrium and its design sensitivities at the design to the basis,
+  // precompute again and continue from the design.
+  int refinements = 2;
+  double full_space_tolerance = 0.01;
+  // Positivity: E / E0 >= eps is kept by a C2 penalty kappa/3 sum_e v_e ((eps - E_e/E0_e)_+ / eps)^3
+  // (v_e volume fractions), and E <= 0 is an infeasible point.
+  double min_relative_modulus = 0.05;  // eps in (0, 1)
+  double positivity_weight = 1.0;      // kappa
+  std::string key;                     // "inverse.design.reduction"
+};
+
 struct DesignSpec {
   std::string parameter = "youngs_modulus";  // the only designable parameter for now
   DesignGranularity granularity = DesignGranularity::per_element;
@@ -56,6 +80,7 @@ struct DesignSpec {
   std::optional<int> modes;  // r, the number of material modes; nullopt = "full" (one per element)
   AdjacencyWeighting mode_weighting = AdjacencyWeighting::facet_over_distance;
   int output_modes = 0;  // the first this many modes are written to result.vtu
+  std::optional<ReductionSpec> reduction;  // the reduced design loop (granularity modes only)
   // One design variable per region or material (the report lists their values).
   bool grouped() const {
     return granularity == DesignGranularity::per_region || granularity == DesignGranularity::per_material;

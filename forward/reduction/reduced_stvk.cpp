@@ -1,8 +1,10 @@
 #include "forward/reduction/reduced_stvk.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <string>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -14,13 +16,18 @@ namespace tailor {
 namespace {
 
 // Adds the element columns Y_e of one elastic term to the lower triangle of gram.
+// weights: empty (one matrix, every element with weight 1, symmetric rank-k updates) or one
+// column per output matrix, one row per mesh element (grams[j] += sum_e weights(e, j) Y_e Y_e^T).
+// quadratic = false (the linear material): the pair rows of Y_e are zero, so the energy is the
+// quadratic form of the linear strain.
 template <int Dim>
 void accumulate(const ElasticTerm<Dim>& term, const Vector& p, const Matrix& basis_t,
-                const std::vector<int>& pair, Matrix& gram) {
+                const std::vector<int>& pair, const Matrix& weights, bool quadratic_strain, bool with_pairs,
+                std::vector<Matrix>& grams) {
   constexpr int kComponents = Dim * (Dim + 1) / 2;  // independent strain components
   constexpr int kNodes = Dim + 1;
   const int r = static_cast<int>(basis_t.rows());
-  const int num_pairs = r * (r + 1) / 2, width = r + num_pairs;
+  const int num_pairs = r * (r + 1) / 2, width = with_pairs ? r + num_pairs : r;
   const int num = static_cast<int>(term.elements().size());
   constexpr int kChunk = 128;
   // Component c <-> (a, b): the diagonal first, then the off-diagonal pairs.
@@ -30,9 +37,12 @@ void accumulate(const ElasticTerm<Dim>& term, const Vector& p, const Matrix& bas
     for (int d = c + 1; d < Dim; ++d, ++k) comp_a[k] = c, comp_b[k] = d;
   }
 
+  const int sets = static_cast<int>(grams.size());
+  const bool weighted = weights.size() > 0;
 #pragma omp parallel
   {
-    Matrix local = Matrix::Zero(width, width);
+    std::vector<Matrix> local(static_cast<std::size_t>(sets), Matrix::Zero(width, width));
+    Matrix scaled;
     Matrix y(width, kComponents * kChunk);
     Matrix g(Dim * Dim, r);  // row i + Dim * b: d(grad u)_ib / dq
     Matrix outer(r, r);
@@ -61,6 +71,7 @@ void accumulate(const ElasticTerm<Dim>& term, const Vector& p, const Matrix& bas
         for (int c = 0; c < kComponents; ++c) {
           const int a = comp_a[c], b = comp_b[c];
           linear.col(c) = 0.5 * (g.row(a + Dim * b) + g.row(b + Dim * a)).transpose();
+          if (!with_pairs || !quadratic_strain) continue;
           // N_ab = sum_i (grad u)_ia (grad u)_ib = q^T outer q; packed on the pairs s.
           outer.noalias() = g.row(Dim * a).transpose() * g.row(Dim * b);
           for (int i = 1; i < Dim; ++i)
@@ -72,13 +83,61 @@ void accumulate(const ElasticTerm<Dim>& term, const Vector& p, const Matrix& bas
           }
         }
         y.block(0, kComponents * e, r, kComponents).noalias() = linear * Lw;
-        y.block(r, kComponents * e, num_pairs, kComponents).noalias() = 0.5 * quadratic * Lw;
+        if (with_pairs && quadratic_strain)
+          y.block(r, kComponents * e, num_pairs, kComponents).noalias() = 0.5 * quadratic * Lw;
+        else if (with_pairs)
+          y.block(r, kComponents * e, num_pairs, kComponents).setZero();
       }
-      local.selfadjointView<Eigen::Lower>().rankUpdate(y.leftCols(kComponents * count));
+      const auto block = y.leftCols(kComponents * count);
+      if (!weighted) {
+        local[0].selfadjointView<Eigen::Lower>().rankUpdate(block);
+        continue;
+      }
+      for (int j = 0; j < sets; ++j) {
+        scaled = block;
+        for (int e = 0; e < count; ++e)
+          scaled.middleCols(kComponents * e, kComponents) *= weights(term.elements()[start + e], j);
+        local[static_cast<std::size_t>(j)].noalias() += scaled * block.transpose();
+      }
     }
 #pragma omp critical
-    gram.triangularView<Eigen::Lower>() += local;
+    for (int j = 0; j < sets; ++j)
+      grams[static_cast<std::size_t>(j)].triangularView<Eigen::Lower>() += local[static_cast<std::size_t>(j)];
   }
+}
+
+// Accumulates the lower triangles of grams from every elastic term; returns the number of
+// elastic terms. allow_linear: the linear material is accepted too (without the pair part).
+int accumulate_model(const Model& model, const Vector& p, const Matrix& basis, const Matrix& weights,
+                     bool allow_linear, bool with_pairs, const char* who, std::vector<Matrix>& grams) {
+  const int r = static_cast<int>(basis.cols());
+  std::vector<int> pair(static_cast<std::size_t>(r) * r, 0);
+  for (int a = 0, k = 0; a < r; ++a)
+    for (int b = a; b < r; ++b, ++k)
+      pair[static_cast<std::size_t>(a * r + b)] = pair[static_cast<std::size_t>(b * r + a)] = k;
+  const Matrix basis_t = basis.transpose();
+  int elastic_terms = 0;
+  const auto material_ok = [&](const std::string& name, const std::string& term) {
+    if (name == "stvk" || (allow_linear && name == "linear")) return name == "stvk";
+    throw std::invalid_argument(std::string(who) + ": term '" + term + "' uses the material '" + name +
+                                "'; the exact polynomial precomputation needs StVK" +
+                                (allow_linear ? " or linear" : "") +
+                                " (other materials need a cubature rule)");
+  };
+  for (const auto& term : model.terms()) {
+    if (const auto* t3 = dynamic_cast<const ElasticTerm<3>*>(term.get())) {
+      const bool quadratic = material_ok(t3->material().name(), term->name());
+      accumulate<3>(*t3, p, basis_t, pair, weights, quadratic, with_pairs, grams);
+      ++elastic_terms;
+    } else if (const auto* t2 = dynamic_cast<const ElasticTerm<2>*>(term.get())) {
+      const bool quadratic = material_ok(t2->material().name(), term->name());
+      accumulate<2>(*t2, p, basis_t, pair, weights, quadratic, with_pairs, grams);
+      ++elastic_terms;
+    }
+  }
+  if (elastic_terms == 0) throw std::invalid_argument(std::string(who) + ": the model has no elastic term");
+  for (Matrix& g : grams) g.triangularView<Eigen::StrictlyUpper>() = g.transpose();
+  return elastic_terms;
 }
 
 }  // namespace
@@ -91,39 +150,63 @@ ReducedStvk::ReducedStvk(const Model& model, const Vector& p, const Matrix& basi
   r_ = static_cast<int>(basis.cols());
   if (r_ < 1) throw std::invalid_argument("ReducedStvk: empty basis");
   pairs_ = r_ * (r_ + 1) / 2;
-  pair_.assign(static_cast<std::size_t>(r_) * r_, 0);
-  for (int a = 0, k = 0; a < r_; ++a)
-    for (int b = a; b < r_; ++b, ++k)
-      pair_[static_cast<std::size_t>(a * r_ + b)] = pair_[static_cast<std::size_t>(b * r_ + a)] = k;
-  gram_ = Matrix::Zero(r_ + pairs_, r_ + pairs_);
-  const Matrix basis_t = basis.transpose();
-  int elastic_terms = 0;
-  for (const auto& term : model.terms()) {
-    if (const auto* t3 = dynamic_cast<const ElasticTerm<3>*>(term.get())) {
-      if (t3->material().name() != "stvk")
-        throw std::invalid_argument("ReducedStvk: term '" + term->name() + "' is not StVK");
-      accumulate<3>(*t3, p, basis_t, pair_, gram_);
-      ++elastic_terms;
-    } else if (const auto* t2 = dynamic_cast<const ElasticTerm<2>*>(term.get())) {
-      if (t2->material().name() != "stvk")
-        throw std::invalid_argument("ReducedStvk: term '" + term->name() + "' is not StVK");
-      accumulate<2>(*t2, p, basis_t, pair_, gram_);
-      ++elastic_terms;
-    }
-  }
-  if (elastic_terms == 0) throw std::invalid_argument("ReducedStvk: the model has no elastic term");
-  gram_.triangularView<Eigen::StrictlyUpper>() = gram_.transpose();
+  std::vector<Matrix> grams{Matrix::Zero(r_ + pairs_, r_ + pairs_)};
+  accumulate_model(model, p, basis, Matrix(), false, true, "ReducedStvk", grams);
+  gram_ = std::move(grams[0]);
 #ifdef _OPENMP
   threads_ = omp_get_max_threads();
 #endif
   precomputation_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
 }
 
+std::vector<Matrix> reduced_stvk_coefficients(const Model& model, const Vector& p, const Matrix& basis,
+                                              const Matrix& element_weights) {
+  if (basis.rows() != model.num_dofs())
+    throw std::invalid_argument("reduced_stvk_coefficients: the basis has " + std::to_string(basis.rows()) +
+                                " rows, the model " + std::to_string(model.num_dofs()) + " DOFs");
+  const int r = static_cast<int>(basis.cols());
+  if (r < 1) throw std::invalid_argument("reduced_stvk_coefficients: empty basis");
+  if (element_weights.cols() < 1) throw std::invalid_argument("reduced_stvk_coefficients: no weight column");
+  for (const auto& term : model.terms()) {
+    int top = -1;
+    if (const auto* t3 = dynamic_cast<const ElasticTerm<3>*>(term.get()))
+      for (int e : t3->elements()) top = std::max(top, e);
+    if (const auto* t2 = dynamic_cast<const ElasticTerm<2>*>(term.get()))
+      for (int e : t2->elements()) top = std::max(top, e);
+    if (top >= element_weights.rows())
+      throw std::invalid_argument("reduced_stvk_coefficients: the weights have " +
+                                  std::to_string(element_weights.rows()) + " rows, term '" + term->name() +
+                                  "' covers element " + std::to_string(top));
+  }
+  // Only linear materials: the pair part vanishes, so it is not computed (r x r matrices).
+  bool any_stvk = false;
+  for (const auto& term : model.terms()) {
+    if (const auto* t3 = dynamic_cast<const ElasticTerm<3>*>(term.get()))
+      any_stvk = any_stvk || t3->material().name() != "linear";
+    if (const auto* t2 = dynamic_cast<const ElasticTerm<2>*>(term.get()))
+      any_stvk = any_stvk || t2->material().name() != "linear";
+  }
+  const int width = any_stvk ? r + r * (r + 1) / 2 : r;
+  std::vector<Matrix> grams(static_cast<std::size_t>(element_weights.cols()), Matrix::Zero(width, width));
+  accumulate_model(model, p, basis, element_weights, true, any_stvk, "reduced_stvk_coefficients", grams);
+  return grams;
+}
+
 void ReducedStvk::evaluate(const Vector& q, double* energy, Vector* force, Matrix* stiffness) const {
   if (q.size() != r_)
     throw std::invalid_argument("ReducedStvk: q has " + std::to_string(q.size()) + " entries, expected " +
                                 std::to_string(r_));
-  const int r = r_, P = pairs_;
+  evaluate_stvk_polynomial(gram_, q, energy, force, stiffness);
+}
+
+void evaluate_stvk_polynomial(const Matrix& gram_, const Vector& q, double* energy, Vector* force,
+                              Matrix* stiffness) {
+  const int r = static_cast<int>(q.size()), P = r * (r + 1) / 2;
+  if (gram_.rows() != r + P || gram_.cols() != r + P)
+    throw std::invalid_argument("evaluate_stvk_polynomial: the coefficients are " +
+                                std::to_string(gram_.rows()) + " x " + std::to_string(gram_.cols()) +
+                                ", q has " + std::to_string(r) +
+                                " entries (expected r + r (r + 1) / 2 = " + std::to_string(r + P) + ")");
   Vector w(r + P);
   w.head(r) = q;
   for (int a = 0, k = r; a < r; ++a)

@@ -20,6 +20,8 @@
 //
 // Precomputation: one symmetric rank-k update per chunk of elements, in parallel (OpenMP),
 // O(mesh size * r^4). Plane strain (2D) uses the same formulas (E_33 = 0).
+#include <vector>
+
 #include "forward/core/model.hpp"
 #include "forward/reduction/reduced_elastic_model.hpp"
 
@@ -46,9 +48,28 @@ class ReducedStvk final : public ReducedElasticModel {
  private:
   int r_ = 0, pairs_ = 0;
   Matrix gram_;
-  std::vector<int> pair_;  // r x r (row-major): index of the pair (min(a,b), max(a,b))
   double precomputation_seconds_ = 0.0;
   int threads_ = 1;
 };
+
+// W, dW/dq and d2W/dq2 of W(q) = 1/2 w^T G w, w = [q; (q_a q_b)_{a <= b}], for a coefficient
+// matrix G laid out as ReducedStvk::coefficients() (only its lower triangle is read).
+void evaluate_stvk_polynomial(const Matrix& coefficients, const Vector& q, double* energy, Vector* force,
+                              Matrix* stiffness);
+
+// Coefficient matrices that are linear in per-element weights: with the Lame parameters of p,
+// column j of element_weights (one row per mesh element) gives
+//   G_j = sum_e element_weights(e, j) G_e(p),
+// G_e the element's contribution to ReducedStvk::coefficients(). Since the StVK and linear
+// energy densities are linear in Young's modulus at fixed Poisson's ratio, the coefficients of
+// the moduli E_e = E0_e (c_0 + sum_j w_j y_je) are sum_j w_j G_j plus c_0 G_0 for weights
+// E0-relative. Also accepts the linear material (the pair rows of its elements are zero: its
+// energy is the quadratic form of the linear strain); std::invalid_argument for any other
+// material (these need a cubature rule), a wrong size or a model without elastic terms.
+// When every elastic term is linear the pair part vanishes and is not computed: the matrices
+// are then r x r (W = 1/2 q^T G q); otherwise (r + P) x (r + P).
+// Cost O(mesh * columns * (r + P)^2).
+std::vector<Matrix> reduced_stvk_coefficients(const Model& model, const Vector& p, const Matrix& basis,
+                                              const Matrix& element_weights);
 
 }  // namespace tailor

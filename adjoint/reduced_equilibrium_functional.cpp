@@ -1,0 +1,241 @@
+#include "adjoint/reduced_equilibrium_functional.hpp"
+
+#include <Eigen/Cholesky>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "forward/reduction/reduced_stvk.hpp"
+
+namespace tailor {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// s(q) = [q; (q_a q_b)_{a <= b}] (or q alone without pairs).
+Vector lifted(const Vector& q, bool pairs) {
+  const int r = static_cast<int>(q.size());
+  if (!pairs) return q;
+  Vector s(r + r * (r + 1) / 2);
+  s.head(r) = q;
+  for (int a = 0, k = r; a < r; ++a)
+    for (int b = a; b < r; ++b, ++k) s[k] = q[a] * q[b];
+  return s;
+}
+
+// [v; J_s v]: the derivative of s(q) along v.
+Vector lifted_tangent(const Vector& q, const Vector& v, bool pairs) {
+  const int r = static_cast<int>(q.size());
+  if (!pairs) return v;
+  Vector s(r + r * (r + 1) / 2);
+  s.head(r) = v;
+  for (int a = 0, k = r; a < r; ++a)
+    for (int b = a; b < r; ++b, ++k) s[k] = q[a] * v[b] + v[a] * q[b];
+  return s;
+}
+
+}  // namespace
+
+ReducedEquilibriumFunctional::ReducedEquilibriumFunctional(ReducedEquilibriumData data,
+                                                           ReducedEquilibriumOptions options)
+    : data_(std::move(data)), options_(options) {
+  const auto fail = [](const std::string& what) {
+    throw std::invalid_argument("ReducedEquilibriumFunctional: " + what);
+  };
+  r_ = static_cast<int>(data_.load.size());
+  if (r_ < 1) fail("empty load (r = 0)");
+  const int width = static_cast<int>(data_.base.rows());
+  if (width == r_ + r_ * (r_ + 1) / 2)
+    quadratic_ = true;
+  else if (width != r_)
+    fail("the coefficients are " + std::to_string(width) + " wide; expected r = " + std::to_string(r_) +
+         " or r + r (r + 1) / 2 = " + std::to_string(r_ + r_ * (r_ + 1) / 2));
+  if (data_.base.cols() != width) fail("the base coefficients are not square");
+  if (data_.modes.empty()) fail("no design coordinate (no material mode)");
+  for (const Matrix& g : data_.modes)
+    if (g.rows() != width || g.cols() != width) fail("a mode's coefficients differ in size from the base");
+  if (data_.rows.cols() != r_) fail("the observation rows need r = " + std::to_string(r_) + " columns");
+  if (data_.target.size() != data_.rows.rows() || data_.row_weights.size() != data_.rows.rows())
+    fail("target and row weights need one entry per observation row");
+  if ((data_.row_weights.array() < 0.0).any()) fail("negative row weight");
+  if (data_.regularization.size() == 0) data_.regularization = Vector::Zero(size());
+  if (data_.regularization.size() != size()) fail("the regularization needs one entry per design coordinate");
+  if ((data_.regularization.array() < 0.0).any()) fail("negative regularization");
+  if (!(options_.tolerance > 0.0) || options_.max_iterations < 1) fail("bad Newton options");
+  if (data_.element_modes.size() > 0) {
+    if (data_.element_modes.cols() != size()) fail("the element modes need one column per design coordinate");
+    if (data_.element_weights.size() != data_.element_modes.rows()) fail("one element weight per element");
+    if (!(data_.positivity_floor > 0.0 && data_.positivity_floor < 1.0))
+      fail("positivity floor not in (0, 1)");
+    if (!(data_.positivity_weight >= 0.0)) fail("negative positivity weight");
+  }
+}
+
+Matrix ReducedEquilibriumFunctional::coefficients(const Vector& w) const {
+  if (w.size() != size())
+    throw std::invalid_argument("ReducedEquilibriumFunctional: w has " + std::to_string(w.size()) +
+                                " entries, expected " + std::to_string(size()));
+  Matrix g = data_.base;
+  for (int j = 0; j < size(); ++j) g.noalias() += w[j] * data_.modes[static_cast<std::size_t>(j)];
+  return g;
+}
+
+namespace {
+void evaluate_with(const Matrix& g, bool quadratic, const Vector& q, double* energy, Vector* force,
+                   Matrix* stiffness) {
+  if (quadratic) {
+    evaluate_stvk_polynomial(g, q, energy, force, stiffness);
+    return;
+  }
+  const Vector gq = g * q;
+  if (energy) *energy = 0.5 * q.dot(gq);
+  if (force) *force = gq;
+  if (stiffness) *stiffness = g;
+}
+}  // namespace
+
+void ReducedEquilibriumFunctional::evaluate(const Vector& q, const Vector& w, double* energy, Vector* force,
+                                            Matrix* stiffness) const {
+  if (q.size() != r_)
+    throw std::invalid_argument("ReducedEquilibriumFunctional: q has " + std::to_string(q.size()) +
+                                " entries, expected " + std::to_string(r_));
+  evaluate_with(coefficients(w), quadratic_, q, energy, force, stiffness);
+}
+
+const Vector& ReducedEquilibriumFunctional::solve(const Vector& w) {
+  if (have_state_ && w == w_) return q_;
+  const auto t0 = Clock::now();
+  const Matrix g = coefficients(w);
+  Vector q = (options_.warm_start && have_state_) ? q_ : Vector::Zero(r_);
+  const Vector& f = data_.load;
+  double energy = 0.0;
+  Vector force;
+  Matrix k;
+  bool converged = false;
+  int it = 0;
+  std::string why = "no convergence in " + std::to_string(options_.max_iterations) + " iterations";
+  for (; it <= options_.max_iterations; ++it) {
+    evaluate_with(g, quadratic_, q, &energy, &force, &k);
+    const Vector residual = force - f;
+    const double scale = std::max(f.norm(), force.norm());
+    if (!std::isfinite(residual.norm())) {
+      why = "non-finite residual";
+      break;
+    }
+    if (residual.norm() <= options_.tolerance * scale || scale == 0.0) {
+      converged = true;
+      break;
+    }
+    if (it == options_.max_iterations) break;
+    Vector step;
+    Eigen::LLT<Matrix> llt(k);
+    if (llt.info() == Eigen::Success) {
+      step = -llt.solve(residual);
+    } else {
+      Eigen::LDLT<Matrix> ldlt(k);
+      step = -ldlt.solve(residual);
+    }
+    if (!step.allFinite()) {
+      why = "singular reduced stiffness";
+      break;
+    }
+    // Backtracking on the potential W - f.q, or accept a smaller residual.
+    const double potential = energy - f.dot(q), slope = residual.dot(step);
+    double t = 1.0;
+    bool accepted = false;
+    for (int ls = 0; ls < 40 && !accepted; ++ls, t *= 0.5) {
+      const Vector trial = q + t * step;
+      double e_trial = 0.0;
+      Vector f_trial;
+      evaluate_with(g, quadratic_, trial, &e_trial, &f_trial, nullptr);
+      const double p_trial = e_trial - f.dot(trial);
+      if (std::isfinite(p_trial) && (p_trial <= potential + 1e-4 * t * std::min(slope, 0.0) ||
+                                     (f_trial - f).norm() < residual.norm())) {
+        q = trial;
+        accepted = true;
+      }
+    }
+    if (!accepted) {
+      why = "line search failed";
+      break;
+    }
+    if ((t * 2.0) * step.norm() <= 1e-15 * (1.0 + q.norm())) {
+      evaluate_with(g, quadratic_, q, &energy, &force, &k);
+      converged = true;
+      break;
+    }
+  }
+  ++counters_.forward_solves;
+  counters_.forward_seconds += seconds_since(t0);
+  last_iterations_ = it;
+  if (!converged) {
+    have_state_ = false;
+    throw EvaluationError("reduced equilibrium: " + why);
+  }
+  q_ = q;
+  w_ = w;
+  stiffness_ = k;
+  have_state_ = true;
+  return q_;
+}
+
+double ReducedEquilibriumFunctional::objective(const Vector& w) const {
+  const Vector misfit = data_.rows * q_ - data_.target;
+  return 0.5 * (data_.row_weights.array() * misfit.array().square()).sum() +
+         0.5 * (data_.regularization.array() * w.array().square()).sum();
+}
+
+double ReducedEquilibriumFunctional::positivity(const Vector& w, Vector* gradient) const {
+  if (data_.element_modes.size() == 0) return 0.0;
+  const Vector e = Vector::Ones(data_.element_modes.rows()) + data_.element_modes * w;
+  Eigen::Index worst = 0;
+  if (e.minCoeff(&worst) <= 0.0)
+    throw EvaluationError("reduced design: the relative modulus of element " + std::to_string(worst) +
+                          " is " + std::to_string(e[worst]) + " <= 0");
+  const double eps = data_.positivity_floor, kappa = data_.positivity_weight;
+  double penalty = 0.0;
+  Vector de = Vector::Zero(e.size());
+  bool active = false;
+  for (Eigen::Index k = 0; k < e.size(); ++k) {
+    const double d = (eps - e[k]) / eps;
+    if (d <= 0.0) continue;
+    active = true;
+    penalty += kappa / 3.0 * data_.element_weights[k] * d * d * d;
+    de[k] = -kappa * data_.element_weights[k] * d * d / eps;
+  }
+  if (gradient && active) gradient->noalias() += data_.element_modes.transpose() * de;
+  return penalty;
+}
+
+double ReducedEquilibriumFunctional::value(const Vector& w) {
+  ++counters_.evaluations;
+  const double penalty = positivity(w, nullptr);
+  solve(w);
+  return objective(w) + penalty;
+}
+
+double ReducedEquilibriumFunctional::value_and_gradient(const Vector& w, Vector& gradient) {
+  ++counters_.evaluations;
+  Vector penalty_gradient = Vector::Zero(size());
+  const double penalty = positivity(w, &penalty_gradient);
+  solve(w);
+  const auto t0 = Clock::now();
+  const Vector misfit = data_.rows * q_ - data_.target;
+  const Vector rhs = data_.rows.transpose() * data_.row_weights.cwiseProduct(misfit);
+  Eigen::LDLT<Matrix> ldlt(stiffness_);
+  const Vector lambda = ldlt.solve(rhs);
+  if (ldlt.info() != Eigen::Success || !lambda.allFinite())
+    throw EvaluationError("reduced adjoint: singular reduced stiffness");
+  const Vector s = lifted(q_, quadratic_), ls = lifted_tangent(q_, lambda, quadratic_);
+  gradient.resize(size());
+  for (int j = 0; j < size(); ++j)
+    gradient[j] = -ls.dot(data_.modes[static_cast<std::size_t>(j)] * s) + data_.regularization[j] * w[j] +
+                  penalty_gradient[j];
+  ++counters_.adjoint_solves;
+  counters_.adjoint_seconds += seconds_since(t0);
+  return objective(w) + penalty;
+}
+
+}  // namespace tailor

@@ -27,6 +27,7 @@ subset=(
   "forward_spline_material_tests|"
   "forward_rods_tests|"
   "forward_contact_tests|"
+  "forward_tori_tests|"                     # implicit torus distance, contact term, CCD, chains
   "forward_rigid_tests|"
   "forward_dynamics_tests|"
   "forward_damping_tests|"

@@ -14,6 +14,7 @@ void check_vertex(const DiscreteRod& rod, int vertex) {
 }  // namespace
 
 std::vector<int> clamped_end_dofs(const DiscreteRod& rod, RodEnd end) {
+  if (rod.closed()) throw std::invalid_argument("clamped_end_dofs: a closed rod has no ends");
   const int v0 = end == RodEnd::first ? 0 : rod.num_vertices() - 2;
   const int edge = end == RodEnd::first ? 0 : rod.num_edges() - 1;
   std::vector<int> dofs;
@@ -36,7 +37,7 @@ Eigen::VectorXd lumped_vertex_masses(const DiscreteRod& rod, const CrossSection&
   for (int j = 0; j < rod.num_edges(); ++j) {
     const double edge_mass = density * section.area_coefficient() * radius[j] * radius[j] * rest_length[j];
     m[j] += 0.5 * edge_mass;
-    m[j + 1] += 0.5 * edge_mass;
+    m[rod.edge_end(j)] += 0.5 * edge_mass;
   }
   return m;
 }

@@ -91,7 +91,35 @@ Eigen::MatrixX3d points_of(const json& r, const std::string& where) {
     for (int i = 0; i < n; ++i) x.row(i) = (a + (b - a) * (i / (n - 1.0))).transpose();
     return x;
   }
-  fail(where, "needs 'points' or 'line'");
+  if (r.contains("circle")) {
+    const json& c = r["circle"];
+    const std::string w = where + ".circle";
+    if (!c.is_object()) fail(w, "expected an object with radius and vertices");
+    const Eigen::Vector3d center = c.contains("center") ? vec3(c["center"], w + ".center") : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d normal = c.contains("normal") ? vec3(c["normal"], w + ".normal") : Eigen::Vector3d::UnitZ();
+    if (!(normal.norm() > 0.0)) fail(w + ".normal", "must be non-zero");
+    const double R = number(c, "radius", w);
+    if (!(R > 0.0) || !std::isfinite(R)) fail(w + ".radius", "must be positive");
+    const double start = number(c, "start_angle", w, 0.0);
+    const int n = integer(c, "vertices", w, {}, 3, kMaxRodVertices);
+    const Eigen::Vector3d z = normal.normalized();
+    Eigen::Index k = 0;
+    z.cwiseAbs().minCoeff(&k);
+    const Eigen::Vector3d u = (Eigen::Vector3d::Unit(k) - z[k] * z).normalized(), v = z.cross(u);
+    Eigen::MatrixX3d x(n, 3);
+    for (int i = 0; i < n; ++i) {
+      const double phi = start + 2.0 * M_PI * i / n;
+      x.row(i) = (center + R * (std::cos(phi) * u + std::sin(phi) * v)).transpose();
+    }
+    return x;
+  }
+  fail(where, "needs 'points', 'line' or 'circle'");
+}
+
+bool boolean(const json& j, const std::string& key, const std::string& where, bool fallback) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_boolean()) fail(where + "." + key, "expected true or false");
+  return j[key].get<bool>();
 }
 
 }  // namespace
@@ -130,6 +158,19 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     if (r.contains("name") && !r["name"].is_string()) fail(where + ".name", "expected a string");
     rod.name = r.value("name", "rod" + std::to_string(k));
     rod.points = points_of(r, where);
+    rod.closed = boolean(r, "closed", where, r.contains("circle"));
+    if (rod.closed && r.contains("line")) fail(where + ".closed", "a 'line' cannot be closed");
+    rod.closing_twist = number(r, "closing_twist", where, 0.0);
+    if (rod.closing_twist != 0.0 && !rod.closed) fail(where + ".closing_twist", "only for closed rods");
+    if (!std::isfinite(rod.closing_twist)) fail(where + ".closing_twist", "must be finite");
+    if (r.contains("rest_shape")) {
+      if (r["rest_shape"] == "drawn")
+        rod.straight_rest = false;
+      else if (r["rest_shape"] == "straight")
+        rod.straight_rest = true;
+      else
+        fail(where + ".rest_shape", "expected \"drawn\" or \"straight\"");
+    }
     const json cs = object_member(r, "cross_section", where);
     if (cs.contains("shape") && !cs["shape"].is_string())
       fail(where + ".cross_section.shape", "expected a string");
@@ -158,7 +199,14 @@ RodSceneSpec parse_rod_scene(const json& scene) {
       else
         fail(where + ".clamp", "expected \"first\" or \"last\"");
     }
+    if (rod.closed && !rod.clamped.empty()) fail(where + ".clamp", "a closed rod has no ends (use clamp_edges)");
     const int nv = static_cast<int>(rod.points.rows());
+    const int ne = rod.closed ? nv : nv - 1;
+    for (const auto& e : r.value("clamp_edges", json::array())) {
+      if (!e.is_number_integer() || e.get<std::int64_t>() < 0 || e.get<std::int64_t>() >= ne)
+        fail(where + ".clamp_edges", "edge out of range");
+      rod.clamped_edges.push_back(e.get<int>());
+    }
     for (const auto& v : r.value("pin", json::array())) {
       if (!v.is_number_integer() || v.get<std::int64_t>() < 0 || v.get<std::int64_t>() >= nv)
         fail(where + ".pin", "vertex out of range");
@@ -171,7 +219,7 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     }
     for (const auto& m : r.value("twisting_moments", json::array())) {
       if (!m.is_object()) fail(where + ".twisting_moments", "expected objects with edge and moment");
-      const int e = integer(m, "edge", where + ".twisting_moments", {}, 0, nv - 2);
+      const int e = integer(m, "edge", where + ".twisting_moments", {}, 0, ne - 1);
       rod.twisting_moments.emplace_back(e, number(m, "moment", where + ".twisting_moments"));
     }
     spec.rods.push_back(std::move(rod));
@@ -183,7 +231,7 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec) {
   int num_positions = 0, num_twists = 0;
   for (const auto& r : spec.rods)
     num_positions += 3 * static_cast<int>(r.points.rows()),
-        num_twists += static_cast<int>(r.points.rows()) - 1;
+        num_twists += static_cast<int>(r.points.rows()) - (r.closed ? 0 : 1);
   RodSceneModel m;
   m.model = std::make_unique<Model>(num_positions + num_twists);
   Model& model = *m.model;
@@ -192,7 +240,8 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec) {
   std::vector<int> fixed;
   int position_offset = 0, twist_offset = num_positions;
   for (const auto& r : spec.rods) {
-    auto rod = std::make_shared<DiscreteRod>(r.points, position_offset, twist_offset);
+    auto rod = std::make_shared<DiscreteRod>(r.points, position_offset, twist_offset, Eigen::Vector3d::Zero(),
+                                             r.closed ? RodTopology::closed : RodTopology::open);
     m.first_vertex.push_back(position_offset / 3);
     position_offset += 3 * rod->num_vertices();
     twist_offset += rod->num_edges();
@@ -206,6 +255,12 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec) {
     const auto& rod = m.rods[k];
     const RodParameterBlocks& blocks = m.blocks[k];
     write_rod_parameters(*rod, blocks, r.material, m.p);
+    if (r.straight_rest) {
+      m.p.segment(blocks.rest_curvature, 2 * rod->num_interior()).setZero();
+      m.p.segment(blocks.rest_twist, rod->num_interior()).setZero();
+    }
+    // Ends joined after twisting by closing_twist: m - mbar = closing_twist / n at each stencil.
+    m.p.segment(blocks.rest_twist, rod->num_interior()).array() -= r.closing_twist / rod->num_interior();
     model.add(std::make_unique<RodStretchingTerm>(rod, r.material.section, blocks));
     model.add(std::make_unique<RodBendingTerm>(rod, r.material.section, blocks));
     model.add(std::make_unique<RodTwistingTerm>(rod, r.material.section, blocks));
@@ -219,6 +274,11 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec) {
     for (const auto& [edge, moment] : r.twisting_moments) add_twisting_moment(*rod, edge, moment, forces);
     for (RodEnd end : r.clamped)
       for (int d : clamped_end_dofs(*rod, end)) fixed.push_back(d);
+    for (int e : r.clamped_edges) {
+      for (int d : pinned_vertex_dofs(*rod, e)) fixed.push_back(d);
+      for (int d : pinned_vertex_dofs(*rod, rod->edge_end(e))) fixed.push_back(d);
+      fixed.push_back(rod->twist_dof(e));
+    }
     for (int v : r.pinned)
       for (int d : pinned_vertex_dofs(*rod, v)) fixed.push_back(d);
   }

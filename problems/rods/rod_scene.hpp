@@ -25,7 +25,11 @@ struct RodSpec {
   Eigen::MatrixX3d points;
   RodMaterial material;
   double density = 0.0;  // [mass / length^3]
+  bool closed = false;           // a ring: the last vertex joins the first
+  double closing_twist = 0.0;    // closed rods: total twist imposed when the ends were joined [rad]
+  bool straight_rest = false;    // rest curvatures and twists zero (naturally straight rod)
   std::vector<RodEnd> clamped;
+  std::vector<int> clamped_edges;  // both vertices and the twist of each edge held
   std::vector<int> pinned;
   std::vector<RodPointLoad> point_loads;
   std::vector<std::pair<int, double>> twisting_moments;  // (edge, moment)

@@ -12,13 +12,21 @@
 #include <ostream>
 #include <stdexcept>
 
+#include <chrono>
+#include <cstdio>
+
 #include "forward/core/elimination.hpp"
+#include "forward/dynamics/inertia_term.hpp"
+#include "forward/dynamics/mass_operator.hpp"
 #include "forward/rods/bending_term.hpp"
 #include "forward/rods/stretching_term.hpp"
 #include "forward/rods/twisting_term.hpp"
 #include "forward/solve/newton.hpp"
 #include "problems/rods/rod_vtu.hpp"
+#include "problems/report_header.hpp"
 #include "problems/scene.hpp"
+#include "problems/scene_node.hpp"
+#include "problems/scene_parsing.hpp"
 
 namespace tailor {
 
@@ -224,6 +232,24 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     }
     spec.rods.push_back(std::move(rod));
   }
+  if (scene.contains("dynamics")) {
+    static const std::string kSource = "rods scene";
+    const json& dyn = scene["dynamics"];
+    DynamicsSpec d = parse_dynamics_section(SceneNode(dyn, kSource, "dynamics"), ".");
+    if (d.rayleigh_alpha > 0.0 || d.rayleigh_beta > 0.0)
+      fail("dynamics.rayleigh", "Rayleigh damping is not implemented for rod scenes");
+    if (d.objective) fail("dynamics.objective", "trajectory objectives are not implemented for rod scenes");
+    if (dyn.contains("mass") && dyn["mass"] != "lumped")
+      fail("dynamics.mass", "rods have a lumped mass only (\"lumped\")");
+    if (d.initial_velocity && d.initial_velocity->size() != 3)
+      fail("dynamics.initial_velocity", "expected 3 components");
+    if (scene.contains("load_steps")) fail("load_steps", "not used with a dynamics section (loads act from t = 0)");
+    for (std::size_t k = 0; k < spec.rods.size(); ++k)
+      if (!(spec.rods[k].density > 0.0))
+        fail("rods[" + std::to_string(k) + "].material.density", "a dynamic scene needs a positive density");
+    d.lumping = MassLumping::lumped;
+    spec.dynamics = d;
+  }
   return spec;
 }
 
@@ -289,7 +315,50 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec) {
   return m;
 }
 
+namespace {
+
+void write_report(const std::filesystem::path& path, const nlohmann::ordered_json& report) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+  f << report.dump(2) << "\n";
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+}
+
+nlohmann::ordered_json scene_summary(const RodSceneSpec& spec, const RodSceneModel& m) {
+  nlohmann::ordered_json rods = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < m.rods.size(); ++k)
+    rods.push_back({{"name", spec.rods[k].name},
+                    {"vertices", m.rods[k]->num_vertices()},
+                    {"edges", m.rods[k]->num_edges()},
+                    {"closed", m.rods[k]->closed()}});
+  return {{"source", spec.source}, {"rods", rods}, {"dofs", m.model->num_dofs()},
+          {"free_dofs", m.model->elimination().num_free()}};
+}
+
+// Energy of every term at x (terms of the same name summed), and their total.
+nlohmann::ordered_json energies(const Model& model, const Vector& x, const Vector& p, double* total) {
+  nlohmann::ordered_json e = nlohmann::ordered_json::object();
+  *total = 0.0;
+  for (const auto& term : model.terms()) {
+    const double v = term->value(x, p);
+    const std::string name = term->name();
+    e[name] = (e.contains(name) ? e[name].get<double>() : 0.0) + v;
+    *total += v;
+  }
+  return e;
+}
+
+// Norm of the free part of the model's gradient at x (the equilibrium residual).
+double free_residual(const Model& model, const Vector& x, const Vector& p) {
+  Vector g = Vector::Zero(x.size());
+  for (const auto& term : model.terms()) term->add_gradient(x, p, g);
+  return (model.elimination().basis().transpose() * g).norm();
+}
+
+}  // namespace
+
 RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
+  const auto start = std::chrono::steady_clock::now();
   RodSceneModel m = build_rod_model(spec);
   Model& model = *m.model;
   auto& load = *m.load;
@@ -303,6 +372,8 @@ RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir
   NewtonSolver newton(model, options);
   Vector y = model.elimination().restrict_state(rest);
   result.converged = true;
+  nlohmann::ordered_json steps = nlohmann::ordered_json::array();
+  std::string message;
   // Load steps; the reference frames move to each converged state (time-parallel transport).
   for (int step = 1; step <= spec.load_steps && result.converged; ++step) {
     load.factor = static_cast<double>(step) / spec.load_steps;
@@ -311,13 +382,158 @@ RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir
     result.newton_iterations += r.iterations;
     result.state = model.state(y, p);
     for (auto& rod : rods) rod->update_reference_frames(result.state);
+    steps.push_back({{"step", step},
+                     {"load_factor", load.factor},
+                     {"iterations", r.iterations},
+                     {"initial_residual", r.initial_residual},
+                     {"final_residual", r.final_residual},
+                     {"converged", r.converged()}});
+    if (!r.converged()) message = "load step " + std::to_string(step) + ": " + r.message;
     if (log) *log << "load step " << step << "/" << spec.load_steps << ": " << r.report() << "\n";
   }
   std::filesystem::create_directories(out_dir);
   result.vtu_path = (std::filesystem::path(out_dir) / "rods.vtu").string();
   write_rods_vtu(result.vtu_path, outputs, result.state, p);
   if (log) *log << "wrote " << result.vtu_path << "\n";
+  nlohmann::ordered_json report;
+  add_report_header(report);
+  report["status"] = result.converged ? "converged" : "not_converged";
+  report["message"] = message;
+  report["scene"] = scene_summary(spec, m);
+  double total = 0.0;
+  report["energies"] = energies(model, result.state, p, &total);
+  report["energy"] = total;
+  report["residual"] = free_residual(model, result.state, p);
+  report["load_steps"] = spec.load_steps;
+  report["newton_iterations"] = result.newton_iterations;
+  report["steps"] = steps;
+  report["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report["vtu"] = "rods.vtu";
+  result.report_path = (std::filesystem::path(out_dir) / "report.json").string();
+  write_report(result.report_path, report);
+  if (log) *log << "wrote " << result.report_path << "\n";
   return result;
+}
+
+Vector rod_scene_mass_diagonal(const RodSceneSpec& spec, const RodSceneModel& m) {
+  Vector diagonal = Vector::Zero(m.model->num_dofs());
+  for (std::size_t k = 0; k < m.rods.size(); ++k) {
+    const DiscreteRod& rod = *m.rods[k];
+    const RodParameterBlocks& b = m.blocks[k];
+    add_rod_mass_diagonal(rod, spec.rods[k].material.section, spec.rods[k].density,
+                          m.p.segment(b.radius, rod.num_edges()), m.p.segment(b.rest_length, rod.num_edges()),
+                          diagonal);
+  }
+  return diagonal;
+}
+
+InertiaTerm& add_rod_inertia(RodSceneModel& m, Vector diagonal) {
+  return m.model->add(std::make_unique<InertiaTerm>(std::make_shared<const MassOperator>(std::move(diagonal))));
+}
+
+RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, const Vector& x0, const Vector& v0,
+                              const std::string& out_dir, std::ostream* log, const RodStepObserver& observer) {
+  const auto start = std::chrono::steady_clock::now();
+  Model& model = *m.model;
+  const Vector& p = m.p;
+  m.load->factor = 1.0;
+  for (auto& rod : m.rods) rod->update_reference_frames(x0);
+  TimeIntegratorOptions options;
+  options.scheme = dynamics.scheme;
+  options.time_step = dynamics.time_step;
+  TimeIntegrator integrator(model, options);
+  RodDynamicsRun run;
+  run.state = integrator.initial_state(x0, v0, p);
+  const bool files = !out_dir.empty();
+  const std::vector<RodOutput> outputs = m.outputs();
+  const std::filesystem::path dir(out_dir);
+  std::vector<double> frame_times;
+  auto record = [&](const DynamicState& s) {
+    run.time.push_back(s.time);
+    run.kinetic_energy.push_back(integrator.kinetic_energy(s.v, p));
+    run.potential_energy.push_back(integrator.potential_energy(s.x, p));
+    if (observer) observer(s);
+    if (files && (s.step % dynamics.output_every == 0 || s.step == dynamics.steps)) {
+      char name[32];
+      std::snprintf(name, sizeof name, "rods_%05d.vtu", s.step);
+      std::filesystem::create_directories(dir / "frames");
+      write_rods_vtu((dir / "frames" / name).string(), outputs, s.x, p);
+      run.frames.push_back(std::string("frames/") + name);
+      frame_times.push_back(s.time);
+    }
+  };
+  record(run.state);
+  run.completed = true;
+  for (int step = 1; step <= dynamics.steps; ++step) {
+    const NewtonResult r = integrator.step(run.state, p);
+    run.newton_iterations += r.iterations;
+    if (!r.converged()) {
+      run.completed = false;
+      run.message = "step " + std::to_string(step) + ": " + r.message;
+      if (log) *log << run.message << "\n";
+      break;
+    }
+    // Time-parallel transport of the reference frames to the new state.
+    for (auto& rod : m.rods) rod->update_reference_frames(run.state.x);
+    run.steps = step;
+    record(run.state);
+  }
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (log)
+    *log << "rod dynamics: " << run.steps << "/" << dynamics.steps << " steps of " << to_string(dynamics.scheme)
+         << ", h = " << dynamics.time_step << ", " << run.newton_iterations << " Newton iterations, "
+         << run.seconds << " s\n";
+  if (!files) return run;
+  std::filesystem::create_directories(dir);
+  run.pvd_path = (dir / "rods.pvd").string();
+  {
+    std::ofstream f(run.pvd_path);
+    f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
+    for (std::size_t k = 0; k < run.frames.size(); ++k)
+      f << "    <DataSet timestep=\"" << frame_times[k] << "\" file=\"" << run.frames[k] << "\"/>\n";
+    f << "  </Collection>\n</VTKFile>\n";
+    if (!f) throw std::runtime_error("cannot write " + run.pvd_path);
+  }
+  nlohmann::ordered_json report;
+  add_report_header(report);
+  report["status"] = run.completed ? "completed" : "failed";
+  report["message"] = run.message;
+  report["scheme"] = to_string(dynamics.scheme);
+  report["time_step"] = dynamics.time_step;
+  report["steps_requested"] = dynamics.steps;
+  report["steps"] = run.steps;
+  report["newton_iterations"] = run.newton_iterations;
+  report["seconds"] = run.seconds;
+  double total = 0.0;
+  report["energies"] = energies(model, run.state.x, p, &total);  // includes the last step's inertia term
+  report["kinetic_energy"] = run.kinetic_energy.back();
+  report["potential_energy"] = run.potential_energy.back();
+  report["energy_initial"] = run.kinetic_energy.front() + run.potential_energy.front();
+  report["energy_final"] = run.kinetic_energy.back() + run.potential_energy.back();
+  report["series"] = {{"time", run.time},
+                      {"kinetic_energy", run.kinetic_energy},
+                      {"potential_energy", run.potential_energy}};
+  report["frames"] = run.frames;
+  report["pvd"] = "rods.pvd";
+  run.report_path = (dir / "report.json").string();
+  write_report(run.report_path, report);
+  if (log) *log << "wrote " << run.pvd_path << ", " << run.frames.size() << " frames and " << run.report_path << "\n";
+  return run;
+}
+
+RodDynamicsRun simulate_rod_dynamics(const RodSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
+  if (!spec.dynamics) throw SceneError("rods scene: no dynamics section");
+  RodSceneModel m = build_rod_model(spec);
+  add_rod_inertia(m, rod_scene_mass_diagonal(spec, m));
+  Vector v0 = Vector::Zero(m.rest.size());
+  if (spec.dynamics->initial_velocity)
+    for (const auto& rod : m.rods)
+      for (int v = 0; v < rod->num_vertices(); ++v)
+        v0.segment<3>(rod->position_dof(v, 0)) = *spec.dynamics->initial_velocity;
+  // Fixed DOFs keep their values (zero velocity).
+  const Vector x0 = m.model->elimination().expand(m.model->elimination().restrict_state(m.rest));
+  v0 = m.model->elimination().basis() * (m.model->elimination().basis().transpose() * v0);
+  return integrate_rods(m, *spec.dynamics, x0, v0, out_dir, log);
 }
 
 bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log) {
@@ -329,7 +545,9 @@ bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir
   } catch (const json::exception& e) {
     throw SceneError(path + ": invalid JSON: " + e.what());
   }
-  const RodSceneSpec spec = parse_rod_scene(document);
+  RodSceneSpec spec = parse_rod_scene(document);
+  spec.source = path;
+  if (spec.dynamics) return simulate_rod_dynamics(spec, out_dir, &log).completed;
   return simulate_rods(spec, out_dir, &log).converged;
 }
 

@@ -2,8 +2,10 @@
 // The "rods" scene section (docs/rods.md, "Scene keys"): rods parsed once into typed specs,
 // assembled into one Model (all rods' positions, then all twists), solved by Newton in load
 // steps (reference frames updated between steps), and written as .vtu polylines.
+#include <functional>
 #include <iosfwd>
 #include <memory>
+#include <optional>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
@@ -11,6 +13,7 @@
 #include "forward/core/model.hpp"
 #include "forward/rods/rod_parameters.hpp"
 #include "forward/rods/rod_supports.hpp"
+#include "problems/dynamic_scene.hpp"
 #include "problems/rods/rod_vtu.hpp"
 
 namespace tailor {
@@ -40,6 +43,9 @@ struct RodSceneSpec {
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   int load_steps = 1;
   int max_newton_iterations = 200;
+  // The "dynamics" section (docs/rods.md, "Dynamics"): time integration instead of load steps.
+  std::optional<DynamicsSpec> dynamics;
+  std::string source;  // the scene file, for reports (empty when parsed from memory)
 };
 
 // True when the JSON file has a top-level "rods" section.
@@ -81,11 +87,46 @@ struct RodSimulation {
   int newton_iterations = 0;
   Vector state;
   std::string vtu_path;
+  std::string report_path;
 };
 
-// Solves the scene's equilibrium and writes out_dir/rods.vtu.
+// Solves the scene's equilibrium and writes out_dir/rods.vtu and out_dir/report.json (status,
+// energies by term, the final residual, Newton iterations per load step, threads).
 RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir,
                             std::ostream* log = nullptr);
+
+// ---- Dynamics -------------------------------------------------------------------------------
+// The lumped diagonal mass of all rods of a scene model: each rod's vertex masses on its
+// position DOFs and its edges' twist inertias rho (I1 + I2) L on its twist DOFs
+// (add_rod_mass_diagonal, forward/rods/rod_supports.hpp), from each rod's density.
+Vector rod_scene_mass_diagonal(const RodSceneSpec& spec, const RodSceneModel& m);
+// Adds the InertiaTerm of a fixed diagonal mass to m.model (one per model).
+InertiaTerm& add_rod_inertia(RodSceneModel& m, Vector diagonal);
+
+struct RodDynamicsRun {
+  bool completed = false;
+  std::string message;  // why it stopped early
+  int steps = 0, newton_iterations = 0;
+  double seconds = 0.0;
+  std::vector<double> time, kinetic_energy, potential_energy;  // at every step, step 0 included
+  DynamicState state;                                           // the last one
+  std::vector<std::string> frames;                              // .vtu files written
+  std::string pvd_path, report_path;
+};
+using RodStepObserver = std::function<void(const DynamicState&)>;
+
+// Integrates m (which holds an InertiaTerm, add_rod_inertia) in time with the scheme of
+// `dynamics` from positions x0 and velocities v0 (full DOF space); the loads act from t = 0 at
+// factor 1. After every step the rods' reference frames move to the new state (time-parallel
+// transport; the material frames are unchanged by the update, so the state stays valid). With a
+// non-empty out_dir: out_dir/frames/rods_<step>.vtu every output_every steps (and the last),
+// out_dir/rods.pvd and out_dir/report.json. `observer` sees every state, step 0 included.
+RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, const Vector& x0, const Vector& v0,
+                              const std::string& out_dir, std::ostream* log = nullptr,
+                              const RodStepObserver& observer = {});
+// The scene's dynamics from rest positions with dynamics.initial_velocity on every vertex.
+RodDynamicsRun simulate_rod_dynamics(const RodSceneSpec& spec, const std::string& out_dir,
+                                     std::ostream* log = nullptr);
 // `tailor simulate` for a rod scene file; returns true when Newton converged at every step.
 bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log);
 

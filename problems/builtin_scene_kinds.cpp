@@ -155,9 +155,6 @@ int gradcheck_rigid(const SceneFile& file, const VerbArguments& args, std::ostre
 }
 
 int simulate_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  if (args.resume || args.checkpoint_every)
-    throw UsageError("--resume and --checkpoint-every are not implemented for rod scenes (a rod simulation "
-                     "always starts from the drawn rest state)");
   return exit_code(simulate_rod_scene_file(file.path, args.out_dir_or("out/rods"), out));
 }
 

@@ -232,6 +232,56 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     }
     spec.rods.push_back(std::move(rod));
   }
+  if (scene.contains("joints")) {
+    const json& joints = scene["joints"];
+    if (!joints.is_array()) fail("joints", "expected an array of joints");
+    double extent = 0.0;
+    for (const auto& r : spec.rods)
+      extent = std::max(extent, (r.points.colwise().maxCoeff() - r.points.colwise().minCoeff()).norm());
+    for (std::size_t k = 0; k < joints.size(); ++k) {
+      const json& j = joints[k];
+      const std::string where = "joints[" + std::to_string(k) + "]";
+      if (!j.is_object()) fail(where, "expected an object with type and rods");
+      for (const auto& [key, value] : j.items())
+        if (key != "type" && key != "rods") fail(where + "." + key, "unknown key (expected type, rods)");
+      if (j.contains("type") && j["type"] != "pinned")
+        fail(where + ".type", "expected \"pinned\" (rigid joints are not implemented)");
+      if (!j.contains("rods") || !j["rods"].is_array() || j["rods"].size() < 2)
+        fail(where + ".rods", "expected at least 2 members {\"rod\": name or index, \"vertex\": v}");
+      RodJointSpec joint;
+      for (std::size_t m = 0; m < j["rods"].size(); ++m) {
+        const json& member = j["rods"][m];
+        const std::string w = where + ".rods[" + std::to_string(m) + "]";
+        if (!member.is_object() || !member.contains("rod") || !member.contains("vertex"))
+          fail(w, "expected {\"rod\": name or index, \"vertex\": v}");
+        int rod = -1;
+        if (member["rod"].is_string()) {
+          for (std::size_t q = 0; q < spec.rods.size(); ++q)
+            if (spec.rods[q].name == member["rod"].get<std::string>()) rod = static_cast<int>(q);
+          if (rod < 0) fail(w + ".rod", "no rod named '" + member["rod"].get<std::string>() + "'");
+        } else {
+          rod = integer(member, "rod", w, {}, 0, static_cast<int>(spec.rods.size()) - 1);
+        }
+        const int nv = static_cast<int>(spec.rods[static_cast<std::size_t>(rod)].points.rows());
+        int vertex = 0;
+        if (member["vertex"] == "first")
+          vertex = 0;
+        else if (member["vertex"] == "last")
+          vertex = nv - 1;
+        else
+          vertex = integer(member, "vertex", w, {}, 0, nv - 1);
+        for (const auto& [r0, v0] : joint.members) {
+          if (r0 == rod) fail(w, "a joint joins different rods (rod " + std::to_string(rod) + " twice)");
+          const double gap = (spec.rods[static_cast<std::size_t>(r0)].points.row(v0) -
+                              spec.rods[static_cast<std::size_t>(rod)].points.row(vertex)).norm();
+          if (gap > 1e-9 * extent)
+            fail(w, "the vertex is " + std::to_string(gap) + " away from the joint's first vertex");
+        }
+        joint.members.emplace_back(rod, vertex);
+      }
+      spec.joints.push_back(std::move(joint));
+    }
+  }
   if (scene.contains("dynamics")) {
     static const std::string kSource = "rods scene";
     const json& dyn = scene["dynamics"];
@@ -252,6 +302,47 @@ RodSceneSpec parse_rod_scene(const json& scene) {
   }
   return spec;
 }
+
+namespace {
+
+// x = x0 + S y with the fixed DOFs at their values and each group of tied DOFs one unknown (the
+// groups' DOFs must have equal values in `values`). A group with a fixed DOF is fixed.
+Elimination tied_dirichlet(const std::vector<int>& fixed, const std::vector<std::vector<int>>& ties,
+                           const Vector& values) {
+  const int n = static_cast<int>(values.size());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) parent[static_cast<std::size_t>(i)] = i;
+  auto find = [&](int i) {
+    while (parent[static_cast<std::size_t>(i)] != i)
+      i = parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+    return i;
+  };
+  for (const auto& group : ties)
+    for (std::size_t k = 1; k < group.size(); ++k) {
+      const int a = find(group[0]), b = find(group[k]);
+      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+    }
+  std::vector<char> root_fixed(static_cast<std::size_t>(n), 0);
+  for (int d : fixed) root_fixed[static_cast<std::size_t>(find(d))] = 1;
+  std::vector<int> column(static_cast<std::size_t>(n), -1);
+  Vector x0 = Vector::Zero(n);
+  Triplets triplets;
+  int columns = 0;
+  for (int i = 0; i < n; ++i) {
+    const int root = find(i);
+    if (root_fixed[static_cast<std::size_t>(root)]) {
+      x0[i] = values[i];
+      continue;
+    }
+    if (column[static_cast<std::size_t>(root)] < 0) column[static_cast<std::size_t>(root)] = columns++;
+    triplets.emplace_back(i, column[static_cast<std::size_t>(root)], 1.0);
+  }
+  SparseMatrix S(n, columns);
+  S.setFromTriplets(triplets.begin(), triplets.end());
+  return Elimination(std::move(x0), std::move(S));
+}
+
+}  // namespace
 
 RodSceneModel build_rod_model(const RodSceneSpec& spec) {
   int num_positions = 0, num_twists = 0;
@@ -310,7 +401,23 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec) {
   }
   std::sort(fixed.begin(), fixed.end());
   fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
-  model.set_elimination(Elimination::dirichlet(fixed, m.rest));
+  // Pinned joints: the members' position DOFs tied (free rotation: frames and twists stay apart).
+  std::vector<std::vector<int>> ties;
+  for (const RodJointSpec& joint : spec.joints)
+    for (int c = 0; c < 3; ++c) {
+      std::vector<int> group;
+      for (const auto& [rod, vertex] : joint.members)
+        group.push_back(m.rods[static_cast<std::size_t>(rod)]->position_dof(vertex, c));
+      ties.push_back(std::move(group));
+    }
+  if (ties.empty())
+    model.set_elimination(Elimination::dirichlet(fixed, m.rest));
+  else {
+    // The members coincide to 1e-9 of the scene's size: give them the first member's position.
+    for (const auto& group : ties)
+      for (std::size_t k = 1; k < group.size(); ++k) m.rest[group[k]] = m.rest[group[0]];
+    model.set_elimination(tied_dirichlet(fixed, ties, m.rest));
+  }
   m.load = &model.add(std::make_unique<RodLoadTerm>(forces));
   return m;
 }
@@ -532,7 +639,10 @@ RodDynamicsRun simulate_rod_dynamics(const RodSceneSpec& spec, const std::string
         v0.segment<3>(rod->position_dof(v, 0)) = *spec.dynamics->initial_velocity;
   // Fixed DOFs keep their values (zero velocity).
   const Vector x0 = m.model->elimination().expand(m.model->elimination().restrict_state(m.rest));
-  v0 = m.model->elimination().basis() * (m.model->elimination().basis().transpose() * v0);
+  const Elimination& elimination = m.model->elimination();
+  for (int i = 0; i < elimination.num_dofs(); ++i)
+    if (elimination.row_begin()[static_cast<std::size_t>(i) + 1] == elimination.row_begin()[static_cast<std::size_t>(i)])
+      v0[i] = 0.0;
   return integrate_rods(m, *spec.dynamics, x0, v0, out_dir, log);
 }
 

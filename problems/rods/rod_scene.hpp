@@ -38,8 +38,15 @@ struct RodSpec {
   std::vector<std::pair<int, double>> twisting_moments;  // (edge, moment)
 };
 
+// A pinned joint: the listed (rod, vertex) pairs share one position (their position DOFs are
+// tied in the elimination); the rods' frames and twists stay independent (free rotation).
+struct RodJointSpec {
+  std::vector<std::pair<int, int>> members;  // (rod index, vertex)
+};
+
 struct RodSceneSpec {
   std::vector<RodSpec> rods;
+  std::vector<RodJointSpec> joints;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   int load_steps = 1;
   int max_newton_iterations = 200;

@@ -344,22 +344,26 @@ Elimination tied_dirichlet(const std::vector<int>& fixed, const std::vector<std:
 
 }  // namespace
 
-RodSceneModel build_rod_model(const RodSceneSpec& spec) {
+RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& prefix) {
   int num_positions = 0, num_twists = 0;
   for (const auto& r : spec.rods)
     num_positions += 3 * static_cast<int>(r.points.rows()),
         num_twists += static_cast<int>(r.points.rows()) - (r.closed ? 0 : 1);
+  if (prefix.dofs > 0 && prefix.values.size() != prefix.dofs)
+    throw std::invalid_argument("build_rod_model: prefix values need one entry per prefix DOF");
   RodSceneModel m;
-  m.model = std::make_unique<Model>(num_positions + num_twists);
+  m.model = std::make_unique<Model>(prefix.dofs + num_positions + num_twists);
   Model& model = *m.model;
+  for (const auto& [name, size] : prefix.parameter_blocks) model.parameter_layout().add(name, size);
   m.rest = Vector::Zero(model.num_dofs());
+  if (prefix.dofs > 0) m.rest.head(prefix.dofs) = prefix.values;
   Vector forces = Vector::Zero(model.num_dofs());
-  std::vector<int> fixed;
-  int position_offset = 0, twist_offset = num_positions;
+  std::vector<int> fixed = prefix.fixed_dofs;
+  int position_offset = prefix.dofs, twist_offset = prefix.dofs + num_positions;
   for (const auto& r : spec.rods) {
     auto rod = std::make_shared<DiscreteRod>(r.points, position_offset, twist_offset, Eigen::Vector3d::Zero(),
                                              r.closed ? RodTopology::closed : RodTopology::open);
-    m.first_vertex.push_back(position_offset / 3);
+    m.first_vertex.push_back((position_offset - prefix.dofs) / 3);  // within the rods part
     position_offset += 3 * rod->num_vertices();
     twist_offset += rod->num_edges();
     m.blocks.push_back(add_rod_parameters(model.parameter_layout(), *rod, r.name));
@@ -465,8 +469,13 @@ double free_residual(const Model& model, const Vector& x, const Vector& p) {
 }  // namespace
 
 RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
-  const auto start = std::chrono::steady_clock::now();
   RodSceneModel m = build_rod_model(spec);
+  return solve_rod_model(m, spec, out_dir, log);
+}
+
+RodSimulation solve_rod_model(RodSceneModel& m, const RodSceneSpec& spec, const std::string& out_dir,
+                              std::ostream* log) {
+  const auto start = std::chrono::steady_clock::now();
   Model& model = *m.model;
   auto& load = *m.load;
   auto& rods = m.rods;
@@ -654,6 +663,11 @@ bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir
     document = json::parse(f);
   } catch (const json::exception& e) {
     throw SceneError(path + ": invalid JSON: " + e.what());
+  }
+  if (document.is_object() && document.contains("mesh")) {
+    const std::string directory = std::filesystem::path(path).parent_path().string();
+    return simulate_rods_with_fem(document, path, directory.empty() ? "." : directory, out_dir, &log)
+        .rods.converged;
   }
   RodSceneSpec spec = parse_rod_scene(document);
   spec.source = path;

@@ -75,7 +75,7 @@ class RodLoadTerm final : public EnergyTerm {
 };
 
 // All rods of a scene in one Model: every rod's positions (rod k's vertex v is the global
-// vertex first_vertex[k] + v, at x[3 (first_vertex[k] + v) + c]), then every rod's twists; the
+// vertex first_vertex[k] + v, at x[prefix + 3 (first_vertex[k] + v) + c]), then every rod's twists; the
 // three energy terms per rod, the supports eliminated, the loads at factor 1; p with the uniform
 // material and the stress-free rest shape of every rod.
 struct RodSceneModel {
@@ -87,8 +87,6 @@ struct RodSceneModel {
   RodLoadTerm* load = nullptr;
   std::vector<RodOutput> outputs() const;
 };
-RodSceneModel build_rod_model(const RodSceneSpec& spec);
-
 struct RodSimulation {
   bool converged = false;
   int newton_iterations = 0;
@@ -96,6 +94,21 @@ struct RodSimulation {
   std::string vtu_path;
   std::string report_path;
 };
+
+// DOFs and parameters placed before the rods' in the model (the FEM part of a scene with rods
+// and a mesh, problems/rods/rod_fem_scene.cpp): the rods' DOFs start at `dofs`, their parameter
+// blocks after `parameter_blocks`; `fixed_dofs` (< dofs) are held at `values` (size dofs).
+struct RodModelPrefix {
+  int dofs = 0;
+  std::vector<std::pair<std::string, int>> parameter_blocks;  // (name, size)
+  std::vector<int> fixed_dofs;
+  Vector values;
+};
+RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& prefix = {});
+// The load steps, frame updates, rods.vtu and report.json of simulate_rods on a built model.
+RodSimulation solve_rod_model(RodSceneModel& m, const RodSceneSpec& spec, const std::string& out_dir,
+                              std::ostream* log = nullptr);
+
 
 // Solves the scene's equilibrium and writes out_dir/rods.vtu and out_dir/report.json (status,
 // energies by term, the final residual, Newton iterations per load step, threads).
@@ -134,6 +147,20 @@ RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, co
 // The scene's dynamics from rest positions with dynamics.initial_velocity on every vertex.
 RodDynamicsRun simulate_rod_dynamics(const RodSceneSpec& spec, const std::string& out_dir,
                                      std::ostream* log = nullptr);
+// A scene with a "rods" section and a "mesh" section: the FEM body (the static scene's keys:
+// mesh, materials, dirichlet, loads, solver) and the rods in one Model, solved by one Newton
+// solve (they do not interact). Writes out_dir/rods.vtu, out_dir/result.vtu (the body,
+// deformed, with its displacement) and out_dir/report.json (energies by term of both).
+// Throws SceneError for load steps > 1, a "dynamics" or "inverse" section.
+struct RodFemSimulation {
+  RodSimulation rods;  // .state: the whole state (FEM DOFs first)
+  int fem_dofs = 0;
+  std::string fem_vtu_path;
+};
+RodFemSimulation simulate_rods_with_fem(const nlohmann::json& document, const std::string& source,
+                                        const std::string& directory, const std::string& out_dir,
+                                        std::ostream* log = nullptr);
+
 // `tailor simulate` for a rod scene file; returns true when Newton converged at every step.
 bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log);
 

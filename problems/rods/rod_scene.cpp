@@ -244,11 +244,12 @@ RodSceneSpec parse_rod_scene(const json& scene) {
       if (!j.is_object()) fail(where, "expected an object with type and rods");
       for (const auto& [key, value] : j.items())
         if (key != "type" && key != "rods") fail(where + "." + key, "unknown key (expected type, rods)");
-      if (j.contains("type") && j["type"] != "pinned")
-        fail(where + ".type", "expected \"pinned\" (rigid joints are not implemented)");
+      if (j.contains("type") && j["type"] != "pinned" && j["type"] != "rigid")
+        fail(where + ".type", "expected \"pinned\" or \"rigid\"");
       if (!j.contains("rods") || !j["rods"].is_array() || j["rods"].size() < 2)
         fail(where + ".rods", "expected at least 2 members {\"rod\": name or index, \"vertex\": v}");
       RodJointSpec joint;
+      joint.rigid = j.contains("type") && j["type"] == "rigid";
       for (std::size_t m = 0; m < j["rods"].size(); ++m) {
         const json& member = j["rods"][m];
         const std::string w = where + ".rods[" + std::to_string(m) + "]";
@@ -298,6 +299,10 @@ RodSceneSpec parse_rod_scene(const json& scene) {
       if (!(spec.rods[k].density > 0.0))
         fail("rods[" + std::to_string(k) + "].material.density", "a dynamic scene needs a positive density");
     d.lumping = MassLumping::lumped;
+    for (std::size_t k = 0; k < spec.joints.size(); ++k)
+      if (spec.joints[k].rigid)
+        fail("joints[" + std::to_string(k) + "].type",
+             "rigid joints are not implemented with a dynamics section (the joint has no rotary inertia)");
     spec.dynamics = d;
   }
   return spec;
@@ -345,14 +350,15 @@ Elimination tied_dirichlet(const std::vector<int>& fixed, const std::vector<std:
 }  // namespace
 
 RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& prefix) {
-  int num_positions = 0, num_twists = 0;
+  int num_positions = 0, num_twists = 0, num_rigid = 0;
   for (const auto& r : spec.rods)
     num_positions += 3 * static_cast<int>(r.points.rows()),
         num_twists += static_cast<int>(r.points.rows()) - (r.closed ? 0 : 1);
+  for (const auto& joint : spec.joints) num_rigid += joint.rigid ? 1 : 0;
   if (prefix.dofs > 0 && prefix.values.size() != prefix.dofs)
     throw std::invalid_argument("build_rod_model: prefix values need one entry per prefix DOF");
   RodSceneModel m;
-  m.model = std::make_unique<Model>(prefix.dofs + num_positions + num_twists);
+  m.model = std::make_unique<Model>(prefix.dofs + num_positions + num_twists + 3 * num_rigid);
   Model& model = *m.model;
   for (const auto& [name, size] : prefix.parameter_blocks) model.parameter_layout().add(name, size);
   m.rest = Vector::Zero(model.num_dofs());
@@ -421,6 +427,34 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& pr
     for (const auto& group : ties)
       for (std::size_t k = 1; k < group.size(); ++k) m.rest[group[k]] = m.rest[group[0]];
     model.set_elimination(tied_dirichlet(fixed, ties, m.rest));
+  }
+  // Rigid joints: a rotation vector per joint (after all twists, zero at rest), each member edge
+  // coupled to the joint's frame, stress-free in the drawn state.
+  int rotation_offset = prefix.dofs + num_positions + num_twists;
+  for (const RodJointSpec& joint : spec.joints) {
+    if (!joint.rigid) continue;
+    auto term = std::make_unique<RodRigidJointTerm>(rotation_offset);
+    rotation_offset += 3;
+    for (const auto& [rod_index, vertex] : joint.members) {
+      const auto& rod = m.rods[static_cast<std::size_t>(rod_index)];
+      const RodSpec& r = spec.rods[static_cast<std::size_t>(rod_index)];
+      const RodParameterBlocks& blocks = m.blocks[static_cast<std::size_t>(rod_index)];
+      std::vector<int> edges;
+      const int nv = rod->num_vertices();
+      if (rod->closed())
+        edges = {(vertex + nv - 1) % nv, vertex};
+      else {
+        if (vertex > 0) edges.push_back(vertex - 1);
+        if (vertex < nv - 1) edges.push_back(vertex);
+      }
+      for (int e : edges)
+        term->add_member(rod, e,
+                         rigid_joint_stiffness(r.material.section, r.material.youngs_modulus,
+                                               r.material.shear_modulus, m.p[blocks.radius + e],
+                                               m.p[blocks.rest_length + e]),
+                         m.rest);
+    }
+    m.rigid_joints.push_back(&model.add(std::move(term)));
   }
   m.load = &model.add(std::make_unique<RodLoadTerm>(forces));
   return m;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "forward/core/model.hpp"
+#include "forward/rods/rigid_joint_term.hpp"
 #include "forward/rods/rod_parameters.hpp"
 #include "forward/rods/rod_supports.hpp"
 #include "problems/dynamic_scene.hpp"
@@ -38,10 +39,14 @@ struct RodSpec {
   std::vector<std::pair<int, double>> twisting_moments;  // (edge, moment)
 };
 
-// A pinned joint: the listed (rod, vertex) pairs share one position (their position DOFs are
-// tied in the elimination); the rods' frames and twists stay independent (free rotation).
+// A joint: the listed (rod, vertex) pairs share one position (their position DOFs are tied in
+// the elimination). Pinned: the rods' frames and twists stay independent (free rotation).
+// Rigid: the joint also carries a rotation vector (three DOFs after all rods' twists), and every
+// member edge at the joint (the end edge at an end vertex, both edges at an interior one) is
+// coupled to the joint's frame by RodRigidJointTerm (forward/rods/rigid_joint_term.hpp).
 struct RodJointSpec {
   std::vector<std::pair<int, int>> members;  // (rod index, vertex)
+  bool rigid = false;
 };
 
 struct RodSceneSpec {
@@ -85,6 +90,7 @@ struct RodSceneModel {
   std::vector<int> first_vertex;
   Vector p, rest;
   RodLoadTerm* load = nullptr;
+  std::vector<RodRigidJointTerm*> rigid_joints;  // in the order of the rigid joints of the spec
   std::vector<RodOutput> outputs() const;
 };
 struct RodSimulation {

@@ -110,7 +110,7 @@ TEST(RodNetwork, BadJointsNameTheKey) {
   s["joints"][0]["rods"][1]["vertex"] = 0;  // not at the apex
   expect_error(s, "joints[0].rods[1]");
   s = shipped_frame();
-  s["joints"][0]["type"] = "rigid";
+  s["joints"][0]["type"] = "welded";
   expect_error(s, "joints[0].type");
   s = shipped_frame();
   s["joints"][0]["rods"][1]["rod"] = "middle";

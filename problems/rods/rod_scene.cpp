@@ -377,6 +377,8 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& pr
     m.rods.push_back(rod);
   }
   m.p = Vector::Zero(model.parameter_layout().size());
+  std::vector<RodBendingTerm*> bending;
+  std::vector<RodTwistingTerm*> twisting;
   for (std::size_t k = 0; k < m.rods.size(); ++k) {
     const RodSpec& r = spec.rods[k];
     const auto& rod = m.rods[k];
@@ -389,8 +391,8 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& pr
     // Ends joined after twisting by closing_twist: m - mbar = closing_twist / n at each stencil.
     m.p.segment(blocks.rest_twist, rod->num_interior()).array() -= r.closing_twist / rod->num_interior();
     model.add(std::make_unique<RodStretchingTerm>(rod, r.material.section, blocks));
-    model.add(std::make_unique<RodBendingTerm>(rod, r.material.section, blocks));
-    model.add(std::make_unique<RodTwistingTerm>(rod, r.material.section, blocks));
+    bending.push_back(&model.add(std::make_unique<RodBendingTerm>(rod, r.material.section, blocks)));
+    twisting.push_back(&model.add(std::make_unique<RodTwistingTerm>(rod, r.material.section, blocks)));
     if (r.density > 0.0)
       add_gravity_forces(*rod,
                          lumped_vertex_masses(*rod, r.material.section, r.density,
@@ -446,6 +448,13 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& pr
       else {
         if (vertex > 0) edges.push_back(vertex - 1);
         if (vertex < nv - 1) edges.push_back(vertex);
+      }
+      // At an interior vertex the two ghost stencils through the joint replace the rod's own
+      // bending and twisting stencil (in series they have its stiffness; keeping it would
+      // double the vertex's stiffness).
+      if (edges.size() == 2) {
+        bending[static_cast<std::size_t>(rod_index)]->omit_stencil(edges[0]);
+        twisting[static_cast<std::size_t>(rod_index)]->omit_stencil(edges[0]);
       }
       for (int e : edges)
         term->add_member(rod, e,

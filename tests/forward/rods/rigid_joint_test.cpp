@@ -97,6 +97,30 @@ TEST(RodRigidJoint, PerturbedDerivativeIsCaught) {
   EXPECT_FALSE(c.checks.front().passed) << c.table();
 }
 
+// A rigid joint at an interior vertex replaces the rod's stencil there: an omitted stencil
+// contributes nothing (the energy drops by exactly that stencil's share, which the reference
+// computes as the difference of two rods' energies) and the derivatives stay exact.
+TEST(RodRigidJoint, OmittedStencilLeavesTheEnergyAndStaysExact) {
+  testing::RodSetup s = testing::make_rod(helix(7, 1.0, 0.2, 0.6));
+  Vector x = s.rest + 0.1 * uniform_noise(s.model->num_dofs(), 6);
+  const double bend = s.bending->value(x, s.p), twist = s.twisting->value(x, s.p);
+  double shares = 0.0;
+  for (int k = 0; k < s.rod->num_interior(); ++k) {
+    testing::RodSetup t = testing::make_rod(helix(7, 1.0, 0.2, 0.6));
+    t.bending->omit_stencil(k);
+    shares += bend - t.bending->value(x, t.p);
+  }
+  EXPECT_NEAR(shares, bend, 1e-12 * bend);  // the omitted shares add up to the whole energy
+  s.bending->omit_stencil(2);
+  s.twisting->omit_stencil(2);
+  EXPECT_LT(s.bending->value(x, s.p), bend);
+  EXPECT_LT(s.twisting->value(x, s.p), twist);
+  const EnergyTermCheck cb = check_energy_term(*s.bending, x, s.p);
+  EXPECT_TRUE(cb.passed()) << cb.table();
+  const EnergyTermCheck ct = check_energy_term(*s.twisting, x, s.p);
+  EXPECT_TRUE(ct.passed()) << ct.table();
+}
+
 TEST(RodRigidJoint, BadMembersAreRefused) {
   JointSetup s = make_joint();
   EXPECT_THROW(s.joint->add_member(s.a, 5, Eigen::Vector3d::Ones(), s.rest), std::invalid_argument);

@@ -16,6 +16,18 @@ MassOperator::MassOperator(const Mesh& mesh, MassLumping lumping, int density_of
   if (elements_.cols() != nodes_) throw std::invalid_argument("MassOperator: elements must be simplices");
 }
 
+MassOperator::MassOperator(Vector diagonal)
+    : dim_(1),
+      nodes_(1),
+      num_dofs_(static_cast<int>(diagonal.size())),
+      density_offset_(0),
+      lumping_(MassLumping::lumped),
+      fixed_diagonal_(std::move(diagonal)) {
+  if (fixed_diagonal_.size() == 0) throw std::invalid_argument("MassOperator: empty diagonal mass");
+  if (!fixed_diagonal_.allFinite() || fixed_diagonal_.minCoeff() < 0.0)
+    throw std::invalid_argument("MassOperator: diagonal masses must be finite and non-negative");
+}
+
 double MassOperator::coefficient(int a, int b) const {
   // consistent: (1 + delta_ab) / ((d + 1)(d + 2)); lumped: its row sum 1 / (d + 1) on the diagonal.
   if (lumping_ == MassLumping::lumped) return a == b ? 1.0 / nodes_ : 0.0;
@@ -23,6 +35,10 @@ double MassOperator::coefficient(int a, int b) const {
 }
 
 void MassOperator::add_times(const Vector& p, const Vector& w, Vector& out, double scale) const {
+  if (is_fixed_diagonal()) {
+    out += scale * fixed_diagonal_.cwiseProduct(w);
+    return;
+  }
   for (int e = 0; e < num_elements(); ++e) {
     const double m = scale * p[density_offset_ + e] * volumes_[e];
     for (int a = 0; a < nodes_; ++a)
@@ -61,12 +77,17 @@ void MassOperator::add_density_jacobian(const Vector& w, Triplets& triplets, dou
 }
 
 std::size_t MassOperator::pattern_size() const {
+  if (is_fixed_diagonal()) return static_cast<std::size_t>(num_dofs_);
   const std::size_t per_element = lumping_ == MassLumping::lumped ? nodes_ * dim_ : nodes_ * nodes_ * dim_;
   return per_element * static_cast<std::size_t>(num_elements());
 }
 
 void MassOperator::hessian_pattern(HessianPattern& pattern) const {
   pattern.reserve(pattern.size() + pattern_size());
+  if (is_fixed_diagonal()) {
+    for (int i = 0; i < num_dofs_; ++i) pattern.push_back({i, i});
+    return;
+  }
   for (int e = 0; e < num_elements(); ++e)
     for (int a = 0; a < nodes_; ++a)
       for (int b = 0; b < nodes_; ++b) {
@@ -78,6 +99,10 @@ void MassOperator::hessian_pattern(HessianPattern& pattern) const {
 
 void MassOperator::hessian_values(const Vector& p, double scale, double* values) const {
   std::size_t k = 0;
+  if (is_fixed_diagonal()) {
+    for (int i = 0; i < num_dofs_; ++i) values[k++] = scale * fixed_diagonal_[i];
+    return;
+  }
   for (int e = 0; e < num_elements(); ++e) {
     const double m = scale * p[density_offset_ + e] * volumes_[e];
     for (int a = 0; a < nodes_; ++a)

@@ -14,6 +14,11 @@ namespace tailor {
 class MassOperator {
  public:
   MassOperator(const Mesh& mesh, MassLumping lumping, int density_offset);
+  // A fixed diagonal (lumped) mass, one entry per DOF [mass, or mass length^2 for rotational
+  // DOFs], independent of the parameters: the rods' vertex masses and twist inertias
+  // (forward/rods/rod_supports.hpp, rod_mass_diagonal). Its density gradients are zero.
+  explicit MassOperator(Vector diagonal);
+  bool is_fixed_diagonal() const { return fixed_diagonal_.size() > 0; }
 
   int dim() const { return dim_; }
   int num_dofs() const { return num_dofs_; }
@@ -41,6 +46,7 @@ class MassOperator {
   MassLumping lumping_;
   Eigen::MatrixXi elements_;
   Eigen::VectorXd volumes_;
+  Vector fixed_diagonal_;  // non-empty: a fixed diagonal mass (no elements)
 };
 
 }  // namespace tailor

@@ -19,14 +19,15 @@ std::array<int, rod_detail::kBendTwistDofs> RodBendingTerm::stencil_dofs(int int
 
 std::array<int, 8> RodBendingTerm::stencil_parameters(int i) const {
   const auto& b = blocks_;
+  const int k = rod_->next_edge(i);
   return {b.rest_curvature + 2 * i,
           b.rest_curvature + 2 * i + 1,
           b.youngs_modulus + i,
-          b.youngs_modulus + i + 1,
+          b.youngs_modulus + k,
           b.radius + i,
-          b.radius + i + 1,
+          b.radius + k,
           b.rest_length + i,
-          b.rest_length + i + 1};
+          b.rest_length + k};
 }
 
 std::array<rod_detail::BendTwistDual, 2> RodBendingTerm::strains(const Local& local, int interior) const {

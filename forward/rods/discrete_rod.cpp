@@ -38,22 +38,26 @@ double raw_reference_twist(const Eigen::Vector3d& t0, const Eigen::Vector3d& a0,
 }  // namespace
 
 DiscreteRod::DiscreteRod(Eigen::MatrixX3d rest_positions, int position_offset, int twist_offset,
-                         const Eigen::Vector3d& first_director)
+                         const Eigen::Vector3d& first_director, RodTopology topology)
     : rest_positions_(std::move(rest_positions)),
       position_offset_(position_offset),
-      twist_offset_(twist_offset) {
+      twist_offset_(twist_offset),
+      closed_(topology == RodTopology::closed) {
   const int n = num_vertices();
   if (n < 2) throw std::invalid_argument("DiscreteRod: needs at least 2 vertices, got " + std::to_string(n));
+  if (closed_ && n < 3)
+    throw std::invalid_argument("DiscreteRod: a closed rod needs at least 3 vertices, got " + std::to_string(n));
   if (position_offset < 0 || twist_offset < 0)
     throw std::invalid_argument("DiscreteRod: negative DOF offset");
-  const int pos_end = position_offset + 3 * n, twist_end = twist_offset + n - 1;
+  const int ne = num_edges();
+  const int pos_end = position_offset + 3 * n, twist_end = twist_offset + ne;
   if (position_offset < twist_end && twist_offset < pos_end)
     throw std::invalid_argument("DiscreteRod: position DOFs [" + std::to_string(position_offset) + ", " +
                                 std::to_string(pos_end) + ") overlap twist DOFs [" +
                                 std::to_string(twist_offset) + ", " + std::to_string(twist_end) + ")");
   if (!rest_positions_.allFinite()) throw std::invalid_argument("DiscreteRod: non-finite rest position");
-  for (int j = 0; j + 1 < n; ++j) {
-    const Eigen::Vector3d e = rest_positions_.row(j + 1) - rest_positions_.row(j);
+  for (int j = 0; j < ne; ++j) {
+    const Eigen::Vector3d e = rest_positions_.row(edge_end(j)) - rest_positions_.row(j);
     if (!(e.norm() > 0.0))
       throw std::invalid_argument("DiscreteRod: edge " + std::to_string(j) + " has zero rest length");
     tangents_.push_back(e.normalized());
@@ -63,14 +67,19 @@ DiscreteRod::DiscreteRod(Eigen::MatrixX3d rest_positions, int position_offset, i
   if (!d.allFinite() || (d - d.dot(t0) * t0).norm() <= 1e-12 * std::max(1.0, d.norm()))
     d = most_normal_axis(t0);
   directors_.push_back(normal_part(t0, d));
-  for (int j = 1; j + 1 < n; ++j) {
-    if (tangents_[j - 1].dot(tangents_[j]) <= -1.0 + 1e-14)
-      throw std::invalid_argument("DiscreteRod: edges " + std::to_string(j - 1) + " and " +
-                                  std::to_string(j) + " fold back onto each other at rest");
-    directors_.push_back(
-        normal_part(tangents_[j], parallel_transport(tangents_[j - 1], tangents_[j], directors_[j - 1])));
+  for (int j = 0; j < num_interior(); ++j) {
+    const int k = next_edge(j);
+    if (tangents_[j].dot(tangents_[k]) <= -1.0 + 1e-14)
+      throw std::invalid_argument("DiscreteRod: edges " + std::to_string(j) + " and " + std::to_string(k) +
+                                  " fold back onto each other at rest");
+    if (k != 0)
+      directors_.push_back(normal_part(tangents_[k], parallel_transport(tangents_[j], tangents_[k], directors_[j])));
   }
-  reference_twist_.assign(static_cast<std::size_t>(std::max(0, n - 2)), 0.0);
+  reference_twist_.assign(static_cast<std::size_t>(std::max(0, num_interior())), 0.0);
+  if (closed_) {  // the holonomy of space-parallel transport around the loop
+    const int last = ne - 1;
+    reference_twist_.back() = raw_reference_twist(tangents_[last], directors_[last], tangents_[0], directors_[0]);
+  }
 }
 
 int DiscreteRod::dof_end() const {
@@ -82,7 +91,7 @@ Eigen::Vector3d DiscreteRod::position(const Vector& x, int vertex) const {
 }
 
 Eigen::Vector3d DiscreteRod::edge_vector(const Vector& x, int edge) const {
-  return position(x, edge + 1) - position(x, edge);
+  return position(x, edge_end(edge)) - position(x, edge);
 }
 
 void DiscreteRod::write_rest_state(Vector& x) const {
@@ -95,7 +104,7 @@ void DiscreteRod::write_rest_state(Vector& x) const {
 Eigen::VectorXd DiscreteRod::rest_lengths() const {
   Eigen::VectorXd lengths(num_edges());
   for (int j = 0; j < num_edges(); ++j)
-    lengths[j] = (rest_positions_.row(j + 1) - rest_positions_.row(j)).norm();
+    lengths[j] = (rest_positions_.row(edge_end(j)) - rest_positions_.row(j)).norm();
   return lengths;
 }
 
@@ -116,9 +125,9 @@ Eigen::Matrix<double, 3, 2> DiscreteRod::material_frame(const Vector& x, int edg
 }
 
 double DiscreteRod::reference_twist(const Vector& x, int interior) const {
-  const int j = interior;
-  const Eigen::Vector3d t0 = edge_vector(x, j).normalized(), t1 = edge_vector(x, j + 1).normalized();
-  const double raw = raw_reference_twist(t0, reference_director(x, j), t1, reference_director(x, j + 1));
+  const int j = interior, k = next_edge(interior);
+  const Eigen::Vector3d t0 = edge_vector(x, j).normalized(), t1 = edge_vector(x, k).normalized();
+  const double raw = raw_reference_twist(t0, reference_director(x, j), t1, reference_director(x, k));
   return raw + rod_detail::nearest_branch_shift(raw, stored_reference_twist(interior));
 }
 

@@ -15,7 +15,7 @@ RodEndMomentTerm::RodEndMomentTerm(const DiscreteRod& rod, int edge, const Eigen
   if (!(axis.norm() > 0.0)) throw std::invalid_argument("RodEndMomentTerm: zero axis");
   dofs_ = rod_detail::edge_dofs(rod, edge);
   axis_ = axis.normalized();
-  const Eigen::Vector3d e = rod.rest_positions().row(edge + 1) - rod.rest_positions().row(edge);
+  const Eigen::Vector3d e = rod.rest_positions().row(rod.edge_end(edge)) - rod.rest_positions().row(edge);
   direction_ = e - e.dot(axis_) * axis_;
   if (!(direction_.norm() > 1e-12 * e.norm()))
     throw std::invalid_argument("RodEndMomentTerm: the edge is parallel to the moment's axis");

@@ -15,6 +15,7 @@
 //   StencilEnergy<S, Q> energy_density(const Eigen::Matrix<double, S, 1>& s,
 //                                      const Eigen::Matrix<double, Q, 1>& q, int k) const;
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -46,6 +47,15 @@ class RodStencilTerm : public EnergyTerm {
   using Local = Eigen::Matrix<double, N, 1>;
   using Strains = std::array<Dual2<N>, S>;
 
+  // Leaves stencil k out of the energy (a rigid joint at a rod's interior vertex replaces its
+  // bending and twisting stencil there, forward/rods/rigid_joint_term.hpp); its Hessian block
+  // stays in the pattern, with zeros.
+  void omit_stencil(int k) {
+    omitted_.resize(static_cast<std::size_t>(self().num_stencils()), 0);
+    omitted_.at(static_cast<std::size_t>(k)) = 1;
+  }
+  bool omitted(int k) const { return !omitted_.empty() && omitted_[static_cast<std::size_t>(k)] != 0; }
+
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override {
     const int num = self().num_stencils();
     const bool want_gradient = request.gradient != nullptr, want_hessian = request.hessian_values != nullptr;
@@ -54,6 +64,15 @@ class RodStencilTerm : public EnergyTerm {
 #pragma omp parallel for schedule(static) reduction(+ : energy) if (num > 512)
     for (int k = 0; k < num; ++k) {
       const auto dofs = self().stencil_dofs(k);
+      if (omitted(k)) {
+        if (want_gradient)
+          std::fill(local_gradients_.data() + static_cast<std::size_t>(k) * N,
+                    local_gradients_.data() + static_cast<std::size_t>(k + 1) * N, 0.0);
+        if (want_hessian)
+          std::fill(request.hessian_values + static_cast<std::size_t>(k) * N * N,
+                    request.hessian_values + static_cast<std::size_t>(k + 1) * N * N, 0.0);
+        continue;
+      }
       if (!want_gradient && !want_hessian) {
         energy += self().energy_density(self().strain_values(gather(x, dofs), k), parameters(p, k), k).value;
         continue;
@@ -101,6 +120,7 @@ class RodStencilTerm : public EnergyTerm {
 
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override {
     for (int k = 0; k < self().num_stencils(); ++k) {
+      if (omitted(k)) continue;
       const Strains s = self().strains(gather(x, self().stencil_dofs(k)), k);
       const auto W = self().energy_density(values(s), parameters(p, k), k);
       const auto params = self().stencil_parameters(k);
@@ -110,6 +130,7 @@ class RodStencilTerm : public EnergyTerm {
 
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override {
     for (int k = 0; k < self().num_stencils(); ++k) {
+      if (omitted(k)) continue;
       const auto dofs = self().stencil_dofs(k);
       const Strains s = self().strains(gather(x, dofs), k);
       const auto W = self().energy_density(values(s), parameters(p, k), k);
@@ -124,6 +145,7 @@ class RodStencilTerm : public EnergyTerm {
   void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
                                  Vector& gradient_p) const override {
     for (int k = 0; k < self().num_stencils(); ++k) {
+      if (omitted(k)) continue;
       const auto dofs = self().stencil_dofs(k);
       const Strains s = self().strains(gather(x, dofs), k);
       const auto W = self().energy_density(values(s), parameters(p, k), k);
@@ -159,6 +181,7 @@ class RodStencilTerm : public EnergyTerm {
  private:
   const Derived& self() const { return static_cast<const Derived&>(*this); }
   mutable std::vector<double> local_gradients_;
+  std::vector<char> omitted_;
 };
 
 }  // namespace tailor::rod_detail

@@ -14,6 +14,7 @@ void check_vertex(const DiscreteRod& rod, int vertex) {
 }  // namespace
 
 std::vector<int> clamped_end_dofs(const DiscreteRod& rod, RodEnd end) {
+  if (rod.closed()) throw std::invalid_argument("clamped_end_dofs: a closed rod has no ends");
   const int v0 = end == RodEnd::first ? 0 : rod.num_vertices() - 2;
   const int edge = end == RodEnd::first ? 0 : rod.num_edges() - 1;
   std::vector<int> dofs;
@@ -36,9 +37,31 @@ Eigen::VectorXd lumped_vertex_masses(const DiscreteRod& rod, const CrossSection&
   for (int j = 0; j < rod.num_edges(); ++j) {
     const double edge_mass = density * section.area_coefficient() * radius[j] * radius[j] * rest_length[j];
     m[j] += 0.5 * edge_mass;
-    m[j + 1] += 0.5 * edge_mass;
+    m[rod.edge_end(j)] += 0.5 * edge_mass;
   }
   return m;
+}
+
+Eigen::VectorXd lumped_twist_inertias(const DiscreteRod& rod, const CrossSection& section, double density,
+                                      const Eigen::VectorXd& radius, const Eigen::VectorXd& rest_length) {
+  if (radius.size() != rod.num_edges() || rest_length.size() != rod.num_edges())
+    throw std::invalid_argument("lumped_twist_inertias: radius and rest_length need one value per edge");
+  const double polar = section.bending_coefficient1() + section.bending_coefficient2();
+  Eigen::VectorXd inertia(rod.num_edges());
+  for (int j = 0; j < rod.num_edges(); ++j) {
+    const double r2 = radius[j] * radius[j];
+    inertia[j] = density * polar * r2 * r2 * rest_length[j];
+  }
+  return inertia;
+}
+
+void add_rod_mass_diagonal(const DiscreteRod& rod, const CrossSection& section, double density,
+                           const Eigen::VectorXd& radius, const Eigen::VectorXd& rest_length, Vector& diagonal) {
+  if (diagonal.size() < rod.dof_end()) throw std::invalid_argument("add_rod_mass_diagonal: diagonal too short");
+  const Eigen::VectorXd m = lumped_vertex_masses(rod, section, density, radius, rest_length);
+  const Eigen::VectorXd J = lumped_twist_inertias(rod, section, density, radius, rest_length);
+  for (int v = 0; v < rod.num_vertices(); ++v) diagonal.segment<3>(rod.position_dof(v, 0)).setConstant(m[v]);
+  for (int j = 0; j < rod.num_edges(); ++j) diagonal[rod.twist_dof(j)] = J[j];
 }
 
 void add_gravity_forces(const DiscreteRod& rod, const Eigen::VectorXd& vertex_masses,

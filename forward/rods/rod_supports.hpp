@@ -22,6 +22,19 @@ std::vector<int> pinned_vertex_dofs(const DiscreteRod& rod, int vertex);
 Eigen::VectorXd lumped_vertex_masses(const DiscreteRod& rod, const CrossSection& section, double density,
                                      const Eigen::VectorXd& radius, const Eigen::VectorXd& rest_length);
 
+// Twist inertias [mass length^2] of the edges: rho (I1 + I2)(r_j) L_j, the polar moment of area
+// of the section times the edge's rest length (the kinetic energy of the section spinning about
+// the tangent at rate dtheta/dt: with the time-parallel reference frame, which does not spin
+// about the tangent, dtheta/dt is the material frame's angular velocity about it). For a circle
+// I1 + I2 = J = pi r^4 / 2.
+Eigen::VectorXd lumped_twist_inertias(const DiscreteRod& rod, const CrossSection& section, double density,
+                                      const Eigen::VectorXd& radius, const Eigen::VectorXd& rest_length);
+// diagonal[position DOFs of vertex v] = vertex mass, diagonal[twist DOF of edge j] = twist
+// inertia (the two functions above): the rod's slice of a lumped diagonal mass (MassOperator's
+// fixed-diagonal form). Other entries are left unchanged.
+void add_rod_mass_diagonal(const DiscreteRod& rod, const CrossSection& section, double density,
+                           const Eigen::VectorXd& radius, const Eigen::VectorXd& rest_length, Vector& diagonal);
+
 // forces += m_v g on every vertex (g [length / time^2], masses from lumped_vertex_masses).
 void add_gravity_forces(const DiscreteRod& rod, const Eigen::VectorXd& vertex_masses,
                         const Eigen::Vector3d& g, Vector& forces);

@@ -19,8 +19,9 @@ std::array<int, rod_detail::kBendTwistDofs> RodTwistingTerm::stencil_dofs(int in
 
 std::array<int, 7> RodTwistingTerm::stencil_parameters(int i) const {
   const auto& b = blocks_;
-  return {b.rest_twist + i, b.shear_modulus + i, b.shear_modulus + i + 1, b.radius + i,
-          b.radius + i + 1, b.rest_length + i,   b.rest_length + i + 1};
+  const int k = rod_->next_edge(i);
+  return {b.rest_twist + i, b.shear_modulus + i, b.shear_modulus + k, b.radius + i,
+          b.radius + k,     b.rest_length + i,   b.rest_length + k};
 }
 
 std::array<rod_detail::BendTwistDual, 1> RodTwistingTerm::strains(const Local& local, int interior) const {

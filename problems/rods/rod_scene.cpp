@@ -12,13 +12,21 @@
 #include <ostream>
 #include <stdexcept>
 
+#include <chrono>
+#include <cstdio>
+
 #include "forward/core/elimination.hpp"
+#include "forward/dynamics/inertia_term.hpp"
+#include "forward/dynamics/mass_operator.hpp"
 #include "forward/rods/bending_term.hpp"
 #include "forward/rods/stretching_term.hpp"
 #include "forward/rods/twisting_term.hpp"
 #include "forward/solve/newton.hpp"
 #include "problems/rods/rod_vtu.hpp"
+#include "problems/report_header.hpp"
 #include "problems/scene.hpp"
+#include "problems/scene_node.hpp"
+#include "problems/scene_parsing.hpp"
 
 namespace tailor {
 
@@ -91,7 +99,35 @@ Eigen::MatrixX3d points_of(const json& r, const std::string& where) {
     for (int i = 0; i < n; ++i) x.row(i) = (a + (b - a) * (i / (n - 1.0))).transpose();
     return x;
   }
-  fail(where, "needs 'points' or 'line'");
+  if (r.contains("circle")) {
+    const json& c = r["circle"];
+    const std::string w = where + ".circle";
+    if (!c.is_object()) fail(w, "expected an object with radius and vertices");
+    const Eigen::Vector3d center = c.contains("center") ? vec3(c["center"], w + ".center") : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d normal = c.contains("normal") ? vec3(c["normal"], w + ".normal") : Eigen::Vector3d::UnitZ();
+    if (!(normal.norm() > 0.0)) fail(w + ".normal", "must be non-zero");
+    const double R = number(c, "radius", w);
+    if (!(R > 0.0) || !std::isfinite(R)) fail(w + ".radius", "must be positive");
+    const double start = number(c, "start_angle", w, 0.0);
+    const int n = integer(c, "vertices", w, {}, 3, kMaxRodVertices);
+    const Eigen::Vector3d z = normal.normalized();
+    Eigen::Index k = 0;
+    z.cwiseAbs().minCoeff(&k);
+    const Eigen::Vector3d u = (Eigen::Vector3d::Unit(k) - z[k] * z).normalized(), v = z.cross(u);
+    Eigen::MatrixX3d x(n, 3);
+    for (int i = 0; i < n; ++i) {
+      const double phi = start + 2.0 * M_PI * i / n;
+      x.row(i) = (center + R * (std::cos(phi) * u + std::sin(phi) * v)).transpose();
+    }
+    return x;
+  }
+  fail(where, "needs 'points', 'line' or 'circle'");
+}
+
+bool boolean(const json& j, const std::string& key, const std::string& where, bool fallback) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_boolean()) fail(where + "." + key, "expected true or false");
+  return j[key].get<bool>();
 }
 
 }  // namespace
@@ -130,6 +166,19 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     if (r.contains("name") && !r["name"].is_string()) fail(where + ".name", "expected a string");
     rod.name = r.value("name", "rod" + std::to_string(k));
     rod.points = points_of(r, where);
+    rod.closed = boolean(r, "closed", where, r.contains("circle"));
+    if (rod.closed && r.contains("line")) fail(where + ".closed", "a 'line' cannot be closed");
+    rod.closing_twist = number(r, "closing_twist", where, 0.0);
+    if (rod.closing_twist != 0.0 && !rod.closed) fail(where + ".closing_twist", "only for closed rods");
+    if (!std::isfinite(rod.closing_twist)) fail(where + ".closing_twist", "must be finite");
+    if (r.contains("rest_shape")) {
+      if (r["rest_shape"] == "drawn")
+        rod.straight_rest = false;
+      else if (r["rest_shape"] == "straight")
+        rod.straight_rest = true;
+      else
+        fail(where + ".rest_shape", "expected \"drawn\" or \"straight\"");
+    }
     const json cs = object_member(r, "cross_section", where);
     if (cs.contains("shape") && !cs["shape"].is_string())
       fail(where + ".cross_section.shape", "expected a string");
@@ -158,7 +207,14 @@ RodSceneSpec parse_rod_scene(const json& scene) {
       else
         fail(where + ".clamp", "expected \"first\" or \"last\"");
     }
+    if (rod.closed && !rod.clamped.empty()) fail(where + ".clamp", "a closed rod has no ends (use clamp_edges)");
     const int nv = static_cast<int>(rod.points.rows());
+    const int ne = rod.closed ? nv : nv - 1;
+    for (const auto& e : r.value("clamp_edges", json::array())) {
+      if (!e.is_number_integer() || e.get<std::int64_t>() < 0 || e.get<std::int64_t>() >= ne)
+        fail(where + ".clamp_edges", "edge out of range");
+      rod.clamped_edges.push_back(e.get<int>());
+    }
     for (const auto& v : r.value("pin", json::array())) {
       if (!v.is_number_integer() || v.get<std::int64_t>() < 0 || v.get<std::int64_t>() >= nv)
         fail(where + ".pin", "vertex out of range");
@@ -171,29 +227,149 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     }
     for (const auto& m : r.value("twisting_moments", json::array())) {
       if (!m.is_object()) fail(where + ".twisting_moments", "expected objects with edge and moment");
-      const int e = integer(m, "edge", where + ".twisting_moments", {}, 0, nv - 2);
+      const int e = integer(m, "edge", where + ".twisting_moments", {}, 0, ne - 1);
       rod.twisting_moments.emplace_back(e, number(m, "moment", where + ".twisting_moments"));
     }
     spec.rods.push_back(std::move(rod));
   }
+  if (scene.contains("joints")) {
+    const json& joints = scene["joints"];
+    if (!joints.is_array()) fail("joints", "expected an array of joints");
+    double extent = 0.0;
+    for (const auto& r : spec.rods)
+      extent = std::max(extent, (r.points.colwise().maxCoeff() - r.points.colwise().minCoeff()).norm());
+    for (std::size_t k = 0; k < joints.size(); ++k) {
+      const json& j = joints[k];
+      const std::string where = "joints[" + std::to_string(k) + "]";
+      if (!j.is_object()) fail(where, "expected an object with type and rods");
+      for (const auto& [key, value] : j.items())
+        if (key != "type" && key != "rods") fail(where + "." + key, "unknown key (expected type, rods)");
+      if (j.contains("type") && j["type"] != "pinned" && j["type"] != "rigid")
+        fail(where + ".type", "expected \"pinned\" or \"rigid\"");
+      if (!j.contains("rods") || !j["rods"].is_array() || j["rods"].size() < 2)
+        fail(where + ".rods", "expected at least 2 members {\"rod\": name or index, \"vertex\": v}");
+      RodJointSpec joint;
+      joint.rigid = j.contains("type") && j["type"] == "rigid";
+      for (std::size_t m = 0; m < j["rods"].size(); ++m) {
+        const json& member = j["rods"][m];
+        const std::string w = where + ".rods[" + std::to_string(m) + "]";
+        if (!member.is_object() || !member.contains("rod") || !member.contains("vertex"))
+          fail(w, "expected {\"rod\": name or index, \"vertex\": v}");
+        int rod = -1;
+        if (member["rod"].is_string()) {
+          for (std::size_t q = 0; q < spec.rods.size(); ++q)
+            if (spec.rods[q].name == member["rod"].get<std::string>()) rod = static_cast<int>(q);
+          if (rod < 0) fail(w + ".rod", "no rod named '" + member["rod"].get<std::string>() + "'");
+        } else {
+          rod = integer(member, "rod", w, {}, 0, static_cast<int>(spec.rods.size()) - 1);
+        }
+        const int nv = static_cast<int>(spec.rods[static_cast<std::size_t>(rod)].points.rows());
+        int vertex = 0;
+        if (member["vertex"] == "first")
+          vertex = 0;
+        else if (member["vertex"] == "last")
+          vertex = nv - 1;
+        else
+          vertex = integer(member, "vertex", w, {}, 0, nv - 1);
+        for (const auto& [r0, v0] : joint.members) {
+          if (r0 == rod) fail(w, "a joint joins different rods (rod " + std::to_string(rod) + " twice)");
+          const double gap = (spec.rods[static_cast<std::size_t>(r0)].points.row(v0) -
+                              spec.rods[static_cast<std::size_t>(rod)].points.row(vertex)).norm();
+          if (gap > 1e-9 * extent)
+            fail(w, "the vertex is " + std::to_string(gap) + " away from the joint's first vertex");
+        }
+        joint.members.emplace_back(rod, vertex);
+      }
+      spec.joints.push_back(std::move(joint));
+    }
+  }
+  if (scene.contains("dynamics")) {
+    static const std::string kSource = "rods scene";
+    const json& dyn = scene["dynamics"];
+    DynamicsSpec d = parse_dynamics_section(SceneNode(dyn, kSource, "dynamics"), ".");
+    if (d.rayleigh_alpha > 0.0 || d.rayleigh_beta > 0.0)
+      fail("dynamics.rayleigh", "Rayleigh damping is not implemented for rod scenes");
+    if (d.objective) fail("dynamics.objective", "trajectory objectives are not implemented for rod scenes");
+    if (dyn.contains("mass") && dyn["mass"] != "lumped")
+      fail("dynamics.mass", "rods have a lumped mass only (\"lumped\")");
+    if (d.initial_velocity && d.initial_velocity->size() != 3)
+      fail("dynamics.initial_velocity", "expected 3 components");
+    if (scene.contains("load_steps")) fail("load_steps", "not used with a dynamics section (loads act from t = 0)");
+    for (std::size_t k = 0; k < spec.rods.size(); ++k)
+      if (!(spec.rods[k].density > 0.0))
+        fail("rods[" + std::to_string(k) + "].material.density", "a dynamic scene needs a positive density");
+    d.lumping = MassLumping::lumped;
+    for (std::size_t k = 0; k < spec.joints.size(); ++k)
+      if (spec.joints[k].rigid)
+        fail("joints[" + std::to_string(k) + "].type",
+             "rigid joints are not implemented with a dynamics section (the joint has no rotary inertia)");
+    spec.dynamics = d;
+  }
   return spec;
 }
 
-RodSceneModel build_rod_model(const RodSceneSpec& spec) {
-  int num_positions = 0, num_twists = 0;
+namespace {
+
+// x = x0 + S y with the fixed DOFs at their values and each group of tied DOFs one unknown (the
+// groups' DOFs must have equal values in `values`). A group with a fixed DOF is fixed.
+Elimination tied_dirichlet(const std::vector<int>& fixed, const std::vector<std::vector<int>>& ties,
+                           const Vector& values) {
+  const int n = static_cast<int>(values.size());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) parent[static_cast<std::size_t>(i)] = i;
+  auto find = [&](int i) {
+    while (parent[static_cast<std::size_t>(i)] != i)
+      i = parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+    return i;
+  };
+  for (const auto& group : ties)
+    for (std::size_t k = 1; k < group.size(); ++k) {
+      const int a = find(group[0]), b = find(group[k]);
+      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+    }
+  std::vector<char> root_fixed(static_cast<std::size_t>(n), 0);
+  for (int d : fixed) root_fixed[static_cast<std::size_t>(find(d))] = 1;
+  std::vector<int> column(static_cast<std::size_t>(n), -1);
+  Vector x0 = Vector::Zero(n);
+  Triplets triplets;
+  int columns = 0;
+  for (int i = 0; i < n; ++i) {
+    const int root = find(i);
+    if (root_fixed[static_cast<std::size_t>(root)]) {
+      x0[i] = values[i];
+      continue;
+    }
+    if (column[static_cast<std::size_t>(root)] < 0) column[static_cast<std::size_t>(root)] = columns++;
+    triplets.emplace_back(i, column[static_cast<std::size_t>(root)], 1.0);
+  }
+  SparseMatrix S(n, columns);
+  S.setFromTriplets(triplets.begin(), triplets.end());
+  return Elimination(std::move(x0), std::move(S));
+}
+
+}  // namespace
+
+RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& prefix) {
+  int num_positions = 0, num_twists = 0, num_rigid = 0;
   for (const auto& r : spec.rods)
     num_positions += 3 * static_cast<int>(r.points.rows()),
-        num_twists += static_cast<int>(r.points.rows()) - 1;
+        num_twists += static_cast<int>(r.points.rows()) - (r.closed ? 0 : 1);
+  for (const auto& joint : spec.joints) num_rigid += joint.rigid ? 1 : 0;
+  if (prefix.dofs > 0 && prefix.values.size() != prefix.dofs)
+    throw std::invalid_argument("build_rod_model: prefix values need one entry per prefix DOF");
   RodSceneModel m;
-  m.model = std::make_unique<Model>(num_positions + num_twists);
+  m.model = std::make_unique<Model>(prefix.dofs + num_positions + num_twists + 3 * num_rigid);
   Model& model = *m.model;
+  for (const auto& [name, size] : prefix.parameter_blocks) model.parameter_layout().add(name, size);
   m.rest = Vector::Zero(model.num_dofs());
+  if (prefix.dofs > 0) m.rest.head(prefix.dofs) = prefix.values;
   Vector forces = Vector::Zero(model.num_dofs());
-  std::vector<int> fixed;
-  int position_offset = 0, twist_offset = num_positions;
+  std::vector<int> fixed = prefix.fixed_dofs;
+  int position_offset = prefix.dofs, twist_offset = prefix.dofs + num_positions;
   for (const auto& r : spec.rods) {
-    auto rod = std::make_shared<DiscreteRod>(r.points, position_offset, twist_offset);
-    m.first_vertex.push_back(position_offset / 3);
+    auto rod = std::make_shared<DiscreteRod>(r.points, position_offset, twist_offset, Eigen::Vector3d::Zero(),
+                                             r.closed ? RodTopology::closed : RodTopology::open);
+    m.first_vertex.push_back((position_offset - prefix.dofs) / 3);  // within the rods part
     position_offset += 3 * rod->num_vertices();
     twist_offset += rod->num_edges();
     m.blocks.push_back(add_rod_parameters(model.parameter_layout(), *rod, r.name));
@@ -201,14 +377,22 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec) {
     m.rods.push_back(rod);
   }
   m.p = Vector::Zero(model.parameter_layout().size());
+  std::vector<RodBendingTerm*> bending;
+  std::vector<RodTwistingTerm*> twisting;
   for (std::size_t k = 0; k < m.rods.size(); ++k) {
     const RodSpec& r = spec.rods[k];
     const auto& rod = m.rods[k];
     const RodParameterBlocks& blocks = m.blocks[k];
     write_rod_parameters(*rod, blocks, r.material, m.p);
+    if (r.straight_rest) {
+      m.p.segment(blocks.rest_curvature, 2 * rod->num_interior()).setZero();
+      m.p.segment(blocks.rest_twist, rod->num_interior()).setZero();
+    }
+    // Ends joined after twisting by closing_twist: m - mbar = closing_twist / n at each stencil.
+    m.p.segment(blocks.rest_twist, rod->num_interior()).array() -= r.closing_twist / rod->num_interior();
     model.add(std::make_unique<RodStretchingTerm>(rod, r.material.section, blocks));
-    model.add(std::make_unique<RodBendingTerm>(rod, r.material.section, blocks));
-    model.add(std::make_unique<RodTwistingTerm>(rod, r.material.section, blocks));
+    bending.push_back(&model.add(std::make_unique<RodBendingTerm>(rod, r.material.section, blocks)));
+    twisting.push_back(&model.add(std::make_unique<RodTwistingTerm>(rod, r.material.section, blocks)));
     if (r.density > 0.0)
       add_gravity_forces(*rod,
                          lumped_vertex_masses(*rod, r.material.section, r.density,
@@ -219,18 +403,122 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec) {
     for (const auto& [edge, moment] : r.twisting_moments) add_twisting_moment(*rod, edge, moment, forces);
     for (RodEnd end : r.clamped)
       for (int d : clamped_end_dofs(*rod, end)) fixed.push_back(d);
+    for (int e : r.clamped_edges) {
+      for (int d : pinned_vertex_dofs(*rod, e)) fixed.push_back(d);
+      for (int d : pinned_vertex_dofs(*rod, rod->edge_end(e))) fixed.push_back(d);
+      fixed.push_back(rod->twist_dof(e));
+    }
     for (int v : r.pinned)
       for (int d : pinned_vertex_dofs(*rod, v)) fixed.push_back(d);
   }
   std::sort(fixed.begin(), fixed.end());
   fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
-  model.set_elimination(Elimination::dirichlet(fixed, m.rest));
+  // Pinned joints: the members' position DOFs tied (free rotation: frames and twists stay apart).
+  std::vector<std::vector<int>> ties;
+  for (const RodJointSpec& joint : spec.joints)
+    for (int c = 0; c < 3; ++c) {
+      std::vector<int> group;
+      for (const auto& [rod, vertex] : joint.members)
+        group.push_back(m.rods[static_cast<std::size_t>(rod)]->position_dof(vertex, c));
+      ties.push_back(std::move(group));
+    }
+  if (ties.empty())
+    model.set_elimination(Elimination::dirichlet(fixed, m.rest));
+  else {
+    // The members coincide to 1e-9 of the scene's size: give them the first member's position.
+    for (const auto& group : ties)
+      for (std::size_t k = 1; k < group.size(); ++k) m.rest[group[k]] = m.rest[group[0]];
+    model.set_elimination(tied_dirichlet(fixed, ties, m.rest));
+  }
+  // Rigid joints: a rotation vector per joint (after all twists, zero at rest), each member edge
+  // coupled to the joint's frame, stress-free in the drawn state.
+  int rotation_offset = prefix.dofs + num_positions + num_twists;
+  for (const RodJointSpec& joint : spec.joints) {
+    if (!joint.rigid) continue;
+    auto term = std::make_unique<RodRigidJointTerm>(rotation_offset);
+    rotation_offset += 3;
+    for (const auto& [rod_index, vertex] : joint.members) {
+      const auto& rod = m.rods[static_cast<std::size_t>(rod_index)];
+      const RodSpec& r = spec.rods[static_cast<std::size_t>(rod_index)];
+      const RodParameterBlocks& blocks = m.blocks[static_cast<std::size_t>(rod_index)];
+      std::vector<int> edges;
+      const int nv = rod->num_vertices();
+      if (rod->closed())
+        edges = {(vertex + nv - 1) % nv, vertex};
+      else {
+        if (vertex > 0) edges.push_back(vertex - 1);
+        if (vertex < nv - 1) edges.push_back(vertex);
+      }
+      // At an interior vertex the two ghost stencils through the joint replace the rod's own
+      // bending and twisting stencil (in series they have its stiffness; keeping it would
+      // double the vertex's stiffness).
+      if (edges.size() == 2) {
+        bending[static_cast<std::size_t>(rod_index)]->omit_stencil(edges[0]);
+        twisting[static_cast<std::size_t>(rod_index)]->omit_stencil(edges[0]);
+      }
+      for (int e : edges)
+        term->add_member(rod, e,
+                         rigid_joint_stiffness(r.material.section, r.material.youngs_modulus,
+                                               r.material.shear_modulus, m.p[blocks.radius + e],
+                                               m.p[blocks.rest_length + e]),
+                         m.rest);
+    }
+    m.rigid_joints.push_back(&model.add(std::move(term)));
+  }
   m.load = &model.add(std::make_unique<RodLoadTerm>(forces));
   return m;
 }
 
+namespace {
+
+void write_report(const std::filesystem::path& path, const nlohmann::ordered_json& report) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+  f << report.dump(2) << "\n";
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+}
+
+nlohmann::ordered_json scene_summary(const RodSceneSpec& spec, const RodSceneModel& m) {
+  nlohmann::ordered_json rods = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < m.rods.size(); ++k)
+    rods.push_back({{"name", spec.rods[k].name},
+                    {"vertices", m.rods[k]->num_vertices()},
+                    {"edges", m.rods[k]->num_edges()},
+                    {"closed", m.rods[k]->closed()}});
+  return {{"source", spec.source}, {"rods", rods}, {"dofs", m.model->num_dofs()},
+          {"free_dofs", m.model->elimination().num_free()}};
+}
+
+// Energy of every term at x (terms of the same name summed), and their total.
+nlohmann::ordered_json energies(const Model& model, const Vector& x, const Vector& p, double* total) {
+  nlohmann::ordered_json e = nlohmann::ordered_json::object();
+  *total = 0.0;
+  for (const auto& term : model.terms()) {
+    const double v = term->value(x, p);
+    const std::string name = term->name();
+    e[name] = (e.contains(name) ? e[name].get<double>() : 0.0) + v;
+    *total += v;
+  }
+  return e;
+}
+
+// Norm of the free part of the model's gradient at x (the equilibrium residual).
+double free_residual(const Model& model, const Vector& x, const Vector& p) {
+  Vector g = Vector::Zero(x.size());
+  for (const auto& term : model.terms()) term->add_gradient(x, p, g);
+  return (model.elimination().basis().transpose() * g).norm();
+}
+
+}  // namespace
+
 RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
   RodSceneModel m = build_rod_model(spec);
+  return solve_rod_model(m, spec, out_dir, log);
+}
+
+RodSimulation solve_rod_model(RodSceneModel& m, const RodSceneSpec& spec, const std::string& out_dir,
+                              std::ostream* log) {
+  const auto start = std::chrono::steady_clock::now();
   Model& model = *m.model;
   auto& load = *m.load;
   auto& rods = m.rods;
@@ -243,6 +531,8 @@ RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir
   NewtonSolver newton(model, options);
   Vector y = model.elimination().restrict_state(rest);
   result.converged = true;
+  nlohmann::ordered_json steps = nlohmann::ordered_json::array();
+  std::string message;
   // Load steps; the reference frames move to each converged state (time-parallel transport).
   for (int step = 1; step <= spec.load_steps && result.converged; ++step) {
     load.factor = static_cast<double>(step) / spec.load_steps;
@@ -251,13 +541,161 @@ RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir
     result.newton_iterations += r.iterations;
     result.state = model.state(y, p);
     for (auto& rod : rods) rod->update_reference_frames(result.state);
+    steps.push_back({{"step", step},
+                     {"load_factor", load.factor},
+                     {"iterations", r.iterations},
+                     {"initial_residual", r.initial_residual},
+                     {"final_residual", r.final_residual},
+                     {"converged", r.converged()}});
+    if (!r.converged()) message = "load step " + std::to_string(step) + ": " + r.message;
     if (log) *log << "load step " << step << "/" << spec.load_steps << ": " << r.report() << "\n";
   }
   std::filesystem::create_directories(out_dir);
   result.vtu_path = (std::filesystem::path(out_dir) / "rods.vtu").string();
   write_rods_vtu(result.vtu_path, outputs, result.state, p);
   if (log) *log << "wrote " << result.vtu_path << "\n";
+  nlohmann::ordered_json report;
+  add_report_header(report);
+  report["status"] = result.converged ? "converged" : "not_converged";
+  report["message"] = message;
+  report["scene"] = scene_summary(spec, m);
+  double total = 0.0;
+  report["energies"] = energies(model, result.state, p, &total);
+  report["energy"] = total;
+  report["residual"] = free_residual(model, result.state, p);
+  report["load_steps"] = spec.load_steps;
+  report["newton_iterations"] = result.newton_iterations;
+  report["steps"] = steps;
+  report["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report["vtu"] = "rods.vtu";
+  result.report_path = (std::filesystem::path(out_dir) / "report.json").string();
+  write_report(result.report_path, report);
+  if (log) *log << "wrote " << result.report_path << "\n";
   return result;
+}
+
+Vector rod_scene_mass_diagonal(const RodSceneSpec& spec, const RodSceneModel& m) {
+  Vector diagonal = Vector::Zero(m.model->num_dofs());
+  for (std::size_t k = 0; k < m.rods.size(); ++k) {
+    const DiscreteRod& rod = *m.rods[k];
+    const RodParameterBlocks& b = m.blocks[k];
+    add_rod_mass_diagonal(rod, spec.rods[k].material.section, spec.rods[k].density,
+                          m.p.segment(b.radius, rod.num_edges()), m.p.segment(b.rest_length, rod.num_edges()),
+                          diagonal);
+  }
+  return diagonal;
+}
+
+InertiaTerm& add_rod_inertia(RodSceneModel& m, Vector diagonal) {
+  return m.model->add(std::make_unique<InertiaTerm>(std::make_shared<const MassOperator>(std::move(diagonal))));
+}
+
+RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, const Vector& x0, const Vector& v0,
+                              const std::string& out_dir, std::ostream* log, const RodStepObserver& observer) {
+  const auto start = std::chrono::steady_clock::now();
+  Model& model = *m.model;
+  const Vector& p = m.p;
+  m.load->factor = 1.0;
+  for (auto& rod : m.rods) rod->update_reference_frames(x0);
+  TimeIntegratorOptions options;
+  options.scheme = dynamics.scheme;
+  options.time_step = dynamics.time_step;
+  TimeIntegrator integrator(model, options);
+  RodDynamicsRun run;
+  run.state = integrator.initial_state(x0, v0, p);
+  const bool files = !out_dir.empty();
+  const std::vector<RodOutput> outputs = m.outputs();
+  const std::filesystem::path dir(out_dir);
+  std::vector<double> frame_times;
+  auto record = [&](const DynamicState& s) {
+    run.time.push_back(s.time);
+    run.kinetic_energy.push_back(integrator.kinetic_energy(s.v, p));
+    run.potential_energy.push_back(integrator.potential_energy(s.x, p));
+    if (observer) observer(s);
+    if (files && (s.step % dynamics.output_every == 0 || s.step == dynamics.steps)) {
+      char name[32];
+      std::snprintf(name, sizeof name, "rods_%05d.vtu", s.step);
+      std::filesystem::create_directories(dir / "frames");
+      write_rods_vtu((dir / "frames" / name).string(), outputs, s.x, p);
+      run.frames.push_back(std::string("frames/") + name);
+      frame_times.push_back(s.time);
+    }
+  };
+  record(run.state);
+  run.completed = true;
+  for (int step = 1; step <= dynamics.steps; ++step) {
+    const NewtonResult r = integrator.step(run.state, p);
+    run.newton_iterations += r.iterations;
+    if (!r.converged()) {
+      run.completed = false;
+      run.message = "step " + std::to_string(step) + ": " + r.message;
+      if (log) *log << run.message << "\n";
+      break;
+    }
+    // Time-parallel transport of the reference frames to the new state.
+    for (auto& rod : m.rods) rod->update_reference_frames(run.state.x);
+    run.steps = step;
+    record(run.state);
+  }
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (log)
+    *log << "rod dynamics: " << run.steps << "/" << dynamics.steps << " steps of " << to_string(dynamics.scheme)
+         << ", h = " << dynamics.time_step << ", " << run.newton_iterations << " Newton iterations, "
+         << run.seconds << " s\n";
+  if (!files) return run;
+  std::filesystem::create_directories(dir);
+  run.pvd_path = (dir / "rods.pvd").string();
+  {
+    std::ofstream f(run.pvd_path);
+    f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
+    for (std::size_t k = 0; k < run.frames.size(); ++k)
+      f << "    <DataSet timestep=\"" << frame_times[k] << "\" file=\"" << run.frames[k] << "\"/>\n";
+    f << "  </Collection>\n</VTKFile>\n";
+    if (!f) throw std::runtime_error("cannot write " + run.pvd_path);
+  }
+  nlohmann::ordered_json report;
+  add_report_header(report);
+  report["status"] = run.completed ? "completed" : "failed";
+  report["message"] = run.message;
+  report["scheme"] = to_string(dynamics.scheme);
+  report["time_step"] = dynamics.time_step;
+  report["steps_requested"] = dynamics.steps;
+  report["steps"] = run.steps;
+  report["newton_iterations"] = run.newton_iterations;
+  report["seconds"] = run.seconds;
+  double total = 0.0;
+  report["energies"] = energies(model, run.state.x, p, &total);  // includes the last step's inertia term
+  report["kinetic_energy"] = run.kinetic_energy.back();
+  report["potential_energy"] = run.potential_energy.back();
+  report["energy_initial"] = run.kinetic_energy.front() + run.potential_energy.front();
+  report["energy_final"] = run.kinetic_energy.back() + run.potential_energy.back();
+  report["series"] = {{"time", run.time},
+                      {"kinetic_energy", run.kinetic_energy},
+                      {"potential_energy", run.potential_energy}};
+  report["frames"] = run.frames;
+  report["pvd"] = "rods.pvd";
+  run.report_path = (dir / "report.json").string();
+  write_report(run.report_path, report);
+  if (log) *log << "wrote " << run.pvd_path << ", " << run.frames.size() << " frames and " << run.report_path << "\n";
+  return run;
+}
+
+RodDynamicsRun simulate_rod_dynamics(const RodSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
+  if (!spec.dynamics) throw SceneError("rods scene: no dynamics section");
+  RodSceneModel m = build_rod_model(spec);
+  add_rod_inertia(m, rod_scene_mass_diagonal(spec, m));
+  Vector v0 = Vector::Zero(m.rest.size());
+  if (spec.dynamics->initial_velocity)
+    for (const auto& rod : m.rods)
+      for (int v = 0; v < rod->num_vertices(); ++v)
+        v0.segment<3>(rod->position_dof(v, 0)) = *spec.dynamics->initial_velocity;
+  // Fixed DOFs keep their values (zero velocity).
+  const Vector x0 = m.model->elimination().expand(m.model->elimination().restrict_state(m.rest));
+  const Elimination& elimination = m.model->elimination();
+  for (int i = 0; i < elimination.num_dofs(); ++i)
+    if (elimination.row_begin()[static_cast<std::size_t>(i) + 1] == elimination.row_begin()[static_cast<std::size_t>(i)])
+      v0[i] = 0.0;
+  return integrate_rods(m, *spec.dynamics, x0, v0, out_dir, log);
 }
 
 bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log) {
@@ -269,7 +707,14 @@ bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir
   } catch (const json::exception& e) {
     throw SceneError(path + ": invalid JSON: " + e.what());
   }
-  const RodSceneSpec spec = parse_rod_scene(document);
+  if (document.is_object() && document.contains("mesh")) {
+    const std::string directory = std::filesystem::path(path).parent_path().string();
+    return simulate_rods_with_fem(document, path, directory.empty() ? "." : directory, out_dir, &log)
+        .rods.converged;
+  }
+  RodSceneSpec spec = parse_rod_scene(document);
+  spec.source = path;
+  if (spec.dynamics) return simulate_rod_dynamics(spec, out_dir, &log).completed;
   return simulate_rods(spec, out_dir, &log).converged;
 }
 

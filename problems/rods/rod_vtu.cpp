@@ -32,7 +32,7 @@ void write_rods_vtu(const std::string& path, const std::vector<RodOutput>& rods,
     << "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
   int base = 0;
   for (const auto& r : rods) {
-    for (int j = 0; j < r.rod->num_edges(); ++j) f << base + j << " " << base + j + 1 << "\n";
+    for (int j = 0; j < r.rod->num_edges(); ++j) f << base + j << " " << base + r.rod->edge_end(j) << "\n";
     base += r.rod->num_vertices();
   }
   f << "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
@@ -43,17 +43,19 @@ void write_rods_vtu(const std::string& path, const std::vector<RodOutput>& rods,
   array_header(f, "kappa", 2);
   for (const auto& r : rods)
     for (int v = 0; v < r.rod->num_vertices(); ++v) {
-      const bool interior = v > 0 && v + 1 < r.rod->num_vertices();
+      const bool interior = r.rod->closed() || (v > 0 && v + 1 < r.rod->num_vertices());
+      const int stencil = v == 0 ? r.rod->num_interior() - 1 : v - 1;  // stencil at vertex v
       const Eigen::Vector3d s =
-          interior ? bend_twist_strain_values(*r.rod, x, v - 1) : Eigen::Vector3d::Zero();
+          interior ? bend_twist_strain_values(*r.rod, x, stencil) : Eigen::Vector3d::Zero();
       f << s[0] << " " << s[1] << "\n";
     }
   f << "        </DataArray>\n";
   array_header(f, "twist", 1);
   for (const auto& r : rods)
     for (int v = 0; v < r.rod->num_vertices(); ++v) {
-      const bool interior = v > 0 && v + 1 < r.rod->num_vertices();
-      f << (interior ? bend_twist_strain_values(*r.rod, x, v - 1)[2] : 0.0) << "\n";
+      const bool interior = r.rod->closed() || (v > 0 && v + 1 < r.rod->num_vertices());
+      const int stencil = v == 0 ? r.rod->num_interior() - 1 : v - 1;
+      f << (interior ? bend_twist_strain_values(*r.rod, x, stencil)[2] : 0.0) << "\n";
     }
   f << "        </DataArray>\n      </PointData>\n      <CellData>\n";
   for (int c = 0; c < 2; ++c) {

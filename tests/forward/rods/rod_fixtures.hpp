@@ -27,10 +27,11 @@ struct RodSetup {
 // A rod through `positions` (rows), state layout [positions | twists], uniform material,
 // stress-free rest shape; the Model holds the three terms.
 inline RodSetup make_rod(const Eigen::MatrixX3d& positions, const RodMaterial& material = {},
-                         const Eigen::Vector3d& first_director = Eigen::Vector3d::Zero()) {
+                         const Eigen::Vector3d& first_director = Eigen::Vector3d::Zero(),
+                         RodTopology topology = RodTopology::open) {
   RodSetup s;
   const int nv = static_cast<int>(positions.rows());
-  s.rod = std::make_shared<DiscreteRod>(positions, 0, 3 * nv, first_director);
+  s.rod = std::make_shared<DiscreteRod>(positions, 0, 3 * nv, first_director, topology);
   s.model = std::make_unique<Model>(s.rod->dof_end());
   s.material = material;
   s.blocks = add_rod_parameters(s.model->parameter_layout(), *s.rod);

@@ -1,0 +1,89 @@
+// Rods next to an FEM body in one scene (scenes/rods/rods_and_beam.json): one Model and one
+// Newton solve for a Neo-Hookean beam and a rod cantilever, which do not interact. Reference:
+// each part solved on its own (the static FEM path, solve_static, and the rods path,
+// simulate_rods); the combined solve must reproduce both.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "problems/rods/rod_scene.hpp"
+#include "problems/scene.hpp"
+#include "problems/static_scene.hpp"
+
+namespace tailor {
+namespace {
+
+const std::string kScene = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/rods/rods_and_beam.json";
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream f(path);
+  return nlohmann::json::parse(f);
+}
+
+TEST(RodFemScene, EachPartMatchesItsSeparateSolve) {
+  const nlohmann::json document = read_json(kScene);
+  const auto dir = std::filesystem::temp_directory_path() / "tailor_rods_and_beam";
+  std::filesystem::remove_all(dir);
+  const RodFemSimulation both = simulate_rods_with_fem(document, kScene, ".", dir.string());
+  ASSERT_TRUE(both.rods.converged);
+  EXPECT_TRUE(std::filesystem::exists(both.fem_vtu_path));
+  EXPECT_TRUE(std::filesystem::exists(both.rods.vtu_path));
+  const nlohmann::json report = read_json(both.rods.report_path);
+  EXPECT_TRUE(report["energies"].contains("rod_bending"));
+  EXPECT_GE(report["energies"].size(), 5u);  // the FEM terms too
+
+  // The FEM part alone.
+  nlohmann::json fem = document;
+  fem.erase("rods");
+  const StaticSetup setup = setup_static_scene(parse_scene(fem.dump(), "fem", "."));
+  const StaticSolution alone = solve_static(setup);
+  ASSERT_TRUE(alone.converged);
+  const int nf = setup.num_dofs();
+  ASSERT_EQ(both.fem_dofs, nf);
+  const Vector rest = setup.rest_state();
+  const double fem_scale = (alone.positions - rest).lpNorm<Eigen::Infinity>();
+  const double fem_error = (both.rods.state.head(nf) - alone.positions).lpNorm<Eigen::Infinity>() / fem_scale;
+
+  // The rod part alone.
+  const RodSimulation rod = simulate_rods(parse_rod_scene(document), (dir / "rod_only").string());
+  ASSERT_TRUE(rod.converged);
+  const int nr = static_cast<int>(rod.state.size());
+  const Vector rod_rest = [&] {
+    Vector x = rod.state;
+    x.setZero();
+    for (int v = 0; v < 21; ++v) x[3 * v] = v / 20.0, x[3 * v + 1] = 3.0;
+    return x;
+  }();
+  const double rod_scale = (rod.state - rod_rest).head(63).lpNorm<Eigen::Infinity>();
+  const double rod_error = (both.rods.state.tail(nr) - rod.state).lpNorm<Eigen::Infinity>() / rod_scale;
+  std::printf("rods and beam in one solve: FEM part error %.2e (of its largest displacement %.3e), "
+              "rod part error %.2e (of %.3e)\n",
+              fem_error, fem_scale, rod_error, rod_scale);
+  EXPECT_GT(fem_scale, 1e-3);
+  EXPECT_GT(rod_scale, 1e-3);
+  EXPECT_LT(fem_error, 1e-6);
+  EXPECT_LT(rod_error, 1e-6);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(RodFemScene, SimulateEntryPointAndRefusedSections) {
+  const auto dir = std::filesystem::temp_directory_path() / "tailor_rods_and_beam_cli";
+  std::ostringstream log;
+  EXPECT_TRUE(simulate_rod_scene_file(kScene, dir.string(), log)) << log.str();
+  EXPECT_TRUE(std::filesystem::exists(dir / "result.vtu"));
+  std::filesystem::remove_all(dir);
+  nlohmann::json s = read_json(kScene);
+  s["load_steps"] = 2;
+  EXPECT_THROW(simulate_rods_with_fem(s, "scene", ".", dir.string()), SceneError);
+  s = read_json(kScene);
+  s["dynamics"] = {{"time_step", 0.1}, {"steps", 1}};
+  EXPECT_THROW(simulate_rods_with_fem(s, "scene", ".", dir.string()), SceneError);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace tailor

@@ -9,6 +9,8 @@ packages=(
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libnlopt-cxx-dev libarpack2-dev libceres-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
   libpng-dev
+  # The optional PETSc back-end (TAILOR_WITH_PETSC, docs/petsc.md): PETSc 3.18 with OpenMPI.
+  petsc-dev openmpi-bin
   # CHOLMOD's speed is BLAS's speed: OpenBLAS must provide libblas.so.3 (see below).
   libopenblas0-pthread libopenblas-pthread-dev
 )

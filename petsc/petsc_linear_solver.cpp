@@ -81,6 +81,8 @@ struct PetscLinearSolver::Impl {
   PetscInt max_iterations = 0;
   Eigen::SparseMatrix<double, Eigen::RowMajor> full;  // the whole symmetric matrix (every rank)
   bool options_checked = false;
+  std::vector<std::string> inserted;  // option names this solver put into PETSc's database
+
 
   void destroy_matrix() {
     if (scatter) VecScatterDestroy(&scatter);
@@ -92,6 +94,8 @@ struct PetscLinearSolver::Impl {
   ~Impl() {
     destroy_matrix();
     if (ksp) KSPDestroy(&ksp);
+    // The next solver starts from the command line's options again.
+    for (const std::string& name : inserted) PetscOptionsClearValue(nullptr, name.c_str());
   }
 };
 
@@ -104,6 +108,7 @@ PetscLinearSolver::PetscLinearSolver(PetscSolverOptions options)
     throw std::invalid_argument("PetscLinearSolver: relative_tolerance must be in (0, 1)");
   if (options_.max_iterations < 1) throw std::invalid_argument("PetscLinearSolver: max_iterations must be >= 1");
   try {
+    impl_->inserted = option_names(options_.options);
     if (!options_.options.empty())
       check(PetscOptionsInsertString(nullptr, options_.options.c_str()), "reading the PETSc options");
     check(KSPCreate(PETSC_COMM_WORLD, &impl_->ksp), "KSPCreate");
@@ -200,13 +205,19 @@ LinearSolveStats PetscLinearSolver::solve(const Vector& rhs, double relative_tol
   if (!m.options_checked) {
     // Every option of the string must have been read by now (KSP, PC, the factorization).
     m.options_checked = true;
-    for (const std::string& option : option_names(options_.options)) {
-      PetscBool used = PETSC_FALSE;
-      check(PetscOptionsUsed(nullptr, option.c_str(), &used), "PetscOptionsUsed");
-      if (!used)
-        throw std::invalid_argument("petsc_options \"" + options_.options + "\": option " + option +
-                                    " is not one that the solver (" + method() + ") reads");
+    PetscInt count = 0;
+    char** names = nullptr;
+    char** values = nullptr;
+    check(PetscOptionsLeftGet(nullptr, &count, &names, &values), "PetscOptionsLeftGet");
+    std::string unused;
+    for (PetscInt k = 0; k < count; ++k) {
+      const std::string name = names[k][0] == '-' ? names[k] : std::string("-") + names[k];
+      if (std::find(m.inserted.begin(), m.inserted.end(), name) != m.inserted.end()) unused = name;
     }
+    PetscOptionsLeftRestore(nullptr, &count, &names, &values);
+    if (!unused.empty())
+      throw std::invalid_argument("petsc_options \"" + options_.options + "\": option " + unused +
+                                  " is not one that the solver (" + method() + ") reads");
   }
   // The true relative residual, in double precision on the whole matrix (every rank has it).
   const double b_norm = rhs.norm();

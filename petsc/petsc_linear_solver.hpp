@@ -12,7 +12,11 @@
 // passes no tolerance. PETSc's options database overrides them (KSPSetFromOptions): the
 // command line given to PetscInitialize and the `options` string (e.g. "-ksp_type preonly
 // -pc_type cholesky -pc_factor_mat_solver_type mumps") are both honoured; an unknown or invalid
-// option value is an error (std::invalid_argument from the constructor, naming the option).
+// option value is an error (std::invalid_argument from the constructor, naming the option),
+// and so is an option of the string that the solver never read (std::invalid_argument from the
+// first solve(), e.g. a misspelt name). The string's options go into PETSc's global database
+// while the solver lives (they replace the command line's values of the same names) and are
+// removed when it is destroyed.
 #include <memory>
 #include <string>
 

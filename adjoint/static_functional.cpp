@@ -12,6 +12,7 @@ std::string to_string(HessianSolve method) {
     case HessianSolve::reused_factorization: return "reused_factorization";
     case HessianSolve::preconditioned_cg: return "preconditioned_cg";
     case HessianSolve::fresh_factorization: return "fresh_factorization";
+    case HessianSolve::external_solver: return "external_solver";
   }
   return "unknown";
 }
@@ -50,6 +51,7 @@ void StaticFunctional::forward(const Vector& z) {
     newton_.assembler().evaluate(rest_y_, p_, nullptr, &g_rest, nullptr);
     newton_.options().reference_residual = g_rest.norm();
   }
+  adjoint_solver_ready_ = false;  // Newton's steps set the linear solver up with other matrices
   newton_result_ = newton_.solve(p_, y);
   ++counters_.forward_solves;
   if (!newton_result_.converged() && warm) {
@@ -77,6 +79,32 @@ double StaticFunctional::value(const Vector& z) {
 Vector StaticFunctional::solve_hessian(const Vector& rhs) {
   const auto t0 = Clock::now();
   ++counters_.adjoint_solves;
+  if (newton_.options().linear_solver) {
+    // The alternative linear solver (NewtonOptions::linear_solver) on the exact Hessian at the
+    // equilibrium, to options_.linear_relative_tolerance (see the header for the rule).
+    LinearSolver& solver = *newton_.options().linear_solver;
+    if (!adjoint_solver_ready_) {
+      // After a converged solve Newton's last assembled Hessian is the one at the equilibrium.
+      const SparseMatrix* h = &newton_.hessian();
+      if (newton_.assembled_mode() != HessianMode::exact) {
+        newton_.assembler().evaluate(y_, p_, nullptr, nullptr, &adjoint_hessian_, HessianMode::exact);
+        h = &adjoint_hessian_;
+      }
+      std::string message;
+      if (!solver.setup(*h, message))
+        throw EvaluationError("adjoint: linear solver '" + solver.name() + "' set-up failed: " + message);
+      adjoint_solver_ready_ = true;
+    }
+    Vector v;
+    last_linear_solve_ = solver.solve(rhs, options_.linear_relative_tolerance, v);
+    if (!last_linear_solve_.converged)
+      throw EvaluationError("adjoint: linear solver '" + solver.name() + "' did not converge: " +
+                            last_linear_solve_.message);
+    last_solve_ = HessianSolve::external_solver;
+    last_cg_iterations_ = last_linear_solve_.iterations;
+    counters_.adjoint_seconds += seconds_since(t0);
+    return v;
+  }
   SparseCholesky& factor = newton_.factorization();
   const bool exact_matrix = newton_.assembled_mode() == HessianMode::exact;
   if (exact_matrix && newton_.factorization_matches_hessian() && newton_.factorization_is_exact()) {

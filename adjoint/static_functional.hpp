@@ -27,12 +27,17 @@ struct StaticFunctionalOptions {
     return o;
   }();
   bool warm_start = true;            // start Newton from the previous equilibrium
-  double linear_relative_tolerance = 1e-12;  // of the preconditioned CG solves
+  // Of the preconditioned CG solves, and of the adjoint solves with newton.linear_solver (e.g.
+  // PETSc's KSP). The rule: the gradient's relative error is at most about cond(H) times the
+  // adjoint's relative residual, and the forward state is held to newton.relative_tolerance
+  // (1e-11), so the adjoint is solved 10x tighter than the equilibrium (1e-12): its error then
+  // stays below the error the equilibrium itself puts into the gradient.
+  double linear_relative_tolerance = 1e-12;
   int max_cg_iterations = 25;
 };
 
 // How the last linear solve with the Hessian was done.
-enum class HessianSolve { reused_factorization, preconditioned_cg, fresh_factorization };
+enum class HessianSolve { reused_factorization, preconditioned_cg, fresh_factorization, external_solver };
 std::string to_string(HessianSolve method);
 
 class StaticFunctional final : public ReducedFunctional {
@@ -70,6 +75,8 @@ class StaticFunctional final : public ReducedFunctional {
   const NewtonResult& last_newton() const { return newton_result_; }
   HessianSolve last_hessian_solve() const { return last_solve_; }
   int last_cg_iterations() const { return last_cg_iterations_; }
+  // The last adjoint solve with newton.linear_solver (iterations, residual, tolerance).
+  const LinearSolveStats& last_linear_solve() const { return last_linear_solve_; }
 
  private:
   // The adjoint at the current equilibrium: dT/dx, S lambda, and dJ/dp (total).
@@ -93,6 +100,10 @@ class StaticFunctional final : public ReducedFunctional {
   NewtonResult newton_result_;
   HessianSolve last_solve_ = HessianSolve::fresh_factorization;
   int last_cg_iterations_ = 0;
+  // newton.linear_solver: set up with the exact Hessian at the current equilibrium.
+  bool adjoint_solver_ready_ = false;
+  SparseMatrix adjoint_hessian_;
+  LinearSolveStats last_linear_solve_;
 };
 
 }  // namespace tailor

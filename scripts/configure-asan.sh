@@ -6,8 +6,9 @@
 #
 # -O1 keeps the build about as long as the Release one and the instrumented code fast enough;
 # line tables (not full debug information) are enough for file:line in every report. Asserts
-# stay on (no NDEBUG), so Eigen's index checks run too. Bench programs and the Python module
-# (an extension loaded into an uninstrumented interpreter) are not built.
+# stay on (no NDEBUG), so Eigen's index checks run too. Bench programs, the Python module (an
+# extension loaded into an uninstrumented interpreter) and the PETSc back-end (MPI's and
+# PETSc's own code are not instrumented) are not built.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -19,4 +20,5 @@ fi
 flags="-O1 -gline-tables-only"
 cmake -S . -B build-asan -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
   -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="${flags}" -DCMAKE_C_FLAGS_SANITIZE="${flags}" \
-  -DTAILOR_SANITIZE=address,undefined -DTAILOR_FUZZ=ON -DTAILOR_BUILD_BENCH=OFF -DTAILOR_WITH_PYTHON=OFF "${launcher[@]}" "$@"
+  -DTAILOR_SANITIZE=address,undefined -DTAILOR_FUZZ=ON -DTAILOR_BUILD_BENCH=OFF -DTAILOR_WITH_PYTHON=OFF \
+  -DTAILOR_WITH_PETSC=OFF "${launcher[@]}" "$@"

@@ -12,6 +12,8 @@ packages=(
   # The Python module (python/, docs/python.md) and its tests; python3-matplotlib is optional
   # (examples/python plots with it when it is there).
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest
+  # The optional PETSc back-end (TAILOR_WITH_PETSC, docs/petsc.md): PETSc 3.18 with OpenMPI.
+  petsc-dev openmpi-bin
   # CHOLMOD's speed is BLAS's speed: OpenBLAS must provide libblas.so.3 (see below).
   libopenblas0-pthread libopenblas-pthread-dev
 )

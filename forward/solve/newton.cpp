@@ -137,7 +137,7 @@ void NewtonSolver::apply_low_rank(const LowRankHessian& low_rank) {
 }
 
 bool NewtonSolver::constant_factor_matches(const Vector& p) const {
-  return constant_factor_ && options_.keep_constant_factorization && cholesky_.has_factor() &&
+  return !options_.linear_solver && constant_factor_ && options_.keep_constant_factorization && cholesky_.has_factor() &&
          constant_p_.size() == p.size() && constant_p_ == p &&
          constant_revisions_ == model_.hessian_revisions();
 }
@@ -275,6 +275,34 @@ std::string NewtonSolver::factorized_step(const Vector& p, const Vector& y, cons
   factor_is_exact_ = mode == HessianMode::exact && shift == 0.0;
   factor_matches_hessian_ = true;
   if (factor_is_exact_) remember_constant_factor(p);
+  return {};
+}
+
+std::string NewtonSolver::external_step(const Vector& p, const Vector& y, const Vector& gradient,
+                                        NewtonIteration& it, Vector& dy) {
+  LinearSolver& solver = *options_.linear_solver;
+  if (!assembler_.low_rank_hessian(y, p, assembled_mode_).empty())
+    return "the linear solver '" + solver.name() + "' does not support terms with low-rank Hessian parts";
+  factor_is_exact_ = false;
+  factor_matches_hessian_ = false;
+  constant_factor_ = false;
+  auto t0 = Clock::now();
+  std::string message;
+  const bool ready = solver.setup(hessian_, message);
+  ++it.factorizations;
+  it.factorization_seconds = seconds_since(t0);
+  if (!ready) return "linear solver '" + solver.name() + "' set-up failed at iteration " + std::to_string(it.iteration) + ": " + message;
+  t0 = Clock::now();
+  const LinearSolveStats stats = solver.solve(Vector(-gradient), 0.0, dy);
+  it.solve_seconds = seconds_since(t0);
+  it.cg_iterations = stats.iterations;
+  it.cg_relative_residual = stats.relative_residual;
+  it.used_projected = assembled_mode_ == HessianMode::projected;
+  if (!stats.converged)
+    return "linear solver '" + solver.name() + "' did not converge at iteration " + std::to_string(it.iteration) + ": " + stats.message;
+  if (!dy.allFinite() || dy.dot(gradient) >= 0.0)
+    return "linear solver '" + solver.name() + "' gave no descent direction at iteration " +
+           std::to_string(it.iteration) + " (the Hessian is not positive definite?)";
   return {};
 }
 
@@ -431,6 +459,9 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       it.solve_seconds = seconds_since(t0);
       it.kept_constant_factor = true;
       it.used_ldlt = cholesky_.is_ldlt();
+    } else if (options_.linear_solver) {
+      const std::string error = external_step(p, y, gradient, it, dy);
+      if (!error.empty()) return finish(NewtonStatus::singular_matrix, error);
     } else {
       // Terms' low-rank Hessian parts go on top of the sparse factor (Woodbury); CG with the
       // kept factor sees only the sparse part, so it is tried only without them.

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "forward/core/assembler.hpp"
+#include "forward/solve/linear_solver.hpp"
 #include "forward/solve/sparse_cholesky.hpp"
 
 namespace tailor {
@@ -100,6 +101,11 @@ struct NewtonOptions {
   int reuse_max_cg_iterations = 20;
   double armijo = 1e-4;              // sufficient-decrease constant
   int max_line_search_steps = 40;    // halvings before the line search is declared stalled
+  // An alternative linear solver for the steps (forward/solve/linear_solver.hpp; e.g. PETSc). Empty
+  // (default): CHOLMOD with everything above. When set, every step solves the assembled Hessian
+  // with it (setup + solve, to the solver's default tolerance), and the factor reuse options,
+  // the diagonal shift and the adaptive switch to the projected Hessian do not apply.
+  LinearSolverPtr linear_solver;
   std::ostream* progress = nullptr;  // one line per iteration when set
   // Optional hooks. direction_converged(x, dx): called with the full state and the full-space
   // Newton direction before each line search; true stops with status converged (a caller's
@@ -205,6 +211,9 @@ class NewtonSolver {
   std::string factorized_step(const Vector& p, const Vector& y, const Vector& gradient, HessianMode& mode,
                               HessianChoice& choice, const LowRankHessian& low_rank, NewtonIteration& it,
                               Vector& dy);
+  // The step from options_.linear_solver (empty string on success, else the error).
+  std::string external_step(const Vector& p, const Vector& y, const Vector& gradient, NewtonIteration& it,
+                            Vector& dy);
   // Backtracking line search on E from the largest admissible step; on success y is updated.
   bool line_search(const Vector& p, Vector& y, const Vector& dy, double energy, const Vector& gradient,
                    double residual, NewtonIteration& it);

@@ -1,0 +1,237 @@
+#include "petsc/petsc_linear_solver.hpp"
+
+#include <petscksp.h>
+
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace tailor {
+namespace {
+
+// PETSc's error handler: keep the first message (the one with the reason) for the exception,
+// and print nothing (the exception carries it).
+std::string& last_petsc_error() {
+  static std::string message;
+  return message;
+}
+
+PetscErrorCode keep_error(MPI_Comm, int, const char* function, const char*, PetscErrorCode code,
+                          PetscErrorType type, const char* message, void*) {
+  if (type == PETSC_ERROR_INITIAL)
+    last_petsc_error() = std::string(message ? message : "") + " (in " + (function ? function : "?") + ")";
+  return code;
+}
+
+void check(PetscErrorCode code, const char* what) {
+  if (code == 0) return;
+  const char* text = nullptr;
+  PetscErrorMessage(code, &text, nullptr);
+  std::string message = std::string("PETSc: ") + what + " failed: " + (text ? text : "error");
+  if (!last_petsc_error().empty()) message += ": " + last_petsc_error();
+  last_petsc_error().clear();
+  throw std::runtime_error(message);
+}
+
+// The option names ("-ksp_type") in an options string.
+std::vector<std::string> option_names(const std::string& options) {
+  std::vector<std::string> names;
+  std::istringstream in(options);
+  for (std::string token; in >> token;)
+    if (token.size() > 1 && token[0] == '-' && !(token[1] >= '0' && token[1] <= '9') && token[1] != '.')
+      names.push_back(token);
+  return names;
+}
+
+}  // namespace
+
+PetscSession::PetscSession(int* argc, char*** argv) {
+  PetscBool initialized = PETSC_FALSE;
+  check(PetscInitialized(&initialized), "PetscInitialized");
+  if (initialized) return;
+  check(PetscInitialize(argc, argv, nullptr, nullptr), "PetscInitialize");
+  owns_ = true;
+  check(PetscPushErrorHandler(keep_error, nullptr), "PetscPushErrorHandler");
+}
+
+PetscSession::~PetscSession() {
+  if (owns_) PetscFinalize();
+}
+
+int PetscSession::rank() {
+  int r = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &r);
+  return r;
+}
+
+int PetscSession::size() {
+  int s = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &s);
+  return s;
+}
+
+struct PetscLinearSolver::Impl {
+  KSP ksp = nullptr;
+  Mat matrix = nullptr;
+  Vec x = nullptr, b = nullptr, gathered = nullptr;
+  VecScatter scatter = nullptr;
+  PetscInt n = 0, row_begin = 0, row_end = 0;
+  PetscReal default_rtol = 0, abstol = 0, dtol = 0;
+  PetscInt max_iterations = 0;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> full;  // the whole symmetric matrix (every rank)
+  bool options_checked = false;
+  std::vector<std::string> inserted;  // option names this solver put into PETSc's database
+
+
+  void destroy_matrix() {
+    if (scatter) VecScatterDestroy(&scatter);
+    if (gathered) VecDestroy(&gathered);
+    if (x) VecDestroy(&x);
+    if (b) VecDestroy(&b);
+    if (matrix) MatDestroy(&matrix);
+  }
+  ~Impl() {
+    destroy_matrix();
+    if (ksp) KSPDestroy(&ksp);
+    // The next solver starts from the command line's options again.
+    for (const std::string& name : inserted) PetscOptionsClearValue(nullptr, name.c_str());
+  }
+};
+
+PetscLinearSolver::PetscLinearSolver(PetscSolverOptions options)
+    : impl_(std::make_unique<Impl>()), options_(std::move(options)) {
+  PetscBool initialized = PETSC_FALSE;
+  PetscInitialized(&initialized);
+  if (!initialized) throw std::logic_error("PetscLinearSolver: PETSc is not initialized (construct a PetscSession first)");
+  if (!(options_.relative_tolerance > 0.0 && options_.relative_tolerance < 1.0))
+    throw std::invalid_argument("PetscLinearSolver: relative_tolerance must be in (0, 1)");
+  if (options_.max_iterations < 1) throw std::invalid_argument("PetscLinearSolver: max_iterations must be >= 1");
+  try {
+    impl_->inserted = option_names(options_.options);
+    if (!options_.options.empty())
+      check(PetscOptionsInsertString(nullptr, options_.options.c_str()), "reading the PETSc options");
+    check(KSPCreate(PETSC_COMM_WORLD, &impl_->ksp), "KSPCreate");
+    check(KSPSetType(impl_->ksp, KSPCG), "KSPSetType");
+    PC pc = nullptr;
+    check(KSPGetPC(impl_->ksp, &pc), "KSPGetPC");
+    check(PCSetType(pc, PCGAMG), "PCSetType");
+    check(KSPSetNormType(impl_->ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+    check(KSPSetTolerances(impl_->ksp, options_.relative_tolerance, PETSC_DEFAULT, PETSC_DEFAULT,
+                           options_.max_iterations),
+          "KSPSetTolerances");
+    check(KSPSetFromOptions(impl_->ksp), "KSPSetFromOptions");
+    check(KSPGetTolerances(impl_->ksp, &impl_->default_rtol, &impl_->abstol, &impl_->dtol, &impl_->max_iterations),
+          "KSPGetTolerances");
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(std::string("petsc_options \"") + options_.options + "\": " + e.what());
+  }
+}
+
+PetscLinearSolver::~PetscLinearSolver() = default;
+
+bool PetscLinearSolver::is_root() const { return PetscSession::rank() == 0; }
+
+std::string PetscLinearSolver::method() const {
+  KSPType ksp_type = nullptr;
+  PCType pc_type = nullptr;
+  PC pc = nullptr;
+  KSPGetType(impl_->ksp, &ksp_type);
+  KSPGetPC(impl_->ksp, &pc);
+  PCGetType(pc, &pc_type);
+  return std::string(ksp_type ? ksp_type : "?") + "/" + (pc_type ? pc_type : "?");
+}
+
+bool PetscLinearSolver::setup(const SparseMatrix& upper, std::string& message) {
+  try {
+    Impl& m = *impl_;
+    const PetscInt n = static_cast<PetscInt>(upper.rows());
+    m.full = upper.selfadjointView<Eigen::Upper>();
+    m.full.makeCompressed();
+    const int rank = PetscSession::rank(), size = PetscSession::size();
+    // PETSc's default split (PetscSplitOwnership): the first n % size ranks get one row more.
+    const PetscInt base = n / size, extra = n % size;
+    const PetscInt local = base + (rank < extra ? 1 : 0);
+    const PetscInt begin = rank * base + std::min<PetscInt>(rank, extra);
+    std::vector<PetscInt> row_start(local + 1), columns;
+    std::vector<PetscScalar> values;
+    const auto* outer = m.full.outerIndexPtr();
+    for (PetscInt i = 0; i < local; ++i) row_start[i] = static_cast<PetscInt>(outer[begin + i] - outer[begin]);
+    row_start[local] = static_cast<PetscInt>(outer[begin + local] - outer[begin]);
+    columns.assign(m.full.innerIndexPtr() + outer[begin], m.full.innerIndexPtr() + outer[begin + local]);
+    values.assign(m.full.valuePtr() + outer[begin], m.full.valuePtr() + outer[begin + local]);
+    m.destroy_matrix();
+    check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, local, local, n, n, row_start.data(), columns.data(),
+                                    values.data(), &m.matrix),
+          "MatCreateMPIAIJWithArrays");
+    check(MatSetOption(m.matrix, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption(MAT_SYMMETRIC)");
+    check(MatSetOption(m.matrix, MAT_SPD, PETSC_TRUE), "MatSetOption(MAT_SPD)");
+    check(MatCreateVecs(m.matrix, &m.x, &m.b), "MatCreateVecs");
+    check(VecScatterCreateToAll(m.x, &m.scatter, &m.gathered), "VecScatterCreateToAll");
+    check(KSPSetOperators(m.ksp, m.matrix, m.matrix), "KSPSetOperators");
+    check(KSPSetUp(m.ksp), "KSPSetUp");
+    m.n = n;
+    m.row_begin = begin;
+    m.row_end = begin + local;
+    return true;
+  } catch (const std::runtime_error& e) {
+    message = e.what();
+    return false;
+  }
+}
+
+LinearSolveStats PetscLinearSolver::solve(const Vector& rhs, double relative_tolerance, Vector& solution) {
+  Impl& m = *impl_;
+  if (!m.matrix) throw std::logic_error("PetscLinearSolver::solve before setup");
+  if (rhs.size() != m.n) throw std::invalid_argument("PetscLinearSolver::solve: right-hand side of the wrong size");
+  LinearSolveStats stats;
+  stats.relative_tolerance = relative_tolerance > 0.0 ? relative_tolerance : m.default_rtol;
+  check(KSPSetTolerances(m.ksp, stats.relative_tolerance, m.abstol, m.dtol, m.max_iterations), "KSPSetTolerances");
+  PetscScalar* local = nullptr;
+  check(VecGetArray(m.b, &local), "VecGetArray");
+  std::copy(rhs.data() + m.row_begin, rhs.data() + m.row_end, local);
+  check(VecRestoreArray(m.b, &local), "VecRestoreArray");
+  check(KSPSolve(m.ksp, m.b, m.x), "KSPSolve");
+  KSPConvergedReason reason;
+  PetscInt iterations = 0;
+  check(KSPGetConvergedReason(m.ksp, &reason), "KSPGetConvergedReason");
+  check(KSPGetIterationNumber(m.ksp, &iterations), "KSPGetIterationNumber");
+  check(VecScatterBegin(m.scatter, m.x, m.gathered, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+  check(VecScatterEnd(m.scatter, m.x, m.gathered, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+  const PetscScalar* all = nullptr;
+  check(VecGetArrayRead(m.gathered, &all), "VecGetArrayRead");
+  solution = Eigen::Map<const Vector>(all, m.n);
+  check(VecRestoreArrayRead(m.gathered, &all), "VecRestoreArrayRead");
+  if (!m.options_checked) {
+    // Every option of the string must have been read by now (KSP, PC, the factorization).
+    m.options_checked = true;
+    PetscInt count = 0;
+    char** names = nullptr;
+    char** values = nullptr;
+    check(PetscOptionsLeftGet(nullptr, &count, &names, &values), "PetscOptionsLeftGet");
+    std::string unused;
+    for (PetscInt k = 0; k < count; ++k) {
+      const std::string name = names[k][0] == '-' ? names[k] : std::string("-") + names[k];
+      if (std::find(m.inserted.begin(), m.inserted.end(), name) != m.inserted.end()) unused = name;
+    }
+    PetscOptionsLeftRestore(nullptr, &count, &names, &values);
+    if (!unused.empty())
+      throw std::invalid_argument("petsc_options \"" + options_.options + "\": option " + unused +
+                                  " is not one that the solver (" + method() + ") reads");
+  }
+  // The true relative residual, in double precision on the whole matrix (every rank has it).
+  const double b_norm = rhs.norm();
+  stats.relative_residual = b_norm > 0.0 ? (rhs - m.full * solution).norm() / b_norm : (m.full * solution).norm();
+  stats.iterations = static_cast<int>(iterations);
+  stats.converged = reason > 0 && solution.allFinite();
+  if (!stats.converged) {
+    std::ostringstream why;
+    why << method() << " stopped with " << KSPConvergedReasons[reason] << " after " << iterations
+        << " iterations (relative residual " << stats.relative_residual << ", tolerance " << stats.relative_tolerance
+        << ")";
+    stats.message = why.str();
+  }
+  return stats;
+}
+
+}  // namespace tailor

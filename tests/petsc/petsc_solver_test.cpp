@@ -1,0 +1,171 @@
+// The PETSc back-end (petsc/petsc_linear_solver.hpp) under MPI, against CHOLMOD: the same
+// static inverse problem (a clamped bar bent by an end traction, per-element log E design) is
+// solved by each; the reference is the CHOLMOD path (NewtonOptions::linear_solver empty). Run
+// on 1 and 2 ranks (tests/petsc/CMakeLists.txt).
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <cstdio>
+
+#include "../support/fem_fixtures.hpp"
+#include "../support/inverse_fixtures.hpp"
+#include "adjoint/static_functional.hpp"
+#include "adjoint/taylor_test.hpp"
+#include "forward/fem/loads.hpp"
+#include "petsc/petsc_linear_solver.hpp"
+
+namespace tailor {
+namespace {
+
+using namespace tailor::testing;
+
+struct BarProblem {
+  Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 1, 1), 8, 2, 2);
+  std::unique_ptr<Model> model;
+  Vector rest, p0;
+  std::vector<int> tip_dofs;
+
+  BarProblem(MaterialKind kind, double load) {
+    const int m = mesh.num_elements();
+    model = std::make_unique<Model>(3 * mesh.num_vertices());
+    model->parameter_layout().add("youngs_modulus", m);
+    model->parameter_layout().add("poisson_ratio", m);
+    model->add(elastic_term<3>(mesh, kind));
+    const Eigen::MatrixXi end_facets =
+        boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > 4 - 1e-9; });
+    model->add(
+        std::make_unique<ExternalForceTerm>(traction_forces(mesh, end_facets, Eigen::Vector3d(0, 0.3 * load, -load))));
+    rest = rest_state(mesh);
+    std::vector<int> fixed;
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (mesh.rest_positions(v, 0) < 1e-9)
+        for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
+      if (mesh.rest_positions(v, 0) > 4 - 1e-9)
+        for (int k = 0; k < 3; ++k) tip_dofs.push_back(3 * v + k);
+    }
+    model->set_elimination(Elimination::dirichlet(fixed, rest));
+    p0 = heterogeneous_parameters(mesh, 1000.0, 0.3);
+  }
+
+  StaticFunctional functional(LinearSolverPtr solver) {
+    const int m = mesh.num_elements();
+    Vector target(tip_dofs.size());
+    for (std::size_t k = 0; k < tip_dofs.size(); ++k) target[k] = rest[tip_dofs[k]] + (k % 3 == 2 ? -0.3 : 0.05);
+    auto map = std::make_shared<LogModuliMap>(p0, m);
+    auto objective = std::make_shared<DofTargetObjective>(tip_dofs, target, 1e-6, m);
+    StaticFunctionalOptions options;
+    options.newton.linear_solver = std::move(solver);
+    return StaticFunctional(*model, map, objective, model->elimination().restrict_state(rest), options);
+  }
+  Vector z0() const { return p0.head(mesh.num_elements()).array().log().matrix(); }
+};
+
+double relative_difference(const Vector& a, const Vector& b) { return (a - b).norm() / b.norm(); }
+
+// The largest difference of v between the ranks (every rank must hold the same full vector).
+double spread_across_ranks(const Vector& v) {
+  Vector low = v, high = v;
+  MPI_Allreduce(MPI_IN_PLACE, low.data(), static_cast<int>(low.size()), MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, high.data(), static_cast<int>(high.size()), MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  return (high - low).lpNorm<Eigen::Infinity>();
+}
+
+void expect_matches_cholmod(MaterialKind kind, double load, const std::string& petsc_options) {
+  BarProblem bar(kind, load);
+  StaticFunctional reference = bar.functional(nullptr);
+  Vector g_ref;
+  const double j_ref = reference.value_and_gradient(bar.z0(), g_ref);
+
+  PetscSolverOptions options;
+  options.options = petsc_options;
+  auto solver = std::make_shared<PetscLinearSolver>(options);
+  StaticFunctional f = bar.functional(solver);
+  Vector g;
+  const double j = f.value_and_gradient(bar.z0(), g);
+  if (PetscSession::rank() == 0)
+    std::printf("%s, %s: state %.2e, gradient %.2e relative to CHOLMOD; adjoint %d iterations, residual %.1e\n",
+              kind == MaterialKind::linear ? "linear" : "Neo-Hookean", solver->method().c_str(),
+              relative_difference(f.state(), reference.state()), relative_difference(g, g_ref),
+              f.last_linear_solve().iterations, f.last_linear_solve().relative_residual);
+  EXPECT_EQ(f.last_hessian_solve(), HessianSolve::external_solver);
+  EXPECT_LE(f.last_linear_solve().relative_residual, 1e-11);
+  EXPECT_LT(relative_difference(f.state(), reference.state()), 1e-8);
+  EXPECT_LT(relative_difference(g, g_ref), 1e-8);
+  EXPECT_NEAR(j, j_ref, 1e-8 * std::abs(j_ref));
+  EXPECT_EQ(spread_across_ranks(f.state()), 0.0);
+  EXPECT_EQ(spread_across_ranks(g), 0.0);
+}
+
+TEST(PetscLinearSolver, LinearBarStateAndGradientMatchCholmodWithCgGamg) {
+  expect_matches_cholmod(MaterialKind::linear, 20.0, "");
+}
+
+TEST(PetscLinearSolver, NeoHookeanBarStateAndGradientMatchCholmodWithCgGamg) {
+  expect_matches_cholmod(MaterialKind::neo_hookean, 60.0, "-ksp_type cg -pc_type gamg");
+}
+
+TEST(PetscLinearSolver, NeoHookeanBarMatchesCholmodWithMumps) {
+  expect_matches_cholmod(MaterialKind::neo_hookean, 60.0,
+                         "-ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps");
+}
+
+TEST(PetscLinearSolver, TaylorTestUnderMpi) {
+  BarProblem bar(MaterialKind::neo_hookean, 60.0);
+  StaticFunctional f = bar.functional(std::make_shared<PetscLinearSolver>());
+  const TaylorTestResult t = taylor_test(f, bar.z0());
+  if (PetscSession::rank() == 0) std::printf("Neo-Hookean bar on %d ranks:\n%s", PetscSession::size(), t.table().c_str());
+  EXPECT_TRUE(t.passed()) << t.table();
+  EXPECT_GE(t.rate1, 1.9) << t.table();
+  EXPECT_NEAR(t.rate0, 1.0, 0.2) << t.table();
+}
+
+// The tolerance given to solve() is met (the adjoint's rule), and the default one otherwise.
+TEST(PetscLinearSolver, SolveMeetsTheRequestedTolerance) {
+  BarProblem bar(MaterialKind::linear, 20.0);
+  ReducedAssembler assembler(*bar.model);
+  SparseMatrix h;
+  const Vector y = bar.model->elimination().restrict_state(bar.rest);
+  assembler.evaluate(y, bar.p0, nullptr, nullptr, &h, HessianMode::exact);
+  PetscLinearSolver solver;
+  std::string message;
+  ASSERT_TRUE(solver.setup(h, message)) << message;
+  const Vector b = Vector::Ones(h.rows());
+  Vector x;
+  for (double tol : {1e-4, 1e-12}) {
+    const LinearSolveStats stats = solver.solve(b, tol, x);
+    EXPECT_TRUE(stats.converged) << stats.message;
+    EXPECT_EQ(stats.relative_tolerance, tol);
+    EXPECT_LE(stats.relative_residual, 10 * tol);
+  }
+  const LinearSolveStats stats = solver.solve(b, 0.0, x);
+  EXPECT_EQ(stats.relative_tolerance, 1e-10);
+  EXPECT_LE(stats.relative_residual, 1e-9);
+}
+
+TEST(PetscLinearSolver, BadOptionsAreClearErrors) {
+  PetscSolverOptions bad_type;
+  bad_type.options = "-ksp_type no_such_method";
+  try {
+    PetscLinearSolver solver(bad_type);
+    ADD_FAILURE() << "an unknown KSP type was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("no_such_method"), std::string::npos) << e.what();
+  }
+  // A misspelt option is never read: the first solve says so.
+  BarProblem bar(MaterialKind::linear, 20.0);
+  PetscSolverOptions misspelt;
+  misspelt.options = "-ksp_rtoll 1e-8";
+  StaticFunctional f = bar.functional(std::make_shared<PetscLinearSolver>(misspelt));
+  try {
+    f.value(bar.z0());
+    ADD_FAILURE() << "a misspelt option was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("-ksp_rtoll"), std::string::npos) << e.what();
+  }
+  // The options of the failed solvers are gone: a default solver works.
+  PetscLinearSolver fine;
+  EXPECT_EQ(fine.method(), "cg/gamg");
+}
+
+}  // namespace
+}  // namespace tailor

@@ -24,8 +24,14 @@
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene.hpp"
 
+#include "rod_scene_files.hpp"
+
 namespace tailor {
 namespace {
+
+using testing::read_json_file;
+using testing::read_rod_scene;
+using testing::rod_scene_path;
 
 constexpr double kBeta1 = 1.8751040687;
 
@@ -150,18 +156,13 @@ TEST(RodDynamics, ImplicitEulerLosesEnergyAsDocumented) {
   EXPECT_NEAR(run.energy_ratio / predicted, 1.0, 2e-2);
 }
 
-std::string scene_path(const std::string& name) {
-  return std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/rods/" + name;
-}
-
 // The shipped dynamic scene through `tailor simulate`'s entry point: frames, .pvd and report.
 TEST(RodDynamics, ShippedSwingingRodSceneWritesFramesAndReport) {
   const auto dir = std::filesystem::temp_directory_path() / "tailor_rod_dynamics_scene";
   std::filesystem::remove_all(dir);
   std::ostringstream log;
-  ASSERT_TRUE(simulate_rod_scene_file(scene_path("rod_swing.json"), dir.string(), log)) << log.str();
-  std::ifstream f(dir / "report.json");
-  const nlohmann::json report = nlohmann::json::parse(f);
+  ASSERT_TRUE(simulate_rod_scene_file(rod_scene_path("rod_swing.json"), dir.string(), log)) << log.str();
+  const nlohmann::json report = read_json_file((dir / "report.json").string());
   EXPECT_EQ(report["status"], "completed");
   EXPECT_TRUE(report.contains("threads"));
   const int steps = report["steps"];
@@ -180,8 +181,7 @@ TEST(RodDynamics, ShippedSwingingRodSceneWritesFramesAndReport) {
 }
 
 TEST(RodDynamics, BadDynamicsKeysNameTheKey) {
-  std::ifstream f(scene_path("rod_swing.json"));
-  const nlohmann::json scene = nlohmann::json::parse(f);
+  const nlohmann::json scene = read_rod_scene("rod_swing.json");
   auto expect_error = [](const nlohmann::json& s, const std::string& key) {
     try {
       parse_rod_scene(s);

@@ -14,25 +14,25 @@
 #include "problems/scene.hpp"
 #include "problems/static_scene.hpp"
 
+#include "rod_scene_files.hpp"
+
 namespace tailor {
 namespace {
 
-const std::string kScene = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/rods/rods_and_beam.json";
+using testing::read_json_file;
+using testing::rod_scene_path;
 
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream f(path);
-  return nlohmann::json::parse(f);
-}
+const std::string kScene = rod_scene_path("rods_and_beam.json");
 
 TEST(RodFemScene, EachPartMatchesItsSeparateSolve) {
-  const nlohmann::json document = read_json(kScene);
+  const nlohmann::json document = read_json_file(kScene);
   const auto dir = std::filesystem::temp_directory_path() / "tailor_rods_and_beam";
   std::filesystem::remove_all(dir);
   const RodFemSimulation both = simulate_rods_with_fem(document, kScene, ".", dir.string());
   ASSERT_TRUE(both.rods.converged);
   EXPECT_TRUE(std::filesystem::exists(both.fem_vtu_path));
   EXPECT_TRUE(std::filesystem::exists(both.rods.vtu_path));
-  const nlohmann::json report = read_json(both.rods.report_path);
+  const nlohmann::json report = read_json_file(both.rods.report_path);
   EXPECT_TRUE(report["energies"].contains("rod_bending"));
   EXPECT_GE(report["energies"].size(), 5u);  // the FEM terms too
 
@@ -76,10 +76,10 @@ TEST(RodFemScene, SimulateEntryPointAndRefusedSections) {
   EXPECT_TRUE(simulate_rod_scene_file(kScene, dir.string(), log)) << log.str();
   EXPECT_TRUE(std::filesystem::exists(dir / "result.vtu"));
   std::filesystem::remove_all(dir);
-  nlohmann::json s = read_json(kScene);
+  nlohmann::json s = read_json_file(kScene);
   s["load_steps"] = 2;
   EXPECT_THROW(simulate_rods_with_fem(s, "scene", ".", dir.string()), SceneError);
-  s = read_json(kScene);
+  s = read_json_file(kScene);
   s["dynamics"] = {{"time_step", 0.1}, {"steps", 1}};
   EXPECT_THROW(simulate_rods_with_fem(s, "scene", ".", dir.string()), SceneError);
   std::filesystem::remove_all(dir);

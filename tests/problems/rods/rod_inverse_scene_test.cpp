@@ -13,17 +13,13 @@
 #include "problems/rods/rod_inverse.hpp"
 #include "problems/scene.hpp"
 
+#include "rod_scene_files.hpp"
+
 namespace tailor {
 namespace {
 
-std::string scene_path(const std::string& name) {
-  return std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/rods/" + name;
-}
-
-nlohmann::json read(const std::string& path) {
-  std::ifstream f(path);
-  return nlohmann::json::parse(f);
-}
+using testing::read_json_file;
+using testing::rod_scene_path;
 
 std::string out_dir(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("tailor_rod_inverse_" + name)).string();
@@ -57,8 +53,8 @@ nlohmann::json sagging_rod() {
 
 TEST(RodInverseScene, ShippedScenesPassGradcheck) {
   for (const std::string name : {"rod_rest_shape_design.json", "rod_stiffness_design.json"}) {
-    const std::string path = scene_path(name);
-    const auto problem = build_rod_inverse(read(path), path, "test");
+    const std::string path = rod_scene_path(name);
+    const auto problem = build_rod_inverse(read_json_file(path), path, "test");
     const RodGradcheck check = gradcheck_rod_scene(*problem, out_dir("gradcheck"), {}, false, nullptr);
     EXPECT_TRUE(check.passed()) << name << "\n" << check.gradient.table();
     EXPECT_GE(check.gradient.rate1, 1.9) << name << "\n" << check.gradient.table();
@@ -122,8 +118,8 @@ TEST(RodInverseScene, RecoversKnownRodRadiusThroughTheScene) {
 // lengths: an exact solution exists), the beam's radii give the asked tip deflection.
 TEST(RodInverseScene, ShippedDesignsReachTheirTargets) {
   {
-    const std::string path = scene_path("rod_rest_shape_design.json");
-    const auto problem = build_rod_inverse(read(path), path, "hook");
+    const std::string path = rod_scene_path("rod_rest_shape_design.json");
+    const auto problem = build_rod_inverse(read_json_file(path), path, "hook");
     const RodInverseRun run = run_rod_inverse(*problem, out_dir("hook"), nullptr, nullptr);
     std::printf("rest-shape design: %d iterations, %.2f s, shape error %.2e -> %.2e\n",
                 static_cast<int>(run.result.history.size()), run.result.seconds, run.initial_shape_error,
@@ -133,8 +129,8 @@ TEST(RodInverseScene, ShippedDesignsReachTheirTargets) {
     EXPECT_LT(run.shape_error, 1e-8) << run.result.report();
   }
   {
-    const std::string path = scene_path("rod_stiffness_design.json");
-    const auto problem = build_rod_inverse(read(path), path, "beam");
+    const std::string path = rod_scene_path("rod_stiffness_design.json");
+    const auto problem = build_rod_inverse(read_json_file(path), path, "beam");
     const RodInverseRun run = run_rod_inverse(*problem, out_dir("beam"), nullptr, nullptr);
     problem->functional->value(run.result.z);
     const Vector& x = problem->functional->state();

@@ -25,19 +25,18 @@
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene.hpp"
 
+#include "rod_scene_files.hpp"
+
 namespace tailor {
 namespace {
 
-constexpr double kP = 1e-5, kEI = 1.0, kEA = 400.0, kGJ = 1.0 / 1.3;
+using testing::read_rod_scene;
 
-nlohmann::json shipped_l_frame() {
-  std::ifstream f(std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/rods/rod_l_frame.json");
-  return nlohmann::json::parse(f);
-}
+constexpr double kP = 1e-5, kEI = 1.0, kEA = 400.0, kGJ = 1.0 / 1.3;
 
 // The frame with n edges per member and the tip load along `direction`.
 nlohmann::json l_frame(int n, const Eigen::Vector3d& direction) {
-  nlohmann::json s = shipped_l_frame();
+  nlohmann::json s = read_rod_scene("rod_l_frame.json");
   const double h = 1.0 / (n - 0.5);
   s["rods"][0]["line"]["from"] = {0.0, -0.5 * h, 0.0};
   s["rods"][0]["line"]["vertices"] = n + 1;
@@ -67,7 +66,7 @@ TEST(RodRigidJointFrame, InPlaneTipLoadMatchesCastigliano) {
   const double reference = -kP * (1.0 / 3.0 + 1.0) / kEI - kP / kEA;
   std::vector<double> errors;
   for (int n : {10, 20, 40}) {
-    const Eigen::Vector3d u = tip_displacement(n == 20 ? shipped_l_frame() : l_frame(n, -Eigen::Vector3d::UnitY()), n);
+    const Eigen::Vector3d u = tip_displacement(n == 20 ? read_rod_scene("rod_l_frame.json") : l_frame(n, -Eigen::Vector3d::UnitY()), n);
     EXPECT_LT(std::abs(u.z()), 1e-12);
     errors.push_back(std::abs(u.y() / reference - 1.0));
   }
@@ -108,7 +107,7 @@ Eigen::Vector2d extreme_eigenvalues(const nlohmann::json& scene) {
 // spins about its axis) at no cost, so the reduced Hessian is singular; the rigid joint makes it
 // positive definite.
 TEST(RodRigidJointFrame, WithAPinnedJointTheFrameIsAMechanism) {
-  nlohmann::json s = shipped_l_frame();
+  nlohmann::json s = read_rod_scene("rod_l_frame.json");
   const Eigen::Vector2d rigid = extreme_eigenvalues(s);
   s["joints"][0]["type"] = "pinned";
   const Eigen::Vector2d pinned = extreme_eigenvalues(s);
@@ -150,7 +149,7 @@ TEST(RodRigidJointFrame, BeamThroughTheJointUnderSymmetricLoads) {
 }
 
 TEST(RodRigidJointFrame, RigidJointsWithDynamicsAreRefused) {
-  nlohmann::json s = shipped_l_frame();
+  nlohmann::json s = read_rod_scene("rod_l_frame.json");
   s["rods"][0]["material"]["density"] = 1000.0;
   s["rods"][1]["material"]["density"] = 1000.0;
   s["dynamics"] = {{"scheme", "newmark"}, {"time_step", 0.01}, {"steps", 2}};

@@ -21,17 +21,16 @@
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene.hpp"
 
+#include "rod_scene_files.hpp"
+
 namespace tailor {
 namespace {
 
-nlohmann::json shipped_frame() {
-  std::ifstream f(std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/rods/rod_frame.json");
-  return nlohmann::json::parse(f);
-}
+using testing::read_rod_scene;
 
 // The frame with n edges per bar (n + 1 vertices, the first edge centred on the base).
 nlohmann::json frame_with(int n) {
-  nlohmann::json s = shipped_frame();
+  nlohmann::json s = read_rod_scene("rod_frame.json");
   const double h = 1.0 / (n - 0.5);
   const double base[2] = {-0.6, 0.6}, ex[2] = {0.6, -0.6};
   for (int k = 0; k < 2; ++k) {
@@ -71,7 +70,7 @@ TEST(RodNetwork, PinnedTwoBarFrameMatchesFrameAnalysis) {
   const Eigen::Vector2d reference = frame_reference(1e-4);
   std::vector<double> errors;
   for (int n : {10, 20, 40}) {
-    const Eigen::Vector2d u = apex_displacement(n == 20 ? shipped_frame() : frame_with(n), n);
+    const Eigen::Vector2d u = apex_displacement(n == 20 ? read_rod_scene("rod_frame.json") : frame_with(n), n);
     EXPECT_LT(std::abs(u.x()), 1e-6 * std::abs(reference.y()));  // symmetric
     errors.push_back(std::abs(u.y() / reference.y() - 1.0));
   }
@@ -87,7 +86,7 @@ TEST(RodNetwork, PinnedTwoBarFrameMatchesFrameAnalysis) {
 
 // Without the joint the loaded bar is a lone cantilever: the deflection is far from the frame's.
 TEST(RodNetwork, WithoutTheJointTheAnswerIsDifferent) {
-  nlohmann::json s = shipped_frame();
+  nlohmann::json s = read_rod_scene("rod_frame.json");
   s.erase("joints");
   const Eigen::Vector2d reference = frame_reference(1e-4);
   const RodSceneSpec spec = parse_rod_scene(s);
@@ -106,19 +105,19 @@ TEST(RodNetwork, BadJointsNameTheKey) {
       EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
     }
   };
-  nlohmann::json s = shipped_frame();
+  nlohmann::json s = read_rod_scene("rod_frame.json");
   s["joints"][0]["rods"][1]["vertex"] = 0;  // not at the apex
   expect_error(s, "joints[0].rods[1]");
-  s = shipped_frame();
+  s = read_rod_scene("rod_frame.json");
   s["joints"][0]["type"] = "welded";
   expect_error(s, "joints[0].type");
-  s = shipped_frame();
+  s = read_rod_scene("rod_frame.json");
   s["joints"][0]["rods"][1]["rod"] = "middle";
   expect_error(s, "joints[0].rods[1].rod");
-  s = shipped_frame();
+  s = read_rod_scene("rod_frame.json");
   s["joints"][0]["rods"].erase(1);
   expect_error(s, "joints[0].rods");
-  s = shipped_frame();
+  s = read_rod_scene("rod_frame.json");
   s["joints"][0]["rods"][1]["rod"] = "left";
   expect_error(s, "joints[0].rods[1]");
 }

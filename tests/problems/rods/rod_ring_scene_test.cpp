@@ -16,17 +16,16 @@
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene.hpp"
 
+#include "rod_scene_files.hpp"
+
 namespace tailor {
 namespace {
 
-nlohmann::json shipped_ring() {
-  std::ifstream f(std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/rods/rod_ring.json");
-  return nlohmann::json::parse(f);
-}
+using testing::read_rod_scene;
 
 // The shipped ring with n vertices (the clamp at edge 0, the load on edge n / 2).
 nlohmann::json ring_with(int n) {
-  nlohmann::json s = shipped_ring();
+  nlohmann::json s = read_rod_scene("rod_ring.json");
   auto& r = s["rods"][0];
   r["circle"]["vertices"] = n;
   r["circle"]["start_angle"] = -M_PI / n;
@@ -50,11 +49,11 @@ double pinch_deflection(const nlohmann::json& scene) {
 
 TEST(RodRingScene, PinchedRingMatchesThinRingTheory) {
   const double reference = (M_PI / 4.0 - 2.0 / M_PI) * 1e-3;  // P R^3 / EI = 1e-3
-  const RodSceneSpec spec = parse_rod_scene(shipped_ring());
+  const RodSceneSpec spec = parse_rod_scene(read_rod_scene("rod_ring.json"));
   ASSERT_TRUE(spec.rods[0].closed);
   ASSERT_EQ(spec.rods[0].points.rows(), 64);
   const double e32 = std::abs(pinch_deflection(ring_with(32)) / reference - 1.0);
-  const double e64 = std::abs(pinch_deflection(shipped_ring()) / reference - 1.0);
+  const double e64 = std::abs(pinch_deflection(read_rod_scene("rod_ring.json")) / reference - 1.0);
   std::printf("pinched ring: relative deflection errors at n = 32, 64: %.3e %.3e\n", e32, e64);
   EXPECT_LT(e64, 1e-2);
   EXPECT_GT(std::log2(e32 / e64), 1.5);
@@ -63,7 +62,7 @@ TEST(RodRingScene, PinchedRingMatchesThinRingTheory) {
 // closing_twist: the rest twist of every stencil is lowered by closing_twist / n, and
 // rest_shape "straight" zeroes the rest curvatures (Michell's ring, tests/forward/rods).
 TEST(RodRingScene, ClosingTwistAndStraightRestShape) {
-  nlohmann::json s = shipped_ring();
+  nlohmann::json s = read_rod_scene("rod_ring.json");
   s["rods"][0]["closing_twist"] = 2.0 * M_PI;
   s["rods"][0]["rest_shape"] = "straight";
   const RodSceneModel m = build_rod_model(parse_rod_scene(s));
@@ -85,23 +84,23 @@ TEST(RodRingScene, BadClosedRodKeysNameTheKey) {
       EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
     }
   };
-  nlohmann::json s = shipped_ring();
+  nlohmann::json s = read_rod_scene("rod_ring.json");
   s["rods"][0]["clamp"] = {"first"};
   expect_error(s, "rods[0].clamp");
-  s = shipped_ring();
+  s = read_rod_scene("rod_ring.json");
   s["rods"][0]["closed"] = false;
   s["rods"][0]["closing_twist"] = 1.0;
   expect_error(s, "rods[0].closing_twist");
-  s = shipped_ring();
+  s = read_rod_scene("rod_ring.json");
   s["rods"][0]["clamp_edges"] = {64};
   expect_error(s, "rods[0].clamp_edges");
-  s = shipped_ring();
+  s = read_rod_scene("rod_ring.json");
   s["rods"][0]["rest_shape"] = "bent";
   expect_error(s, "rods[0].rest_shape");
-  s = shipped_ring();
+  s = read_rod_scene("rod_ring.json");
   s["rods"][0]["circle"].erase("radius");
   expect_error(s, "rods[0].circle");
-  s = shipped_ring();
+  s = read_rod_scene("rod_ring.json");
   s["rods"][0]["closed"] = "yes";
   expect_error(s, "rods[0].closed");
 }

@@ -1,0 +1,21 @@
+#pragma once
+// The shipped rod scenes (scenes/rods/) as the rod scene tests read them.
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace tailor::testing {
+
+inline std::string rod_scene_path(const std::string& name) {
+  return std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/rods/" + name;
+}
+
+inline nlohmann::json read_json_file(const std::string& path) {
+  std::ifstream f(path);
+  return nlohmann::json::parse(f);
+}
+
+inline nlohmann::json read_rod_scene(const std::string& name) { return read_json_file(rod_scene_path(name)); }
+
+}  // namespace tailor::testing

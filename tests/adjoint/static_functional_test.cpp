@@ -9,6 +9,7 @@
 
 #include "../support/fem_fixtures.hpp"
 #include "../support/inverse_fixtures.hpp"
+#include "../support/traction_bar.hpp"
 #include "adjoint/taylor_test.hpp"
 #include "forward/fem/loads.hpp"
 
@@ -18,42 +19,7 @@ namespace {
 using namespace tailor::testing;
 
 // A clamped 3D bar (4 x 1 x 1) bent by an end traction; design: per-element log E.
-struct BarProblem {
-  Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 1, 1), 4, 1, 1);
-  std::unique_ptr<Model> model;
-  Vector rest, p0;
-  std::vector<int> tip_dofs;
-
-  BarProblem(MaterialKind kind, double load) {
-    const int m = mesh.num_elements();
-    model = std::make_unique<Model>(3 * mesh.num_vertices());
-    model->parameter_layout().add("youngs_modulus", m);
-    model->parameter_layout().add("poisson_ratio", m);
-    model->add(elastic_term<3>(mesh, kind));
-    const Eigen::MatrixXi end_facets = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > 4 - 1e-9; });
-    model->add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, end_facets, Eigen::Vector3d(0, 0.3 * load, -load))));
-    rest = rest_state(mesh);
-    std::vector<int> fixed;
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (mesh.rest_positions(v, 0) < 1e-9)
-        for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
-      if (mesh.rest_positions(v, 0) > 4 - 1e-9)
-        for (int k = 0; k < 3; ++k) tip_dofs.push_back(3 * v + k);
-    }
-    model->set_elimination(Elimination::dirichlet(fixed, rest));
-    p0 = heterogeneous_parameters(mesh, 1000.0, 0.3);
-  }
-
-  StaticFunctional functional(double c = 0.0, StaticFunctionalOptions options = {}) {
-    const int m = mesh.num_elements();
-    Vector target(tip_dofs.size());
-    for (std::size_t k = 0; k < tip_dofs.size(); ++k) target[k] = rest[tip_dofs[k]] + (k % 3 == 2 ? -0.3 : 0.05);
-    auto map = std::make_shared<LogModuliMap>(p0, m);
-    auto objective = std::make_shared<DofTargetObjective>(tip_dofs, target, c, m);
-    return StaticFunctional(*model, map, objective, model->elimination().restrict_state(rest), options);
-  }
-  Vector z0() const { return p0.head(mesh.num_elements()).array().log().matrix(); }
-};
+using BarProblem = TractionBar;
 
 TEST(StaticFunctional, TaylorTestLinearMaterial) {
   BarProblem bar(MaterialKind::linear, 20.0);

@@ -9,6 +9,7 @@
 
 #include "../support/fem_fixtures.hpp"
 #include "../support/inverse_fixtures.hpp"
+#include "../support/traction_bar.hpp"
 #include "adjoint/static_functional.hpp"
 #include "adjoint/taylor_test.hpp"
 #include "forward/fem/loads.hpp"
@@ -19,45 +20,15 @@ namespace {
 
 using namespace tailor::testing;
 
-struct BarProblem {
-  Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 1, 1), 8, 2, 2);
-  std::unique_ptr<Model> model;
-  Vector rest, p0;
-  std::vector<int> tip_dofs;
-
-  BarProblem(MaterialKind kind, double load) {
-    const int m = mesh.num_elements();
-    model = std::make_unique<Model>(3 * mesh.num_vertices());
-    model->parameter_layout().add("youngs_modulus", m);
-    model->parameter_layout().add("poisson_ratio", m);
-    model->add(elastic_term<3>(mesh, kind));
-    const Eigen::MatrixXi end_facets =
-        boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > 4 - 1e-9; });
-    model->add(
-        std::make_unique<ExternalForceTerm>(traction_forces(mesh, end_facets, Eigen::Vector3d(0, 0.3 * load, -load))));
-    rest = rest_state(mesh);
-    std::vector<int> fixed;
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (mesh.rest_positions(v, 0) < 1e-9)
-        for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
-      if (mesh.rest_positions(v, 0) > 4 - 1e-9)
-        for (int k = 0; k < 3; ++k) tip_dofs.push_back(3 * v + k);
-    }
-    model->set_elimination(Elimination::dirichlet(fixed, rest));
-    p0 = heterogeneous_parameters(mesh, 1000.0, 0.3);
-  }
-
+// The adjoint tests' bar (tests/support/traction_bar.hpp) at 8 x 2 x 2 cells, with the linear
+// solver given (null: CHOLMOD).
+struct BarProblem : TractionBar {
+  BarProblem(MaterialKind kind, double load) : TractionBar(kind, load, Eigen::Vector3i(8, 2, 2)) {}
   StaticFunctional functional(LinearSolverPtr solver) {
-    const int m = mesh.num_elements();
-    Vector target(tip_dofs.size());
-    for (std::size_t k = 0; k < tip_dofs.size(); ++k) target[k] = rest[tip_dofs[k]] + (k % 3 == 2 ? -0.3 : 0.05);
-    auto map = std::make_shared<LogModuliMap>(p0, m);
-    auto objective = std::make_shared<DofTargetObjective>(tip_dofs, target, 1e-6, m);
     StaticFunctionalOptions options;
     options.newton.linear_solver = std::move(solver);
-    return StaticFunctional(*model, map, objective, model->elimination().restrict_state(rest), options);
+    return TractionBar::functional(1e-6, options);
   }
-  Vector z0() const { return p0.head(mesh.num_elements()).array().log().matrix(); }
 };
 
 double relative_difference(const Vector& a, const Vector& b) { return (a - b).norm() / b.norm(); }

@@ -13,6 +13,7 @@ namespace tailor {
 namespace {
 
 using testing::helix;
+using testing::GradientTooStiff;
 using testing::uniform_noise;
 
 // Two rods (6 and 5 vertices) meeting at a point, a joint with three members (the first rod's
@@ -79,20 +80,7 @@ TEST(RodRigidJoint, DerivativesWithStaleFramesAndARotatedJointPass) {
 TEST(RodRigidJoint, PerturbedDerivativeIsCaught) {
   JointSetup s = make_joint();
   const Vector x = s.rest + 0.3 * uniform_noise(static_cast<int>(s.rest.size()), 5);
-  struct Wrong final : EnergyTerm {
-    const EnergyTerm& inner;
-    explicit Wrong(const EnergyTerm& t) : inner(t) {}
-    std::string name() const override { return "wrong"; }
-    void evaluate(const Vector& x, const Vector& p, const EnergyRequest& r) const override {
-      inner.evaluate(x, p, r);
-      if (r.gradient) {
-        Vector g = Vector::Zero(x.size());
-        inner.add_gradient(x, p, g);
-        *r.gradient += 1e-4 * g;  // 0.01% too stiff
-      }
-    }
-    void hessian_pattern(HessianPattern& pattern) const override { inner.hessian_pattern(pattern); }
-  } wrong(*s.joint);
+  const GradientTooStiff wrong(*s.joint);
   const EnergyTermCheck c = check_energy_term(wrong, x, Vector());
   EXPECT_FALSE(c.checks.front().passed) << c.table();
 }

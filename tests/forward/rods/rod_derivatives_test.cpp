@@ -161,20 +161,7 @@ TEST(RodDerivatives, ProjectedHessianIsPositiveSemidefinite) {
 TEST(RodDerivatives, PerturbedDerivativeIsCaught) {
   RodSetup s = make_rod(helix(6, 1.0, 0.2, 0.7));
   const Vector x = s.rest + 0.05 * uniform_noise(s.model->num_dofs(), 20);
-  struct Wrong final : EnergyTerm {
-    const EnergyTerm& inner;
-    explicit Wrong(const EnergyTerm& t) : inner(t) {}
-    std::string name() const override { return "wrong"; }
-    void evaluate(const Vector& x, const Vector& p, const EnergyRequest& r) const override {
-      inner.evaluate(x, p, r);
-      if (r.gradient) {
-        Vector g = Vector::Zero(x.size());
-        inner.add_gradient(x, p, g);
-        *r.gradient += 1e-4 * g;  // 0.01% too stiff
-      }
-    }
-    void hessian_pattern(HessianPattern& pattern) const override { inner.hessian_pattern(pattern); }
-  } wrong(*s.bending);
+  const GradientTooStiff wrong(*s.bending);
   const EnergyTermCheck c = check_energy_term(wrong, x, s.p);
   EXPECT_FALSE(c.checks.front().passed) << c.table();
 }

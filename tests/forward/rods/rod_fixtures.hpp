@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <string>
 
 #include "forward/core/model.hpp"
 #include "forward/rods/bending_term.hpp"
@@ -69,5 +70,22 @@ inline Vector uniform_noise(int n, unsigned seed) {
   for (auto& e : v) e = u(rng);
   return v;
 }
+
+// A term whose gradient is 0.01% too stiff (value and Hessian as the inner term's): a
+// derivative check of it must fail.
+struct GradientTooStiff final : EnergyTerm {
+  const EnergyTerm& inner;
+  explicit GradientTooStiff(const EnergyTerm& t) : inner(t) {}
+  std::string name() const override { return "gradient 0.01% too stiff"; }
+  void evaluate(const Vector& x, const Vector& p, const EnergyRequest& r) const override {
+    inner.evaluate(x, p, r);
+    if (r.gradient) {
+      Vector g = Vector::Zero(x.size());
+      inner.add_gradient(x, p, g);
+      *r.gradient += 1e-4 * g;
+    }
+  }
+  void hessian_pattern(HessianPattern& pattern) const override { inner.hessian_pattern(pattern); }
+};
 
 }  // namespace tailor::testing

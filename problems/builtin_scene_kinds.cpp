@@ -185,6 +185,14 @@ int simulate_tori(const SceneFile& file, const VerbArguments& args, std::ostream
   return exit_code(simulate_torus_scene(spec, args.out_dir_or("out/" + spec.name), &out).completed());
 }
 
+int gradcheck_tori(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  TorusSceneSpec spec = parse_torus_scene(file.text, file.path);
+  if (spec.name.empty()) spec.name = file.stem();
+  TorusGradcheckOptions options;
+  options.seed = args.seed.value_or(1);
+  return exit_code(gradcheck_torus_scene(spec, args.out_dir_or("out/" + spec.name), options, &out).passed());
+}
+
 int simulate_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   return exit_code(simulate_rod_scene_file(file.path, args.out_dir_or("out/rods"), out));
 }
@@ -312,7 +320,9 @@ std::vector<SceneKind> builtin_scene_kinds() {
        "a \"tori\" section (docs/tori.md)",
        [](const nlohmann::json& d) { return has_section(d, "tori"); },
        {{"simulate", simulate_tori,
-         "a hanging chain of tori (implicit or mesh contact), static or implicit Euler steps"}}},
+         "a hanging chain of tori (implicit or mesh contact), static or implicit Euler steps"},
+        {"gradcheck", gradcheck_tori,
+         "static, implicit contact: Taylor test of the link centres' gradient in the masses and radii"}}},
       {"rods",
        "a \"rods\" section (docs/rods.md)",
        [](const nlohmann::json& d) { return has_section(d, "rods"); },

@@ -10,7 +10,15 @@
 #include <ostream>
 #include <sstream>
 
+#include "adjoint/parameterization.hpp"
+#include "adjoint/static_functional.hpp"
+#include "forward/core/elimination.hpp"
+#include "forward/rigid/rigid_gravity_term.hpp"
 #include "forward/rigid/rotation.hpp"
+#include "forward/tori/mesh_intersections.hpp"
+#include "objectives/target_positions.hpp"
+#include "problems/report_header.hpp"
+#include "problems/taylor_report.hpp"
 #include "problems/contact/surface_vtu.hpp"
 #include "problems/scene.hpp"
 #include "problems/scene_node.hpp"
@@ -177,6 +185,112 @@ TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::str
   if (log)
     *log << (run.completed() ? "completed" : "NOT completed") << ": " << run.steps << " steps, "
          << run.intersections << " intersections, min distance " << run.min_distance << "\n";
+  return run;
+}
+
+namespace {
+
+// A functional whose gradient is scaled (TorusGradcheckOptions::gradient_scale).
+class ScaledGradient final : public ReducedFunctional {
+ public:
+  ScaledGradient(ReducedFunctional& inner, double scale) : inner_(inner), scale_(scale) {}
+  int size() const override { return inner_.size(); }
+  double value(const Vector& z) override { return inner_.value(z); }
+  double value_and_gradient(const Vector& z, Vector& gradient) override {
+    const double v = inner_.value_and_gradient(z, gradient);
+    gradient *= scale_;
+    return v;
+  }
+
+ private:
+  ReducedFunctional& inner_;
+  double scale_;
+};
+
+}  // namespace
+
+TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::string& out_dir,
+                                        const TorusGradcheckOptions& options, std::ostream* log) {
+  if (spec.dynamic)
+    throw SceneError(spec.source + ": tori.mode: gradcheck differentiates the static equilibrium (\"mode\": "
+                     "\"static\"); the adjoint of torus dynamics is not implemented");
+  if (spec.options.model != tori::ContactModel::implicit)
+    throw SceneError(spec.source + ": tori.contact_model: gradcheck needs the implicit model (the mesh "
+                     "model has no radius parameters)");
+  // The equilibrium by relaxation, as in `simulate`.
+  tori::ChainSimulationOptions sim_options = spec.options;
+  sim_options.time_step = spec.static_time_step;
+  tori::ChainSimulation sim(spec.chain, sim_options);
+  const double tolerance =
+      spec.static_tolerance > 0.0 ? spec.static_tolerance : 1e-10 * spec.chain.shape.major_radius;
+  if (!sim.relax(tolerance, spec.max_static_steps))
+    throw SceneError(spec.source + ": the chain did not come to rest within tori.max_static_steps (" +
+                     std::to_string(spec.max_static_steps) + "): " + sim.last_message());
+  const rigid::RigidBodySystem& system = sim.system();
+  const Vector equilibrium = sim.state();
+  const int n = system.num_bodies();
+
+  TorusGradcheckRun run;
+  run.intersections = tori::count_body_intersections(system, equilibrium);
+  run.active_pairs = sim.active_pairs();
+  run.min_distance = sim.min_distance(sim.activation_distance());
+
+  Model model(system.num_dofs());
+  model.parameter_layout().add("masses", n);
+  model.parameter_layout().add("torus_radii", 2 * n);
+  model.add(std::make_unique<rigid::RigidGravityTerm>(system, spec.options.gravity, 0));
+  tori::TorusContactOptions contact;
+  contact.activation_distance = sim.activation_distance();
+  contact.stiffness = sim.stiffness();
+  contact.pair_band = spec.options.pair_band;
+  contact.parameter_offset = n;
+  model.add(std::make_unique<tori::TorusContactTerm>(system, sim.shapes(), contact));
+  std::vector<int> fixed = system.fixed_dofs();
+  std::vector<int> centres;
+  double weight = 0.0;
+  for (int b = 0; b < n; ++b)
+    if (!system.body(b).fixed) {
+      fixed.push_back(6 * b + 5);
+      centres.push_back(2 * b);  // block 2b of 3 DOFs is T_b
+      weight += system.body(b).mass * spec.options.gravity.norm();
+    }
+  if (centres.empty()) throw SceneError(spec.source + ": gradcheck needs at least one link that is not fixed");
+  model.set_elimination(Elimination::dirichlet(fixed, equilibrium));
+  Matrix targets(static_cast<Eigen::Index>(centres.size()), 3);
+  for (std::size_t i = 0; i < centres.size(); ++i)
+    targets.row(static_cast<Eigen::Index>(i)) = system.initial_state().segment<3>(3 * centres[i]).transpose();
+  auto objective = std::make_shared<TargetPositions>(3, centres, targets);
+  StaticFunctionalOptions functional_options;
+  functional_options.newton = spec.options.newton;
+  // The barrier's round-off floor (docs/tori.md): an absolute residual of 1e-7 of the weight.
+  functional_options.newton.absolute_tolerance = 1e-7 * weight;
+  StaticFunctional functional(model, identity_map(3 * n), objective,
+                              model.elimination().restrict_state(equilibrium), functional_options);
+  ScaledGradient scaled(functional, options.gradient_scale);
+  Vector z(3 * n);
+  for (int b = 0; b < n; ++b) {
+    z[b] = system.body(b).mass;
+    z[n + 2 * b] = sim.shapes()[static_cast<std::size_t>(b)].major_radius;
+    z[n + 2 * b + 1] = sim.shapes()[static_cast<std::size_t>(b)].minor_radius;
+  }
+  TaylorTestOptions taylor;
+  taylor.seed = options.seed;
+  taylor.initial_step = options.initial_step;
+  run.taylor = taylor_test(scaled, z, taylor);
+  if (log)
+    *log << "torus chain at rest: " << run.active_pairs << " active pairs, min distance " << run.min_distance
+         << ", " << run.intersections << " intersections\n"
+         << "gradient of 1/2 sum |T_b - T_b^0|^2 with respect to the masses and radii (R, r) of every link\n"
+         << run.taylor.table();
+  std::filesystem::create_directories(out_dir);
+  nlohmann::ordered_json document = taylor_json(run.taylor);
+  add_report_header(document);
+  document["scene"] = {{"name", spec.name}, {"source", spec.source}};
+  document["parameters"] = "masses m_0..m_{n-1}, then (R_i, r_i) per link";
+  document["active_pairs"] = run.active_pairs;
+  document["min_distance"] = run.min_distance;
+  document["intersections"] = run.intersections;
+  std::ofstream(std::filesystem::path(out_dir) / "gradcheck.json") << document.dump(2) << "\n";
   return run;
 }
 

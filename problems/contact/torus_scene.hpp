@@ -7,6 +7,7 @@
 #include <iosfwd>
 #include <string>
 
+#include "adjoint/taylor_test.hpp"
 #include "forward/tori/chain_simulation.hpp"
 
 namespace tailor {
@@ -37,5 +38,32 @@ struct TorusSimulateRun {
 // Runs the scene; writes DIR/report.json and DIR/<link>_<frame>.vtu (every torus's mesh per
 // frame; static: the start and the equilibrium). Progress to `log` when given.
 TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::string& out_dir, std::ostream* log);
+
+// `tailor gradcheck` on a static, implicit-contact torus scene (docs/tori.md): the parameters
+// z = (m_0 .. m_{n-1}, R_0, r_0, .. R_{n-1}, r_{n-1}) (the masses in the gravity term, the radii
+// in the contact geometry); the objective 1/2 sum_free |T_b - T_b^0|^2 over the free links'
+// centres (T_b^0 their start); its gradient by the adjoint of the static equilibrium (gravity +
+// the torus barrier, the exact barrier Hessian with the distance's implicit-function term, never
+// a projected one) against a Taylor test. The equilibrium is first found by relaxation (as in
+// `simulate`), then each free link's w_z is held at it (the turn about the vertical through its
+// contact points is a zero mode of the static Hessian). Writes DIR/gradcheck.json.
+struct TorusGradcheckOptions {
+  unsigned seed = 1;
+  double initial_step = 1e-5;  // keeps the warm-started equilibrium apart at the new radii
+  // Multiplies the adjoint gradient: != 1 only in the test showing that a wrong gradient fails.
+  double gradient_scale = 1.0;
+};
+
+struct TorusGradcheckRun {
+  TaylorTestResult taylor;
+  int intersections = 0;        // mesh crossings at the equilibrium (must be 0)
+  double min_distance = 0.0;    // at the equilibrium
+  int active_pairs = 0;         // pairs within d_hat at the equilibrium (must be > 0)
+  bool passed() const { return taylor.passed() && intersections == 0 && active_pairs > 0; }
+};
+
+// Throws SceneError for a dynamic or mesh-contact scene, or one that does not come to rest.
+TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::string& out_dir,
+                                        const TorusGradcheckOptions& options, std::ostream* log);
 
 }  // namespace tailor

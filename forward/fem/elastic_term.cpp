@@ -15,6 +15,7 @@ ElasticTerm<Dim>::ElasticTerm(const Mesh& mesh, std::shared_ptr<const Material<D
       poisson_offset_(poisson_offset),
       simplices_(mesh, std::move(elements), "ElasticTerm") {
   if (!material_) throw std::invalid_argument("ElasticTerm: no material given");
+  closed_form_hessian_ = material_->has_simplex_hessian();
 }
 
 template <int Dim>
@@ -31,14 +32,19 @@ template <int Dim>
 void ElasticTerm<Dim>::evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const {
   evaluate_elements<Dim>(simplices_, request, [&](int k, ElementOutput<Dim>& out) {
     MaterialEvaluation<Dim> m;
-    material_->evaluate(deformation_gradient(x, k), lame(p, simplices_.elements[k]), out.want_gradient,
-                        out.want_hessian, out.hessian_mode, m);
+    const Eigen::Matrix<double, Dim, Dim> F = deformation_gradient(x, k);
+    const LameParameters lame_k = lame(p, simplices_.elements[k]);
+    // The exact Hessian in closed form where the material has one; T is not formed then.
+    const bool closed_form = out.want_hessian && out.hessian_mode == HessianMode::exact && closed_form_hessian_;
+    material_->evaluate(F, lame_k, out.want_gradient, out.want_hessian && !closed_form, out.hessian_mode, m);
     const double V = simplices_.volumes[k];
     const ShapeGradients& G = simplices_.gradients[k];
     out.energy = V * m.energy_density;
     // f_a = V P grad N_a (column a of the Dim x kNodes block, node-major like the local DOFs)
     if (out.want_gradient) out.gradient().noalias() = V * m.stress * G.transpose();
-    if (out.want_hessian) {
+    if (closed_form) {
+      material_->simplex_hessian(F, lame_k, G, V, out.hessian_slots);
+    } else if (out.want_hessian) {
       const auto B = LinearSimplices<Dim>::deformation_jacobian(G);
       // Coefficient-based products: Eigen sends a fixed 12x9 * 9x9 * 9x12 product through its
       // blocked GEMM path otherwise, about 1.5x slower at this size.

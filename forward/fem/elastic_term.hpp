@@ -56,6 +56,7 @@ class ElasticTerm final : public EnergyTerm {
  private:
   LameParameters lame(const Vector& p, int element) const;
   std::shared_ptr<const Material<Dim>> material_;
+  bool closed_form_hessian_ = false;  // the material writes the exact element Hessian itself
   int youngs_offset_, poisson_offset_;
   LinearSimplices<Dim> simplices_;
 };

@@ -66,6 +66,15 @@ class Material {
   // Derivatives of Psi and P in (lambda, mu).
   virtual void lame_derivatives(const Mat& F, const LameParameters& lame,
                                 MaterialLameDerivatives<Dim>& out) const = 0;
+
+  // Optional closed form of a linear simplex's exact Hessian: a material that returns true from
+  // has_simplex_hessian() writes V B^T T B (B = dvec(F)/dx over the element's node-major local
+  // DOFs, T the exact tangent) into the (Dim+1)Dim x (Dim+1)Dim column-major array H, without
+  // forming T. Rows of G are the rest shape gradients grad N_a.
+  using NodeGradients = Eigen::Matrix<double, Dim + 1, Dim>;
+  virtual bool has_simplex_hessian() const { return false; }
+  virtual void simplex_hessian(const Mat& /*F*/, const LameParameters& /*lame*/, const NodeGradients& /*G*/,
+                               double /*V*/, double* /*H*/) const {}
 };
 
 // Adding a material: a value here, its name in kMaterialNames, and a case in make_material

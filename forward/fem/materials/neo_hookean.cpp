@@ -107,6 +107,46 @@ void NeoHookeanMaterial<Dim>::evaluate(const Mat& F, const LameParameters& lame,
 }
 
 template <int Dim>
+void NeoHookeanMaterial<Dim>::simplex_hessian(const Mat& F, const LameParameters& lame,
+                                              const typename Material<Dim>::NodeGradients& G, double V,
+                                              double* H) const {
+  constexpr int kNodes = Dim + 1;
+  const double mu_s = 4.0 / 3.0 * lame.mu;
+  const double lambda_s = lame.lambda + 5.0 / 6.0 * lame.mu;
+  const Invariants<Dim> v = invariants<Dim>(F);
+  // The same coefficients as the tangent in evaluate(), scaled by the volume.
+  const double a = V * mu_s * v.Ic / (v.Ic + 1.0);
+  const double s = V * (lambda_s * v.Jm1 - lame.mu);
+  const double b = V * 2.0 * mu_s / ((v.Ic + 1.0) * (v.Ic + 1.0));
+  const double l = V * lambda_s;
+  const Eigen::Matrix<double, Dim, kNodes> FG = F * G.transpose();      // column a: F g_a
+  const Eigen::Matrix<double, Dim, kNodes> CG = v.cof * G.transpose();  // column a: cof(F) g_a
+  Eigen::Map<Eigen::Matrix<double, Dim * kNodes, Dim * kNodes>> out(H);
+  for (int na = 0; na < kNodes; ++na)
+    for (int nb = na; nb < kNodes; ++nb) {
+      md::Mat<Dim> block = b * FG.col(na) * FG.col(nb).transpose();
+      block.noalias() += l * CG.col(na) * CG.col(nb).transpose();
+      block.diagonal().array() += a * G.row(na).dot(G.row(nb));
+      // d2J/dF_ij dF_kl contracted with g_a[j] g_b[l].
+      if constexpr (Dim == 3) {
+        const Eigen::Vector3d w = s * (F * G.row(na).transpose().cross(G.row(nb).transpose()));
+        block(0, 1) += w(2);
+        block(1, 0) -= w(2);
+        block(2, 0) += w(1);
+        block(0, 2) -= w(1);
+        block(1, 2) += w(0);
+        block(2, 1) -= w(0);
+      } else {
+        const double c = s * (G(na, 0) * G(nb, 1) - G(na, 1) * G(nb, 0));
+        block(0, 1) += c;
+        block(1, 0) -= c;
+      }
+      out.template block<Dim, Dim>(Dim * na, Dim * nb) = block;
+      if (nb != na) out.template block<Dim, Dim>(Dim * nb, Dim * na) = block.transpose();
+    }
+}
+
+template <int Dim>
 void NeoHookeanMaterial<Dim>::lame_derivatives(const Mat& F, const LameParameters& /*lame*/,
                                                MaterialLameDerivatives<Dim>& out) const {
   // Psi and P are linear in (lambda, mu); see the header for the expanded form.

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "adjoint/parameterization.hpp"
+#include "adjoint/scaled_gradient.hpp"
 #include "adjoint/static_functional.hpp"
 #include "forward/core/elimination.hpp"
 #include "forward/rigid/rigid_gravity_term.hpp"
@@ -187,27 +188,6 @@ TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::str
          << run.intersections << " intersections, min distance " << run.min_distance << "\n";
   return run;
 }
-
-namespace {
-
-// A functional whose gradient is scaled (TorusGradcheckOptions::gradient_scale).
-class ScaledGradient final : public ReducedFunctional {
- public:
-  ScaledGradient(ReducedFunctional& inner, double scale) : inner_(inner), scale_(scale) {}
-  int size() const override { return inner_.size(); }
-  double value(const Vector& z) override { return inner_.value(z); }
-  double value_and_gradient(const Vector& z, Vector& gradient) override {
-    const double v = inner_.value_and_gradient(z, gradient);
-    gradient *= scale_;
-    return v;
-  }
-
- private:
-  ReducedFunctional& inner_;
-  double scale_;
-};
-
-}  // namespace
 
 TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::string& out_dir,
                                         const TorusGradcheckOptions& options, std::ostream* log) {

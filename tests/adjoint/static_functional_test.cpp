@@ -1,6 +1,7 @@
 // The static adjoint: Taylor tests of whole reduced functionals (rate >= 1.9) on linear and
 // large-deformation Neo-Hookean scenes, direct mode against the adjoint, the residual form's
 // Jacobian against differences, and the Taylor test's own ability to fail.
+#include "adjoint/scaled_gradient.hpp"
 #include "adjoint/static_functional.hpp"
 
 #include <gtest/gtest.h>
@@ -114,26 +115,10 @@ TEST(StaticFunctional, DirectModeAgreesWithAdjoint) {
   EXPECT_LT(((rp - rm) / (2 * h) - jac * dz).norm(), 1e-6 * (jac * dz).norm());
 }
 
-// A functional with a corrupted gradient: the Taylor test must fail on it.
-class CorruptedGradient final : public ReducedFunctional {
- public:
-  explicit CorruptedGradient(ReducedFunctional& inner) : inner_(inner) {}
-  int size() const override { return inner_.size(); }
-  double value(const Vector& z) override { return inner_.value(z); }
-  double value_and_gradient(const Vector& z, Vector& g) override {
-    const double j = inner_.value_and_gradient(z, g);
-    g *= 1.2;  // a 20% error, e.g. a missing factor in one term
-    return j;
-  }
-
- private:
-  ReducedFunctional& inner_;
-};
-
 TEST(TaylorTest, DetectsAWrongGradient) {
   BarProblem bar(MaterialKind::linear, 20.0);
   StaticFunctional f = bar.functional();
-  CorruptedGradient bad(f);
+  ScaledGradient bad(f, 1.2);  // a 20% error, e.g. a missing factor in one term
   const TaylorTestResult t = taylor_test(bad, bar.z0());
   EXPECT_EQ(t.status, TaylorStatus::failed) << t.table();
   EXPECT_LT(t.rate1, 1.5) << t.table();

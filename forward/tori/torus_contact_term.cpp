@@ -64,7 +64,10 @@ TorusShape TorusContactTerm::shape(int i, const Vector& p) const {
   if (k + 1 >= p.size())
     throw std::invalid_argument("TorusContactTerm: the parameter vector has " + std::to_string(p.size()) +
                                 " entries, torus " + std::to_string(i) + " reads " + std::to_string(k + 1));
-  return {p[k], p[k + 1]};
+  TorusShape s = shapes_[static_cast<std::size_t>(i)];  // r1 is not a parameter: it stays
+  s.major_radius = p[k];
+  s.minor_radius = p[k + 1];
+  return s;
 }
 
 TorusPose TorusContactTerm::pose(int i, const Vector& q, const Vector& p) const {
@@ -92,7 +95,7 @@ std::vector<TorusPair> TorusContactTerm::close_pairs(const Vector& q, const Vect
     for (int b = a + 1; b < n; ++b) {
       if (system_.body(a).fixed && system_.body(b).fixed) continue;
       const TorusShape &sa = poses[static_cast<std::size_t>(a)].shape, &sb = poses[static_cast<std::size_t>(b)].shape;
-      const double reach = sa.major_radius + sa.minor_radius + sb.major_radius + sb.minor_radius + range;
+      const double reach = bounding_radius(sa) + bounding_radius(sb) + range;
       if ((poses[static_cast<std::size_t>(a)].position - poses[static_cast<std::size_t>(b)].position).norm() >= reach)
         continue;
       TorusPair pair;
@@ -209,11 +212,15 @@ double TorusContactTerm::max_step(const Vector& q, const Vector& dq) const {
       if (system_.body(a).fixed && system_.body(b).fixed) continue;
       const TorusShape &sa = shapes_[static_cast<std::size_t>(a)], &sb = shapes_[static_cast<std::size_t>(b)];
       const Eigen::Vector3d dTa = dq.segment<3>(6 * a), dTb = dq.segment<3>(6 * b);
-      const double reach = sa.major_radius + sa.minor_radius + sb.major_radius + sb.minor_radius;
+      const double reach = bounding_radius(sa) + bounding_radius(sb);
       const double gap = (q.segment<3>(6 * a) - q.segment<3>(6 * b)).norm() - (dTa - dTb).norm();
       if (gap > reach) continue;  // the bounding spheres never meet along the step
-      const double L = dTa.norm() + dq.segment<3>(6 * a + 3).norm() * sa.major_radius + dTb.norm() +
-                       dq.segment<3>(6 * b + 3).norm() * sb.major_radius;
+      // Circular pairs: the core points' speed (d = D - r_a - r_b); elliptic ones: the surface
+      // points', every one within bounding_radius of its centre.
+      const bool surfaces = is_elliptic(sa) || is_elliptic(sb);
+      const double La = surfaces ? bounding_radius(sa) : sa.major_radius;
+      const double Lb = surfaces ? bounding_radius(sb) : sb.major_radius;
+      const double L = dTa.norm() + dq.segment<3>(6 * a + 3).norm() * La + dTb.norm() + dq.segment<3>(6 * b + 3).norm() * Lb;
       if (!(L > 0.0)) continue;
       auto distance_at = [&](double t) {
         ++ccd_queries;

@@ -45,8 +45,11 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
   c.shape.major_radius = t.at("major_radius").positive();
   c.shape.minor_radius = t.at("minor_radius").positive();
   if (!(c.shape.minor_radius < c.shape.major_radius)) t.at("minor_radius").fail("must be smaller than major_radius");
-  if (t.has("minor_radius_1") && t.at("minor_radius_1").positive() != c.shape.minor_radius)
-    t.at("minor_radius_1").fail("elliptic tubes (minor_radius_1 != minor_radius) are not supported");
+  // An elliptic tube (torus.hpp); equal to minor_radius it is the circular one (r1 follows r).
+  if (t.has("minor_radius_1")) {
+    const double r1 = t.at("minor_radius_1").positive();
+    if (r1 != c.shape.minor_radius) c.shape.minor_radius_1 = r1;
+  }
   if (t.has("spacing")) c.spacing = t.at("spacing").positive();
   if (t.has("gap")) c.gap = t.at("gap").positive();
   if (t.has("density")) c.density = t.at("density").positive();

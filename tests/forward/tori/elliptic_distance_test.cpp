@@ -59,13 +59,13 @@ TEST(EllipticTorusDistance, CoplanarSideBySideMatchTheClosedForm) {
 
 // Reference: the distance from x to b's surface. The nearest point of a surface of revolution
 // lies in x's meridian half-plane, so it is the distance of (rho, z) to b's section ellipse
-// (R + r cos v, r1 sin v): 512 samples of v, then golden-section search about the best.
+// (R + r cos v, r1 sin v): 128 samples of v, then golden-section search about the best.
 double point_surface_distance(const TorusPose& b, const Eigen::Vector3d& x) {
   const Eigen::Vector3d y = rigid::rotation_matrix(b.rotation).transpose() * (x - b.position);
   const double rho = std::hypot(y[0], y[1]), z = y[2];
   const double R = b.shape.major_radius, r = b.shape.minor_radius, r1 = axial_radius(b.shape);
   auto h = [&](double v) { return std::hypot(rho - R - r * std::cos(v), z - r1 * std::sin(v)); };
-  const int n = 512;
+  const int n = 128;
   int best = 0;
   for (int k = 1; k < n; ++k)
     if (h(2 * M_PI * k / n) < h(2 * M_PI * best / n)) best = k;
@@ -81,29 +81,30 @@ double point_surface_distance(const TorusPose& b, const Eigen::Vector3d& x) {
   return h(0.5 * (lo + hi));
 }
 
-// Reference distance of two disjoint tori: a's surface sampled on a 240 x 120 grid, then a
-// 40 x 40 grid over the cells around the best sample, each sample's exact distance to b. Only
-// an upper bound (by the sampling of a, here below 1e-6).
+// Reference distance of two disjoint tori: a's surface sampled on a 160 x 80 grid, then three
+// times a 21 x 21 grid over the two cells around the best sample, each 10 times finer, each
+// sample's exact distance to b. Only an upper bound (by the sampling of a, here ~1e-9).
 double sampled_distance(const TorusPose& a, const TorusPose& b) {
-  const int nu = 240, nv = 120;
+  const int nu = 160, nv = 80;
   double best = std::numeric_limits<double>::infinity(), bu = 0, bv = 0;
+  auto sample = [&](double u, double v) {
+    const double d = point_surface_distance(b, surface_point(a, u, v));
+    if (d < best) {
+      best = d;
+      bu = u;
+      bv = v;
+    }
+  };
   for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
-      const double d = point_surface_distance(b, surface_point(a, u, v));
-      if (d < best) {
-        best = d;
-        bu = u;
-        bv = v;
-      }
-    }
-  const double du = 2 * M_PI / nu, dv = 2 * M_PI / nv;
-  const double cu = bu, cv = bv;
-  for (int i = 0; i <= 40; ++i)
-    for (int j = 0; j <= 40; ++j) {
-      const double u = cu + du * (i / 20.0 - 1.0), v = cv + dv * (j / 20.0 - 1.0);
-      best = std::min(best, point_surface_distance(b, surface_point(a, u, v)));
-    }
+    for (int j = 0; j < nv; ++j) sample(2 * M_PI * i / nu, 2 * M_PI * j / nv);
+  double du = 2 * M_PI / nu, dv = 2 * M_PI / nv;
+  for (int level = 0; level < 3; ++level) {
+    const double cu = bu, cv = bv;
+    for (int i = -10; i <= 10; ++i)
+      for (int j = -10; j <= 10; ++j) sample(cu + du * i / 10.0, cv + dv * j / 10.0);
+    du /= 10.0;
+    dv /= 10.0;
+  }
   return best;
 }
 
@@ -123,7 +124,8 @@ TEST(EllipticTorusDistance, RandomPairsAgreeWithDenseSamplingInDistanceAndOverla
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0), p(0.0, 1.0);
   int apart = 0, overlapping = 0;
-  for (int k = 0; k < 40; ++k) {
+  double worst = 0.0;
+  for (int k = 0; k < 30; ++k) {
     const TorusPose a{Eigen::Vector3d::Zero(), Eigen::Vector3d(u(rng), u(rng), u(rng)) * 2.0,
                       elliptic(1.0, 0.1 + 0.2 * p(rng), 0.1 + 0.35 * p(rng))};
     const TorusPose b{Eigen::Vector3d(u(rng), u(rng), u(rng)) * 1.6, Eigen::Vector3d(u(rng), u(rng), u(rng)) * 2.0,
@@ -138,13 +140,15 @@ TEST(EllipticTorusDistance, RandomPairsAgreeWithDenseSamplingInDistanceAndOverla
     const double reference = sampled_distance(a, b);
     // Ours is attained at actual surface points (never below the truth); the reference is the
     // truth up to its sampling; a missed global minimum would put ours above the reference.
-    EXPECT_LE(d.distance, reference + 1e-9) << k;
-    EXPECT_GE(d.distance, reference - 1e-6) << k;
+    EXPECT_LE(d.distance, reference + 1e-12) << k;
+    EXPECT_GE(d.distance, reference - 1e-8) << k;
+    worst = std::max(worst, std::abs(d.distance - reference));
     ++apart;
   }
-  std::printf("random elliptic pairs: %d apart, %d overlapping\n", apart, overlapping);
+  std::printf("random elliptic pairs: %d apart (largest difference to the reference %.1e), %d overlapping\n", apart,
+              worst, overlapping);
   EXPECT_GE(apart, 8);
-  EXPECT_GE(overlapping, 8);
+  EXPECT_GE(overlapping, 5);
 }
 
 TEST(EllipticTorusDistance, ATorusInsideAnothersTubeOverlaps) {
@@ -217,7 +221,7 @@ std::vector<std::pair<TorusPose, TorusPose>> generic_pairs() {
   return {{{Eigen::Vector3d::Zero(), Eigen::Vector3d(M_PI / 2 - 0.02, 0.03, 0.01), elliptic(1.0, 0.2, 0.3)},
            {Eigen::Vector3d(0.03, -0.02, -1.58), Eigen::Vector3d(0.05, M_PI / 2 - 0.04, 0.07), elliptic(1.0, 0.2, 0.3)}},
           {{Eigen::Vector3d::Zero(), Eigen::Vector3d(0.1, -0.2, 0.3), elliptic(1.0, 0.2, 0.35)},
-           {Eigen::Vector3d(0.6, 0.2, 0.75), Eigen::Vector3d(-0.3, 0.25, 1.0), elliptic(0.9, 0.25, 0.15)}},
+           {Eigen::Vector3d(0.6, 0.2, 0.95), Eigen::Vector3d(-0.3, 0.25, 1.0), elliptic(0.9, 0.25, 0.15)}},
           {{Eigen::Vector3d::Zero(), Eigen::Vector3d(0.3, 0.1, -0.2), elliptic(1.0, 0.3, 0.15)},
            {Eigen::Vector3d(2.4, 0.3, 0.1), Eigen::Vector3d(0.4, 0.2, -0.5), TorusShape{0.8, 0.2}}}};
 }

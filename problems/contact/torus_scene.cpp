@@ -263,13 +263,15 @@ TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::s
   if (log)
     *log << "torus chain at rest: " << run.active_pairs << " active pairs, min distance " << run.min_distance
          << ", " << run.intersections << " intersections\n"
-         << "gradient of 1/2 sum |T_b - T_b^0|^2 with respect to the masses and radii (R, r) of every link\n"
+         << "gradient of 1/2 sum |T_b - T_b^0|^2 with respect to the masses and radii (R, r) of every link"
+         << (tori::is_elliptic(spec.chain.shape) ? " (minor_radius_1 held)" : "") << "\n"
          << run.taylor.table();
   std::filesystem::create_directories(out_dir);
   nlohmann::ordered_json document = taylor_json(run.taylor);
   add_report_header(document);
   document["scene"] = {{"name", spec.name}, {"source", spec.source}};
-  document["parameters"] = "masses m_0..m_{n-1}, then (R_i, r_i) per link";
+  document["parameters"] = std::string("masses m_0..m_{n-1}, then (R_i, r_i) per link") +
+                           (tori::is_elliptic(spec.chain.shape) ? " (elliptic tubes: minor_radius_1 held)" : "");
   document["active_pairs"] = run.active_pairs;
   document["min_distance"] = run.min_distance;
   document["intersections"] = run.intersections;

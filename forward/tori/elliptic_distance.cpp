@@ -30,8 +30,8 @@ struct Surface {
 };
 
 Surface surface_of(const TorusPose& pose) {
-  return {pose.position, rigid::rotation_matrix(pose.rotation), pose.shape.major_radius, pose.shape.minor_radius,
-          axial_radius(pose.shape)};
+  return {pose.position, rigid::rotation_matrix(pose.rotation), pose.shape.major_radius,
+          pose.shape.minor_radius, axial_radius(pose.shape)};
 }
 
 Eigen::Vector3d point_of(const Surface& s, double u, double v) {
@@ -84,7 +84,8 @@ double implicit_of(const Surface& s, const Eigen::Vector3d& x, Eigen::Vector3d* 
   const double value = rho * rho / (s.r * s.r) + y[2] * y[2] / (s.r1 * s.r1) - 1.0;
   if (grad) {
     const Eigen::Vector3d n(y[0] / horizontal, y[1] / horizontal, 0.0);
-    const Eigen::Vector3d gy = 2.0 * rho / (s.r * s.r) * n + Eigen::Vector3d(0, 0, 2.0 * y[2] / (s.r1 * s.r1));
+    const Eigen::Vector3d gy =
+        2.0 * rho / (s.r * s.r) * n + Eigen::Vector3d(0, 0, 2.0 * y[2] / (s.r1 * s.r1));
     Eigen::Matrix3d planar = Eigen::Matrix3d::Zero();
     planar.topLeftCorner<2, 2>() = Eigen::Matrix2d::Identity();
     Eigen::Matrix3d hy = 2.0 / (s.r * s.r) * n * n.transpose() +
@@ -118,6 +119,9 @@ double implicit_on_surface(const Surface& surface, const Surface& solid, const E
 // Newton with floored eigenvalues and a backtracking line search on `function` (value, and
 // gradient and Hessian when given pointers), then plain Newton steps while they shrink the
 // gradient (quadratic convergence to the stationary point, past what a decrease of f resolves).
+// A stationary point with negative curvature (a saddle: symmetric poses stop there with a zero
+// gradient) is left along the most negative eigenvector, whichever sign decreases f, and Newton
+// runs again.
 template <int N, class Function>
 double newton_minimize(const Function& function, Eigen::Matrix<double, N, 1>& x, int max_iterations) {
   using VectorN = Eigen::Matrix<double, N, 1>;
@@ -125,51 +129,70 @@ double newton_minimize(const Function& function, Eigen::Matrix<double, N, 1>& x,
   VectorN g;
   MatrixN H;
   double f = function(x, &g, &H);
-  for (int it = 0; it < max_iterations; ++it) {
-    Eigen::SelfAdjointEigenSolver<MatrixN> eig(H);
-    const VectorN lambda = eig.eigenvalues();
-    const double scale = std::max(1e-300, lambda.cwiseAbs().maxCoeff());
-    VectorN floored = lambda;
-    for (int k = 0; k < N; ++k)
-      if (lambda[k] < 1e-8 * scale) floored[k] = std::max(std::abs(lambda[k]), 1e-3 * scale);
-    const VectorN step = -eig.eigenvectors() * (eig.eigenvectors().transpose() * g).cwiseQuotient(floored);
-    if (!(step.norm() > 1e-15)) break;
-    double alpha = 1.0;
-    VectorN trial = x;
-    bool decreased = false;
-    for (int ls = 0; ls < 40; ++ls) {
-      trial = x + alpha * step;
-      if (function(trial, nullptr, nullptr) <= f + 1e-4 * alpha * g.dot(step)) {
-        decreased = true;
-        break;
+  for (int escape = 0;; ++escape) {
+    for (int it = 0; it < max_iterations; ++it) {
+      Eigen::SelfAdjointEigenSolver<MatrixN> eig(H);
+      const VectorN lambda = eig.eigenvalues();
+      const double scale = std::max(1e-300, lambda.cwiseAbs().maxCoeff());
+      VectorN floored = lambda;
+      for (int k = 0; k < N; ++k)
+        if (lambda[k] < 1e-8 * scale) floored[k] = std::max(std::abs(lambda[k]), 1e-3 * scale);
+      const VectorN step = -eig.eigenvectors() * (eig.eigenvectors().transpose() * g).cwiseQuotient(floored);
+      if (!(step.norm() > 1e-15)) break;
+      double alpha = 1.0;
+      VectorN trial = x;
+      bool decreased = false;
+      for (int ls = 0; ls < 40; ++ls) {
+        trial = x + alpha * step;
+        if (function(trial, nullptr, nullptr) <= f + 1e-4 * alpha * g.dot(step)) {
+          decreased = true;
+          break;
+        }
+        alpha *= 0.5;
       }
-      alpha *= 0.5;
+      if (!decreased) break;
+      const bool tiny = alpha * step.norm() < 1e-14;
+      x = trial;
+      f = function(x, &g, &H);
+      if (tiny) break;
     }
-    if (!decreased) break;
-    const bool tiny = alpha * step.norm() < 1e-14;
-    x = trial;
+    for (int it = 0; it < 8; ++it) {
+      Eigen::LDLT<MatrixN> ldlt(H);
+      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) break;
+      const VectorN step = -ldlt.solve(g);
+      VectorN gn;
+      MatrixN Hn;
+      const double fn = function(VectorN(x + step), &gn, &Hn);
+      if (!(gn.norm() < g.norm())) break;
+      x += step;
+      f = fn;
+      g = gn;
+      H = Hn;
+    }
+    Eigen::SelfAdjointEigenSolver<MatrixN> eig(H);
+    const double scale = std::max(1e-300, eig.eigenvalues().cwiseAbs().maxCoeff());
+    if (escape >= 4 || !(eig.eigenvalues()[0] < -1e-9 * scale)) return f;
+    // The quadratic model drops by |lambda| t^2 / 2 along the eigenvector: from t = sqrt(f / |lambda|)
+    // (the model's decrease comparable to f) halving until f decreases.
+    const VectorN e = eig.eigenvectors().col(0);
+    bool moved = false;
+    for (double t = std::sqrt(std::max(f, 1e-30) / -eig.eigenvalues()[0]); t > 1e-12 && !moved; t *= 0.5)
+      for (double sign : {1.0, -1.0}) {
+        const VectorN trial = x + sign * t * e;
+        if (function(trial, nullptr, nullptr) < f) {
+          x = trial;
+          moved = true;
+          break;
+        }
+      }
+    if (!moved) return f;
     f = function(x, &g, &H);
-    if (tiny) break;
   }
-  for (int it = 0; it < 8; ++it) {
-    Eigen::LDLT<MatrixN> ldlt(H);
-    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) break;
-    const VectorN step = -ldlt.solve(g);
-    VectorN gn;
-    MatrixN Hn;
-    const double fn = function(VectorN(x + step), &gn, &Hn);
-    if (!(gn.norm() < g.norm())) break;
-    x += step;
-    f = fn;
-    g = gn;
-    H = Hn;
-  }
-  return f;
 }
 
 // The smallest of g_solid over `surface`: Newton from each start (u, v).
-double smallest_implicit(const Surface& surface, const Surface& solid, const std::vector<Eigen::Vector2d>& starts,
-                         int max_iterations) {
+double smallest_implicit(const Surface& surface, const Surface& solid,
+                         const std::vector<Eigen::Vector2d>& starts, int max_iterations) {
   double best = std::numeric_limits<double>::infinity();
   auto h = [&](const Eigen::Vector2d& u, Eigen::Vector2d* g, Eigen::Matrix2d* H) {
     return implicit_on_surface(surface, solid, u, g, H);
@@ -196,7 +219,8 @@ std::array<J, 3> surface_point_jet(const TorusPose& pose, double u, double v, in
   trig(v, angle_slot + 1, cv, sv);
   const J R = J::variable(pose.shape.major_radius, radius_slot);
   const J r = J::variable(pose.shape.minor_radius, radius_slot + 1);
-  const J r1 = J::variable(axial_radius(pose.shape), is_elliptic(pose.shape) ? radius_slot + 2 : radius_slot + 1);
+  const J r1 =
+      J::variable(axial_radius(pose.shape), is_elliptic(pose.shape) ? radius_slot + 2 : radius_slot + 1);
   const J rho = R + r * cv;
   const std::array<J, 3> body = {rho * cu, rho * su, r1 * sv};
   std::array<J, 3> out;
@@ -216,7 +240,9 @@ std::array<J, 3> surface_point_jet(const TorusPose& pose, double u, double v, in
 
 }  // namespace
 
-Eigen::Vector3d surface_point(const TorusPose& pose, double u, double v) { return point_of(surface_of(pose), u, v); }
+Eigen::Vector3d surface_point(const TorusPose& pose, double u, double v) {
+  return point_of(surface_of(pose), u, v);
+}
 
 double implicit_value(const TorusPose& pose, const Eigen::Vector3d& x) {
   return implicit_of(surface_of(pose), x, nullptr, nullptr);
@@ -226,7 +252,9 @@ TorusDistance elliptic_torus_distance(const TorusPose& a, const TorusPose& b, bo
                                       const DistanceOptions& options) {
   const Surface sa = surface_of(a), sb = surface_of(b);
   const int nu = std::max(4, options.surface_samples), nv = std::max(4, nu / 2), n = nu * nv;
-  auto params = [&](int k) { return Eigen::Vector2d(2.0 * M_PI * (k / nv) / nu, 2.0 * M_PI * (k % nv) / nv); };
+  auto params = [&](int k) {
+    return Eigen::Vector2d(2.0 * M_PI * (k / nv) / nu, 2.0 * M_PI * (k % nv) / nv);
+  };
   std::vector<Eigen::Vector3d> pa(static_cast<std::size_t>(n)), pb(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const Eigen::Vector2d t = params(k);
@@ -254,14 +282,15 @@ TorusDistance elliptic_torus_distance(const TorusPose& a, const TorusPose& b, bo
   for (int i = 0; i < n; ++i) {
     const int iu = i / nv, iv = i % nv;
     const double v0 = value[static_cast<std::size_t>(i)];
-    const int neighbours[4] = {((iu + 1) % nu) * nv + iv, ((iu + nu - 1) % nu) * nv + iv, iu * nv + (iv + 1) % nv,
-                               iu * nv + (iv + nv - 1) % nv};
+    const int neighbours[4] = {((iu + 1) % nu) * nv + iv, ((iu + nu - 1) % nu) * nv + iv,
+                               iu * nv + (iv + 1) % nv, iu * nv + (iv + nv - 1) % nv};
     bool lowest = true;
     for (int m : neighbours) lowest = lowest && v0 <= value[static_cast<std::size_t>(m)];
     if (lowest) minima.push_back(i);
   }
-  std::sort(minima.begin(), minima.end(),
-            [&](int i, int j) { return value[static_cast<std::size_t>(i)] < value[static_cast<std::size_t>(j)]; });
+  std::sort(minima.begin(), minima.end(), [&](int i, int j) {
+    return value[static_cast<std::size_t>(i)] < value[static_cast<std::size_t>(j)];
+  });
   if (minima.empty()) minima.push_back(0);
   if (static_cast<int>(minima.size()) > options.surface_starts)
     minima.resize(static_cast<std::size_t>(std::max(1, options.surface_starts)));

@@ -24,7 +24,8 @@ void validate_shape(const TorusShape& shape, const std::string& where) {
     throw std::invalid_argument(where + ": a torus needs 0 < minor_radius < major_radius, got R = " +
                                 std::to_string(R) + ", r = " + std::to_string(r));
   if (!std::isfinite(r1) || !(r1 >= 0.0))
-    throw std::invalid_argument(where + ": a torus needs minor_radius_1 > 0 (or 0: equal to minor_radius), got " +
+    throw std::invalid_argument(where +
+                                ": a torus needs minor_radius_1 > 0 (or 0: equal to minor_radius), got " +
                                 std::to_string(r1));
 }
 

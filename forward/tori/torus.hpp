@@ -19,7 +19,7 @@ namespace tailor::tori {
 
 struct TorusShape {
   double major_radius = 1.0;  // R [length]
-  double minor_radius = 0.25; // r [length], 0 < r < R: the tube's radial semi-axis
+  double minor_radius = 0.25;  // r [length], 0 < r < R: the tube's radial semi-axis
   // r1 [length]: the tube's semi-axis along the body z axis; 0 means equal to minor_radius (a
   // circular tube that stays circular when minor_radius changes, e.g. as a design parameter).
   double minor_radius_1 = 0.0;

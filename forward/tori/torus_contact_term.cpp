@@ -220,7 +220,8 @@ double TorusContactTerm::max_step(const Vector& q, const Vector& dq) const {
       const bool surfaces = is_elliptic(sa) || is_elliptic(sb);
       const double La = surfaces ? bounding_radius(sa) : sa.major_radius;
       const double Lb = surfaces ? bounding_radius(sb) : sb.major_radius;
-      const double L = dTa.norm() + dq.segment<3>(6 * a + 3).norm() * La + dTb.norm() + dq.segment<3>(6 * b + 3).norm() * Lb;
+      const double L = dTa.norm() + dq.segment<3>(6 * a + 3).norm() * La + dTb.norm() +
+                       dq.segment<3>(6 * b + 3).norm() * Lb;
       if (!(L > 0.0)) continue;
       auto distance_at = [&](double t) {
         ++ccd_queries;

@@ -42,8 +42,8 @@ using PairHessian = Eigen::Matrix<double, kPairVariables, kPairVariables>;
 // For an elliptic torus the r variable is its radial semi-axis r with r1 held; for a circular
 // one (r1 = r) r moves both semi-axes (the circular family).
 struct TorusDistance {
-  double distance = 0.0;       // d = D - r_a - r_b [length] (elliptic: the surface distance)
-  double core_distance = 0.0;  // D (elliptic: NaN, no such reduction)
+  double distance = 0.0;                // d = D - r_a - r_b [length] (elliptic: the surface distance)
+  double core_distance = 0.0;           // D (elliptic: NaN, no such reduction)
   double theta_a = 0.0, theta_b = 0.0;  // the minimizing core angles (elliptic: the surface's u)
   double tube_a = 0.0, tube_b = 0.0;    // elliptic: the minimizing tube angles v
   bool degenerate = false;     // f_uu not positive definite at the minimizer (no derivatives)

@@ -270,8 +270,9 @@ TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::s
   nlohmann::ordered_json document = taylor_json(run.taylor);
   add_report_header(document);
   document["scene"] = {{"name", spec.name}, {"source", spec.source}};
-  document["parameters"] = std::string("masses m_0..m_{n-1}, then (R_i, r_i) per link") +
-                           (tori::is_elliptic(spec.chain.shape) ? " (elliptic tubes: minor_radius_1 held)" : "");
+  document["parameters"] =
+      std::string("masses m_0..m_{n-1}, then (R_i, r_i) per link") +
+      (tori::is_elliptic(spec.chain.shape) ? " (elliptic tubes: minor_radius_1 held)" : "");
   document["active_pairs"] = run.active_pairs;
   document["min_distance"] = run.min_distance;
   document["intersections"] = run.intersections;

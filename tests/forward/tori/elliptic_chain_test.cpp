@@ -54,8 +54,12 @@ void expect_vertical_equilibrium(double r1) {
               forces.front().distance, forces.back().distance, sim.activation_distance());
 }
 
-TEST(EllipticTorusChain, ThreeLinksWithAWideTubeHangWithTheWeightBelowEachPair) { expect_vertical_equilibrium(0.3); }
-TEST(EllipticTorusChain, ThreeLinksWithAFlatTubeHangWithTheWeightBelowEachPair) { expect_vertical_equilibrium(0.12); }
+TEST(EllipticTorusChain, ThreeLinksWithAWideTubeHangWithTheWeightBelowEachPair) {
+  expect_vertical_equilibrium(0.3);
+}
+TEST(EllipticTorusChain, ThreeLinksWithAFlatTubeHangWithTheWeightBelowEachPair) {
+  expect_vertical_equilibrium(0.12);
+}
 
 TEST(EllipticTorusChain, ContactTermPassesDerivativeChecksInTheStateAndTheRadii) {
   ChainSpec spec = elliptic_chain(2, 0.3);
@@ -101,8 +105,9 @@ Pair twisted_pair(double gap) {
   chain.bodies[1].rotation += Eigen::Vector3d(0.05, -0.04, 0.07);
   chain.bodies[0].rotation += Eigen::Vector3d(-0.02, 0.03, 0.01);
   for (int it = 0; it < 20; ++it) {
-    const TorusDistance d = torus_distance({chain.bodies[0].position, chain.bodies[0].rotation, spec.shape},
-                                           {chain.bodies[1].position, chain.bodies[1].rotation, spec.shape}, true);
+    const TorusDistance d =
+        torus_distance({chain.bodies[0].position, chain.bodies[0].rotation, spec.shape},
+                       {chain.bodies[1].position, chain.bodies[1].rotation, spec.shape}, true);
     chain.bodies[1].position.z() -= (d.distance - gap) / d.gradient[8];
   }
   return {rigid::RigidBodySystem(chain.bodies), chain.shapes};
@@ -122,7 +127,8 @@ TEST(EllipticTorusChain, CcdHardQueriesHaveNoFalseNegatives) {
     const double alpha = term.max_step(q, dq);
     ++queries;
     double smallest = std::numeric_limits<double>::infinity();
-    for (int k = 0; k <= 200; ++k) smallest = std::min(smallest, term.min_distance(q + (alpha * k / 200) * dq, Vector(), 10.0));
+    for (int k = 0; k <= 200; ++k)
+      smallest = std::min(smallest, term.min_distance(q + (alpha * k / 200) * dq, Vector(), 10.0));
     if (alpha > 0.0 && !(smallest > 0.0)) {
       ++false_negatives;
       ADD_FAILURE() << what << ": alpha " << alpha;

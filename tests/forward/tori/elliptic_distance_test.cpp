@@ -128,7 +128,8 @@ TEST(EllipticTorusDistance, RandomPairsAgreeWithDenseSamplingInDistanceAndOverla
   for (int k = 0; k < 30; ++k) {
     const TorusPose a{Eigen::Vector3d::Zero(), Eigen::Vector3d(u(rng), u(rng), u(rng)) * 2.0,
                       elliptic(1.0, 0.1 + 0.2 * p(rng), 0.1 + 0.35 * p(rng))};
-    const TorusPose b{Eigen::Vector3d(u(rng), u(rng), u(rng)) * 1.6, Eigen::Vector3d(u(rng), u(rng), u(rng)) * 2.0,
+    const TorusPose b{Eigen::Vector3d(u(rng), u(rng), u(rng)) * 1.6,
+                      Eigen::Vector3d(u(rng), u(rng), u(rng)) * 2.0,
                       elliptic(0.7 + 0.4 * p(rng), 0.1 + 0.2 * p(rng), 0.1 + 0.35 * p(rng))};
     const TorusDistance d = torus_distance(a, b, false);
     EXPECT_EQ(d.overlapping, sampled_overlap(a, b)) << k;
@@ -145,17 +146,30 @@ TEST(EllipticTorusDistance, RandomPairsAgreeWithDenseSamplingInDistanceAndOverla
     worst = std::max(worst, std::abs(d.distance - reference));
     ++apart;
   }
-  std::printf("random elliptic pairs: %d apart (largest difference to the reference %.1e), %d overlapping\n", apart,
-              worst, overlapping);
+  std::printf("random elliptic pairs: %d apart (largest difference to the reference %.1e), %d overlapping\n",
+              apart, worst, overlapping);
   EXPECT_GE(apart, 8);
   EXPECT_GE(overlapping, 5);
+}
+
+TEST(EllipticTorusDistance, ASymmetricSaddleIsLeftForTheTrueMinimum) {
+  // Hanging links with a wide tube (r1 = 0.41 > sqrt(r (R - r)) = 0.4): the inner equators'
+  // contact on the axis is a saddle of f with zero gradient by symmetry (d = 2R - s - 2r = 1e-3
+  // there); the closest points lie off the axis, closer. Reference: dense sampling.
+  const TorusPose a{Eigen::Vector3d::Zero(), Eigen::Vector3d(M_PI / 2, 0, 0), elliptic(1.0, 0.2, 0.41)};
+  const TorusPose b{Eigen::Vector3d(0, 0, -1.599), Eigen::Vector3d(0, M_PI / 2, 0), elliptic(1.0, 0.2, 0.41)};
+  const TorusDistance d = torus_distance(a, b, false);
+  const double reference = sampled_distance(a, b);
+  EXPECT_LT(reference, 0.9e-3);
+  EXPECT_LE(d.distance, reference + 1e-12);
+  EXPECT_GE(d.distance, reference - 1e-8);
 }
 
 TEST(EllipticTorusDistance, ATorusInsideAnothersTubeOverlaps) {
   // The surfaces are apart but b lies inside a's solid tube: found by g_a on b's surface.
   const TorusPose a{Eigen::Vector3d::Zero(), Eigen::Vector3d(0.2, 0, 0), elliptic(1.0, 0.4, 0.5)};
-  const TorusPose b{rigid::rotation_matrix(a.rotation) * Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0.5, -1.0, 0.3),
-                    elliptic(0.15, 0.05, 0.08)};
+  const TorusPose b{rigid::rotation_matrix(a.rotation) * Eigen::Vector3d(1, 0, 0),
+                    Eigen::Vector3d(0.5, -1.0, 0.3), elliptic(0.15, 0.05, 0.08)};
   const TorusDistance d = torus_distance(a, b, true);
   EXPECT_TRUE(d.overlapping);
   EXPECT_TRUE(d.degenerate);
@@ -219,7 +233,8 @@ std::vector<std::pair<TorusPose, TorusPose>> generic_pairs() {
   // Interlocked links (a chain's pair, twisted), a skew stacked pair and a skew side-by-side
   // pair of an elliptic and a circular torus (whose r moves both its semi-axes).
   return {{{Eigen::Vector3d::Zero(), Eigen::Vector3d(M_PI / 2 - 0.02, 0.03, 0.01), elliptic(1.0, 0.2, 0.3)},
-           {Eigen::Vector3d(0.03, -0.02, -1.58), Eigen::Vector3d(0.05, M_PI / 2 - 0.04, 0.07), elliptic(1.0, 0.2, 0.3)}},
+           {Eigen::Vector3d(0.03, -0.02, -1.58), Eigen::Vector3d(0.05, M_PI / 2 - 0.04, 0.07),
+            elliptic(1.0, 0.2, 0.3)}},
           {{Eigen::Vector3d::Zero(), Eigen::Vector3d(0.1, -0.2, 0.3), elliptic(1.0, 0.2, 0.35)},
            {Eigen::Vector3d(0.6, 0.2, 0.95), Eigen::Vector3d(-0.3, 0.25, 1.0), elliptic(0.9, 0.25, 0.15)}},
           {{Eigen::Vector3d::Zero(), Eigen::Vector3d(0.3, 0.1, -0.2), elliptic(1.0, 0.3, 0.15)},
@@ -231,8 +246,8 @@ TEST(EllipticTorusDistance, GradientAndHessianPassCentralDifferences) {
     const TorusDistance d = torus_distance(a, b, false);
     ASSERT_GT(d.distance, 0.0);
     const DerivativeErrors e = derivative_errors(a, b, {});
-    std::printf("d = %.4f: gradient %.2e, Hessian %.2e, r1 gradient %.2e\n", d.distance, e.gradient, e.hessian,
-                e.axial);
+    std::printf("d = %.4f: gradient %.2e, Hessian %.2e, r1 gradient %.2e\n", d.distance, e.gradient,
+                e.hessian, e.axial);
     EXPECT_LT(e.gradient, 1e-7);
     EXPECT_LT(e.hessian, 1e-5);
     EXPECT_LT(e.axial, 1e-7);
@@ -259,11 +274,13 @@ TEST(EllipticTorusDistance, CircularTubesAgreeWithTheCoreCircleFormula) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<std::pair<TorusPose, TorusPose>> pairs = {
       {{Eigen::Vector3d::Zero(), Eigen::Vector3d(M_PI / 2 - 0.02, 0.03, 0.01), TorusShape{1.0, 0.2}},
-       {Eigen::Vector3d(0.03, -0.02, -1.59), Eigen::Vector3d(0.05, M_PI / 2 - 0.04, 0.07), TorusShape{1.0, 0.2}}}};
+       {Eigen::Vector3d(0.03, -0.02, -1.59), Eigen::Vector3d(0.05, M_PI / 2 - 0.04, 0.07),
+        TorusShape{1.0, 0.2}}}};
   while (pairs.size() < 8) {
-    const TorusPose a{Eigen::Vector3d::Zero(), Eigen::Vector3d(u(rng), u(rng), u(rng)) * 2.0, TorusShape{1.0, 0.2}};
-    const TorusPose b{Eigen::Vector3d(u(rng), u(rng), u(rng)) * 1.8, Eigen::Vector3d(u(rng), u(rng), u(rng)) * 2.0,
-                      TorusShape{0.9, 0.15}};
+    const TorusPose a{Eigen::Vector3d::Zero(), Eigen::Vector3d(u(rng), u(rng), u(rng)) * 2.0,
+                      TorusShape{1.0, 0.2}};
+    const TorusPose b{Eigen::Vector3d(u(rng), u(rng), u(rng)) * 1.8,
+                      Eigen::Vector3d(u(rng), u(rng), u(rng)) * 2.0, TorusShape{0.9, 0.15}};
     const TorusDistance d = torus_distance(a, b, false);
     if (d.distance > 0.02 && !d.degenerate) pairs.push_back({a, b});
   }

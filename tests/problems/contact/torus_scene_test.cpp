@@ -125,9 +125,10 @@ TEST(TorusScene, BadInputNamesTheKey) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "minor_radius_1": -0.3}})")
-                .find("tori.minor_radius_1"),
-            std::string::npos);
+  EXPECT_NE(
+      message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "minor_radius_1": -0.3}})")
+          .find("tori.minor_radius_1"),
+      std::string::npos);
   EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "spacing": 1.7}})")
                 .find("tori.spacing"),
             std::string::npos);
@@ -176,7 +177,8 @@ TEST(TorusScene, GradcheckOfAnEllipticChainThroughActiveContact) {
   nlohmann::json scene = nlohmann::json::parse(read_text(kScenes + "torus_gradcheck.json"));
   scene["tori"]["minor_radius_1"] = 0.3;
   const TorusSceneSpec spec = parse_torus_scene(scene.dump(), "elliptic_gradcheck.json");
-  const TorusGradcheckRun run = gradcheck_torus_scene(spec, temporary_directory("gradcheck_elliptic"), {}, nullptr);
+  const TorusGradcheckRun run =
+      gradcheck_torus_scene(spec, temporary_directory("gradcheck_elliptic"), {}, nullptr);
   std::printf("%s", run.taylor.table().c_str());
   EXPECT_EQ(run.active_pairs, 2);
   EXPECT_EQ(run.intersections, 0);

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include "forward/contact/jet2.hpp"
@@ -250,6 +251,8 @@ double implicit_value(const TorusPose& pose, const Eigen::Vector3d& x) {
 
 TorusDistance elliptic_torus_distance(const TorusPose& a, const TorusPose& b, bool derivatives,
                                       const DistanceOptions& options) {
+  if (!a.position.allFinite() || !a.rotation.allFinite() || !b.position.allFinite() || !b.rotation.allFinite())
+    throw std::invalid_argument("elliptic_torus_distance: non-finite torus pose");
   const Surface sa = surface_of(a), sb = surface_of(b);
   const int nu = std::max(4, options.surface_samples), nv = std::max(4, nu / 2), n = nu * nv;
   auto params = [&](int k) {

@@ -90,7 +90,7 @@ TEST(EllipticTorusChain, ContactTermPassesDerivativeChecksInTheStateAndTheRadii)
 }
 
 // Two interlocked elliptic links `gap` apart after a twist (b moved vertically by Newton on its
-// height until the gap is `gap` again).
+// height from a gap of 0.05 until the gap is `gap`).
 struct Pair {
   rigid::RigidBodySystem system;
   std::vector<TorusShape> shapes;
@@ -98,6 +98,7 @@ struct Pair {
 Pair twisted_pair(double gap) {
   ChainSpec spec = elliptic_chain(2, 0.3);
   spec.fix_first = false;
+  spec.gap = 0.05;  // room for the twist
   spec.major_segments = 16;
   spec.minor_segments = 6;
   Chain chain = make_chain(spec);
@@ -108,7 +109,9 @@ Pair twisted_pair(double gap) {
     const TorusDistance d =
         torus_distance({chain.bodies[0].position, chain.bodies[0].rotation, spec.shape},
                        {chain.bodies[1].position, chain.bodies[1].rotation, spec.shape}, true);
-    chain.bodies[1].position.z() -= (d.distance - gap) / d.gradient[8];
+    EXPECT_FALSE(d.degenerate);
+    // Damped at first: the surface distance is curved in the height, a full first step overshoots.
+    chain.bodies[1].position.z() -= (it < 4 ? 0.9 : 1.0) * (d.distance - gap) / d.gradient[8];
   }
   return {rigid::RigidBodySystem(chain.bodies), chain.shapes};
 }

@@ -1,6 +1,7 @@
 // The IPC barrier on implicit torus distances (see torus_contact_term.hpp).
 #include "forward/tori/torus_contact_term.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -24,6 +25,13 @@ contact::ScalarDerivatives pair_energy(double d, double d_hat, double kappa) {
   out.first = kappa * 2.0 * d * b.first;
   out.second = kappa * (4.0 * d * d * b.second + 2.0 * b.first);
   return out;
+}
+
+// The sum of both bounding radii R + max(r, r1), summed left to right as R_a + r_a + R_b + r_b
+// for circular tori (the same rounding as before elliptic tubes).
+double pair_reach(const TorusShape& a, const TorusShape& b) {
+  return a.major_radius + std::max(a.minor_radius, axial_radius(a)) + b.major_radius +
+         std::max(b.minor_radius, axial_radius(b));
 }
 
 std::string pair_name(int a, int b) { return "tori " + std::to_string(a) + " and " + std::to_string(b); }
@@ -95,7 +103,7 @@ std::vector<TorusPair> TorusContactTerm::close_pairs(const Vector& q, const Vect
     for (int b = a + 1; b < n; ++b) {
       if (system_.body(a).fixed && system_.body(b).fixed) continue;
       const TorusShape &sa = poses[static_cast<std::size_t>(a)].shape, &sb = poses[static_cast<std::size_t>(b)].shape;
-      const double reach = bounding_radius(sa) + bounding_radius(sb) + range;
+      const double reach = pair_reach(sa, sb) + range;
       if ((poses[static_cast<std::size_t>(a)].position - poses[static_cast<std::size_t>(b)].position).norm() >= reach)
         continue;
       TorusPair pair;
@@ -212,7 +220,7 @@ double TorusContactTerm::max_step(const Vector& q, const Vector& dq) const {
       if (system_.body(a).fixed && system_.body(b).fixed) continue;
       const TorusShape &sa = shapes_[static_cast<std::size_t>(a)], &sb = shapes_[static_cast<std::size_t>(b)];
       const Eigen::Vector3d dTa = dq.segment<3>(6 * a), dTb = dq.segment<3>(6 * b);
-      const double reach = bounding_radius(sa) + bounding_radius(sb);
+      const double reach = pair_reach(sa, sb);
       const double gap = (q.segment<3>(6 * a) - q.segment<3>(6 * b)).norm() - (dTa - dTb).norm();
       if (gap > reach) continue;  // the bounding spheres never meet along the step
       // Circular pairs: the core points' speed (d = D - r_a - r_b); elliptic ones: the surface

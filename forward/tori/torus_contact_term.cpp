@@ -153,7 +153,8 @@ void TorusContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
     if (!derivatives || !std::isfinite(e.value)) continue;
     if (pair.distance.degenerate)
       throw std::runtime_error("torus_contact: " + pair_name(pair.a, pair.b) +
-                               " have a degenerate closest-point set (coaxial core circles): no derivatives");
+                               " have a degenerate closest-point set (coaxial core circles, or a flat minimum of an "
+                               "elliptic pair): no derivatives");
     const int a = pair.a, b = pair.b;
     const Eigen::Matrix<double, 12, 1> g = e.first * pair.distance.gradient.head<12>();
     if (request.gradient) {

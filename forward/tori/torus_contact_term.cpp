@@ -152,9 +152,10 @@ void TorusContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
     energy += e.value;
     if (!derivatives || !std::isfinite(e.value)) continue;
     if (pair.distance.degenerate)
-      throw std::runtime_error("torus_contact: " + pair_name(pair.a, pair.b) +
-                               " have a degenerate closest-point set (coaxial core circles, or a flat minimum of an "
-                               "elliptic pair): no derivatives");
+      throw std::runtime_error(
+          "torus_contact: " + pair_name(pair.a, pair.b) +
+          " have a degenerate closest-point set (coaxial core circles, or a flat minimum of an "
+          "elliptic pair): no derivatives");
     const int a = pair.a, b = pair.b;
     const Eigen::Matrix<double, 12, 1> g = e.first * pair.distance.gradient.head<12>();
     if (request.gradient) {

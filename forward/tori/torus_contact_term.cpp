@@ -1,6 +1,7 @@
 // The IPC barrier on implicit torus distances (see torus_contact_term.hpp).
 #include "forward/tori/torus_contact_term.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -24,6 +25,13 @@ contact::ScalarDerivatives pair_energy(double d, double d_hat, double kappa) {
   out.first = kappa * 2.0 * d * b.first;
   out.second = kappa * (4.0 * d * d * b.second + 2.0 * b.first);
   return out;
+}
+
+// The sum of both bounding radii R + max(r, r1), summed left to right as R_a + r_a + R_b + r_b
+// for circular tori (the same rounding as before elliptic tubes).
+double pair_reach(const TorusShape& a, const TorusShape& b) {
+  return a.major_radius + std::max(a.minor_radius, axial_radius(a)) + b.major_radius +
+         std::max(b.minor_radius, axial_radius(b));
 }
 
 std::string pair_name(int a, int b) { return "tori " + std::to_string(a) + " and " + std::to_string(b); }
@@ -64,7 +72,10 @@ TorusShape TorusContactTerm::shape(int i, const Vector& p) const {
   if (k + 1 >= p.size())
     throw std::invalid_argument("TorusContactTerm: the parameter vector has " + std::to_string(p.size()) +
                                 " entries, torus " + std::to_string(i) + " reads " + std::to_string(k + 1));
-  return {p[k], p[k + 1]};
+  TorusShape s = shapes_[static_cast<std::size_t>(i)];  // r1 is not a parameter: it stays
+  s.major_radius = p[k];
+  s.minor_radius = p[k + 1];
+  return s;
 }
 
 TorusPose TorusContactTerm::pose(int i, const Vector& q, const Vector& p) const {
@@ -92,7 +103,7 @@ std::vector<TorusPair> TorusContactTerm::close_pairs(const Vector& q, const Vect
     for (int b = a + 1; b < n; ++b) {
       if (system_.body(a).fixed && system_.body(b).fixed) continue;
       const TorusShape &sa = poses[static_cast<std::size_t>(a)].shape, &sb = poses[static_cast<std::size_t>(b)].shape;
-      const double reach = sa.major_radius + sa.minor_radius + sb.major_radius + sb.minor_radius + range;
+      const double reach = pair_reach(sa, sb) + range;
       if ((poses[static_cast<std::size_t>(a)].position - poses[static_cast<std::size_t>(b)].position).norm() >= reach)
         continue;
       TorusPair pair;
@@ -141,8 +152,10 @@ void TorusContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
     energy += e.value;
     if (!derivatives || !std::isfinite(e.value)) continue;
     if (pair.distance.degenerate)
-      throw std::runtime_error("torus_contact: " + pair_name(pair.a, pair.b) +
-                               " have a degenerate closest-point set (coaxial core circles): no derivatives");
+      throw std::runtime_error(
+          "torus_contact: " + pair_name(pair.a, pair.b) +
+          " have a degenerate closest-point set (coaxial core circles, or a flat minimum of an "
+          "elliptic pair): no derivatives");
     const int a = pair.a, b = pair.b;
     const Eigen::Matrix<double, 12, 1> g = e.first * pair.distance.gradient.head<12>();
     if (request.gradient) {
@@ -209,11 +222,16 @@ double TorusContactTerm::max_step(const Vector& q, const Vector& dq) const {
       if (system_.body(a).fixed && system_.body(b).fixed) continue;
       const TorusShape &sa = shapes_[static_cast<std::size_t>(a)], &sb = shapes_[static_cast<std::size_t>(b)];
       const Eigen::Vector3d dTa = dq.segment<3>(6 * a), dTb = dq.segment<3>(6 * b);
-      const double reach = sa.major_radius + sa.minor_radius + sb.major_radius + sb.minor_radius;
+      const double reach = pair_reach(sa, sb);
       const double gap = (q.segment<3>(6 * a) - q.segment<3>(6 * b)).norm() - (dTa - dTb).norm();
       if (gap > reach) continue;  // the bounding spheres never meet along the step
-      const double L = dTa.norm() + dq.segment<3>(6 * a + 3).norm() * sa.major_radius + dTb.norm() +
-                       dq.segment<3>(6 * b + 3).norm() * sb.major_radius;
+      // Circular pairs: the core points' speed (d = D - r_a - r_b); elliptic ones: the surface
+      // points', every one within bounding_radius of its centre.
+      const bool surfaces = is_elliptic(sa) || is_elliptic(sb);
+      const double La = surfaces ? bounding_radius(sa) : sa.major_radius;
+      const double Lb = surfaces ? bounding_radius(sb) : sb.major_radius;
+      const double L = dTa.norm() + dq.segment<3>(6 * a + 3).norm() * La + dTb.norm() +
+                       dq.segment<3>(6 * b + 3).norm() * Lb;
       if (!(L > 0.0)) continue;
       auto distance_at = [&](double t) {
         ++ccd_queries;

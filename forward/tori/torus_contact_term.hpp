@@ -4,11 +4,11 @@
 //   B(q, p) = kappa sum_{pairs} b(d_ab^2, d_hat^2),
 // b the barrier of forward/contact/barrier.hpp on squared distances, d_ab the torus distance
 // (torus_distance.hpp) with exact first and second derivatives by the implicit function theorem,
-// summed over the pairs whose bounding spheres (radius R + r about T) come within d_hat.
+// summed over the pairs whose bounding spheres (radius R + max(r, r1) about T) come within d_hat.
 //
 // Parameters: with parameter_offset >= 0 torus i's radii are p[offset + 2i] (R) and
 // p[offset + 2i + 1] (r), with the derivatives add_param_gradient / add_mixed; otherwise the
-// shapes given at construction (p is not read).
+// shapes given at construction (p is not read). An elliptic torus keeps its r1 (not a parameter).
 //
 // Hessian pattern: a dense 12 x 12 block for each candidate pair (all pairs, or |i - j| <= band
 // for chains). A pair that is not a candidate coming within d_hat throws std::runtime_error
@@ -16,7 +16,8 @@
 //
 // max_step(): conservative advancement on the implicit distance along the curved rigid paths
 // q + t dq, t in [0, 1]: d_ab(t) is Lipschitz with L = |dT_a| + |dw_a| R_a + |dT_b| + |dw_b| R_b
-// (a core point moves no faster; the rotation's left Jacobian has norm <= 1), so from a time t
+// (a core point moves no faster; the rotation's left Jacobian has norm <= 1; for a pair with an
+// elliptic torus, whose distance is between surface points, R + max(r, r1) for R), so from a time t
 // with distance d(t) the path keeps d >= (1 - ccd_fraction) d(0) > 0 until t + (d(t) - (1 -
 // ccd_fraction) d(0)) / L; the distance is re-measured there, and so on up to t = 1. The step
 // returned is certified (no tunnelling, no tangent miss) as long as the distance query finds

@@ -10,6 +10,7 @@
 
 #include "forward/contact/jet2.hpp"
 #include "forward/rigid/rotation.hpp"
+#include "forward/tori/elliptic_distance.hpp"
 
 namespace tailor::tori {
 namespace {
@@ -137,6 +138,8 @@ Eigen::Vector3d core_point(const TorusPose& pose, double theta) { return circle_
 
 TorusDistance torus_distance(const TorusPose& a, const TorusPose& b, bool derivatives,
                              const DistanceOptions& options) {
+  if (is_elliptic(a.shape) || is_elliptic(b.shape))
+    return elliptic_torus_distance(a, b, derivatives, options);
   const Circle ca = circle_of(a), cb = circle_of(b);
   const int n = std::max(4, options.samples);
   // Samples of f(t, s(t)), s(t) the nearest angle of b.

@@ -16,6 +16,10 @@
 // first and second derivatives in (u, y) come from Jet2 (forward/contact/jet2.hpp) through the
 // Rodrigues rotation's exact derivatives. Coaxial or otherwise degenerate pairs (a circle of
 // minimizers) have no such derivatives: distance() reports them (`degenerate`).
+//
+// This holds for circular tubes only. When either torus is elliptic (r1 != r, torus.hpp),
+// torus_distance() hands the pair to elliptic_torus_distance (elliptic_distance.hpp): a
+// minimization over both surfaces' four parameters, overlap by the tubes' implicit functions.
 #include <Eigen/Core>
 
 #include "forward/tori/torus.hpp"
@@ -35,19 +39,32 @@ constexpr int kPairVariables = 16;
 using PairGradient = Eigen::Matrix<double, kPairVariables, 1>;
 using PairHessian = Eigen::Matrix<double, kPairVariables, kPairVariables>;
 
+// For an elliptic torus the r variable is its radial semi-axis r with r1 held; for a circular
+// one (r1 = r) r moves both semi-axes (the circular family).
 struct TorusDistance {
-  double distance = 0.0;       // d = D - r_a - r_b [length]
-  double core_distance = 0.0;  // D
-  double theta_a = 0.0, theta_b = 0.0;  // the minimizing core angles
+  double distance = 0.0;                // d = D - r_a - r_b [length] (elliptic: the surface distance)
+  double core_distance = 0.0;           // D (elliptic: NaN, no such reduction)
+  double theta_a = 0.0, theta_b = 0.0;  // the minimizing core angles (elliptic: the surface's u)
+  double tube_a = 0.0, tube_b = 0.0;    // elliptic: the minimizing tube angles v
   bool degenerate = false;     // f_uu not positive definite at the minimizer (no derivatives)
+  // Elliptic: the solids overlap (found by the tubes' implicit functions); distance is then a
+  // negative penetration estimate and there are no derivatives (degenerate is set too).
+  bool overlapping = false;
   PairGradient gradient = PairGradient::Zero();  // dd/dvariables (when requested)
   PairHessian hessian = PairHessian::Zero();     // d2d/dvariables2 (when requested)
+  // Elliptic: dd/dr1_a, dd/dr1_b (when requested; zero for a circular torus of the pair, whose
+  // r1 moves with r).
+  Eigen::Vector2d axial_gradient = Eigen::Vector2d::Zero();
 };
 
 struct DistanceOptions {
   int samples = 32;      // angles of a sampled for the starts
   int max_starts = 4;    // Newton runs from the lowest local minima of the samples
   int max_iterations = 50;
+  // Elliptic pairs: each surface sampled at surface_samples x surface_samples / 2 (u, v) points;
+  // Newton from the pairs of the surface_starts lowest local minima over a's samples.
+  int surface_samples = 16;
+  int surface_starts = 6;
   // false drops the -f_yu f_uu^-1 f_uy term (a deliberately wrong Hessian: only for the test
   // that shows the derivative check catches it).
   bool implicit_correction = true;

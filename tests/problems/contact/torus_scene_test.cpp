@@ -93,6 +93,29 @@ TEST(TorusScene, MeshModelHangsTheSameChainWithoutIntersections) {
   }
 }
 
+TEST(TorusScene, EllipticTubesAreReadAndHangWithTheWeightBelowEachPair) {
+  std::string text = static_scene("implicit");
+  text.replace(text.find("\"minor_radius\": 0.2"), 19, "\"minor_radius\": 0.2, \"minor_radius_1\": 0.3");
+  const TorusSceneSpec spec = parse_torus_scene(text, "elliptic.json");
+  EXPECT_EQ(spec.chain.shape.minor_radius_1, 0.3);
+  const std::string out = temporary_directory("elliptic");
+  const TorusSimulateRun run = simulate_torus_scene(spec, out, nullptr);
+  ASSERT_TRUE(run.completed());
+  EXPECT_EQ(run.intersections, 0);
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/report.json"));
+  const double mass = report["bodies"][1]["mass"].get<double>(), weight = mass * 9.81;
+  EXPECT_NEAR(mass, 1000.0 * 2.0 * M_PI * M_PI * 1.0 * 0.2 * 0.3, 1e-9);  // rho 2 pi^2 R r r1
+  ASSERT_EQ(report["pairs"].size(), 3u);
+  for (const nlohmann::json& pair : report["pairs"]) {
+    const int below = 4 - pair["b"].get<int>();
+    EXPECT_NEAR(pair["force_on_b"][2].get<double>(), below * weight, 1e-6 * 4 * weight);
+  }
+  // Equal to minor_radius: the circular tube (r1 follows r).
+  text = static_scene("implicit");
+  text.replace(text.find("\"minor_radius\": 0.2"), 19, "\"minor_radius\": 0.2, \"minor_radius_1\": 0.2");
+  EXPECT_EQ(parse_torus_scene(text, "circular.json").chain.shape.minor_radius_1, 0.0);
+}
+
 TEST(TorusScene, BadInputNamesTheKey) {
   auto message = [](const std::string& text) {
     try {
@@ -102,9 +125,10 @@ TEST(TorusScene, BadInputNamesTheKey) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "minor_radius_1": 0.3}})")
-                .find("tori.minor_radius_1"),
-            std::string::npos);
+  EXPECT_NE(
+      message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "minor_radius_1": -0.3}})")
+          .find("tori.minor_radius_1"),
+      std::string::npos);
   EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "spacing": 1.7}})")
                 .find("tori.spacing"),
             std::string::npos);
@@ -145,6 +169,27 @@ TEST(TorusScene, GradcheckRefusesDynamicAndMeshScenes) {
   spec = parse_torus_scene(read_text(kScenes + "torus_gradcheck.json"), "torus_gradcheck.json");
   spec.options.model = tori::ContactModel::mesh;
   EXPECT_THROW(gradcheck_torus_scene(spec, temporary_directory("gradcheck_mesh"), {}, nullptr), SceneError);
+}
+
+// The same gradcheck with elliptic tubes (r1 = 0.3 held, R and r the radius parameters): the
+// distance's derivatives in r at fixed r1 (elliptic_distance.hpp) through the same adjoint.
+TEST(TorusScene, GradcheckOfAnEllipticChainThroughActiveContact) {
+  nlohmann::json scene = nlohmann::json::parse(read_text(kScenes + "torus_gradcheck.json"));
+  scene["tori"]["minor_radius_1"] = 0.3;
+  const TorusSceneSpec spec = parse_torus_scene(scene.dump(), "elliptic_gradcheck.json");
+  const TorusGradcheckRun run =
+      gradcheck_torus_scene(spec, temporary_directory("gradcheck_elliptic"), {}, nullptr);
+  std::printf("%s", run.taylor.table().c_str());
+  EXPECT_EQ(run.active_pairs, 2);
+  EXPECT_EQ(run.intersections, 0);
+  EXPECT_TRUE(run.taylor.passed()) << run.taylor.table();
+  EXPECT_GE(run.taylor.rate1, 1.9);
+  EXPECT_TRUE(run.passed());
+  TorusGradcheckOptions wrong;
+  wrong.gradient_scale = 1.001;
+  const TorusGradcheckRun bad =
+      gradcheck_torus_scene(spec, temporary_directory("gradcheck_elliptic_wrong"), wrong, nullptr);
+  EXPECT_EQ(bad.taylor.status, TaylorStatus::failed) << bad.taylor.table();
 }
 
 }  // namespace

@@ -56,26 +56,50 @@ bool launched_by_mpiexec() {
 
 }  // namespace
 
-std::vector<std::string> without_petsc_options(int argc, const char* const* argv) {
+namespace {
+
+// argv split into tailor's words (petsc = false) or PETSc's (true), argv[0] in both.
+std::vector<std::string> split_command_line(int argc, const char* const* argv, bool petsc) {
   std::vector<std::string> kept;
   if (argc > 0) kept.emplace_back(argv[0]);
   for (int i = 1; i < argc; ++i) {
     if (!is_petsc_option(argv[i])) {
-      kept.emplace_back(argv[i]);
+      if (!petsc) kept.emplace_back(argv[i]);
       continue;
     }
-    if (i + 1 < argc && is_option_value(argv[i + 1])) ++i;
+    if (petsc) kept.emplace_back(argv[i]);
+    if (i + 1 < argc && is_option_value(argv[i + 1])) {
+      ++i;
+      if (petsc) kept.emplace_back(argv[i]);
+    }
   }
   return kept;
 }
 
+}  // namespace
+
+std::vector<std::string> without_petsc_options(int argc, const char* const* argv) {
+  return split_command_line(argc, argv, false);
+}
+
+std::vector<std::string> petsc_options_only(int argc, const char* const* argv) {
+  return split_command_line(argc, argv, true);
+}
+
 int run_cli_with_petsc(int argc, char** argv) {
   const std::vector<std::string> words = without_petsc_options(argc, argv);
+  // PETSc sees only its own options (its database then holds nothing of tailor's flags).
+  std::vector<std::string> petsc_words = petsc_options_only(argc, argv);
+  std::vector<char*> petsc_pointers;
+  for (std::string& word : petsc_words) petsc_pointers.push_back(word.data());
+  petsc_pointers.push_back(nullptr);
+  int petsc_argc = static_cast<int>(petsc_words.size());
+  char** petsc_argv = petsc_pointers.data();
   LazySession& lazy = lazy_session();
-  lazy.argc = &argc;
-  lazy.argv = &argv;
+  lazy.argc = &petsc_argc;
+  lazy.argv = &petsc_argv;
   try {
-    if (launched_by_mpiexec() || words.size() < static_cast<std::size_t>(argc)) lazy.start();
+    if (launched_by_mpiexec() || petsc_argc > 1) lazy.start();
   } catch (const std::exception& e) {
     std::cerr << "tailor: error: " << e.what() << "\n";
     return 1;

@@ -14,6 +14,8 @@ namespace tailor {
 // one dash and more than one letter ("-ksp_type"); as PETSc reads it, the next word is its value
 // unless that starts with a dash (a negative number is a value).
 std::vector<std::string> without_petsc_options(int argc, const char* const* argv);
+// The other words: argv[0] and PETSc's options with their values, for PetscInitialize.
+std::vector<std::string> petsc_options_only(int argc, const char* const* argv);
 
 // "petsc" registered as a linear solver (problems/linear_solver_choice.hpp), output on rank 0
 // only, then tailor::run_cli. PETSc (PetscSession, with the whole command line) starts at once

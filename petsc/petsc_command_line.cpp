@@ -10,6 +10,7 @@
 #include "petsc/petsc_linear_solver.hpp"
 #include "problems/cli/run_cli.hpp"
 #include "problems/linear_solver_choice.hpp"
+#include "problems/output_process.hpp"
 
 namespace tailor {
 namespace {

@@ -6,7 +6,7 @@
 #include <ostream>
 
 #include "forward/core/timing.hpp"
-#include "problems/linear_solver_choice.hpp"
+#include "problems/output_process.hpp"
 
 namespace tailor {
 namespace {

@@ -6,7 +6,7 @@
 #include <ostream>
 
 #include "forward/core/timing.hpp"
-#include "problems/linear_solver_choice.hpp"
+#include "problems/output_process.hpp"
 #include "problems/optimizer_checkpoint.hpp"
 #include "problems/plot/convergence_plot.hpp"
 #include "problems/plot/field_image.hpp"
@@ -15,7 +15,7 @@ namespace tailor {
 namespace {
 
 // The path of an output file, its folder created when this process writes files (rank 0 of a
-// replicated MPI run, problems/linear_solver_choice.hpp).
+// replicated MPI run, problems/output_process.hpp).
 std::string output_path(const std::string& out_dir, const char* name) {
   if (!writes_output()) return (std::filesystem::path(out_dir) / name).string();
   std::error_code error;

@@ -11,11 +11,6 @@ std::map<std::string, LinearSolverFactory>& factories() {
   return registry;
 }
 
-bool& output_flag() {
-  static bool writes = true;
-  return writes;
-}
-
 }  // namespace
 
 void register_linear_solver(const std::string& name, LinearSolverFactory factory) {
@@ -40,9 +35,6 @@ LinearSolverPtr make_linear_solver(const LinearSolverChoice& choice) {
   if (!solver) throw std::invalid_argument("the factory of linear solver '" + choice.name + "' returned none");
   return solver;
 }
-
-void set_writes_output(bool writes) { output_flag() = writes; }
-bool writes_output() { return output_flag(); }
 
 Vector free_vertex_coordinates(const Elimination& elimination, int dim, const Vector& positions) {
   const int n = elimination.num_dofs(), m = elimination.num_free();

@@ -29,12 +29,6 @@ bool linear_solver_registered(const std::string& name);
 // for the name (the message says how to build one) or the back-end rejects the options.
 LinearSolverPtr make_linear_solver(const LinearSolverChoice& choice);
 
-// Whether this process writes output files and progress (report.json, .vtu, images,
-// checkpoints). A program that runs the same computation on every MPI rank (the replicated
-// design of docs/petsc.md) sets it to false on all ranks but 0. Default true.
-void set_writes_output(bool writes);
-bool writes_output();
-
 // The positions (dim per vertex) of the free unknowns when they are whole vertices: every free
 // unknown is one DOF (a Dirichlet selection), and the free unknowns dim*k .. dim*k + dim - 1 are
 // the dim components of one vertex. Empty otherwise (e.g. a vertex fixed in one component only,

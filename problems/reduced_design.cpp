@@ -21,7 +21,7 @@
 #include "forward/solve/sparse_cholesky.hpp"
 #include "problems/inverse_handles.hpp"
 #include "problems/inverse_scene.hpp"
-#include "problems/linear_solver_choice.hpp"
+#include "problems/output_process.hpp"
 #include "problems/report_header.hpp"
 #include "problems/scene_parsing.hpp"
 #include "problems/scene_selection.hpp"

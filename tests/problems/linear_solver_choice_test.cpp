@@ -17,6 +17,7 @@
 #include "../support/temp_folder.hpp"
 #include "problems/cli/run_cli.hpp"
 #include "problems/commands.hpp"
+#include "problems/output_process.hpp"
 #include "problems/scene.hpp"
 #include "problems/static_scene.hpp"
 #include "scene_text.hpp"

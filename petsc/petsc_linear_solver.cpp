@@ -82,7 +82,13 @@ struct PetscLinearSolver::Impl {
   Eigen::SparseMatrix<double, Eigen::RowMajor> full;  // the whole symmetric matrix (every rank)
   bool options_checked = false;
   std::vector<std::string> inserted;  // option names this solver put into PETSc's database
-
+  int dim = 0;                        // with vertex coordinates: the block size
+  Vector coordinates;
+  bool near_null_space = false;       // of the current matrix
+  int solves = 0;
+  long long iterations = 0;
+  std::vector<int> recent_iterations;
+  LinearSolveStats last;
 
   void destroy_matrix() {
     if (scatter) VecScatterDestroy(&scatter);
@@ -149,10 +155,14 @@ bool PetscLinearSolver::setup(const SparseMatrix& upper, std::string& message) {
     m.full = upper.selfadjointView<Eigen::Upper>();
     m.full.makeCompressed();
     const int rank = PetscSession::rank(), size = PetscSession::size();
-    // PETSc's default split (PetscSplitOwnership): the first n % size ranks get one row more.
-    const PetscInt base = n / size, extra = n % size;
-    const PetscInt local = base + (rank < extra ? 1 : 0);
-    const PetscInt begin = rank * base + std::min<PetscInt>(rank, extra);
+    // With vertex coordinates of all n unknowns the split is by whole vertices (block size
+    // dim), else by rows. Either way PETSc's default split (PetscSplitOwnership): the first
+    // count % size ranks get one more.
+    const bool blocked = m.dim > 0 && m.coordinates.size() == n && n % m.dim == 0;
+    const PetscInt block = blocked ? m.dim : 1, count = n / block;
+    const PetscInt base = count / size, extra = count % size;
+    const PetscInt local = block * (base + (rank < extra ? 1 : 0));
+    const PetscInt begin = block * (rank * base + std::min<PetscInt>(rank, extra));
     std::vector<PetscInt> row_start(local + 1), columns;
     std::vector<PetscScalar> values;
     const auto* outer = m.full.outerIndexPtr();
@@ -161,12 +171,33 @@ bool PetscLinearSolver::setup(const SparseMatrix& upper, std::string& message) {
     columns.assign(m.full.innerIndexPtr() + outer[begin], m.full.innerIndexPtr() + outer[begin + local]);
     values.assign(m.full.valuePtr() + outer[begin], m.full.valuePtr() + outer[begin + local]);
     m.destroy_matrix();
-    check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, local, local, n, n, row_start.data(), columns.data(),
-                                    values.data(), &m.matrix),
-          "MatCreateMPIAIJWithArrays");
+    check(MatCreate(PETSC_COMM_WORLD, &m.matrix), "MatCreate");
+    check(MatSetSizes(m.matrix, local, local, n, n), "MatSetSizes");
+    check(MatSetBlockSize(m.matrix, block), "MatSetBlockSize");
+    check(MatSetType(m.matrix, MATMPIAIJ), "MatSetType");
+    check(MatMPIAIJSetPreallocationCSR(m.matrix, row_start.data(), columns.data(), values.data()),
+          "MatMPIAIJSetPreallocationCSR");
     check(MatSetOption(m.matrix, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption(MAT_SYMMETRIC)");
     check(MatSetOption(m.matrix, MAT_SPD, PETSC_TRUE), "MatSetOption(MAT_SPD)");
     check(MatCreateVecs(m.matrix, &m.x, &m.b), "MatCreateVecs");
+    m.near_null_space = false;
+    if (blocked) {
+      // The rigid-body modes from this rank's vertices (the vector's block size is dim).
+      Vec local_coordinates = nullptr;
+      check(VecDuplicate(m.x, &local_coordinates), "VecDuplicate");
+      PetscScalar* c = nullptr;
+      check(VecGetArray(local_coordinates, &c), "VecGetArray");
+      std::copy(m.coordinates.data() + begin, m.coordinates.data() + begin + local, c);
+      check(VecRestoreArray(local_coordinates, &c), "VecRestoreArray");
+      MatNullSpace modes = nullptr;
+      const PetscErrorCode built = MatNullSpaceCreateRigidBody(local_coordinates, &modes);
+      VecDestroy(&local_coordinates);
+      check(built, "MatNullSpaceCreateRigidBody");
+      const PetscErrorCode attached = MatSetNearNullSpace(m.matrix, modes);
+      MatNullSpaceDestroy(&modes);
+      check(attached, "MatSetNearNullSpace");
+      m.near_null_space = true;
+    }
     check(VecScatterCreateToAll(m.x, &m.scatter, &m.gathered), "VecScatterCreateToAll");
     check(KSPSetOperators(m.ksp, m.matrix, m.matrix), "KSPSetOperators");
     check(KSPSetUp(m.ksp), "KSPSetUp");
@@ -224,6 +255,11 @@ LinearSolveStats PetscLinearSolver::solve(const Vector& rhs, double relative_tol
   stats.relative_residual = b_norm > 0.0 ? (rhs - m.full * solution).norm() / b_norm : (m.full * solution).norm();
   stats.iterations = static_cast<int>(iterations);
   stats.converged = reason > 0 && solution.allFinite();
+  ++m.solves;
+  m.iterations += iterations;
+  m.recent_iterations.push_back(stats.iterations);
+  constexpr std::size_t kRecent = 8;
+  if (m.recent_iterations.size() > kRecent) m.recent_iterations.erase(m.recent_iterations.begin());
   if (!stats.converged) {
     std::ostringstream why;
     why << method() << " stopped with " << KSPConvergedReasons[reason] << " after " << iterations
@@ -231,7 +267,56 @@ LinearSolveStats PetscLinearSolver::solve(const Vector& rhs, double relative_tol
         << ")";
     stats.message = why.str();
   }
+  m.last = stats;
   return stats;
+}
+
+void PetscLinearSolver::set_vertex_coordinates(int dim, const Vector& coordinates) {
+  if (dim < 1 || dim > 3 || coordinates.size() % dim != 0)
+    throw std::invalid_argument("PetscLinearSolver::set_vertex_coordinates: dim must be 1, 2 or 3 and divide the "
+                                "number of coordinates");
+  impl_->dim = dim;
+  impl_->coordinates = coordinates;
+}
+
+LinearSolverInfo PetscLinearSolver::info() const {
+  const Impl& m = *impl_;
+  LinearSolverInfo i;
+  i.name = name();
+  i.options = options_.options;
+  char* all = nullptr;
+  if (PetscOptionsGetAll(nullptr, &all) == 0 && all) {
+    i.options_in_effect = all;
+    PetscFree(all);
+  }
+  KSPType ksp_type = nullptr;
+  PCType pc_type = nullptr;
+  PC pc = nullptr;
+  KSPGetType(m.ksp, &ksp_type);
+  KSPGetPC(m.ksp, &pc);
+  PCGetType(pc, &pc_type);
+  i.krylov_method = ksp_type ? ksp_type : "";
+  i.preconditioner = pc_type ? pc_type : "";
+  PetscBool factorization = PETSC_FALSE;
+  PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &factorization, PCLU, PCCHOLESKY, PCILU, PCICC, "");
+  if (factorization) {
+    MatSolverType package = nullptr;
+    if (PCFactorGetMatSolverType(pc, &package) == 0 && package) i.factorization_package = package;
+  }
+  PetscReal rtol = 0, abstol = 0, dtol = 0;
+  PetscInt max_it = 0;
+  KSPGetTolerances(m.ksp, &rtol, &abstol, &dtol, &max_it);
+  i.relative_tolerance = m.default_rtol;
+  i.absolute_tolerance = abstol;
+  i.divergence_tolerance = dtol;
+  i.max_iterations = static_cast<int>(max_it);
+  i.processes = PetscSession::size();
+  i.near_null_space = m.near_null_space;
+  i.solves = m.solves;
+  i.iterations = m.iterations;
+  i.recent_iterations = m.recent_iterations;
+  i.last = m.last;
+  return i;
 }
 
 }  // namespace tailor

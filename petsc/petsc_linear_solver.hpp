@@ -53,6 +53,11 @@ class PetscLinearSolver final : public LinearSolver {
   bool setup(const SparseMatrix& upper, std::string& message) override;
   LinearSolveStats solve(const Vector& b, double relative_tolerance, Vector& x) override;
   bool is_root() const override;
+  LinearSolverInfo info() const override;
+  // With coordinates, the rows are split across the ranks by whole vertices, the matrix has
+  // block size dim, and the rigid-body modes (MatNullSpaceCreateRigidBody: 3 in 2D, 6 in 3D) are
+  // its near-null space, which GAMG uses to build its coarse spaces (ignored by other PCs).
+  void set_vertex_coordinates(int dim, const Vector& coordinates) override;
   // What KSPSetFromOptions chose: "cg/gamg", "preonly/cholesky", ...
   std::string method() const;
 

@@ -6,6 +6,7 @@
 #include <ostream>
 
 #include "forward/core/timing.hpp"
+#include "problems/output_process.hpp"
 
 namespace tailor {
 namespace {
@@ -55,15 +56,16 @@ SimulateRun simulate_scene(const Scene& scene, const std::string& out_dir, std::
 
   const auto t_output = Clock::now();
   std::error_code error;
-  std::filesystem::create_directories(out_dir, error);
+  // Only the process that writes files (rank 0 of a replicated MPI run) creates and fills them.
+  if (writes_output()) std::filesystem::create_directories(out_dir, error);
   if (error)
     throw std::runtime_error("cannot create the output folder '" + out_dir + "': " + error.message());
   run.report_path = (std::filesystem::path(out_dir) / "report.json").string();
   run.result_path = (std::filesystem::path(out_dir) / "result.vtu").string();
-  write_result_vtu(run.result_path, run.setup, run.solution);
+  if (writes_output()) write_result_vtu(run.result_path, run.setup, run.solution);
   run.timings.output = seconds_since(t_output);
   run.timings.total = seconds_since(t_start);
-  write_report_json(run.report_path, scene, run.setup, run.solution, run.timings);
+  if (writes_output()) write_report_json(run.report_path, scene, run.setup, run.solution, run.timings);
   if (log) {
     print_summary(*log, run);
     *log << "wrote " << run.report_path << " and " << run.result_path << "\n";

@@ -6,6 +6,7 @@
 #include <ostream>
 
 #include "forward/core/timing.hpp"
+#include "problems/output_process.hpp"
 #include "problems/optimizer_checkpoint.hpp"
 #include "problems/plot/convergence_plot.hpp"
 #include "problems/plot/field_image.hpp"
@@ -13,7 +14,10 @@
 namespace tailor {
 namespace {
 
+// The path of an output file, its folder created when this process writes files (rank 0 of a
+// replicated MPI run, problems/output_process.hpp).
 std::string output_path(const std::string& out_dir, const char* name) {
+  if (!writes_output()) return (std::filesystem::path(out_dir) / name).string();
   std::error_code error;
   std::filesystem::create_directories(out_dir, error);
   if (error)
@@ -130,7 +134,8 @@ GradcheckRun gradcheck_problem(InverseProblem& built, const std::string& out_dir
     if (log) *log << run.hessian->table();
   }
   run.report_path = output_path(out_dir, "gradcheck.json");
-  write_gradcheck_json(run.report_path, run);
+  run.linear_solver = newton.linear_solver;
+  if (writes_output()) write_gradcheck_json(run.report_path, run);
   if (log) *log << (run.passed() ? "passed" : "FAILED") << "; wrote " << run.report_path << "\n";
   return run;
 }
@@ -170,7 +175,7 @@ InverseRun run_inverse_problem(std::unique_ptr<InverseProblem> built, const std:
   if (options.checkpoint_every > 0) {
     run.checkpoint_path = output_path(out_dir, kCheckpointFileName);
     options.on_checkpoint = [&run, &owner](const OptimizerCheckpoint& checkpoint) {
-      write_checkpoint_json(run.checkpoint_path, owner, checkpoint);
+      if (writes_output()) write_checkpoint_json(run.checkpoint_path, owner, checkpoint);
     };
   }
   run.result = minimize(*problem.functional, problem.z0, problem.bounds, constraints, options,
@@ -198,18 +203,19 @@ InverseRun run_inverse_problem(std::unique_ptr<InverseProblem> built, const std:
   }
   run.result_path = output_path(out_dir, "result.vtu");
   run.report_path = output_path(out_dir, "report.json");
-  write_inverse_result_vtu(run.result_path, run);
+  if (writes_output()) write_inverse_result_vtu(run.result_path, run);
   run.timings.output = seconds_since(t_output);
   run.timings.total = seconds_since(t_start);
-  write_inverse_report_json(run.report_path, run);
+  if (writes_output()) write_inverse_report_json(run.report_path, run);
   const std::string plot_path = output_path(out_dir, "convergence.png");
-  write_convergence_png(plot_path, run.result,
-                        problem.scene_name + " (" + to_string(problem.spec.optimizer.backend) + ")");
+  if (writes_output())
+    write_convergence_png(plot_path, run.result,
+                          problem.scene_name + " (" + to_string(problem.spec.optimizer.backend) + ")");
   // The designed field next to the truth, on one colour scale.
   const std::string field_path = output_path(out_dir, "youngs_modulus.png");
   std::vector<FieldPanel> panels{{"designed E", run.youngs_modulus}};
   if (problem.truth.size() > 0) panels.push_back({"true E", problem.truth});
-  write_field_png(field_path, problem.setup.mesh, panels, {problem.scene_name, "E"});
+  if (writes_output()) write_field_png(field_path, problem.setup.mesh, panels, {problem.scene_name, "E"});
   if (log) {
     *log << run.result.report();
     print_design(*log, run);

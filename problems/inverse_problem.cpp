@@ -13,6 +13,7 @@
 #include "objectives/tikhonov.hpp"
 #include "objectives/weighted_sum.hpp"
 #include "problems/inverse_handles.hpp"
+#include "problems/linear_solver_choice.hpp"
 #include "problems/objective_term_registry.hpp"
 #include "problems/scene_selection.hpp"
 
@@ -321,6 +322,10 @@ std::unique_ptr<StaticFunctional> make_functional(const InverseProblem& problem,
   options.newton.max_iterations = scene_newton.max_iterations;
   options.newton.hessian = scene_newton.hessian;
   options.newton.reuse_factorization = scene_newton.reuse_factorization;
+  options.newton.linear_solver = scene_newton.linear_solver;
+  if (options.newton.linear_solver)
+    give_vertex_coordinates(*options.newton.linear_solver, elimination, problem.setup.dim(),
+                            problem.setup.rest_state());
   options.newton.relative_tolerance =
       std::min(options.newton.relative_tolerance, scene_newton.relative_tolerance);
   // StaticFunctional measures warm starts against the residual at its start state; with load

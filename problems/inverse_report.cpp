@@ -78,6 +78,7 @@ void write_gradcheck_json(const std::string& path, const GradcheckRun& run) {
   document["design_size"] = run.design_size;
   document["seed"] = run.seed;
   if (run.hessian) document["hessian"] = taylor_json(*run.hessian);
+  document["linear_solver"] = linear_solver_json(run.linear_solver.get());
   document["tailor_version"] = version_string;
   write_json(path, document);
 }
@@ -119,6 +120,7 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
   // The optimization's solves, including those before a resume.
   report["solves"] = {{"forward", result.counters.forward_solves},
                       {"adjoint", result.counters.adjoint_solves}};
+  report["linear_solver"] = linear_solver_json(problem.setup.solver.newton.linear_solver.get());
 
   const DesignSpec& d = problem.spec.design;
   Json design = {{"parameter", d.parameter},

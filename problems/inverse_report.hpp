@@ -21,6 +21,7 @@ struct GradcheckRun {
   TaylorTestResult gradient;                // taylor_test at z0
   std::optional<TaylorTestResult> hessian;  // taylor_test_hessian, when asked for
   std::string report_path;                  // out_dir/gradcheck.json
+  LinearSolverPtr linear_solver;            // the functional's (empty: CHOLMOD)
   bool passed() const { return gradient.passed() && (!hessian || hessian->passed()); }
 };
 

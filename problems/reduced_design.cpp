@@ -21,6 +21,7 @@
 #include "forward/solve/sparse_cholesky.hpp"
 #include "problems/inverse_handles.hpp"
 #include "problems/inverse_scene.hpp"
+#include "problems/output_process.hpp"
 #include "problems/report_header.hpp"
 #include "problems/scene_parsing.hpp"
 #include "problems/scene_selection.hpp"
@@ -501,13 +502,15 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
   run.basis_candidates = design.basis_candidates;
   run.median_iteration_ms = median(run.iteration_ms);
 
-  if (!out_dir.empty()) {
+  if (!out_dir.empty() && writes_output()) {  // rank 0 alone in a replicated MPI run
     std::filesystem::create_directories(out_dir);
     run.report_path = (std::filesystem::path(out_dir) / "report.json").string();
     nlohmann::ordered_json report;
     add_report_header(report);
     report["kind"] = "reduced_design";
     report["scene"] = {{"name", design.scene_name}, {"source", design.scene_source}};
+    // The full-space check's solver (the reduced loop itself solves its small systems densely).
+    report["linear_solver"] = linear_solver_json(design.setup.solver.newton.linear_solver.get());
     report["reduction"] = {{"displacement_modes", design.spec.displacement_modes},
                            {"modal_derivatives", design.spec.modal_derivatives},
                            {"derivative_modes", design.spec.derivative_modes},

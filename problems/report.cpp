@@ -59,6 +59,7 @@ void write_report_json(const std::string& path, const Scene& scene, const Static
         r, energies, [](const NewtonIteration& it) { return it.energy; }, r.final_energy);
   }
   report["iterations"] = iterations;
+  report["linear_solver"] = linear_solver_json(setup.solver.newton.linear_solver.get());
   report["load_steps"] = steps;
   report["residual_history"] = residuals;
   report["energy_history"] = energies;

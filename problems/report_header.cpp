@@ -15,4 +15,33 @@ void add_report_header(nlohmann::ordered_json& report) {
                        {"blas_library", threads.blas_library}};
 }
 
+nlohmann::ordered_json linear_solver_json(const LinearSolver* solver) {
+  if (!solver) return {{"name", "cholmod"}};
+  const LinearSolverInfo i = solver->info();
+  const auto optional_text = [](const std::string& text) {
+    return text.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(text);
+  };
+  nlohmann::ordered_json last = {{"converged", i.last.converged},
+                                 {"iterations", i.last.iterations},
+                                 {"relative_residual", i.last.relative_residual},
+                                 {"relative_tolerance", i.last.relative_tolerance}};
+  if (!i.last.message.empty()) last["message"] = i.last.message;
+  return {{"name", i.name},
+          {"options", i.options},
+          {"options_in_effect", optional_text(i.options_in_effect)},
+          {"krylov_method", optional_text(i.krylov_method)},
+          {"preconditioner", optional_text(i.preconditioner)},
+          {"factorization_package", optional_text(i.factorization_package)},
+          {"near_null_space", i.near_null_space},
+          {"relative_tolerance", i.relative_tolerance},
+          {"absolute_tolerance", i.absolute_tolerance},
+          {"divergence_tolerance", i.divergence_tolerance},
+          {"max_iterations", i.max_iterations},
+          {"processes", i.processes},
+          {"solves", i.solves},
+          {"iterations", i.iterations},
+          {"recent_iterations", i.recent_iterations},
+          {"last_solve", i.solves > 0 ? last : nlohmann::ordered_json(nullptr)}};
+}
+
 }  // namespace tailor

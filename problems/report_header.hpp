@@ -4,6 +4,8 @@
 // factorization; see forward/solve/threads.hpp), so that timings in a report can be read.
 #include <nlohmann/json.hpp>
 
+#include "forward/solve/linear_solver.hpp"
+
 namespace tailor {
 
 // Version of the report layout; bumped only when a field changes meaning or is removed.
@@ -12,5 +14,9 @@ inline constexpr int kReportFormatVersion = 1;
 // report["tailor_version"], report["report_format"], report["threads"] = {assembly, blas,
 // factorization, blas_library}.
 void add_report_header(nlohmann::ordered_json& report);
+
+// report["linear_solver"]: {"name": "cholmod"} for the default (no LinearSolver), else the
+// solver's LinearSolverInfo (docs/petsc.md lists the fields).
+nlohmann::ordered_json linear_solver_json(const LinearSolver* solver);
 
 }  // namespace tailor

@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "problems/dynamic_scene.hpp"
+#include "problems/linear_solver_choice.hpp"
 #include "problems/scene_parsing.hpp"
 #include "problems/spline_curves_json.hpp"
 
@@ -332,8 +333,21 @@ LoadSpec parse_loads(const SceneNode& node, const std::string& directory) {
 
 SolverSpec parse_solver(const SceneNode& node) {
   node.expect_keys({"max_iterations", "relative_tolerance", "absolute_tolerance", "hessian", "load_steps",
-                    "reuse_factorization", "threads"});
+                    "reuse_factorization", "threads", "linear_solver", "petsc_options"});
   SolverSpec s;
+  if (auto v = node.find("linear_solver")) s.linear_solver = v->choice({"cholmod", "petsc"});
+  if (auto v = node.find("petsc_options")) {
+    if (s.linear_solver != "petsc") v->fail("needs \"linear_solver\": \"petsc\"");
+    if (!v->is_string()) v->fail("expected a string of PETSc options, e.g. \"-ksp_type cg -pc_type gamg\"");
+  }
+  if (s.linear_solver != "cholmod") {
+    const auto options = node.find("petsc_options");
+    try {
+      s.newton.linear_solver = make_linear_solver({s.linear_solver, options ? options->string() : std::string()});
+    } catch (const std::invalid_argument& e) {
+      (options ? *options : node.at("linear_solver")).fail(e.what());
+    }
+  }
   if (auto v = node.find("max_iterations")) s.newton.max_iterations = v->integer(1);
   if (auto v = node.find("relative_tolerance")) s.newton.relative_tolerance = v->open_interval(0.0, 1.0);
   if (auto v = node.find("absolute_tolerance")) s.newton.absolute_tolerance = v->non_negative();
@@ -438,6 +452,10 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
     scene.inverse = std::make_shared<const InverseSpec>(parse_inverse_section(*inverse, directory));
   if (auto dynamics = root.find("dynamics"))
     scene.dynamics = std::make_shared<const DynamicsSpec>(parse_dynamics_section(*dynamics, directory));
+  if (scene.dynamics && scene.solver.newton.linear_solver)
+    root.at("solver").at("linear_solver").fail(
+        "the dynamics integrator solves with CHOLMOD only; \"" + scene.solver.linear_solver +
+        "\" is for static scenes (simulate, gradcheck, run without a \"dynamics\" section)");
   return scene;
 }
 

@@ -107,7 +107,11 @@ struct LoadSpec {
 };
 
 struct SolverSpec {
-  NewtonOptions newton;  // max_iterations, tolerances, hessian mode (progress is set by the caller)
+  // max_iterations, tolerances, hessian mode (progress is set by the caller), and the linear
+  // solver of "linear_solver" (problems/linear_solver_choice.hpp): empty for CHOLMOD, else made
+  // once by the registered factory and shared by every solve of the scene (one at a time).
+  NewtonOptions newton;
+  std::string linear_solver = "cholmod";  // solver.linear_solver
   int load_steps = 1;    // loads and prescribed displacements ramp linearly over this many solves
   std::optional<ThreadSettings> threads;  // solver.threads: applied by the CLI before the run
 };

@@ -12,6 +12,7 @@
 #include "forward/fem/materials/spline_material.hpp"
 #include "forward/mesh/generate.hpp"
 #include "forward/mesh/mesh_io.hpp"
+#include "problems/linear_solver_choice.hpp"
 #include "problems/scene_selection.hpp"
 
 namespace tailor {
@@ -246,6 +247,8 @@ StaticSolution solve_static(const StaticSetup& setup, std::ostream* progress) {
     if (step == 1) y = model->elimination().restrict_state(setup.rest_state());
     if (progress && num_steps > 1)
       *progress << "load step " << step << "/" << num_steps << " (factor " << factor << ")\n";
+    if (options.linear_solver)  // the rigid-body modes for algebraic multigrid, when whole vertices are free
+      give_vertex_coordinates(*options.linear_solver, model->elimination(), setup.dim(), setup.rest_state());
     NewtonSolver solver(*model, options);
     LoadStep load_step{factor, solver.solve(p, y)};
     const NewtonResult& r = load_step.newton;

@@ -10,6 +10,7 @@
 // and stable nonlinear equilibria); setup() or solve() report failure instead of shifting.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "forward/core/types.hpp"
 
@@ -23,6 +24,27 @@ struct LinearSolveStats {
   std::string message;              // why not, when !converged
 };
 
+// What a run's report records about the solver: its settings in effect and its solves so far.
+// A direct solver leaves the iterative fields empty.
+struct LinearSolverInfo {
+  std::string name;                   // "petsc"
+  std::string options;                // the options the solver was given (e.g. a PETSc options string)
+  std::string options_in_effect;      // every option the solver's library read from, when it has a database
+  std::string krylov_method;          // e.g. PETSc's KSP type "cg"
+  std::string preconditioner;         // e.g. PETSc's PC type "gamg"
+  std::string factorization_package;  // of a factorization preconditioner ("mumps"), else empty
+  double relative_tolerance = 0.0;    // the default for solves given none (the adjoint sets its own)
+  double absolute_tolerance = 0.0;
+  double divergence_tolerance = 0.0;
+  int max_iterations = 0;
+  int processes = 1;                  // MPI ranks taking part in each solve
+  bool near_null_space = false;       // rigid-body modes given to the preconditioner
+  int solves = 0;                     // since construction
+  long long iterations = 0;           // summed over those solves
+  std::vector<int> recent_iterations; // of the last solves, oldest first (a few)
+  LinearSolveStats last;              // the last solve
+};
+
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
@@ -34,6 +56,17 @@ class LinearSolver {
   virtual LinearSolveStats solve(const Vector& b, double relative_tolerance, Vector& x) = 0;
   // Whether this process writes reports and files (rank 0 of a distributed solver).
   virtual bool is_root() const { return true; }
+  // The settings in effect and the solves so far, for reports.
+  virtual LinearSolverInfo info() const {
+    LinearSolverInfo i;
+    i.name = name();
+    return i;
+  }
+  // The unknowns are `dim` components of the vertices at `coordinates` (dim values per vertex,
+  // in the order of the unknowns): a solver may build the rigid-body modes from them (the
+  // near-null space of elasticity, for algebraic multigrid). Called before setup(); the default
+  // ignores it.
+  virtual void set_vertex_coordinates(int /*dim*/, const Vector& /*coordinates*/) {}
 };
 using LinearSolverPtr = std::shared_ptr<LinearSolver>;
 

@@ -1,4 +1,15 @@
-// bin/tailor: the command line is a library function (problems/cli/run_cli.hpp).
+// bin/tailor: the command line is a library function (problems/cli/run_cli.hpp). Built with the
+// PETSc back-end, it first starts PETSc and MPI and registers the "petsc" linear solver
+// (petsc/petsc_command_line.hpp, docs/petsc.md).
 #include "problems/cli/run_cli.hpp"
+#ifdef TAILOR_HAVE_PETSC
+#include "petsc/petsc_command_line.hpp"
+#endif
 
-int main(int argc, char** argv) { return tailor::run_cli(argc, argv); }
+int main(int argc, char** argv) {
+#ifdef TAILOR_HAVE_PETSC
+  return tailor::run_cli_with_petsc(argc, argv);
+#else
+  return tailor::run_cli(argc, argv);
+#endif
+}

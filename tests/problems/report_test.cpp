@@ -43,7 +43,7 @@ TEST(Report, HasEveryDocumentedKey) {
 
   for (const char* key :
        {"tailor_version", "report_format", "scene", "status", "message", "converged", "iterations",
-        "load_steps", "residual_history", "energy_history", "timings", "mesh", "dofs", "results"})
+        "linear_solver", "load_steps", "residual_history", "energy_history", "timings", "mesh", "dofs", "results"})
     EXPECT_TRUE(report.contains(key)) << key;
   for (const char* key :
        {"total", "setup", "analysis", "assembly", "factorization", "solve", "line_search", "output"})
@@ -58,6 +58,7 @@ TEST(Report, HasEveryDocumentedKey) {
   EXPECT_EQ(report["scene"]["name"], "box");
   EXPECT_EQ(report["scene"]["source"], "box.json");
   EXPECT_EQ(report["status"], "converged");
+  EXPECT_EQ(report["linear_solver"], nlohmann::json({{"name", "cholmod"}}));
   EXPECT_EQ(report["converged"], true);
   EXPECT_EQ(report["load_steps"].size(), 2u);
   EXPECT_EQ(report["mesh"]["dim"], 3);

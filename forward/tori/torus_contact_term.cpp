@@ -51,7 +51,8 @@ TorusContactTerm::TorusContactTerm(const rigid::RigidBodySystem& system, std::ve
   if (options_.pair_band < 0) throw std::invalid_argument("TorusContactTerm: pair_band must be >= 0");
   if (!(options_.ccd_fraction > 0.0 && options_.ccd_fraction < 1.0))
     throw std::invalid_argument("TorusContactTerm: ccd_fraction must lie in (0, 1)");
-  if (options_.placement_offset < -1) throw std::invalid_argument("TorusContactTerm: placement_offset must be >= -1");
+  if (options_.placement_offset < -1)
+    throw std::invalid_argument("TorusContactTerm: placement_offset must be >= -1");
   placement_index_.assign(static_cast<std::size_t>(n), -1);
   for (int i = 0; i < n; ++i)
     if (system.body(i).fixed) placement_index_[static_cast<std::size_t>(i)] = num_placements_++;
@@ -198,8 +199,8 @@ void TorusContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
 }
 
 int TorusContactTerm::placement_column(int i) const {
-  return placed_by_parameters(i) ? options_.placement_offset + 6 * placement_index_[static_cast<std::size_t>(i)]
-                                 : -1;
+  if (!placed_by_parameters(i)) return -1;
+  return options_.placement_offset + 6 * placement_index_[static_cast<std::size_t>(i)];
 }
 
 void TorusContactTerm::add_param_gradient(const Vector& q, const Vector& p, Vector& gradient_p) const {

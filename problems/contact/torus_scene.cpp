@@ -91,7 +91,8 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
     const SceneNode g = t.at("gradcheck");
     g.expect_keys({"parameters"});
     const std::vector<SceneNode> names = g.at("parameters").items();
-    if (names.empty()) g.at("parameters").fail("expected a non-empty list of \"masses\", \"radii\", \"placements\"");
+    if (names.empty())
+      g.at("parameters").fail("expected a non-empty list of \"masses\", \"radii\", \"placements\"");
     spec.gradcheck_masses = spec.gradcheck_radii = spec.gradcheck_placements = false;
     for (const SceneNode& name : names) {
       const std::string kind = name.choice({"masses", "radii", "placements"});

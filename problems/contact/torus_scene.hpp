@@ -46,12 +46,13 @@ TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::str
 // `tailor gradcheck` on a static, implicit-contact torus scene (docs/tori.md): the parameters
 // z = (m_0 .. m_{n-1}, R_0, r_0, .. R_{n-1}, r_{n-1}, T_f, w_f ..) (the masses in the gravity
 // term, the radii in the contact geometry, the placement of each fixed link f in the contact
-// term), those selected by the scene's gradcheck.parameters; the objective 1/2 sum_free |T_b - T_b^0|^2 over the free links'
-// centres (T_b^0 their start); its gradient by the adjoint of the static equilibrium (gravity +
-// the torus barrier, the exact barrier Hessian with the distance's implicit-function term, never
-// a projected one) against a Taylor test. The equilibrium is first found by relaxation (as in
-// `simulate`), then each free link's w_z is held at it (the turn about the vertical through its
-// contact points is a zero mode of the static Hessian). Writes DIR/gradcheck.json.
+// term), those selected by the scene's gradcheck.parameters; the objective
+// 1/2 sum_free |T_b - T_b^0|^2 over the free links' centres (T_b^0 their start); its gradient by
+// the adjoint of the static equilibrium (gravity + the torus barrier, the exact barrier Hessian
+// with the distance's implicit-function term, never a projected one) against a Taylor test. The
+// equilibrium is first found by relaxation (as in `simulate`), then each free link's w_z is held
+// at it (the turn about the vertical through its contact points is a zero mode of the static
+// Hessian). Writes DIR/gradcheck.json.
 struct TorusGradcheckOptions {
   unsigned seed = 1;
   double initial_step = 1e-5;  // keeps the warm-started equilibrium apart at the new radii

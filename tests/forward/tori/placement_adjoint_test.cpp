@@ -60,7 +60,8 @@ struct PlacedChain {
   StaticFunctional functional() {
     Matrix targets(static_cast<Eigen::Index>(centres.size()), 3);
     for (std::size_t i = 0; i < centres.size(); ++i)
-      targets.row(static_cast<Eigen::Index>(i)) = system.initial_state().segment<3>(3 * centres[i]).transpose();
+      targets.row(static_cast<Eigen::Index>(i)) =
+          system.initial_state().segment<3>(3 * centres[i]).transpose();
     StaticFunctionalOptions options;
     options.newton.absolute_tolerance = 1e-7 * weight;  // the barrier's round-off floor (docs/tori.md)
     return StaticFunctional(model, identity_map(6), std::make_shared<TargetPositions>(3, centres, targets),
@@ -112,7 +113,8 @@ TEST(TorusPlacementAdjoint, MovingTheAnchorTranslatesTheHangingChainRigidly) {
     drift += x.segment<3>(6 * b) - chain.system.initial_state().segment<3>(6 * b);
     const Eigen::Vector3d w = x.segment<3>(6 * b + 3);
     for (int axis = 0; axis < 3; ++axis) {
-      worst_centre = std::max(worst_centre, (dx.col(axis).segment<3>(6 * b) - Eigen::Vector3d::Unit(axis)).norm());
+      worst_centre =
+          std::max(worst_centre, (dx.col(axis).segment<3>(6 * b) - Eigen::Vector3d::Unit(axis)).norm());
       // The link's orientation through its symmetry axis n = R(w) e_z (torus.hpp), horizontal in a
       // hanging chain. Two turns are symmetries of the static problem: the spin about n (the torus)
       // and the turn about the vertical (its contact points lie on the vertical through its
@@ -120,15 +122,19 @@ TEST(TorusPlacementAdjoint, MovingTheAnchorTranslatesTheHangingChainRigidly) {
       // round-off. They move n horizontally; the third turn tilts n out of the horizontal: dn_z.
       const Eigen::Vector3d dw = dx.col(axis).segment<3>(6 * b + 3);
       const double eps = 1e-3;
-      const Eigen::Vector3d dn = (rigid::rotation_matrix(w + eps * dw) - rigid::rotation_matrix(w - eps * dw)) *
-                                 Eigen::Vector3d::UnitZ() / (2.0 * eps);
+      const Eigen::Vector3d dn =
+          (rigid::rotation_matrix(w + eps * dw) - rigid::rotation_matrix(w - eps * dw)) *
+          Eigen::Vector3d::UnitZ() / (2.0 * eps);
       worst_tilt = std::max(worst_tilt, std::abs(dn.z()));
       worst_null = std::max(worst_null, dn.norm());
     }
   }
-  std::printf("anchor translation: max |dT_b/dT_anchor - I| = %.2e, max |dn_b,z/dT_anchor| = %.2e (|dn_b/dT_anchor| %.2e, the null mode); dJ/dT_anchor = "
-              "(%.6e, %.6e, %.6e), sum_free (T_b - T_b^0) = (%.6e, %.6e, %.6e)\n",
-              worst_centre, worst_tilt, worst_null, gradient[0], gradient[1], gradient[2], drift[0], drift[1], drift[2]);
+  std::printf(
+      "anchor translation: max |dT_b/dT_anchor - I| = %.2e, max |dn_b,z/dT_anchor| = %.2e (|dn_b/dT_anchor| "
+      "%.2e, the null mode); dJ/dT_anchor = "
+      "(%.6e, %.6e, %.6e), sum_free (T_b - T_b^0) = (%.6e, %.6e, %.6e)\n",
+      worst_centre, worst_tilt, worst_null, gradient[0], gradient[1], gradient[2], drift[0], drift[1],
+      drift[2]);
   EXPECT_LT(worst_centre, 1e-6);
   EXPECT_LT(worst_tilt, 1e-6);
   EXPECT_GT(std::abs(drift.z()), 1e-4);  // the chain sagged: the gradient reference is not vacuous

@@ -96,7 +96,7 @@ Vector placement_of(const rigid::RigidBodySystem& system, int body) {
   return system.initial_state().segment<6>(6 * body);
 }
 
-TEST(TorusContactTerm, PassesDerivativeChecksInAFixedTorussPlacement) {
+TEST(TorusContactTerm, PassesDerivativeChecksInTheFixedTorusPlacement) {
   // Torus 0 fixed, its pose the parameters p = (T_0, w_0), twisted so that every pair variable
   // enters; and the same with the radii first, p = (R_0, r_0, R_1, r_1, T_0, w_0).
   const Pair pair = twisted_pair(0.01, true);
@@ -157,8 +157,8 @@ class WrongPlacementBlock final : public EnergyTerm {
     for (const Triplet& t : right) {
       const int offset = term_.options().placement_offset, body = t.row() / 6;
       if (transpose_)
-        mixed.emplace_back(6 * body + (t.col() - offset) % 6, offset + t.row() % 6 + 6 * ((t.col() - offset) / 6),
-                           t.value());
+        mixed.emplace_back(6 * body + (t.col() - offset) % 6,
+                           offset + t.row() % 6 + 6 * ((t.col() - offset) / 6), t.value());
       else
         mixed.emplace_back(t.row(), t.col(), scale_ * t.value());
     }

@@ -198,7 +198,7 @@ TEST(TorusScene, GradcheckOfAnEllipticChainThroughActiveContact) {
 // same with every parameter selected (masses, radii and the placement in one direction).
 TEST(TorusScene, GradcheckOfTheAnchorPlacementThroughActiveContact) {
   const TorusSceneSpec spec =
-      parse_torus_scene(read_text(kScenes + "torus_placement_gradcheck.json"), "torus_placement_gradcheck.json");
+      parse_torus_scene(read_text(kScenes + "torus_placement_gradcheck.json"), "placement_gradcheck.json");
   EXPECT_FALSE(spec.gradcheck_masses);
   EXPECT_FALSE(spec.gradcheck_radii);
   EXPECT_TRUE(spec.gradcheck_placements);
@@ -223,7 +223,8 @@ TEST(TorusScene, GradcheckOfTheAnchorPlacementThroughActiveContact) {
   nlohmann::json scene = nlohmann::json::parse(read_text(kScenes + "torus_placement_gradcheck.json"));
   scene["tori"]["gradcheck"]["parameters"] = {"placements", "radii", "masses"};
   const TorusSceneSpec all = parse_torus_scene(scene.dump(), "all_gradcheck.json");
-  const TorusGradcheckRun every = gradcheck_torus_scene(all, temporary_directory("gradcheck_all"), {}, nullptr);
+  const TorusGradcheckRun every =
+      gradcheck_torus_scene(all, temporary_directory("gradcheck_all"), {}, nullptr);
   std::printf("%s", every.taylor.table().c_str());
   EXPECT_TRUE(every.passed()) << every.taylor.table();
   EXPECT_GE(every.taylor.rate1, 1.9);
@@ -244,7 +245,8 @@ TEST(TorusScene, GradcheckParametersAreCheckedWithTheirKey) {
   EXPECT_NE(message(R"({"parameters": ["placements"]})", false).find("tori.gradcheck.parameters"),
             std::string::npos);
   EXPECT_NE(message(R"({"parameters": []})", true).find("tori.gradcheck.parameters"), std::string::npos);
-  EXPECT_NE(message(R"({"parameters": ["poses"]})", true).find("tori.gradcheck.parameters"), std::string::npos);
+  EXPECT_NE(message(R"({"parameters": ["poses"]})", true).find("tori.gradcheck.parameters"),
+            std::string::npos);
   EXPECT_NE(message(R"({"parameters": ["radii", "radii"]})", true).find("twice"), std::string::npos);
   EXPECT_NE(message(R"({"seed": 2})", true).find("seed"), std::string::npos);
   EXPECT_EQ(message(R"({"parameters": ["masses"]})", false), "no error");

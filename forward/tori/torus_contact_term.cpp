@@ -51,6 +51,11 @@ TorusContactTerm::TorusContactTerm(const rigid::RigidBodySystem& system, std::ve
   if (options_.pair_band < 0) throw std::invalid_argument("TorusContactTerm: pair_band must be >= 0");
   if (!(options_.ccd_fraction > 0.0 && options_.ccd_fraction < 1.0))
     throw std::invalid_argument("TorusContactTerm: ccd_fraction must lie in (0, 1)");
+  if (options_.placement_offset < -1)
+    throw std::invalid_argument("TorusContactTerm: placement_offset must be >= -1");
+  placement_index_.assign(static_cast<std::size_t>(n), -1);
+  for (int i = 0; i < n; ++i)
+    if (system.body(i).fixed) placement_index_[static_cast<std::size_t>(i)] = num_placements_++;
   pair_slot_.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), -1);
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b) {
@@ -79,7 +84,13 @@ TorusShape TorusContactTerm::shape(int i, const Vector& p) const {
 }
 
 TorusPose TorusContactTerm::pose(int i, const Vector& q, const Vector& p) const {
-  return {q.segment<3>(6 * i), q.segment<3>(6 * i + 3), shape(i, p)};
+  if (!placed_by_parameters(i)) return {q.segment<3>(6 * i), q.segment<3>(6 * i + 3), shape(i, p)};
+  const int k = options_.placement_offset + 6 * placement_index_[static_cast<std::size_t>(i)];
+  if (k + 5 >= p.size())
+    throw std::invalid_argument("TorusContactTerm: the parameter vector has " + std::to_string(p.size()) +
+                                " entries, the placement of fixed torus " + std::to_string(i) + " reads " +
+                                std::to_string(k + 5));
+  return {p.segment<3>(k), p.segment<3>(k + 3), shape(i, p)};
 }
 
 void TorusContactTerm::hessian_pattern(HessianPattern& pattern) const {
@@ -157,10 +168,12 @@ void TorusContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
           " have a degenerate closest-point set (coaxial core circles, or a flat minimum of an "
           "elliptic pair): no derivatives");
     const int a = pair.a, b = pair.b;
+    // A torus placed by p has no dependence on its q entries: its rows and columns are zero.
+    const bool placed_a = placed_by_parameters(a), placed_b = placed_by_parameters(b);
     const Eigen::Matrix<double, 12, 1> g = e.first * pair.distance.gradient.head<12>();
     if (request.gradient) {
-      request.gradient->segment<6>(6 * a) += g.head<6>();
-      request.gradient->segment<6>(6 * b) += g.tail<6>();
+      if (!placed_a) request.gradient->segment<6>(6 * a) += g.head<6>();
+      if (!placed_b) request.gradient->segment<6>(6 * b) += g.tail<6>();
     }
     if (request.hessian_values) {
       const int slot = pair_slot_[static_cast<std::size_t>(a * num_tori() + b)];
@@ -171,6 +184,11 @@ void TorusContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
       Eigen::Matrix<double, 12, 12> H =
           e.second * pair.distance.gradient.head<12>() * pair.distance.gradient.head<12>().transpose() +
           e.first * pair.distance.hessian.topLeftCorner<12, 12>();
+      for (int end = 0; end < 2; ++end)
+        if (end == 0 ? placed_a : placed_b) {
+          H.middleRows<6>(6 * end).setZero();
+          H.middleCols<6>(6 * end).setZero();
+        }
       if (request.hessian_mode == HessianMode::projected) contact::project_to_psd<12>(H);
       double* out = request.hessian_values + slot;
       for (int i = 0; i < 12; ++i)
@@ -180,33 +198,54 @@ void TorusContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
   if (request.value) *request.value += energy;
 }
 
+int TorusContactTerm::placement_column(int i) const {
+  if (!placed_by_parameters(i)) return -1;
+  return options_.placement_offset + 6 * placement_index_[static_cast<std::size_t>(i)];
+}
+
 void TorusContactTerm::add_param_gradient(const Vector& q, const Vector& p, Vector& gradient_p) const {
-  if (options_.parameter_offset < 0) return;
+  if (options_.parameter_offset < 0 && options_.placement_offset < 0) return;
   const double d_hat = options_.activation_distance;
   for (const TorusPair& pair : close_pairs(q, p, d_hat, true)) {
     const contact::ScalarDerivatives e = pair_energy(pair.distance.distance, d_hat, options_.stiffness);
     if (!std::isfinite(e.value) || pair.distance.degenerate) continue;
-    const int ka = options_.parameter_offset + 2 * pair.a, kb = options_.parameter_offset + 2 * pair.b;
-    gradient_p.segment<2>(ka) += e.first * pair.distance.gradient.segment<2>(12);
-    gradient_p.segment<2>(kb) += e.first * pair.distance.gradient.segment<2>(14);
+    const PairGradient& g = pair.distance.gradient;
+    if (options_.parameter_offset >= 0) {
+      const int ka = options_.parameter_offset + 2 * pair.a, kb = options_.parameter_offset + 2 * pair.b;
+      gradient_p.segment<2>(ka) += e.first * g.segment<2>(12);
+      gradient_p.segment<2>(kb) += e.first * g.segment<2>(14);
+    }
+    // A placement's derivative is the anchor's (T, w) part of the pair gradient.
+    const int ca = placement_column(pair.a), cb = placement_column(pair.b);
+    if (ca >= 0) gradient_p.segment<6>(ca) += e.first * g.segment<6>(0);
+    if (cb >= 0) gradient_p.segment<6>(cb) += e.first * g.segment<6>(6);
   }
 }
 
 void TorusContactTerm::add_mixed(const Vector& q, const Vector& p, Triplets& mixed) const {
-  if (options_.parameter_offset < 0) return;
+  if (options_.parameter_offset < 0 && options_.placement_offset < 0) return;
   const double d_hat = options_.activation_distance;
   for (const TorusPair& pair : close_pairs(q, p, d_hat, true)) {
     const contact::ScalarDerivatives e = pair_energy(pair.distance.distance, d_hat, options_.stiffness);
     if (!std::isfinite(e.value) || pair.distance.degenerate) continue;
     const PairGradient& g = pair.distance.gradient;
     const PairHessian M = e.second * g * g.transpose() + e.first * pair.distance.hessian;
-    const int ka = options_.parameter_offset + 2 * pair.a, kb = options_.parameter_offset + 2 * pair.b;
+    // Pair variables 0-5 are a's (T, w), 6-11 b's; a torus placed by p owns no rows, its
+    // placement the columns of its six variables.
+    const int ends[2] = {pair.a, pair.b};
+    const int placement[2] = {placement_column(pair.a), placement_column(pair.b)};
     for (int i = 0; i < 12; ++i) {
-      const int row = i < 6 ? 6 * pair.a + i : 6 * pair.b + i - 6;
-      for (int j = 0; j < 4; ++j) {
-        const int col = j < 2 ? ka + j : kb + j - 2;
-        if (M(i, 12 + j) != 0.0) mixed.emplace_back(row, col, M(i, 12 + j));
-      }
+      if (placement[i / 6] >= 0) continue;
+      const int row = 6 * ends[i / 6] + i % 6;
+      if (options_.parameter_offset >= 0)
+        for (int j = 0; j < 4; ++j) {
+          const int col = options_.parameter_offset + 2 * ends[j / 2] + j % 2;
+          if (M(i, 12 + j) != 0.0) mixed.emplace_back(row, col, M(i, 12 + j));
+        }
+      for (int end = 0; end < 2; ++end)
+        if (placement[end] >= 0)
+          for (int j = 0; j < 6; ++j)
+            if (M(i, 6 * end + j) != 0.0) mixed.emplace_back(row, placement[end] + j, M(i, 6 * end + j));
     }
   }
 }

@@ -9,6 +9,13 @@
 // Parameters: with parameter_offset >= 0 torus i's radii are p[offset + 2i] (R) and
 // p[offset + 2i + 1] (r), with the derivatives add_param_gradient / add_mixed; otherwise the
 // shapes given at construction (p is not read). An elliptic torus keeps its r1 (not a parameter).
+// With placement_offset >= 0 the pose of the k-th fixed torus (in body order) is its placement
+// p[offset + 6k .. offset + 6k + 5] = (T, w) instead of its entries of q: the equilibrium of the
+// free tori then depends on where the anchors are, through the barrier between an anchor and the
+// links touching it. The derivatives in a placement are the anchor's 6 rows and columns of the
+// pair's 16 x 16 Hessian (torus_distance.hpp), which no DOF owns: add_param_gradient gets the
+// anchor's part of the pair gradient, add_mixed the free torus's rows of the anchor's columns.
+// Such a torus's entries of q are not read (its gradient and Hessian rows there are zero).
 //
 // Hessian pattern: a dense 12 x 12 block for each candidate pair (all pairs, or |i - j| <= band
 // for chains). A pair that is not a candidate coming within d_hat throws std::runtime_error
@@ -21,7 +28,10 @@
 // with distance d(t) the path keeps d >= (1 - ccd_fraction) d(0) > 0 until t + (d(t) - (1 -
 // ccd_fraction) d(0)) / L; the distance is re-measured there, and so on up to t = 1. The step
 // returned is certified (no tunnelling, no tangent miss) as long as the distance query finds
-// the global minimum of the core distance. It uses the shapes given at construction (no p).
+// the global minimum of the core distance. It uses the shapes given at construction and every
+// torus's pose in q (no p): with placements from p the caller keeps a fixed torus's q entries at
+// its placement (a placement perturbed in p alone is not seen by the step bound; the barrier's
+// infinite value on overlap, evaluated at p, still rejects a crossing step in the line search).
 #include <vector>
 
 #include "forward/core/energy_term.hpp"
@@ -35,6 +45,7 @@ struct TorusContactOptions {
   double stiffness = 1.0;             // kappa [energy / length^4]
   int pair_band = 0;                  // 0: every pair is a candidate; k > 0: pairs with |i - j| <= k
   int parameter_offset = -1;          // >= 0: radii read from p (see above)
+  int placement_offset = -1;          // >= 0: the fixed tori's poses read from p (see above)
   double ccd_fraction = 0.9;          // share of a pair's gap one step may close
   DistanceOptions distance;
 };
@@ -71,6 +82,12 @@ class TorusContactTerm final : public EnergyTerm {
   TorusShape shape(int i, const Vector& p) const;
   TorusPose pose(int i, const Vector& q, const Vector& p) const;
   bool is_candidate(int a, int b) const;
+  // The number of fixed tori (6 placement parameters each with placement_offset >= 0).
+  int num_placements() const { return num_placements_; }
+  // Whether torus i's pose is read from p (a fixed torus with placement_offset >= 0).
+  bool placed_by_parameters(int i) const {
+    return options_.placement_offset >= 0 && placement_index_[static_cast<std::size_t>(i)] >= 0;
+  }
   // The pairs whose bounding spheres come within `range`, with their distances.
   std::vector<TorusPair> close_pairs(const Vector& q, const Vector& p, double range, bool derivatives) const;
   // Smallest distance over the pairs within `range` (infinity if none).
@@ -84,11 +101,15 @@ class TorusContactTerm final : public EnergyTerm {
   mutable long ccd_calls = 0, ccd_queries = 0;
 
  private:
+  int placement_column(int i) const;  // first placement parameter of torus i, -1 when not placed by p
+
   const rigid::RigidBodySystem& system_;
   std::vector<TorusShape> shapes_;
   TorusContactOptions options_;
   std::vector<int> pair_slot_;  // n x n: first Hessian slot of a candidate pair, -1 otherwise
   int num_slots_ = 0;
+  std::vector<int> placement_index_;  // per torus: k for the k-th fixed one, -1 when free
+  int num_placements_ = 0;
 };
 
 }  // namespace tailor::tori

@@ -38,7 +38,8 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
   t.expect_keys({"count", "major_radius", "minor_radius", "minor_radius_1", "spacing", "gap", "density", "tilt",
                  "fix_first", "segments", "contact_model", "activation_distance", "stiffness", "pair_band",
                  "gravity", "mode", "time_step", "steps", "output_every", "static_time_step", "static_tolerance",
-                 "max_static_steps", "check_intersections", "direction_tolerance", "newton_iterations"});
+                 "max_static_steps", "check_intersections", "direction_tolerance", "newton_iterations",
+                 "gradcheck"});
   tori::ChainSpec& c = spec.chain;
   c.count = t.at("count").integer(2);
   if (c.count > 1000) t.at("count").fail("at most 1000 links");
@@ -86,6 +87,24 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
   if (t.has("static_tolerance")) spec.static_tolerance = t.at("static_tolerance").positive();
   if (t.has("max_static_steps")) spec.max_static_steps = t.at("max_static_steps").integer(1);
   if (!spec.dynamic) o.time_step = spec.static_time_step;
+  if (t.has("gradcheck")) {
+    const SceneNode g = t.at("gradcheck");
+    g.expect_keys({"parameters"});
+    const std::vector<SceneNode> names = g.at("parameters").items();
+    if (names.empty())
+      g.at("parameters").fail("expected a non-empty list of \"masses\", \"radii\", \"placements\"");
+    spec.gradcheck_masses = spec.gradcheck_radii = spec.gradcheck_placements = false;
+    for (const SceneNode& name : names) {
+      const std::string kind = name.choice({"masses", "radii", "placements"});
+      bool& selected = kind == "masses" ? spec.gradcheck_masses
+                       : kind == "radii" ? spec.gradcheck_radii
+                                         : spec.gradcheck_placements;
+      if (selected) name.fail("\"" + kind + "\" is listed twice");
+      selected = true;
+    }
+    if (spec.gradcheck_placements && !c.fix_first)
+      g.at("parameters").fail("\"placements\" needs a fixed link (fix_first)");
+  }
   return spec;
 }
 
@@ -218,15 +237,25 @@ TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::s
   run.active_pairs = sim.active_pairs();
   run.min_distance = sim.min_distance(sim.activation_distance());
 
+  std::vector<int> anchors;  // the fixed links, in body order (their placements' order in p)
+  for (int b = 0; b < n; ++b)
+    if (system.body(b).fixed) anchors.push_back(b);
+  if (spec.gradcheck_placements && anchors.empty())
+    throw SceneError(spec.source + ": tori.gradcheck.parameters: \"placements\" needs a fixed link");
+  const int num_placements = 6 * static_cast<int>(anchors.size());
   Model model(system.num_dofs());
   model.parameter_layout().add("masses", n);
   model.parameter_layout().add("torus_radii", 2 * n);
+  model.parameter_layout().add("torus_placements", num_placements);
   model.add(std::make_unique<rigid::RigidGravityTerm>(system, spec.options.gravity, 0));
   tori::TorusContactOptions contact;
   contact.activation_distance = sim.activation_distance();
   contact.stiffness = sim.stiffness();
   contact.pair_band = spec.options.pair_band;
   contact.parameter_offset = n;
+  // The fixed links' poses from p (their placements) only when they are designed: otherwise
+  // the contact term reads them from the held DOFs, as before placements were parameters.
+  if (spec.gradcheck_placements) contact.placement_offset = 3 * n;
   model.add(std::make_unique<tori::TorusContactTerm>(system, sim.shapes(), contact));
   std::vector<int> fixed = system.fixed_dofs();
   std::vector<int> centres;
@@ -247,32 +276,60 @@ TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::s
   functional_options.newton = spec.options.newton;
   // The barrier's round-off floor (docs/tori.md): an absolute residual of 1e-7 of the weight.
   functional_options.newton.absolute_tolerance = 1e-7 * weight;
-  StaticFunctional functional(model, identity_map(3 * n), objective,
+  // p = (masses, radii, placements) at the scene's values; z the selected blocks, the rest held.
+  Vector p(3 * n + num_placements);
+  for (int b = 0; b < n; ++b) {
+    p[b] = system.body(b).mass;
+    p[n + 2 * b] = sim.shapes()[static_cast<std::size_t>(b)].major_radius;
+    p[n + 2 * b + 1] = sim.shapes()[static_cast<std::size_t>(b)].minor_radius;
+  }
+  for (std::size_t k = 0; k < anchors.size(); ++k)
+    p.segment<6>(3 * n + 6 * static_cast<int>(k)) = equilibrium.segment<6>(6 * anchors[k]);
+  std::vector<ParameterBlock> blocks;
+  std::vector<Vector> design;
+  auto select = [&](bool selected, int offset, int size) {
+    if (!selected) return;
+    blocks.push_back({offset, identity_map(size)});
+    design.push_back(p.segment(offset, size));
+  };
+  select(spec.gradcheck_masses, 0, n);
+  select(spec.gradcheck_radii, n, 2 * n);
+  select(spec.gradcheck_placements, 3 * n, num_placements);
+  Vector z(0);
+  for (const Vector& d : design) {
+    z.conservativeResize(z.size() + d.size());
+    z.tail(d.size()) = d;
+  }
+  StaticFunctional functional(model, embed_blocks(p, blocks), objective,
                               model.elimination().restrict_state(equilibrium), functional_options);
   ScaledGradient scaled(functional, options.gradient_scale);
-  Vector z(3 * n);
-  for (int b = 0; b < n; ++b) {
-    z[b] = system.body(b).mass;
-    z[n + 2 * b] = sim.shapes()[static_cast<std::size_t>(b)].major_radius;
-    z[n + 2 * b + 1] = sim.shapes()[static_cast<std::size_t>(b)].minor_radius;
-  }
   TaylorTestOptions taylor;
   taylor.seed = options.seed;
   taylor.initial_step = options.initial_step;
+  // The direction's entries are u_i max(|z_i|, floor): a placement's zero coordinates would get
+  // the default floor 1e-2; with placements the floor is R (lengths in units of the link size,
+  // angles of order one radian).
+  if (spec.gradcheck_placements) taylor.direction_floor = spec.chain.shape.major_radius;
   run.taylor = taylor_test(scaled, z, taylor);
+  std::string described;
+  auto describe = [&](bool selected, const std::string& what) {
+    if (!selected) return;
+    described += (described.empty() ? "" : ", then ") + what;
+  };
+  describe(spec.gradcheck_masses, "the masses m_0..m_{n-1}");
+  describe(spec.gradcheck_radii, std::string("the radii (R_i, r_i) per link") +
+                                     (tori::is_elliptic(spec.chain.shape) ? " (minor_radius_1 held)" : ""));
+  describe(spec.gradcheck_placements, "the placement (T, w) of each fixed link");
   if (log)
     *log << "torus chain at rest: " << run.active_pairs << " active pairs, min distance " << run.min_distance
          << ", " << run.intersections << " intersections\n"
-         << "gradient of 1/2 sum |T_b - T_b^0|^2 with respect to the masses and radii (R, r) of every link"
-         << (tori::is_elliptic(spec.chain.shape) ? " (minor_radius_1 held)" : "") << "\n"
+         << "gradient of 1/2 sum |T_b - T_b^0|^2 with respect to " << described << "\n"
          << run.taylor.table();
   std::filesystem::create_directories(out_dir);
   nlohmann::ordered_json document = taylor_json(run.taylor);
   add_report_header(document);
   document["scene"] = {{"name", spec.name}, {"source", spec.source}};
-  document["parameters"] =
-      std::string("masses m_0..m_{n-1}, then (R_i, r_i) per link") +
-      (tori::is_elliptic(spec.chain.shape) ? " (elliptic tubes: minor_radius_1 held)" : "");
+  document["parameters"] = described;
   document["active_pairs"] = run.active_pairs;
   document["min_distance"] = run.min_distance;
   document["intersections"] = run.intersections;

@@ -22,6 +22,10 @@ struct TorusSceneSpec {
   double static_time_step = 1.0;  // static: the relaxation's step [time]
   double static_tolerance = 0.0;  // static: rest when no DOF moves more than this; 0: 1e-10 R
   int max_static_steps = 200;
+  // gradcheck.parameters: the design of `tailor gradcheck`, a non-empty subset of "masses",
+  // "radii" and "placements" (the fixed links' poses), in that order of z whatever their order
+  // here; the rest are held.
+  bool gradcheck_masses = true, gradcheck_radii = true, gradcheck_placements = false;
 };
 
 // Throws SceneError naming the file and the key path of a bad value.
@@ -40,13 +44,15 @@ struct TorusSimulateRun {
 TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::string& out_dir, std::ostream* log);
 
 // `tailor gradcheck` on a static, implicit-contact torus scene (docs/tori.md): the parameters
-// z = (m_0 .. m_{n-1}, R_0, r_0, .. R_{n-1}, r_{n-1}) (the masses in the gravity term, the radii
-// in the contact geometry); the objective 1/2 sum_free |T_b - T_b^0|^2 over the free links'
-// centres (T_b^0 their start); its gradient by the adjoint of the static equilibrium (gravity +
-// the torus barrier, the exact barrier Hessian with the distance's implicit-function term, never
-// a projected one) against a Taylor test. The equilibrium is first found by relaxation (as in
-// `simulate`), then each free link's w_z is held at it (the turn about the vertical through its
-// contact points is a zero mode of the static Hessian). Writes DIR/gradcheck.json.
+// z = (m_0 .. m_{n-1}, R_0, r_0, .. R_{n-1}, r_{n-1}, T_f, w_f ..) (the masses in the gravity
+// term, the radii in the contact geometry, the placement of each fixed link f in the contact
+// term), those selected by the scene's gradcheck.parameters; the objective
+// 1/2 sum_free |T_b - T_b^0|^2 over the free links' centres (T_b^0 their start); its gradient by
+// the adjoint of the static equilibrium (gravity + the torus barrier, the exact barrier Hessian
+// with the distance's implicit-function term, never a projected one) against a Taylor test. The
+// equilibrium is first found by relaxation (as in `simulate`), then each free link's w_z is held
+// at it (the turn about the vertical through its contact points is a zero mode of the static
+// Hessian). Writes DIR/gradcheck.json.
 struct TorusGradcheckOptions {
   unsigned seed = 1;
   double initial_step = 1e-5;  // keeps the warm-started equilibrium apart at the new radii
@@ -62,7 +68,8 @@ struct TorusGradcheckRun {
   bool passed() const { return taylor.passed() && intersections == 0 && active_pairs > 0; }
 };
 
-// Throws SceneError for a dynamic or mesh-contact scene, or one that does not come to rest.
+// Throws SceneError for a dynamic or mesh-contact scene, one that does not come to rest, or
+// placements asked of a chain without a fixed link.
 TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::string& out_dir,
                                         const TorusGradcheckOptions& options, std::ostream* log);
 

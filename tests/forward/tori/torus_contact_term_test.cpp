@@ -1,5 +1,6 @@
-// TorusContactTerm: derivative checks in the rigid DOFs and the radii (R, r), a deliberately
-// wrong Hessian caught by the check, and CCD hard queries counted against dense path sampling.
+// TorusContactTerm: derivative checks in the rigid DOFs, the radii (R, r) and a fixed torus's
+// placement (T, w), a deliberately wrong Hessian and wrong placement blocks caught by the same
+// checks, and CCD hard queries counted against dense path sampling.
 #include "forward/tori/torus_contact_term.hpp"
 
 #include <gtest/gtest.h>
@@ -88,6 +89,112 @@ TEST(TorusContactTerm, DerivativeCheckCatchesAMissingImplicitCorrection) {
   }
   EXPECT_TRUE(gradient_passed) << check.table();
   EXPECT_TRUE(hessian_failed) << check.table();
+}
+
+// The placement of a fixed torus as a parameter: its pose read from p (T, w) instead of q.
+Vector placement_of(const rigid::RigidBodySystem& system, int body) {
+  return system.initial_state().segment<6>(6 * body);
+}
+
+TEST(TorusContactTerm, PassesDerivativeChecksInTheFixedTorusPlacement) {
+  // Torus 0 fixed, its pose the parameters p = (T_0, w_0), twisted so that every pair variable
+  // enters; and the same with the radii first, p = (R_0, r_0, R_1, r_1, T_0, w_0).
+  const Pair pair = twisted_pair(0.01, true);
+  const Vector q = pair.system.initial_state();
+  TorusContactOptions o = options(0.05, 10.0);
+  o.placement_offset = 0;
+  const TorusContactTerm term(pair.system, pair.shapes, o);
+  ASSERT_EQ(term.num_placements(), 1);
+  EXPECT_TRUE(term.placed_by_parameters(0));
+  EXPECT_FALSE(term.placed_by_parameters(1));
+  const Vector p = placement_of(pair.system, 0);
+  EXPECT_EQ(term.active_pairs(q, p), 1);
+  // The pose comes from p: moving q's copy of the anchor changes nothing.
+  Vector q_moved = q;
+  q_moved.segment<3>(0) += Eigen::Vector3d(0.0, 0.0, 0.5);
+  EXPECT_EQ(term.min_distance(q_moved, p, 1.0), term.min_distance(q, p, 1.0));
+  DerivativeCheckOptions c;
+  c.state_scale = 1e-3;
+  c.parameter_floor = 1e-3;
+  const EnergyTermCheck check = check_energy_term(term, q, p, c);
+  std::printf("%s", check.table().c_str());
+  EXPECT_TRUE(check.passed()) << check.table();
+  int mixed_checks = 0;
+  for (const DerivativeCheck& k : check.checks)
+    if (k.quantity == "mixed" || k.quantity == "mixed_transpose") mixed_checks += k.passed && !k.vanishing;
+  EXPECT_GE(mixed_checks, 2);
+
+  TorusContactOptions both = o;
+  both.parameter_offset = 0;
+  both.placement_offset = 4;
+  const TorusContactTerm term_both(pair.system, pair.shapes, both);
+  Vector p_both(10);
+  p_both << 1.0, 0.2, 1.0, 0.2, p;
+  const EnergyTermCheck check_both = check_energy_term(term_both, q, p_both, c);
+  EXPECT_TRUE(check_both.passed()) << check_both.table();
+
+  Vector short_p(5);
+  EXPECT_THROW(term.min_distance(q, short_p, 1.0), std::invalid_argument);
+}
+
+// The placement term with its mixed block d2E/(dx dp_placement) made wrong: each free torus's
+// 6 x 6 block transposed (the anchor's rows used for its columns) or scaled by 1.01.
+class WrongPlacementBlock final : public EnergyTerm {
+ public:
+  WrongPlacementBlock(const TorusContactTerm& term, bool transpose, double scale)
+      : term_(term), transpose_(transpose), scale_(scale) {}
+  std::string name() const override { return "wrong_placement_block"; }
+  void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override {
+    term_.evaluate(x, p, request);
+  }
+  void hessian_pattern(HessianPattern& pattern) const override { term_.hessian_pattern(pattern); }
+  void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override {
+    term_.add_param_gradient(x, p, gradient_p);
+  }
+  void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override {
+    Triplets right;
+    term_.add_mixed(x, p, right);
+    for (const Triplet& t : right) {
+      const int offset = term_.options().placement_offset, body = t.row() / 6;
+      if (transpose_)
+        mixed.emplace_back(6 * body + (t.col() - offset) % 6,
+                           offset + t.row() % 6 + 6 * ((t.col() - offset) / 6), t.value());
+      else
+        mixed.emplace_back(t.row(), t.col(), scale_ * t.value());
+    }
+  }
+
+ private:
+  const TorusContactTerm& term_;
+  bool transpose_;
+  double scale_;
+};
+
+TEST(TorusContactTerm, PlacementCheckCatchesATransposedOrScaledBlock) {
+  const Pair pair = twisted_pair(0.01, true);
+  const Vector q = pair.system.initial_state();
+  TorusContactOptions o = options(0.05, 10.0);
+  o.placement_offset = 0;
+  const TorusContactTerm term(pair.system, pair.shapes, o);
+  const Vector p = placement_of(pair.system, 0);
+  DerivativeCheckOptions c;
+  c.state_scale = 1e-3;
+  c.parameter_floor = 1e-3;
+  for (const bool transpose : {true, false}) {
+    const WrongPlacementBlock wrong(term, transpose, 1.01);
+    const EnergyTermCheck check = check_energy_term(wrong, q, p, c);
+    bool gradient_passed = false, mixed_failed = false;
+    for (const DerivativeCheck& k : check.checks) {
+      if (k.quantity == "param_gradient") gradient_passed = k.passed;
+      if (k.quantity == "mixed") {
+        mixed_failed = !k.passed && !k.vanishing;
+        std::printf("%s placement block: mixed check best error %.2e\n", transpose ? "transposed" : "scaled",
+                    k.best_error);
+      }
+    }
+    EXPECT_TRUE(gradient_passed) << check.table();
+    EXPECT_TRUE(mixed_failed) << (transpose ? "transposed" : "scaled") << "\n" << check.table();
+  }
 }
 
 // Distance along the path q + t dq at n + 1 samples of [0, alpha]: the smallest.

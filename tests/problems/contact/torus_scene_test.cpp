@@ -192,5 +192,65 @@ TEST(TorusScene, GradcheckOfAnEllipticChainThroughActiveContact) {
   EXPECT_EQ(bad.taylor.status, TaylorStatus::failed) << bad.taylor.table();
 }
 
+// tailor gradcheck on the shipped placement scene: the gradient in the fixed top link's pose
+// (T, w), masses and radii held, through both active pairs (reference: re-solved equilibria at
+// perturbed placements; rate ~1 then >= 1.9); with the gradient scaled by 1.001 it fails. The
+// same with every parameter selected (masses, radii and the placement in one direction).
+TEST(TorusScene, GradcheckOfTheAnchorPlacementThroughActiveContact) {
+  const TorusSceneSpec spec =
+      parse_torus_scene(read_text(kScenes + "torus_placement_gradcheck.json"), "placement_gradcheck.json");
+  EXPECT_FALSE(spec.gradcheck_masses);
+  EXPECT_FALSE(spec.gradcheck_radii);
+  EXPECT_TRUE(spec.gradcheck_placements);
+  const std::string out = temporary_directory("gradcheck_placement");
+  const TorusGradcheckRun run = gradcheck_torus_scene(spec, out, {}, nullptr);
+  std::printf("%s", run.taylor.table().c_str());
+  EXPECT_EQ(run.active_pairs, 2);
+  EXPECT_EQ(run.intersections, 0);
+  EXPECT_TRUE(run.taylor.passed()) << run.taylor.table();
+  EXPECT_NEAR(run.taylor.rate0, 1.0, 0.1);
+  EXPECT_GE(run.taylor.rate1, 1.9);
+  EXPECT_TRUE(run.passed());
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/gradcheck.json"));
+  EXPECT_EQ(report["parameters"], "the placement (T, w) of each fixed link");
+
+  TorusGradcheckOptions wrong;
+  wrong.gradient_scale = 1.001;
+  const TorusGradcheckRun bad =
+      gradcheck_torus_scene(spec, temporary_directory("gradcheck_placement_wrong"), wrong, nullptr);
+  EXPECT_EQ(bad.taylor.status, TaylorStatus::failed) << bad.taylor.table();
+
+  nlohmann::json scene = nlohmann::json::parse(read_text(kScenes + "torus_placement_gradcheck.json"));
+  scene["tori"]["gradcheck"]["parameters"] = {"placements", "radii", "masses"};
+  const TorusSceneSpec all = parse_torus_scene(scene.dump(), "all_gradcheck.json");
+  const TorusGradcheckRun every =
+      gradcheck_torus_scene(all, temporary_directory("gradcheck_all"), {}, nullptr);
+  std::printf("%s", every.taylor.table().c_str());
+  EXPECT_TRUE(every.passed()) << every.taylor.table();
+  EXPECT_GE(every.taylor.rate1, 1.9);
+}
+
+TEST(TorusScene, GradcheckParametersAreCheckedWithTheirKey) {
+  auto message = [](const std::string& gradcheck, bool fix_first) {
+    nlohmann::json scene = nlohmann::json::parse(read_text(kScenes + "torus_placement_gradcheck.json"));
+    scene["tori"]["gradcheck"] = nlohmann::json::parse(gradcheck);
+    scene["tori"]["fix_first"] = fix_first;
+    try {
+      parse_torus_scene(scene.dump(), "bad.json");
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(R"({"parameters": ["placements"]})", false).find("tori.gradcheck.parameters"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"parameters": []})", true).find("tori.gradcheck.parameters"), std::string::npos);
+  EXPECT_NE(message(R"({"parameters": ["poses"]})", true).find("tori.gradcheck.parameters"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"parameters": ["radii", "radii"]})", true).find("twice"), std::string::npos);
+  EXPECT_NE(message(R"({"seed": 2})", true).find("seed"), std::string::npos);
+  EXPECT_EQ(message(R"({"parameters": ["masses"]})", false), "no error");
+}
+
 }  // namespace
 }  // namespace tailor

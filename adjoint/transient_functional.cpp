@@ -172,8 +172,8 @@ Vector TransientFunctional::solve_with_linear_solver(LinearSolver& solver, const
   // hessian_ holds the exact step Hessian; its low-rank parts (low_rank_) would be lost.
   if (!low_rank_.empty())
     throw EvaluationError("transient adjoint: the linear solver '" + solver.name() +
-                          "' does not support terms with low-rank Hessian parts (step " + std::to_string(step) +
-                          ")");
+                          "' does not support terms with low-rank Hessian parts (step " +
+                          std::to_string(step) + ")");
   std::string message;
   if (!solver.setup(hessian_, message))
     throw EvaluationError("transient adjoint: linear solver '" + solver.name() + "' set-up failed at step " +
@@ -184,8 +184,8 @@ Vector TransientFunctional::solve_with_linear_solver(LinearSolver& solver, const
   statistics_.linear_solver_iterations += stats.iterations;
   statistics_.last_linear_solve = stats;
   if (!stats.converged)
-    throw EvaluationError("transient adjoint: linear solver '" + solver.name() + "' did not converge at step " +
-                          std::to_string(step) + ": " + stats.message);
+    throw EvaluationError("transient adjoint: linear solver '" + solver.name() +
+                          "' did not converge at step " + std::to_string(step) + ": " + stats.message);
   return v;
 }
 

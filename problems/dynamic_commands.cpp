@@ -138,9 +138,9 @@ GradcheckRun gradcheck_dynamic_scene(const Scene& scene, const std::string& out_
   run.linear_solver = d.options.newton.linear_solver;
   if (run.linear_solver) {
     const TransientStatistics& stats = functional.statistics();
-    run.adjoint_linear_solves = AdjointLinearSolves{options.linear_relative_tolerance, stats.linear_solver_solves,
-                                                    stats.linear_solver_iterations,
-                                                    stats.last_linear_solve.relative_residual};
+    run.adjoint_linear_solves =
+        AdjointLinearSolves{options.linear_relative_tolerance, stats.linear_solver_solves,
+                            stats.linear_solver_iterations, stats.last_linear_solve.relative_residual};
   }
   run.report_path = (std::filesystem::path(out_dir) / "gradcheck.json").string();
   if (writes_output()) {

@@ -1,8 +1,8 @@
 // build_dynamic_scene (problems/dynamic_scene.hpp): the static scene's model plus inertia,
 // gravity as a term of the densities, and Rayleigh damping.
 #include "forward/fem/loads.hpp"
-#include "problems/linear_solver_choice.hpp"
 #include "problems/dynamic_scene.hpp"
+#include "problems/linear_solver_choice.hpp"
 
 namespace tailor {
 
@@ -46,7 +46,8 @@ DynamicSceneModel build_dynamic_scene(const Scene& scene) {
       d.initial_velocities.segment(dim * v, dim) = *spec.initial_velocity;
   // Rest positions with the prescribed values on the fixed DOFs.
   d.initial_positions = d.model->elimination().expand(d.model->elimination().restrict_state(d.rest));
-  if (d.options.newton.linear_solver)  // the rigid-body modes for algebraic multigrid, when whole vertices are free
+  // The rigid-body modes for algebraic multigrid, when whole vertices are free.
+  if (d.options.newton.linear_solver)
     give_vertex_coordinates(*d.options.newton.linear_solver, d.model->elimination(), dim, d.rest);
   return d;
 }

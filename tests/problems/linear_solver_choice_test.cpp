@@ -14,12 +14,12 @@
 #include <sstream>
 
 #include "../support/temp_folder.hpp"
+#include "ldlt_stand_in.hpp"
 #include "problems/cli/run_cli.hpp"
 #include "problems/commands.hpp"
 #include "problems/output_process.hpp"
 #include "problems/scene.hpp"
 #include "problems/static_scene.hpp"
-#include "ldlt_stand_in.hpp"
 #include "scene_text.hpp"
 
 namespace tailor {

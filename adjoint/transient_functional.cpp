@@ -93,7 +93,14 @@ void TransientFunctional::forward(const Vector& z) {
   if (options_.design_initial_positions) offset += n;
   v_init_ = options_.design_initial_velocities ? Vector(P.segment(offset, n)) : v0_;
 
-  statistics_ = TransientStatistics{};
+  {
+    // The linear solver's figures are of the last backward pass; keep them over value() calls.
+    TransientStatistics fresh;
+    fresh.linear_solver_solves = statistics_.linear_solver_solves;
+    fresh.linear_solver_iterations = statistics_.linear_solver_iterations;
+    fresh.last_linear_solve = statistics_.last_linear_solve;
+    statistics_ = fresh;
+  }
   statistics_.steps = options_.steps;
   stored_.clear();
   tail_.clear();
@@ -161,6 +168,27 @@ Vector TransientFunctional::solve_step(const Vector& rhs, bool first) {
   return factor_.solve(rhs);
 }
 
+Vector TransientFunctional::solve_with_linear_solver(LinearSolver& solver, const Vector& rhs, int step) {
+  // hessian_ holds the exact step Hessian; its low-rank parts (low_rank_) would be lost.
+  if (!low_rank_.empty())
+    throw EvaluationError("transient adjoint: the linear solver '" + solver.name() +
+                          "' does not support terms with low-rank Hessian parts (step " +
+                          std::to_string(step) + ")");
+  std::string message;
+  if (!solver.setup(hessian_, message))
+    throw EvaluationError("transient adjoint: linear solver '" + solver.name() + "' set-up failed at step " +
+                          std::to_string(step) + ": " + message);
+  Vector v;
+  const LinearSolveStats stats = solver.solve(rhs, options_.linear_relative_tolerance, v);
+  ++statistics_.linear_solver_solves;
+  statistics_.linear_solver_iterations += stats.iterations;
+  statistics_.last_linear_solve = stats;
+  if (!stats.converged)
+    throw EvaluationError("transient adjoint: linear solver '" + solver.name() +
+                          "' did not converge at step " + std::to_string(step) + ": " + stats.message);
+  return v;
+}
+
 void TransientFunctional::backward_step(const DynamicState& from, const DynamicState& to, Adjoint& a,
                                         Vector& gradient_p) {
   // Step from -> to solved S^T dPi/dx = 0 with
@@ -186,7 +214,11 @@ void TransientFunctional::backward_step(const DynamicState& from, const DynamicS
   }
   Vector lambda;
   NewtonSolver& newton = integrator_.newton();
-  if (model.hessian_is_constant()) {
+  if (LinearSolver* solver = newton.options().linear_solver.get()) {
+    newton.assembler().evaluate(to.y, p_, nullptr, nullptr, &hessian_, HessianMode::exact);
+    low_rank_ = newton.assembler().low_rank_hessian(to.y, p_);
+    lambda = elim.expand_direction(solve_with_linear_solver(*solver, elim.reduce(x_total), to.step));
+  } else if (model.hessian_is_constant()) {
     // Every step has the same Hessian (at these parameters): Newton's kept factor solves it.
     const FactorizationResult f = newton.factorize_hessian(p_, to.y, HessianMode::exact);
     if (!f.success) throw EvaluationError("transient adjoint: the step Hessian is singular (" + f.message + ")");
@@ -225,6 +257,9 @@ double TransientFunctional::value_and_gradient(const Vector& z, Vector& gradient
   Adjoint a(n);
   have_factor_ = false;
   statistics_.factorizations = statistics_.cg_solves = statistics_.cg_iterations = 0;
+  statistics_.linear_solver_solves = 0;
+  statistics_.linear_solver_iterations = 0;
+  statistics_.last_linear_solve = {};
   statistics_.recomputed_steps = 0;
 
   // Walk back through consecutive pairs of states; `states` holds one segment.

@@ -19,6 +19,11 @@
 // conjugate gradients, and a step is factorized afresh only when CG does not converge in
 // max_cg_iterations.
 //
+// With the integrator's NewtonOptions::linear_solver set (e.g. PETSc's KSP,
+// forward/solve/linear_solver.hpp) every backward step's exact Hessian is set up on that
+// solver instead and solved to linear_relative_tolerance; no CHOLMOD factor is made or reused.
+// Terms with low-rank Hessian parts are refused there, as in Newton's steps.
+//
 // Memory: every state is stored by default. With checkpoint_interval = k > 1 only every k-th
 // state (and the last segment) is kept and the states in between are recomputed segment by
 // segment during the backward pass: about N/k + k states in memory for about N (1 - 1/k)
@@ -36,6 +41,12 @@ struct TransientFunctionalOptions {
   bool design_initial_positions = false;   // P gets x_0 (num_dofs entries) after p
   bool design_initial_velocities = false;  // P gets v_0 (num_dofs entries) after that
   bool reuse_factorizations = true;        // false: factorize every backward step
+  // Of the CG solves preconditioned by a kept factor, and of every backward solve with the
+  // integrator's NewtonOptions::linear_solver. The rule of StaticFunctionalOptions: the
+  // gradient's relative error is at most about cond(H) times the adjoint's relative residual,
+  // and the steps' states are held to the integrator's Newton tolerance (1e-10 relative by
+  // default), so the adjoint is solved 100x tighter (1e-12): its error stays below the one the
+  // states themselves put into the gradient, over every step of the backward pass.
   double linear_relative_tolerance = 1e-12;
   int max_cg_iterations = 20;
 };
@@ -50,6 +61,12 @@ struct TransientStatistics {
   int factorizations = 0;  // backward pass
   int cg_solves = 0, cg_iterations = 0;
   int kept_factor_solves = 0;  // backward steps solved with Newton's kept factor of a constant Hessian
+  // Of the last backward pass (kept by later value() calls): the steps solved with
+  // NewtonOptions::linear_solver, their summed iterations, and the last one (its
+  // relative_tolerance is linear_relative_tolerance).
+  int linear_solver_solves = 0;
+  long long linear_solver_iterations = 0;
+  LinearSolveStats last_linear_solve;
   double forward_seconds = 0.0;  // forward pass
   double adjoint_seconds = 0.0;  // backward pass, including recomputation
   double recompute_ratio() const { return steps ? static_cast<double>(recomputed_steps) / steps : 0.0; }
@@ -81,6 +98,7 @@ class TransientFunctional final : public ReducedFunctional {
   std::vector<DynamicState> segment(int n0, int n1);
   void backward_step(const DynamicState& from, const DynamicState& to, Adjoint& adjoint, Vector& gradient_p);
   Vector solve_step(const Vector& rhs, bool first);
+  Vector solve_with_linear_solver(LinearSolver& solver, const Vector& rhs, int step);
   void add_objective_gradient(const DynamicState& s, Adjoint& adjoint, Vector& gradient_p) const;
 
   TimeIntegrator& integrator_;

@@ -7,6 +7,7 @@
 #include "adjoint/taylor_test.hpp"
 #include "adjoint/transient_functional.hpp"
 #include "forward/core/timing.hpp"
+#include "problems/output_process.hpp"
 #include "problems/scene_selection.hpp"
 
 namespace tailor {
@@ -56,11 +57,14 @@ DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir
          << d.model->elimination().num_free() << " free DOFs; " << to_string(spec.scheme)
          << ", h = " << spec.time_step << ", " << spec.steps << " steps\n";
 
+  run.linear_solver = d.options.newton.linear_solver;
+  // Every MPI rank of a replicated run (docs/petsc.md) steps the same states; rank 0 writes.
+  const bool writes = writes_output();
   const std::filesystem::path out(out_dir), frames = out / "frames";
-  create_folder(frames);
+  if (writes) create_folder(frames);
   auto write_frame = [&](const DynamicState& s) {
     const auto t0 = Clock::now();
-    run.frames.emplace_back(s.time, write_dynamic_frame(frames, setup, d.rest, s));
+    run.frames.emplace_back(s.time, writes ? write_dynamic_frame(frames, setup, d.rest, s) : std::string());
     run.timings.output += seconds_since(t0);
   };
   auto record = [&](const DynamicState& s, const NewtonResult* r, double seconds) {
@@ -91,10 +95,10 @@ DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir
   run.steps_done = state.step;
 
   run.series_path = (out / "result.pvd").string();
-  write_dynamic_series(run.series_path, run);
+  if (writes) write_dynamic_series(run.series_path, run);
   run.report_path = (out / "report.json").string();
   run.timings.total = seconds_since(t_start);
-  write_dynamic_report_json(run.report_path, scene, run);
+  if (writes) write_dynamic_report_json(run.report_path, scene, run);
   if (log)
     *log << (run.completed ? "completed " : "FAILED: ") << run.message << "; wrote " << run.report_path
          << " and " << run.series_path << " (" << run.frames.size() << " frames)\n";
@@ -131,9 +135,18 @@ GradcheckRun gradcheck_dynamic_scene(const Scene& scene, const std::string& out_
   run.design_size = static_cast<int>(z0.size());
   run.seed = seed;
   run.gradient = taylor_test(functional, z0, taylor);
-  create_folder(out_dir);
+  run.linear_solver = d.options.newton.linear_solver;
+  if (run.linear_solver) {
+    const TransientStatistics& stats = functional.statistics();
+    run.adjoint_linear_solves =
+        AdjointLinearSolves{options.linear_relative_tolerance, stats.linear_solver_solves,
+                            stats.linear_solver_iterations, stats.last_linear_solve.relative_residual};
+  }
   run.report_path = (std::filesystem::path(out_dir) / "gradcheck.json").string();
-  write_gradcheck_json(run.report_path, run);
+  if (writes_output()) {
+    create_folder(out_dir);
+    write_gradcheck_json(run.report_path, run);
+  }
   if (log)
     *log << "Taylor test of the time-dependent adjoint over " << spec.steps << " steps ("
          << to_string(spec.scheme) << "), " << run.design_size << " design variables (log E, log density"

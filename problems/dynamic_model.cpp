@@ -2,6 +2,7 @@
 // gravity as a term of the densities, and Rayleigh damping.
 #include "forward/fem/loads.hpp"
 #include "problems/dynamic_scene.hpp"
+#include "problems/linear_solver_choice.hpp"
 
 namespace tailor {
 
@@ -35,6 +36,9 @@ DynamicSceneModel build_dynamic_scene(const Scene& scene) {
   d.options.newton.max_iterations = std::max(d.setup.solver.newton.max_iterations, 1);
   d.options.newton.hessian = d.setup.solver.newton.hessian;
   d.options.newton.reuse_factorization = d.setup.solver.newton.reuse_factorization;
+  // solver.linear_solver (e.g. PETSc): every step's Newton solve and the transient adjoint's
+  // backward solves go through it; empty keeps CHOLMOD with its factor reuse.
+  d.options.newton.linear_solver = d.setup.solver.newton.linear_solver;
   d.rest = d.setup.rest_state();
   d.initial_velocities = Vector::Zero(d.rest.size());
   if (spec.initial_velocity)
@@ -42,6 +46,9 @@ DynamicSceneModel build_dynamic_scene(const Scene& scene) {
       d.initial_velocities.segment(dim * v, dim) = *spec.initial_velocity;
   // Rest positions with the prescribed values on the fixed DOFs.
   d.initial_positions = d.model->elimination().expand(d.model->elimination().restrict_state(d.rest));
+  // The rigid-body modes for algebraic multigrid, when whole vertices are free.
+  if (d.options.newton.linear_solver)
+    give_vertex_coordinates(*d.options.newton.linear_solver, d.model->elimination(), dim, d.rest);
   return d;
 }
 

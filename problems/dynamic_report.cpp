@@ -76,6 +76,7 @@ void write_dynamic_report_json(const std::string& path, const Scene& scene, cons
                        {"steps", step_seconds},
                        {"output", run.timings.output}};
   report["series"] = "result.pvd";
+  report["linear_solver"] = linear_solver_json(run.linear_solver.get());
   std::ofstream file(path);
   file << report.dump(2) << "\n";
   if (!file) throw std::runtime_error("cannot write '" + path + "'");

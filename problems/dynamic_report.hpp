@@ -35,6 +35,7 @@ struct DynamicRun {
   std::vector<std::pair<double, std::string>> frames;  // (time, file relative to DIR)
   DynamicTimings timings;
   std::string report_path, series_path;
+  LinearSolverPtr linear_solver;  // the steps' (empty: CHOLMOD)
 };
 
 // Writes frames_dir/frame_NNNNN.vtu of state s (point data displacement from `rest` and

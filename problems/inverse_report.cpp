@@ -79,6 +79,11 @@ void write_gradcheck_json(const std::string& path, const GradcheckRun& run) {
   document["seed"] = run.seed;
   if (run.hessian) document["hessian"] = taylor_json(*run.hessian);
   document["linear_solver"] = linear_solver_json(run.linear_solver.get());
+  if (const auto& a = run.adjoint_linear_solves)
+    document["adjoint_linear_solves"] = {{"relative_tolerance", a->relative_tolerance},
+                                         {"solves", a->solves},
+                                         {"iterations", a->iterations},
+                                         {"last_relative_residual", a->last_relative_residual}};
   document["tailor_version"] = version_string;
   write_json(path, document);
 }

@@ -14,6 +14,15 @@
 
 namespace tailor {
 
+// The transient adjoint's backward solves with NewtonOptions::linear_solver (the last
+// backward pass of a dynamic gradcheck on it).
+struct AdjointLinearSolves {
+  double relative_tolerance = 0.0;  // TransientFunctionalOptions::linear_relative_tolerance
+  int solves = 0;
+  long long iterations = 0;
+  double last_relative_residual = 0.0;
+};
+
 struct GradcheckRun {
   std::string scene_name, scene_source;
   int design_size = 0;
@@ -22,6 +31,7 @@ struct GradcheckRun {
   std::optional<TaylorTestResult> hessian;  // taylor_test_hessian, when asked for
   std::string report_path;                  // out_dir/gradcheck.json
   LinearSolverPtr linear_solver;            // the functional's (empty: CHOLMOD)
+  std::optional<AdjointLinearSolves> adjoint_linear_solves;  // dynamic scenes on linear_solver
   bool passed() const { return gradient.passed() && (!hessian || hessian->passed()); }
 };
 

@@ -452,10 +452,6 @@ Scene parse_scene(const std::string& json_text, const std::string& source, const
     scene.inverse = std::make_shared<const InverseSpec>(parse_inverse_section(*inverse, directory));
   if (auto dynamics = root.find("dynamics"))
     scene.dynamics = std::make_shared<const DynamicsSpec>(parse_dynamics_section(*dynamics, directory));
-  if (scene.dynamics && scene.solver.newton.linear_solver)
-    root.at("solver").at("linear_solver").fail(
-        "the dynamics integrator solves with CHOLMOD only; \"" + scene.solver.linear_solver +
-        "\" is for static scenes (simulate, gradcheck, run without a \"dynamics\" section)");
   return scene;
 }
 

@@ -3,7 +3,9 @@
 with CHOLMOD (the keys removed, one process), and compares what the verbs report
 (docs/petsc.md). Exits non-zero with a message on the first difference.
 
-  simulate:  report.json results (energy, max displacement, reaction force) to --rtol
+  simulate:  report.json results (energy, max displacement, reaction force) to --rtol; of a
+             dynamic scene, the last step's energies and the last frame's displacement and
+             velocity (every vertex) to --rtol
   gradcheck: gradcheck.json J(z0) and the directional derivative to --rtol, both passed
   run:       report.json final objective and design values to --rtol
 
@@ -16,6 +18,7 @@ import math
 import os
 import subprocess
 import sys
+import xml.etree.ElementTree as ElementTree
 
 
 def fail(message):
@@ -45,6 +48,33 @@ def compare(what, petsc, cholmod, rtol):
     print("%-40s petsc %-28s cholmod %-28s relative %.2e" % (what, petsc, cholmod, r))
     if not r <= rtol:
         fail("%s differs by %.2e relative (tolerance %.1e)" % (what, r, rtol))
+
+
+def frame_field(path, name):
+    """The values of point field `name` of a .vtu frame (tailor writes ASCII, round-trip digits)."""
+    for array in ElementTree.parse(path).getroot().iter("DataArray"):
+        if array.get("Name") == name:
+            return [float(word) for word in array.text.split()]
+    fail("%s has no field %s" % (path, name))
+
+
+def compare_dynamics(p, c, out_p, out_c, rtol):
+    for report, which in ((p, "petsc"), (c, "cholmod")):
+        if report["status"] != "completed":
+            fail("simulate: the %s run did not complete: %s" % (which, report["message"]))
+    if p["dynamics"]["steps_done"] != c["dynamics"]["steps_done"]:
+        fail("simulate: %d steps on PETSc, %d on CHOLMOD" % (p["dynamics"]["steps_done"], c["dynamics"]["steps_done"]))
+    for key in ("kinetic_energy", "potential_energy"):
+        compare("simulate last step " + key, p["steps"][-1][key], c["steps"][-1][key], rtol)
+    with open(os.path.join(out_c, "result.pvd")) as f:
+        last = ElementTree.parse(f).getroot().findall(".//DataSet")[-1].get("file")
+    for field in ("displacement", "velocity"):
+        a = frame_field(os.path.join(out_p, last), field)
+        b = frame_field(os.path.join(out_c, last), field)
+        r = relative(a, b)
+        print("%-40s %d values, relative %.2e" % ("simulate %s %s" % (last, field), len(a), r))
+        if len(a) != len(b) or not r <= rtol:
+            fail("simulate %s %s differs by %.2e relative (tolerance %.1e)" % (last, field, r, rtol))
 
 
 def main():
@@ -105,13 +135,25 @@ def main():
             fail(verb + ": the last PETSc solve did not converge")
         if c.get("linear_solver") != {"name": "cholmod"}:
             fail(verb + ": the reference did not run on CHOLMOD")
-        if verb == "simulate":
+        if verb == "simulate" and c.get("kind") == "dynamics":
+            compare_dynamics(p, c, out_p, out_c, args.rtol)
+        elif verb == "simulate":
             for key in ("energy", "max_displacement", "reaction_force_total"):
                 compare("simulate " + key, p["results"][key], c["results"][key], args.rtol)
         elif verb == "gradcheck":
             if not (p["passed"] and c["passed"]):
                 fail("gradcheck: the Taylor test did not pass (petsc %s, cholmod %s)" % (p["passed"], c["passed"]))
             print("gradcheck on %d ranks: rates %.3f / %.3f (first / second order)" % (args.ranks, p["rate0"], p["rate1"]))
+            adjoint = p.get("adjoint_linear_solves")
+            if scene.get("dynamics"):
+                # The transient adjoint's backward solves: on PETSc, to their own tolerance.
+                if not adjoint or adjoint["solves"] != scene["dynamics"]["steps"]:
+                    fail("gradcheck: expected one adjoint solve per step on PETSc, got %r" % adjoint)
+                if not adjoint["last_relative_residual"] <= adjoint["relative_tolerance"]:
+                    fail("gradcheck: the last adjoint solve missed its tolerance: %r" % adjoint)
+                print("gradcheck adjoint: %d solves, %d iterations, tolerance %.0e, last residual %.2e"
+                      % (adjoint["solves"], adjoint["iterations"], adjoint["relative_tolerance"],
+                         adjoint["last_relative_residual"]))
             for key in ("value", "directional_derivative"):
                 compare("gradcheck " + key, p[key], c[key], args.rtol)
         elif verb == "run":

@@ -8,13 +8,13 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/SparseCholesky>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "../support/temp_folder.hpp"
+#include "ldlt_stand_in.hpp"
 #include "problems/cli/run_cli.hpp"
 #include "problems/commands.hpp"
 #include "problems/output_process.hpp"
@@ -26,6 +26,9 @@ namespace tailor {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::EigenLdlt;
+using testing::last_made;
+using testing::RegisteredStandIn;
 using testing::with;
 
 const std::string kSolver = "\"solver\": {\"load_steps\": 1}";
@@ -38,63 +41,6 @@ std::string scene_error(const std::string& json) {
   }
   return "";
 }
-
-// Eigen's sparse LDL^T as a LinearSolver, recording what it was given.
-class EigenLdlt final : public LinearSolver {
- public:
-  explicit EigenLdlt(std::string options) : options_(std::move(options)) {}
-  std::string name() const override { return "petsc"; }  // registered under the scene's name
-  bool setup(const SparseMatrix& upper, std::string& message) override {
-    ldlt_.compute(upper);
-    ++setups;
-    if (ldlt_.info() != Eigen::Success) message = "not positive definite";
-    return ldlt_.info() == Eigen::Success;
-  }
-  LinearSolveStats solve(const Vector& b, double relative_tolerance, Vector& x) override {
-    x = ldlt_.solve(b);
-    ++solves;
-    LinearSolveStats s;
-    s.converged = x.allFinite();
-    s.relative_tolerance = relative_tolerance;
-    return s;
-  }
-  LinearSolverInfo info() const override {
-    LinearSolverInfo i;
-    i.name = name();
-    i.options = options_;
-    i.krylov_method = "preonly";
-    i.solves = solves;
-    return i;
-  }
-  void set_vertex_coordinates(int d, const Vector& c) override { dim = d, coordinates = c; }
-  int setups = 0, solves = 0, dim = 0;
-  Vector coordinates;
-
- private:
-  std::string options_;
-  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Upper> ldlt_;
-};
-
-std::shared_ptr<EigenLdlt>& last_made() {
-  static std::shared_ptr<EigenLdlt> solver;
-  return solver;
-}
-
-LinearSolverPtr make_eigen_ldlt(const LinearSolverChoice& choice) {
-  if (choice.options.find("-bad") != std::string::npos) throw std::invalid_argument("option -bad is unknown");
-  last_made() = std::make_shared<EigenLdlt>(choice.options);
-  return last_made();
-}
-
-// Registers the stand-in as "petsc" for one test.
-struct RegisteredStandIn {
-  RegisteredStandIn() { register_linear_solver("petsc", make_eigen_ldlt); }
-  ~RegisteredStandIn() {
-    unregister_linear_solver("petsc");
-    last_made().reset();
-    set_writes_output(true);
-  }
-};
 
 TEST(LinearSolverChoice, CholmodIsTheDefaultAndNeedsNoSolverObject) {
   EXPECT_EQ(parse_scene(testing::small_box_scene(), "box.json", "").solver.newton.linear_solver, nullptr);

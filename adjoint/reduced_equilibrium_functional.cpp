@@ -181,49 +181,52 @@ const Vector& ReducedEquilibriumFunctional::solve(const Vector& w) {
   return q_;
 }
 
-double ReducedEquilibriumFunctional::objective(const Vector& w) const {
-  const Vector misfit = data_.rows * q_ - data_.target;
-  return 0.5 * (data_.row_weights.array() * misfit.array().square()).sum() +
-         0.5 * (data_.regularization.array() * w.array().square()).sum();
+double ReducedEquilibriumFunctional::misfit() const {
+  const Vector residual = data_.rows * q_ - data_.target;
+  return 0.5 * (data_.row_weights.array() * residual.array().square()).sum();
 }
 
-double ReducedEquilibriumFunctional::positivity(const Vector& w, Vector* gradient) const {
-  if (data_.element_modes.size() == 0) return 0.0;
-  const Vector e = Vector::Ones(data_.element_modes.rows()) + data_.element_modes * w;
+double design_terms(const ReducedEquilibriumData& data, const Vector& w, Vector* gradient) {
+  double value = 0.0;
+  if (data.regularization.size() > 0) {
+    value += 0.5 * (data.regularization.array() * w.array().square()).sum();
+    if (gradient) *gradient += data.regularization.cwiseProduct(w);
+  }
+  if (data.element_modes.size() == 0) return value;
+  const Vector e = Vector::Ones(data.element_modes.rows()) + data.element_modes * w;
   Eigen::Index worst = 0;
   if (e.minCoeff(&worst) <= 0.0)
-    throw EvaluationError("reduced design: the relative modulus of element " + std::to_string(worst) +
+    throw EvaluationError("material design: the relative modulus of element " + std::to_string(worst) +
                           " is " + std::to_string(e[worst]) + " <= 0");
-  const double eps = data_.positivity_floor, kappa = data_.positivity_weight;
-  double penalty = 0.0;
+  const double eps = data.positivity_floor, kappa = data.positivity_weight;
   Vector de = Vector::Zero(e.size());
   bool active = false;
   for (Eigen::Index k = 0; k < e.size(); ++k) {
     const double d = (eps - e[k]) / eps;
     if (d <= 0.0) continue;
     active = true;
-    penalty += kappa / 3.0 * data_.element_weights[k] * d * d * d;
-    de[k] = -kappa * data_.element_weights[k] * d * d / eps;
+    value += kappa / 3.0 * data.element_weights[k] * d * d * d;
+    de[k] = -kappa * data.element_weights[k] * d * d / eps;
   }
-  if (gradient && active) gradient->noalias() += data_.element_modes.transpose() * de;
-  return penalty;
+  if (gradient && active) gradient->noalias() += data.element_modes.transpose() * de;
+  return value;
 }
 
 double ReducedEquilibriumFunctional::value(const Vector& w) {
   ++counters_.evaluations;
-  const double penalty = positivity(w, nullptr);
+  const double design = design_terms(data_, w, nullptr);
   solve(w);
-  return objective(w) + penalty;
+  return misfit() + design;
 }
 
 double ReducedEquilibriumFunctional::value_and_gradient(const Vector& w, Vector& gradient) {
   ++counters_.evaluations;
-  Vector penalty_gradient = Vector::Zero(size());
-  const double penalty = positivity(w, &penalty_gradient);
+  Vector design_gradient = Vector::Zero(size());
+  const double design = design_terms(data_, w, &design_gradient);
   solve(w);
   const auto t0 = Clock::now();
-  const Vector misfit = data_.rows * q_ - data_.target;
-  const Vector rhs = data_.rows.transpose() * data_.row_weights.cwiseProduct(misfit);
+  const Vector residual = data_.rows * q_ - data_.target;
+  const Vector rhs = data_.rows.transpose() * data_.row_weights.cwiseProduct(residual);
   Eigen::LDLT<Matrix> ldlt(stiffness_);
   const Vector lambda = ldlt.solve(rhs);
   if (ldlt.info() != Eigen::Success || !lambda.allFinite())
@@ -231,11 +234,10 @@ double ReducedEquilibriumFunctional::value_and_gradient(const Vector& w, Vector&
   const Vector s = lifted(q_, quadratic_), ls = lifted_tangent(q_, lambda, quadratic_);
   gradient.resize(size());
   for (int j = 0; j < size(); ++j)
-    gradient[j] = -ls.dot(data_.modes[static_cast<std::size_t>(j)] * s) + data_.regularization[j] * w[j] +
-                  penalty_gradient[j];
+    gradient[j] = -ls.dot(data_.modes[static_cast<std::size_t>(j)] * s) + design_gradient[j];
   ++counters_.adjoint_solves;
   counters_.adjoint_seconds += seconds_since(t0);
-  return objective(w) + penalty;
+  return misfit() + design;
 }
 
 }  // namespace tailor

@@ -50,6 +50,12 @@ struct ReducedEquilibriumOptions {
   bool warm_start = true;  // start Newton at the last equilibrium
 };
 
+// The part of J that does not depend on the displacements: 1/2 sum_j rho_j w_j^2 plus the
+// positivity penalty of data.element_modes (when given); adds its gradient to `gradient` (when
+// set, sized m). Throws EvaluationError where some relative modulus 1 + (Y w)_e <= 0. Shared
+// with the full-space form of the same objective (problems/full_space_design.hpp).
+double design_terms(const ReducedEquilibriumData& data, const Vector& w, Vector* gradient);
+
 class ReducedEquilibriumFunctional final : public ReducedFunctional {
  public:
   // Throws std::invalid_argument for inconsistent sizes or negative weights.
@@ -72,10 +78,7 @@ class ReducedEquilibriumFunctional final : public ReducedFunctional {
   const ReducedEquilibriumData& data() const { return data_; }
 
  private:
-  double objective(const Vector& w) const;  // at q_
-  // The positivity penalty and (when gradient is set) adds its gradient; throws
-  // EvaluationError where some e_e <= 0.
-  double positivity(const Vector& w, Vector* gradient) const;
+  double misfit() const;  // 1/2 sum_i c_i (B q_ - t)_i^2
 
   ReducedEquilibriumData data_;
   ReducedEquilibriumOptions options_;

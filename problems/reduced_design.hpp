@@ -89,10 +89,14 @@ struct FullSpaceCheck {
   std::vector<double> handle_errors;  // as ReducedDesign::handle_errors
   Vector displacement;                // num_dofs
 };
-// Solves the design w in full space (the scene's solver, handle forces as loads).
-FullSpaceCheck full_space_check(const ReducedDesign& design, const Vector& w);
+// Solves the design w in full space (the scene's solver, handle forces as loads). With
+// `start_displacement` (num_dofs, e.g. the reduced solution Phi q) Newton starts there at full
+// load (a few iterations where the reduced model is close), falling back to the path from rest.
+FullSpaceCheck full_space_check(const ReducedDesign& design, const Vector& w,
+                                const Vector* start_displacement = nullptr);
 // The same for any per-element field E (e.g. a full-space design's).
-FullSpaceCheck full_space_solve(const ReducedDesign& design, const Eigen::VectorXd& youngs_modulus);
+FullSpaceCheck full_space_solve(const ReducedDesign& design, const Eigen::VectorXd& youngs_modulus,
+                                const Vector* start_displacement = nullptr);
 
 // One reduced optimization (the first, then one after each basis refinement).
 struct ReducedDesignPass {

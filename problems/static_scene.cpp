@@ -4,6 +4,8 @@
 #include <cmath>
 #include <ostream>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 #include "forward/core/timing.hpp"
 #include "forward/fem/elastic_term.hpp"
@@ -229,10 +231,13 @@ std::unique_ptr<Model> build_static_model(const StaticSetup& setup, double load_
   return model;
 }
 
-StaticSolution solve_static(const StaticSetup& setup, std::ostream* progress) {
+namespace {
+
+// Load steps from rest, or (start set) one step at full load from *start.
+StaticSolution solve_static_steps(const StaticSetup& setup, const Vector* start, std::ostream* progress) {
   StaticSolution out;
   const Vector p = setup.parameters();
-  const int num_steps = setup.solver.load_steps;
+  const int num_steps = start ? 1 : setup.solver.load_steps;
   NewtonOptions options = setup.solver.newton;
   options.progress = progress;
   std::unique_ptr<Model> model;
@@ -244,7 +249,7 @@ StaticSolution solve_static(const StaticSetup& setup, std::ostream* progress) {
     // the solve); the free unknowns keep their order, so y warm-starts the next step.
     model = build_static_model(setup, factor);
     out.model_seconds += seconds_since(t0);
-    if (step == 1) y = model->elimination().restrict_state(setup.rest_state());
+    if (step == 1) y = model->elimination().restrict_state(start ? *start : setup.rest_state());
     if (progress && num_steps > 1)
       *progress << "load step " << step << "/" << num_steps << " (factor " << factor << ")\n";
     if (options.linear_solver)  // the rigid-body modes for algebraic multigrid, when whole vertices are free
@@ -281,6 +286,21 @@ StaticSolution solve_static(const StaticSetup& setup, std::ostream* progress) {
   else
     postprocess<2>(setup, *model, p, out);
   return out;
+}
+
+}  // namespace
+
+StaticSolution solve_static(const StaticSetup& setup, std::ostream* progress) {
+  return solve_static_steps(setup, nullptr, progress);
+}
+
+StaticSolution solve_static_from(const StaticSetup& setup, const Vector& start, std::ostream* progress) {
+  if (start.size() != setup.num_dofs())
+    throw std::invalid_argument("solve_static_from: the start state has " + std::to_string(start.size()) +
+                                " entries, the mesh " + std::to_string(setup.num_dofs()) + " DOFs");
+  StaticSolution warm = solve_static_steps(setup, &start, progress);
+  if (warm.converged) return warm;
+  return solve_static_steps(setup, nullptr, progress);
 }
 
 std::vector<EnergyTermCheck> check_static_scene(const StaticSetup& setup, unsigned seed) {

@@ -94,6 +94,9 @@ struct StaticSolution {
 // Solves for static equilibrium, from the rest state, in setup.solver.load_steps steps with
 // warm starts. `progress`: Newton iterations and load steps are printed there when set.
 StaticSolution solve_static(const StaticSetup& setup, std::ostream* progress = nullptr);
+// The same from the state `start` (positions, interleaved, e.g. a reduced model's solution), at
+// full load in one step; when that does not converge, solve_static's path from rest.
+StaticSolution solve_static_from(const StaticSetup& setup, const Vector& start, std::ostream* progress = nullptr);
 
 // Derivative checks of every energy term of the full-load model at the prescribed state plus
 // a random perturbation of 2% of the mean element size (seeded), with exact Hessians.

@@ -97,7 +97,8 @@ void accumulate(const ElasticTerm<Dim>& term, const Vector& p, const Matrix& bas
         scaled = block;
         for (int e = 0; e < count; ++e)
           scaled.middleCols(kComponents * e, kComponents) *= weights(term.elements()[start + e], j);
-        local[static_cast<std::size_t>(j)].noalias() += scaled * block.transpose();
+        // Only the lower triangle is read later: the triangular product computes half the GEMM.
+        local[static_cast<std::size_t>(j)].triangularView<Eigen::Lower>() += scaled * block.transpose();
       }
     }
 #pragma omp critical

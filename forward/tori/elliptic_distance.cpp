@@ -12,6 +12,7 @@
 
 #include "forward/contact/jet2.hpp"
 #include "forward/rigid/rotation.hpp"
+#include "forward/tori/implicit_minimum.hpp"
 
 namespace tailor::tori {
 namespace {
@@ -360,14 +361,9 @@ TorusDistance elliptic_torus_distance(const TorusPose& a, const TorusPose& b, bo
     fj = fj + delta * delta;
   }
   // Implicit function theorem on f_u = 0 (elliptic_distance.hpp).
-  const Matrix4 Huu = fj.h.topLeftCorner<4, 4>();
-  const Eigen::Matrix<double, 4, 18> Huy = fj.h.topRightCorner<4, 18>();
-  const Eigen::Matrix<double, 18, 1> g2 = fj.g.tail<18>();
-  Eigen::Matrix<double, 18, 18> H2 = fj.h.bottomRightCorner<18, 18>();
-  if (options.implicit_correction) H2 -= Huy.transpose() * Huu.ldlt().solve(Huy);
-  const double d = out.distance;
-  const Eigen::Matrix<double, 18, 1> gd = g2 / (2.0 * d);
-  const Eigen::Matrix<double, 18, 18> Hd = H2 / (2.0 * d) - g2 * g2.transpose() / (4.0 * d * d * d);
+  Eigen::Matrix<double, 18, 1> gd;
+  Eigen::Matrix<double, 18, 18> Hd;
+  sqrt_minimum_derivatives<4, 18>(fj, out.distance, options.implicit_correction, gd, Hd);
   // Jet variables 4..21 -> pair variables: the DOFs 0..11, R_a 12, r_a 13, R_b 14, r_b 15; r1 of
   // a and b (jet 18 and 21) -> axial_gradient.
   const int map[18] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, -1, 14, 15, -2};

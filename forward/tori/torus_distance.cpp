@@ -10,6 +10,7 @@
 
 #include "forward/contact/jet2.hpp"
 #include "forward/rigid/rotation.hpp"
+#include "forward/tori/implicit_minimum.hpp"
 #include "forward/tori/elliptic_distance.hpp"
 
 namespace tailor::tori {
@@ -191,14 +192,9 @@ TorusDistance torus_distance(const TorusPose& a, const TorusPose& b, bool deriva
     f = f + delta * delta;
   }
   // Implicit function theorem on f_u = 0: D^2's gradient f_y and Hessian f_yy - f_yu f_uu^-1 f_uy.
-  const Eigen::Matrix2d Huu = f.h.topLeftCorner<2, 2>();
-  const Eigen::Matrix<double, 2, 14> Huy = f.h.topRightCorner<2, 14>();
-  const Eigen::Matrix<double, 14, 1> g2 = f.g.tail<14>();
-  Eigen::Matrix<double, 14, 14> H2 = f.h.bottomRightCorner<14, 14>();
-  if (options.implicit_correction) H2 -= Huy.transpose() * Huu.ldlt().solve(Huy);
-  const double D = out.core_distance;
-  const Eigen::Matrix<double, 14, 1> gD = g2 / (2.0 * D);
-  const Eigen::Matrix<double, 14, 14> HD = H2 / (2.0 * D) - g2 * g2.transpose() / (4.0 * D * D * D);
+  Eigen::Matrix<double, 14, 1> gD;
+  Eigen::Matrix<double, 14, 14> HD;
+  sqrt_minimum_derivatives<2, 14>(f, out.core_distance, options.implicit_correction, gD, HD);
   // Jet variables 2..15 -> pair variables: 0..11 the DOFs, then R_a -> 12, R_b -> 14.
   const int map[14] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 14};
   for (int i = 0; i < 14; ++i) {

@@ -15,32 +15,15 @@
 #include "adjoint/scaled_gradient.hpp"
 #include "adjoint/taylor_test.hpp"
 #include "optimizers/optimizer.hpp"
+#include "small_handle_scene.hpp"
 
 namespace tailor {
 namespace {
 
-// A 5 x 1 x 1 cantilever (cells 8 x 2 x 2, 192 tets) with a handle at the centre of its tip,
-// 4 material modes.
+// The small handle scene (small_handle_scene.hpp) with its smoothness weight.
 Scene scene(const std::string& model, const std::string& target = "[0, 0, -0.1]",
             const std::string& smoothness = "1e-3") {
-  const std::string text = R"({
-  "name": "small_handle_full",
-  "mesh": {"box": {"min": [0, 0, 0], "max": [5, 1, 1], "cells": [8, 2, 2]}},
-  "materials": [{"elements": "all", "model": ")" +
-                           model + R"(", "youngs_modulus": 1e6, "poisson_ratio": 0.3}],
-  "dirichlet": [{"vertices": {"plane": {"axis": "x", "value": 0}}}],
-  "inverse": {
-    "design": {"parameter": "youngs_modulus", "granularity": "modes", "modes": 4, "map": "identity",
-               "reduction": {"displacement_modes": 4, "derivative_modes": 2, "smoothness": )" +
-                           smoothness + R"(}},
-    "objective": [{"type": "handles", "handles": [
-      {"vertices": {"box": {"min": [5, 0.5, 0.5], "max": [5, 0.5, 0.5]}}, "force": [0, 0, -200],
-       "displacement": )" + target + R"(}]}],
-    "optimizer": {"backend": "nlopt_lbfgs", "max_iterations": 200, "gradient_tolerance": 1e-10,
-                  "objective_tolerance": 1e-16}
-  }
-})";
-  return parse_scene(text, "small_handle_full.json", ".");
+  return small_handle_scene(model, target, R"(, "smoothness": )" + smoothness);
 }
 
 // The adjoint gradient through the full-space StVK equilibrium, at a design away from w = 0:

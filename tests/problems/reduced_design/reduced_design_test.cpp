@@ -11,36 +11,10 @@
 
 #include "adjoint/taylor_test.hpp"
 #include "forward/reduction/projected_reduced_model.hpp"
+#include "small_handle_scene.hpp"
 
 namespace tailor {
 namespace {
-
-// A 5 x 1 x 1 cantilever (cells 8 x 2 x 2, 192 tets) with a handle at the centre of its tip.
-std::string scene_text(const std::string& model, const std::string& target, const std::string& extra = "") {
-  return R"({
-  "name": "small_handle_reduced",
-  "mesh": {"box": {"min": [0, 0, 0], "max": [5, 1, 1], "cells": [8, 2, 2]}},
-  "materials": [{"elements": "all", "model": ")" +
-         model + R"(", "youngs_modulus": 1e6, "poisson_ratio": 0.3}],
-  "dirichlet": [{"vertices": {"plane": {"axis": "x", "value": 0}}}],
-  "inverse": {
-    "design": {"parameter": "youngs_modulus", "granularity": "modes", "modes": 4, "map": "identity",
-               "reduction": {"displacement_modes": 4, "derivative_modes": 2)" +
-         extra + R"(}},
-    "objective": [{"type": "handles", "handles": [
-      {"vertices": {"box": {"min": [5, 0.5, 0.5], "max": [5, 0.5, 0.5]}}, "force": [0, 0, -200],
-       "displacement": )" +
-         target + R"(}]}],
-    "optimizer": {"backend": "nlopt_lbfgs", "max_iterations": 300, "gradient_tolerance": 1e-11,
-                  "objective_tolerance": 1e-16}
-  }
-})";
-}
-
-Scene scene(const std::string& model, const std::string& target = "[0, 0, -0.1]",
-            const std::string& extra = "") {
-  return parse_scene(scene_text(model, target, extra), "small_handle_reduced.json", ".");
-}
 
 Vector parameters_at(const ReducedDesign& design, const Vector& w) {
   StaticSetup setup = design.setup;
@@ -52,7 +26,7 @@ Vector parameters_at(const ReducedDesign& design, const Vector& w) {
 // with the scene's StVK elements. The precomputed polynomial must agree to round-off.
 TEST(ReducedDesign, PrecomputedForcesMatchProjectedFullForces) {
   for (const char* model : {"stvk", "linear"}) {
-    const ReducedDesign design = build_reduced_design(scene(model));
+    const ReducedDesign design = build_reduced_design(small_handle_scene(model));
     const ReducedEquilibriumFunctional& f = *design.functional;
     ASSERT_GE(f.reduced_size(), 8);
     std::srand(3);
@@ -82,7 +56,7 @@ TEST(ReducedDesign, PrecomputedForcesMatchProjectedFullForces) {
 // away from w = 0 and with the smoothness term on.
 TEST(ReducedDesign, TaylorTestOfTheReducedFunctional) {
   for (const char* model : {"stvk", "linear"}) {
-    ReducedDesign design = build_reduced_design(scene(model, "[0, 0, -0.1]", R"(, "smoothness": 1e-3)"));
+    ReducedDesign design = build_reduced_design(small_handle_scene(model, "[0, 0, -0.1]", R"(, "smoothness": 1e-3)"));
     std::srand(5);
     const Vector w = 0.2 * Vector::Random(design.num_design());
     const TaylorTestResult r = taylor_test(*design.functional, w);
@@ -97,7 +71,7 @@ TEST(ReducedDesign, TaylorTestOfTheReducedFunctional) {
 // solved again in full space, within 1% (the reduction error at the designed material).
 TEST(ReducedDesign, ReducedDesignMatchesTheFullSpaceSolve) {
   for (const char* model : {"stvk", "linear"}) {
-    const ReducedDesign probe = build_reduced_design(scene(model));
+    const ReducedDesign probe = build_reduced_design(small_handle_scene(model));
     Vector w_star = Vector::Zero(probe.num_design());
     w_star[0] = -0.5;
     w_star[1] = 0.1;
@@ -107,7 +81,7 @@ TEST(ReducedDesign, ReducedDesignMatchesTheFullSpaceSolve) {
     const Vector u = truth.displacement.segment(3 * tip, 3);
     const std::string target =
         "[" + std::to_string(u[0]) + ", " + std::to_string(u[1]) + ", " + std::to_string(u[2]) + "]";
-    ReducedDesign design = build_reduced_design(scene(model, target));
+    ReducedDesign design = build_reduced_design(small_handle_scene(model, target));
     const std::string out =
         (std::filesystem::temp_directory_path() / (std::string("reduced_design_test_") + model)).string();
     const ReducedDesignRun run = run_reduced_design(design, out);
@@ -121,7 +95,7 @@ TEST(ReducedDesign, ReducedDesignMatchesTheFullSpaceSolve) {
 
 TEST(ReducedDesign, NonPolynomialMaterialIsAClearError) {
   try {
-    build_reduced_design(scene("neo_hookean"));
+    build_reduced_design(small_handle_scene("neo_hookean"));
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
@@ -133,14 +107,14 @@ TEST(ReducedDesign, NonPolynomialMaterialIsAClearError) {
 
 TEST(ReducedDesign, SceneKeysAreChecked) {
   // The log map is not linear in w.
-  std::string text = scene_text("stvk", "[0, 0, -0.1]");
+  std::string text = small_handle_scene_text("stvk", "[0, 0, -0.1]");
   text.replace(text.find("\"map\": \"identity\""), 17, "\"map\": \"log\"");
   EXPECT_THROW(parse_scene(text, "s.json", "."), SceneError);
   // Unknown key under reduction.
-  EXPECT_THROW(parse_scene(scene_text("stvk", "[0, 0, -0.1]", R"(, "cubature": true)"), "s.json", "."),
+  EXPECT_THROW(parse_scene(small_handle_scene_text("stvk", "[0, 0, -0.1]", R"(, "cubature": true)"), "s.json", "."),
                SceneError);
   try {
-    parse_scene(scene_text("stvk", "[0, 0, -0.1]", R"(, "min_relative_modulus": 2)"), "s.json", ".");
+    parse_scene(small_handle_scene_text("stvk", "[0, 0, -0.1]", R"(, "min_relative_modulus": 2)"), "s.json", ".");
     FAIL();
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("inverse.design.reduction.min_relative_modulus"), std::string::npos)

@@ -25,7 +25,7 @@ double TrackedDisplacements::evaluate(int n, const Vector& q, Vector* gradient) 
 ReducedDynamicsFunctional::ReducedDynamicsFunctional(const ReducedElasticModel& model,
                                                      ReducedDynamicsOptions options, Matrix mass,
                                                      Vector external_force, int steps,
-                                                     std::shared_ptr<const TrajectoryObjective> objective)
+                                                     std::shared_ptr<const ReducedTrajectoryObjective> objective)
     : model_(model),
       options_(options),
       mass_(std::move(mass)),

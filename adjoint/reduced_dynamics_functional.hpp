@@ -17,17 +17,18 @@
 
 namespace tailor {
 
-// One term j_n(q_n) per stored state n = 0..N.
-class TrajectoryObjective {
+// One term j_n(q_n) per stored state n = 0..N, in reduced coordinates (the full-space trajectory
+// objectives are objectives/trajectory_objective.hpp).
+class ReducedTrajectoryObjective {
  public:
-  virtual ~TrajectoryObjective() = default;
+  virtual ~ReducedTrajectoryObjective() = default;
   // j_n(q); gradient (size r, overwritten) when non-null.
   virtual double evaluate(int n, const Vector& q, Vector* gradient) const = 0;
 };
 
 // 1/2 |rows q_n - targets[n]|^2 / (N + 1), rows e.g. from vertex_rows(): tracks chosen vertices'
 // displacements (or q itself with rows = I). targets: N + 1 vectors of size rows.rows().
-class TrackedDisplacements final : public TrajectoryObjective {
+class TrackedDisplacements final : public ReducedTrajectoryObjective {
  public:
   TrackedDisplacements(Matrix rows, std::vector<Vector> targets);
   double evaluate(int n, const Vector& q, Vector* gradient) const override;
@@ -42,7 +43,7 @@ class ReducedDynamicsFunctional final : public ReducedFunctional {
   // options: integrator, time step and Newton settings (its alpha, beta, s are replaced by z).
   ReducedDynamicsFunctional(const ReducedElasticModel& model, ReducedDynamicsOptions options, Matrix mass,
                             Vector external_force, int steps,
-                            std::shared_ptr<const TrajectoryObjective> objective);
+                            std::shared_ptr<const ReducedTrajectoryObjective> objective);
   static Vector pack(const Vector& q0, const Vector& v0, double alpha, double beta, double scale);
 
   int size() const override { return 2 * model_.size() + 3; }
@@ -58,7 +59,7 @@ class ReducedDynamicsFunctional final : public ReducedFunctional {
   Matrix mass_;
   Vector external_force_;
   int steps_;
-  std::shared_ptr<const TrajectoryObjective> objective_;
+  std::shared_ptr<const ReducedTrajectoryObjective> objective_;
   ReducedTrajectory trajectory_;
 };
 

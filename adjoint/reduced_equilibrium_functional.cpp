@@ -1,18 +1,15 @@
 #include "adjoint/reduced_equilibrium_functional.hpp"
 
 #include <Eigen/Cholesky>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
+#include "forward/core/timing.hpp"
 #include "forward/reduction/reduced_stvk.hpp"
 
 namespace tailor {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // s(q) = [q; (q_a q_b)_{a <= b}] (or q alone without pairs).
 Vector lifted(const Vector& q, bool pairs) {

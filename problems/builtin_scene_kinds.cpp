@@ -28,10 +28,7 @@
 namespace tailor {
 namespace {
 
-constexpr int kSuccess = 0;
-constexpr int kFailure = 1;
-
-int exit_code(bool ok) { return ok ? kSuccess : kFailure; }
+int exit_code(bool ok) { return ok ? kExitSuccess : kExitFailure; }
 
 // ---- recognising a scene from its top-level JSON
 
@@ -157,7 +154,7 @@ int run_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& 
 int compute_modes(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
   modes_scene(scene, args.count, out_dir(args, scene), &out);
-  return kSuccess;
+  return kExitSuccess;
 }
 
 // ---- the other kinds
@@ -214,7 +211,7 @@ int run_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostr
 int homogenize_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const CellScene cell = read_cell_scene(file.path);
   homogenize_scene(cell, args.out_dir_or("out/" + cell.name), &out);
-  return kSuccess;
+  return kExitSuccess;
 }
 
 // The runs that are not an inverse problem's optimizer keep no checkpoints.

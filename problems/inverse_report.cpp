@@ -8,6 +8,7 @@
 
 #include "problems/optimizer_report.hpp"
 #include "problems/report.hpp"
+#include "problems/report_header.hpp"
 #include "problems/taylor_report.hpp"
 #include "tailor_version.hpp"
 
@@ -21,12 +22,6 @@ void write_json(const std::string& path, const Json& document) {
   if (!out) throw std::runtime_error("cannot write '" + path + "'");
   out << document.dump(2) << "\n";
   if (!out) throw std::runtime_error("error while writing '" + path + "'");
-}
-
-Json to_json(const Eigen::VectorXd& v) {
-  Json out = Json::array();
-  for (Eigen::Index k = 0; k < v.size(); ++k) out.push_back(v[k]);
-  return out;
 }
 
 // min / max / volume-weighted mean of a per-element field.

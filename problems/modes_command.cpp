@@ -10,18 +10,13 @@
 #include "forward/fem/mass.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/report.hpp"
+#include "problems/report_header.hpp"
 #include "problems/static_scene.hpp"
 
 namespace tailor {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-Json to_json(const Vector& v) {
-  Json out = Json::array();
-  for (Eigen::Index k = 0; k < v.size(); ++k) out.push_back(v[k]);
-  return out;
-}
 
 // A full-space mode (interleaved) as a num_vertices x dim point field.
 Eigen::MatrixXd point_field(const Vector& mode, int dim) {

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "problems/optimizer_report.hpp"
+#include "problems/report_header.hpp"
 #include "problems/scene.hpp"
 #include "problems/scene_node.hpp"
 #include "tailor_version.hpp"
@@ -22,12 +23,6 @@ namespace tailor {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-Json to_json(const Vector& v) {
-  Json out = Json::array();
-  for (Eigen::Index k = 0; k < v.size(); ++k) out.push_back(v[k]);
-  return out;
-}
 
 // Non-finite numbers are written as null (JSON has no NaN); read back as NaN.
 double number_or_nan(const SceneNode& node) {

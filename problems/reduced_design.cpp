@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <streambuf>
 
+#include "forward/core/timing.hpp"
 #include "forward/fem/mass.hpp"
 #include "forward/reduction/free_space.hpp"
 #include "forward/reduction/mass_orthonormal_basis.hpp"
@@ -28,9 +29,6 @@
 
 namespace tailor {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 [[noreturn]] void scene_fail(const Scene& scene, const std::string& key, const std::string& what) {
   throw SceneError(scene.source + ": " + key + ": " + what);
@@ -95,12 +93,6 @@ double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-nlohmann::ordered_json to_json(const Eigen::VectorXd& v) {
-  nlohmann::ordered_json a = nlohmann::ordered_json::array();
-  for (Eigen::Index i = 0; i < v.size(); ++i) a.push_back(v[i]);
-  return a;
 }
 
 }  // namespace

@@ -6,17 +6,12 @@
 #include <stdexcept>
 
 #include "forward/mesh/mesh_io.hpp"
+#include "problems/report_header.hpp"
 
 namespace tailor {
 namespace {
 
 using Json = nlohmann::ordered_json;  // keeps the documented key order in the file
-
-Json to_json(const Eigen::VectorXd& v) {
-  Json out = Json::array();
-  for (Eigen::Index k = 0; k < v.size(); ++k) out.push_back(v[k]);
-  return out;
-}
 
 // Residuals (or energies) of every iterate of a Newton solve, including the last one.
 template <class Get, class Final>

@@ -44,4 +44,10 @@ nlohmann::ordered_json linear_solver_json(const LinearSolver* solver) {
           {"last_solve", i.solves > 0 ? last : nlohmann::ordered_json(nullptr)}};
 }
 
+nlohmann::ordered_json to_json(const Eigen::VectorXd& v) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (Eigen::Index k = 0; k < v.size(); ++k) out.push_back(v[k]);
+  return out;
+}
+
 }  // namespace tailor

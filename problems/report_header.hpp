@@ -19,4 +19,7 @@ void add_report_header(nlohmann::ordered_json& report);
 // solver's LinearSolverInfo (docs/petsc.md lists the fields).
 nlohmann::ordered_json linear_solver_json(const LinearSolver* solver);
 
+// A vector as a JSON array of its entries (every report's vectors).
+nlohmann::ordered_json to_json(const Eigen::VectorXd& v);
+
 }  // namespace tailor

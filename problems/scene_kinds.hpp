@@ -60,6 +60,11 @@ struct SceneFile {
   std::string stem() const;       // the file name without its extension: the default scene name
 };
 
+// The CLI's exit codes: success, a solve, check or optimization that failed, bad input.
+inline constexpr int kExitSuccess = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitBadInput = 2;
+
 // A verb's work on one kind of scene. Returns the exit code: 0 success, 1 the solve, check or
 // optimization failed. Writes its log to `out`. Throws SceneError or MeshError for bad input
 // (exit 2); any other exception is reported and exits with 1.

@@ -8,14 +8,6 @@
 #include "forward/rigid/rotation.hpp"
 
 namespace tailor::rigid {
-namespace {
-
-// vee of the skew part of A: 1/2 (A_32 - A_23, A_13 - A_31, A_21 - A_12).
-Eigen::Vector3d skew_vee(const Eigen::Matrix3d& A) {
-  return 0.5 * Eigen::Vector3d(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
-}
-
-}  // namespace
 
 RigidLoadTerm::RigidLoadTerm(Vector loads, Vector reference) : reference_(std::move(reference)) {
   if (reference_.size() % 6 != 0)

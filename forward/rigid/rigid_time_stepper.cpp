@@ -4,15 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include "forward/rigid/rotation.hpp"
+
 namespace tailor::rigid {
-namespace {
-
-// vee of the skew part of A.
-Eigen::Vector3d skew_vee(const Eigen::Matrix3d& A) {
-  return 0.5 * Eigen::Vector3d(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
-}
-
-}  // namespace
 
 RigidTimeStepper::RigidTimeStepper(const RigidBodySystem& system, Model& model, RigidInertiaTerm& inertia,
                                    NewtonOptions options, RigidStepOptions step_options)

@@ -25,6 +25,12 @@ RotationDerivatives rotation_derivatives(const Eigen::Vector3d& w);
 Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& R,
                                 const Eigen::Vector3d& near = Eigen::Vector3d::Zero());
 
+// vee of the skew part of A: 1/2 (A_32 - A_23, A_13 - A_31, A_21 - A_12) (for A = R dR^T, the
+// angular velocity; for A = R Rb^T with Rb a reference rotation, sin(angle) times its axis).
+inline Eigen::Vector3d skew_vee(const Eigen::Matrix3d& A) {
+  return 0.5 * Eigen::Vector3d(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
+}
+
 // a(s), b(s) and their first and second derivatives in s (exposed for tests).
 struct RodriguesCoefficients {
   double a, da, d2a, b, db, d2b;

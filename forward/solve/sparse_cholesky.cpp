@@ -39,11 +39,14 @@ cholmod_dense view(const double* data, Eigen::Index rows, Eigen::Index cols) {
   return d;
 }
 
+}  // namespace
+
 // One CHOLMOD workspace and factor, configured for either supernodal LL^T or simplicial LDL^T.
-struct Factor {
+// (Outside the anonymous namespace: SparseCholesky::Impl, which has external linkage, holds it.)
+struct CholmodFactor {
   cholmod_common common{};
   cholmod_factor* factor = nullptr;
-  explicit Factor(bool ldlt) {
+  explicit CholmodFactor(bool ldlt) {
     cholmod_start(&common);
     common.print = 0;  // statuses are reported through FactorizationResult
     if (ldlt) {
@@ -53,7 +56,7 @@ struct Factor {
       common.supernodal = CHOLMOD_SUPERNODAL;
     }
   }
-  ~Factor() {
+  ~CholmodFactor() {
     if (factor) cholmod_free_factor(&factor, &common);
     cholmod_finish(&common);
   }
@@ -69,14 +72,12 @@ struct Factor {
   double flops = 0.0, nonzeros = 0.0;  // of the analysed factor (cholmod_analyze's estimates)
 };
 
-}  // namespace
-
 struct SparseCholesky::Impl {
-  Factor llt{false};
-  std::unique_ptr<Factor> ldlt;  // created on first need
+  CholmodFactor llt{false};
+  std::unique_ptr<CholmodFactor> ldlt;  // created on first need
   std::size_t analyzed_nnz = 0;
   std::size_t ldlt_analyzed_nnz = 0;
-  Factor* active = nullptr;
+  CholmodFactor* active = nullptr;
 };
 
 SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
@@ -103,7 +104,7 @@ FactorizationResult SparseCholesky::factorize(const SparseMatrix& upper) {
   impl_->active = nullptr;
   const FactorizationThreadsGuard threads;
 
-  Factor& llt = impl_->llt;
+  CholmodFactor& llt = impl_->llt;
   cholmod_factorize(&a, llt.factor, &llt.common);
   if (llt.common.status == CHOLMOD_OK && llt.factor->minor == llt.factor->n) {
     result.success = result.positive_definite = true;
@@ -116,8 +117,8 @@ FactorizationResult SparseCholesky::factorize(const SparseMatrix& upper) {
   }
 
   // Not positive definite: LDL^T of the same matrix.
-  if (!impl_->ldlt) impl_->ldlt = std::make_unique<Factor>(true);
-  Factor& ldlt = *impl_->ldlt;
+  if (!impl_->ldlt) impl_->ldlt = std::make_unique<CholmodFactor>(true);
+  CholmodFactor& ldlt = *impl_->ldlt;
   if (impl_->ldlt_analyzed_nnz != static_cast<std::size_t>(upper.nonZeros())) {
     ldlt.analyze(&a);
     impl_->ldlt_analyzed_nnz = static_cast<std::size_t>(upper.nonZeros());
@@ -170,7 +171,7 @@ Matrix SparseCholesky::solve_columns(const Matrix& b) const {
 Matrix SparseCholesky::base_solve(const Matrix& b) const {
   if (!impl_->active) throw std::logic_error("SparseCholesky::solve: no successful factorization");
   if (b.rows() != rows_) throw std::invalid_argument("SparseCholesky::solve: right-hand side has the wrong size");
-  Factor& f = *impl_->active;
+  CholmodFactor& f = *impl_->active;
   const FactorizationThreadsGuard threads;
   cholmod_dense rhs = view(b.data(), b.rows(), b.cols());
   cholmod_dense* sol = cholmod_solve(CHOLMOD_A, f.factor, &rhs, &f.common);

@@ -18,10 +18,6 @@
 namespace tailor {
 namespace {
 
-constexpr int kSuccess = 0;
-constexpr int kFailure = 1;
-constexpr int kBadInput = 2;
-
 // `text` with every line indented by `indent` spaces.
 std::string indented(const std::string& text, int indent) {
   std::string result;
@@ -142,11 +138,11 @@ class Cli {
     find_verb_on_command_line();
     if (version_) {
       out_ << "tailor " << version_string << "\n";
-      return kSuccess;
+      return kExitSuccess;
     }
     const std::vector<std::string> extra = app_.remaining(/*recurse=*/true);
     if (!verb_) {
-      if (help_) return (out_ << top_usage(app_), kSuccess);
+      if (help_) return (out_ << top_usage(app_), kExitSuccess);
       if (extra.empty()) return usage_error("no verb given");
       if (extra[0].rfind('-', 0) == 0) return usage_error("unknown option '" + extra[0] + "'");
       return usage_error("unknown verb '" + extra[0] + "'");
@@ -158,7 +154,7 @@ class Cli {
       return usage_error("more than one scene given ('" + args_.scene.value_or("") + "', '" + extra[0] +
                          "')");
     }
-    if (help_) return (out_ << verb_usage(*verb_, *command_, app_), kSuccess);
+    if (help_) return (out_ << verb_usage(*verb_, *command_, app_), kExitSuccess);
     if (verb_->needs_scene && !args_.scene) return usage_error("'" + name + "' needs a scene file");
     args_.verb = name;
     apply_thread_flags(args_, std::nullopt);
@@ -172,20 +168,20 @@ class Cli {
                              : std::string("a run without a scene file"))
              << "; its verbs: " << kind.verb_list()
              << "\nRun 'tailor --help' for the verbs of each kind of scene.\n";
-        return kBadInput;
+        return kExitBadInput;
       }
       return entry->handler(file, args_, out_);
     } catch (const UsageError& e) {
       return usage_error(e.what());
     } catch (const SceneError& e) {
       err_ << "tailor: error: " << e.what() << "\n";
-      return kBadInput;
+      return kExitBadInput;
     } catch (const MeshError& e) {
       err_ << "tailor: error: " << e.what() << "\n";
-      return kBadInput;
+      return kExitBadInput;
     } catch (const std::exception& e) {
       err_ << "tailor: error: " << e.what() << "\n";
-      return kFailure;
+      return kExitFailure;
     }
   }
 
@@ -194,7 +190,7 @@ class Cli {
   int usage_error(const std::string& what) {
     find_verb_on_command_line();
     err_ << "tailor: " << what << "\n\n" << (verb_ ? verb_usage(*verb_, *command_, app_) : top_usage(app_));
-    return kBadInput;
+    return kExitBadInput;
   }
 
   void find_verb_on_command_line() {

@@ -11,7 +11,6 @@
 namespace tailor {
 namespace {
 
-constexpr Rgb kBlack{0, 0, 0};
 constexpr int kMargin = 12;
 constexpr int kGap = 6;
 constexpr int kTextScale = 2;

@@ -109,7 +109,6 @@ const Glyph& glyph(char c) {
   return kFont[0];
 }
 
-constexpr Rgb kBlack{0, 0, 0};
 constexpr Rgb kGrid{225, 225, 225};
 constexpr Rgb kTickText{40, 40, 40};
 

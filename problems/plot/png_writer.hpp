@@ -12,6 +12,7 @@ struct Rgb {
   std::uint8_t r = 0, g = 0, b = 0;
   friend bool operator==(const Rgb&, const Rgb&) = default;
 };
+inline constexpr Rgb kBlack{0, 0, 0};
 
 // Row-major RGB pixels, (0, 0) at the top left.
 class RgbImage {

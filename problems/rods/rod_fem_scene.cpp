@@ -67,7 +67,7 @@ class PrefixTerm final : public EnergyTerm {
   int n_, np_;
 };
 
-[[noreturn]] void fail(const std::string& source, const std::string& what) {
+[[noreturn]] void scene_fail(const std::string& source, const std::string& what) {
   throw SceneError(source + ": " + what);
 }
 
@@ -78,7 +78,7 @@ RodFemSimulation simulate_rods_with_fem(const nlohmann::json& document, const st
                                         std::ostream* log) {
   for (const char* key : {"dynamics", "inverse"})
     if (document.contains(key))
-      fail(source, std::string(key) + ": not implemented for a scene with both rods and a mesh");
+      scene_fail(source, std::string(key) + ": not implemented for a scene with both rods and a mesh");
   // The FEM body: the static scene's keys only (the rest belongs to the rods).
   nlohmann::json fem = nlohmann::json::object();
   for (const char* key : {"name", "description", "mesh", "materials", "dirichlet", "loads", "solver"})
@@ -86,14 +86,14 @@ RodFemSimulation simulate_rods_with_fem(const nlohmann::json& document, const st
   const Scene scene = parse_scene(fem.dump(), source, directory);
   const StaticSetup setup = setup_static_scene(scene);
   if (setup.solver.load_steps > 1)
-    fail(source, "solver.load_steps: a scene with rods and a mesh is solved in one step (load_steps 1)");
+    scene_fail(source, "solver.load_steps: a scene with rods and a mesh is solved in one step (load_steps 1)");
   RodSceneSpec spec = parse_rod_scene(document);
   spec.source = source;
-  if (spec.load_steps > 1) fail(source, "load_steps: a scene with rods and a mesh is solved in one step");
+  if (spec.load_steps > 1) scene_fail(source, "load_steps: a scene with rods and a mesh is solved in one step");
   const std::shared_ptr<const Model> fem_model = build_static_model(setup, 1.0);
   const Elimination& fe = fem_model->elimination();
   if (!fe.is_selection() || fem_model->has_prescribed_parameters())
-    fail(source, "the mesh's constraints must be plain Dirichlet conditions next to rods");
+    scene_fail(source, "the mesh's constraints must be plain Dirichlet conditions next to rods");
   RodModelPrefix prefix;
   prefix.dofs = fem_model->num_dofs();
   for (const auto& block : fem_model->parameter_layout().blocks())
@@ -110,7 +110,7 @@ RodFemSimulation simulate_rods_with_fem(const nlohmann::json& document, const st
   RodSceneModel m = build_rod_model(spec, prefix);
   const int np = fem_model->parameter_layout().size();
   const Vector fem_p = setup.parameters();
-  if (fem_p.size() != np) fail(source, "internal: FEM parameter layout mismatch");
+  if (fem_p.size() != np) scene_fail(source, "internal: FEM parameter layout mismatch");
   m.p.head(np) = fem_p;
   for (const auto& term : fem_model->terms())
     m.model->add(std::make_unique<PrefixTerm>(fem_model, *term, prefix.dofs, np));

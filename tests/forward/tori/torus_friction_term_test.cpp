@@ -111,6 +111,7 @@ TEST(TorusFrictionTerm, DerivativeCheckCatchesAMissingRotationalCurvature) {
     if (k.quantity == "gradient") gradient_passed = k.passed;
     if (k.quantity == "hessian") hessian_failed = !k.passed && !k.vanishing;
   }
+  std::printf("without the rotational curvature term:\n%s", c.table().c_str());
   EXPECT_TRUE(gradient_passed) << c.table();
   EXPECT_TRUE(hessian_failed) << c.table();
 }
@@ -145,6 +146,7 @@ TEST(TorusFrictionTerm, DerivativeCheckCatchesAScaledGradient) {
   bool gradient_failed = false;
   for (const DerivativeCheck& k : c.checks)
     if (k.quantity == "gradient") gradient_failed = !k.passed;
+  std::printf("gradient scaled by 1.01:\n%s", c.table().c_str());
   EXPECT_TRUE(gradient_failed) << c.table();
 }
 

@@ -57,15 +57,23 @@ PairTangent pair_tangent(const ClassifiedDistance& distance, const std::array<Po
   for (int k = 0; k < 4; ++k)
     r += t.weights[static_cast<std::size_t>(k)] * points[static_cast<std::size_t>(k)];
   t.normal = r.normalized();
-  // An orthonormal basis of the plane orthogonal to n, started from the axis least aligned with n.
-  Eigen::Index axis = 0;
-  t.normal.cwiseAbs().minCoeff(&axis);
-  const Point t1 = t.normal.cross(Point::Unit(axis)).normalized(), t2 = t.normal.cross(t1);
+  const Eigen::Matrix<double, 3, 2> basis = tangent_basis(t.normal);
+  const Point t1 = basis.col(0), t2 = basis.col(1);
   for (int k = 0; k < 4; ++k) {
     t.tangent.block<1, 3>(0, 3 * k) = t.weights[static_cast<std::size_t>(k)] * t1.transpose();
     t.tangent.block<1, 3>(1, 3 * k) = t.weights[static_cast<std::size_t>(k)] * t2.transpose();
   }
   return t;
+}
+
+Eigen::Matrix<double, 3, 2> tangent_basis(const Eigen::Vector3d& normal) {
+  // Started from the axis least aligned with n.
+  Eigen::Index axis = 0;
+  normal.cwiseAbs().minCoeff(&axis);
+  Eigen::Matrix<double, 3, 2> basis;
+  basis.col(0) = normal.cross(Point::Unit(axis)).normalized();
+  basis.col(1) = normal.cross(Eigen::Vector3d(basis.col(0)));
+  return basis;
 }
 
 double friction_f0(double y, double eps) {

@@ -51,6 +51,9 @@ struct PairTangent {
   Eigen::Matrix<double, 2, 12> tangent = Eigen::Matrix<double, 2, 12>::Zero();
 };
 PairTangent pair_tangent(const ClassifiedDistance& distance, const std::array<Point, 4>& points);
+// The orthonormal tangent basis P = [t1 t2] of the plane orthogonal to the unit normal n that
+// pair_tangent uses (t1 from the axis least aligned with n, t2 = n x t1).
+Eigen::Matrix<double, 3, 2> tangent_basis(const Eigen::Vector3d& normal);
 
 // The smoothing functions of |u| (see above), for y >= 0 and threshold eps > 0.
 double friction_f0(double y, double eps);

@@ -36,7 +36,8 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
   if (root.has("description")) spec.description = root.at("description").string();
   const SceneNode t = root.at("tori");
   t.expect_keys({"count", "major_radius", "minor_radius", "minor_radius_1", "spacing", "gap", "density", "tilt",
-                 "fix_first", "segments", "contact_model", "activation_distance", "stiffness", "pair_band",
+                 "fix_first", "segments", "contact_model", "activation_distance", "stiffness", "min_stiffness",
+                 "max_stiffness", "friction", "friction_velocity", "pair_band",
                  "gravity", "mode", "time_step", "steps", "output_every", "static_time_step", "static_tolerance",
                  "max_static_steps", "check_intersections", "direction_tolerance", "newton_iterations",
                  "gradcheck"});
@@ -72,7 +73,27 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
     o.model = t.at("contact_model").choice({"implicit", "mesh"}) == "mesh" ? tori::ContactModel::mesh
                                                                            : tori::ContactModel::implicit;
   if (t.has("activation_distance")) o.activation_distance = t.at("activation_distance").positive();
-  if (t.has("stiffness")) o.stiffness = t.at("stiffness").positive();
+  // stiffness: a number fixes kappa; "adaptive" or absent: IPC's adaptive kappa
+  // (chain_simulation.hpp), from min_stiffness (default: one pair at d_hat / 2 carries the free
+  // links' weight) up to max_stiffness (default 100 min_stiffness).
+  o.stiffness_control.adaptive = true;
+  if (auto k = t.find("stiffness")) {
+    if (k->is_string()) {
+      if (k->string() != "adaptive")
+        k->fail("expected a positive number (a fixed kappa) or \"adaptive\", got \"" + k->string() + "\"");
+    } else {
+      o.stiffness = k->positive();
+      o.stiffness_control.adaptive = false;
+    }
+  }
+  for (const char* key : {"min_stiffness", "max_stiffness"})
+    if (t.has(key) && !o.stiffness_control.adaptive)
+      t.at(key).fail("only with adaptive stiffness (\"stiffness\": \"adaptive\" or absent; a number fixes kappa)");
+  if (auto v = t.find("min_stiffness")) o.stiffness_control.min_stiffness = v->positive();
+  if (auto v = t.find("max_stiffness")) o.stiffness_control.max_stiffness = v->positive();
+  if (o.stiffness_control.min_stiffness > 0.0 && o.stiffness_control.max_stiffness > 0.0 &&
+      o.stiffness_control.max_stiffness < o.stiffness_control.min_stiffness)
+    t.at("max_stiffness").fail("must be at least min_stiffness");
   if (t.has("pair_band")) o.pair_band = t.at("pair_band").integer(0);
   if (t.has("gravity")) o.gravity = t.at("gravity").vector(3);
   if (t.has("direction_tolerance")) o.direction_tolerance = t.at("direction_tolerance").positive();
@@ -87,6 +108,16 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
   if (t.has("static_tolerance")) spec.static_tolerance = t.at("static_tolerance").positive();
   if (t.has("max_static_steps")) spec.max_static_steps = t.at("max_static_steps").integer(1);
   if (!spec.dynamic) o.time_step = spec.static_time_step;
+  // friction: IPC's lagged friction coefficient mu between the links; friction_velocity: eps_v.
+  if (auto f = t.find("friction")) {
+    o.friction.coefficient = f->non_negative();
+    if (o.friction.coefficient > 0.0 && !spec.dynamic)
+      f->fail("friction needs \"mode\": \"dynamic\" (a static relaxation is frictionless)");
+  }
+  if (auto v = t.find("friction_velocity")) {
+    if (!(o.friction.coefficient > 0.0)) v->fail("only with a positive \"friction\"");
+    o.friction.velocity_threshold = v->positive();
+  }
   if (t.has("gradcheck")) {
     const SceneNode g = t.at("gradcheck");
     g.expect_keys({"parameters"});
@@ -144,19 +175,29 @@ TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::str
                      {"ccd_seconds", r.ccd_seconds},
                      {"min_distance", finite_or(r.min_distance, -1.0)},
                      {"active_pairs", r.active_pairs},
-                     {"intersections", r.intersections}});
+                     {"intersections", r.intersections},
+                     {"stiffness", r.stiffness},
+                     {"friction_sliding", r.sliding},
+                     {"friction_sticking", r.sticking}});
     run.intersections += std::max(0, r.intersections);
     run.min_distance = std::min(run.min_distance, r.min_distance);
     ++run.steps;
     if (log)
       *log << "step " << n << ": " << (r.converged ? "converged" : "FAILED") << ", " << r.newton_iterations
            << " Newton iterations, min distance " << r.min_distance << ", " << r.active_pairs
-           << " active pairs, " << r.intersections << " intersections\n";
+           << " active pairs, " << r.intersections << " intersections, kappa " << r.stiffness
+           << (spec.options.friction.coefficient > 0.0
+                   ? ", friction pairs " + std::to_string(r.sliding) + " sliding / " + std::to_string(r.sticking) +
+                         " sticking"
+                   : std::string())
+           << "\n";
   };
   const bool implicit = spec.options.model == tori::ContactModel::implicit;
   if (log)
     *log << "torus chain: " << spec.chain.count << " links, " << (implicit ? "implicit" : "mesh")
-         << " contact, d_hat " << sim.activation_distance() << ", kappa " << sim.stiffness() << "\n";
+         << " contact, d_hat " << sim.activation_distance() << ", kappa " << sim.stiffness()
+         << (spec.options.stiffness_control.adaptive ? " (adaptive)" : "") << ", friction "
+         << spec.options.friction.coefficient << "\n";
   write_frame(sim, out_dir, frame_suffix(0));
   if (spec.dynamic) {
     run.converged = true;
@@ -197,6 +238,11 @@ TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::str
                            {"links", spec.chain.count},
                            {"activation_distance", sim.activation_distance()},
                            {"stiffness", sim.stiffness()},
+                           {"initial_stiffness", sim.initial_stiffness()},
+                           {"adaptive_stiffness", spec.options.stiffness_control.adaptive},
+                           {"friction",
+                            {{"coefficient", spec.options.friction.coefficient},
+                             {"velocity_threshold", spec.options.friction.velocity_threshold}}},
                            {"converged", run.converged},
                            {"steps", run.steps},
                            {"intersections", run.intersections},

@@ -252,5 +252,66 @@ TEST(TorusScene, GradcheckParametersAreCheckedWithTheirKey) {
   EXPECT_EQ(message(R"({"parameters": ["masses"]})", false), "no error");
 }
 
+// The shipped friction scene: parsed with friction and adaptive kappa, every step converged with
+// no crossing, the report carrying kappa (raised from its start, never lowered) and friction.
+TEST(TorusScene, ShippedFrictionChainSwingsWithAdaptiveStiffness) {
+  const TorusSceneSpec spec =
+      parse_torus_scene(read_text(kScenes + "torus_chain_friction.json"), "torus_chain_friction.json");
+  ASSERT_TRUE(spec.dynamic);
+  EXPECT_DOUBLE_EQ(spec.options.friction.coefficient, 0.3);
+  EXPECT_DOUBLE_EQ(spec.options.friction.velocity_threshold, 1e-3);
+  EXPECT_TRUE(spec.options.stiffness_control.adaptive);
+  const std::string out = temporary_directory("friction");
+  const TorusSimulateRun run = simulate_torus_scene(spec, out, nullptr);
+  EXPECT_TRUE(run.completed());
+  EXPECT_EQ(run.steps, spec.steps);
+  EXPECT_GT(run.min_distance, 0.0);
+  const nlohmann::json report = nlohmann::json::parse(read_text(out + "/report.json"));
+  EXPECT_TRUE(report["adaptive_stiffness"].get<bool>());
+  EXPECT_GE(report["stiffness"].get<double>(), report["initial_stiffness"].get<double>());
+  EXPECT_DOUBLE_EQ(report["friction"]["coefficient"].get<double>(), 0.3);
+  double previous = 0.0;
+  int sliding = 0;
+  for (const auto& step : report["per_step"]) {
+    EXPECT_GE(step["stiffness"].get<double>(), previous);
+    previous = step["stiffness"].get<double>();
+    sliding += step["friction_sliding"].get<int>();
+  }
+  EXPECT_GT(sliding, 0);  // the links slide on each other: friction acts
+}
+
+TEST(TorusScene, FrictionAndStiffnessKeysAreChecked) {
+  auto message = [](const std::string& keys) {
+    try {
+      parse_torus_scene(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, )" + keys + "}}",
+                        "bad.json");
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // Static scenes are frictionless: friction is refused there.
+  EXPECT_NE(message(R"("friction": 0.3)").find("tori.friction"), std::string::npos);
+  EXPECT_EQ(message(R"("friction": 0.3, "mode": "dynamic")"), "no error");
+  EXPECT_EQ(message(R"("friction": 0, "mode": "static")"), "no error");
+  EXPECT_NE(message(R"("friction": -0.3, "mode": "dynamic")").find("tori.friction"), std::string::npos);
+  EXPECT_NE(message(R"("friction_velocity": 1e-3, "mode": "dynamic")").find("tori.friction_velocity"),
+            std::string::npos);
+  EXPECT_NE(message(R"("stiffness": "soft")").find("tori.stiffness"), std::string::npos);
+  EXPECT_NE(message(R"("stiffness": 1e9, "min_stiffness": 1e8)").find("tori.min_stiffness"), std::string::npos);
+  EXPECT_NE(message(R"("min_stiffness": 1e9, "max_stiffness": 1e8)").find("tori.max_stiffness"),
+            std::string::npos);
+  // Absent or "adaptive": adaptive; a number fixes kappa.
+  const auto spec = [](const std::string& keys) {
+    return parse_torus_scene(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2)" + keys + "}}",
+                             "ok.json");
+  };
+  EXPECT_TRUE(spec("").options.stiffness_control.adaptive);
+  EXPECT_TRUE(spec(R"(, "stiffness": "adaptive", "min_stiffness": 1e8)").options.stiffness_control.adaptive);
+  EXPECT_DOUBLE_EQ(spec(R"(, "min_stiffness": 1e8)").options.stiffness_control.min_stiffness, 1e8);
+  EXPECT_FALSE(spec(R"(, "stiffness": 1e9)").options.stiffness_control.adaptive);
+  EXPECT_DOUBLE_EQ(spec(R"(, "stiffness": 1e9)").options.stiffness, 1e9);
+}
+
 }  // namespace
 }  // namespace tailor

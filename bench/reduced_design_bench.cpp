@@ -21,9 +21,10 @@
 // --material neo_hookean (or corotated) designs that material instead: the reduced energy is
 // then integrated by a cubature rule (problems/reduced_design_cubature.hpp) of at most
 // --cubature-elements elements, whose size, training error and fitting time are reported; the
-// full-space solves use exact Newton Hessians and a relative tolerance of 1e-6 (at E = 1e6 the
-// Neo-Hookean full-space Newton stalls at a residual near 2e-7 relative: its line search meets
-// the energy's round-off). --material stvk with
+// full-space checks use exact Newton Hessians and a relative tolerance of 1e-6 (at E = 1e6 the
+// Neo-Hookean full-space Newton stalls near 2e-7 relative: its line search meets the energy's
+// round-off). The full-space Neo-Hookean design (StaticFunctional, Newton from rest at full
+// load) does not converge at its start on this beam; use --no-full. --material stvk with
 // --cubature-elements N uses a rule for StVK too, against the exact polynomial.
 //
 // usage: reduced_design_bench [--quick] [--cells 2,4] [--displacement-modes 4,8]

@@ -366,9 +366,11 @@ ReducedDesign build_reduced_design(const Scene& scene) {
     design.timings.responses += seconds_since(t);
   }
 
-  bool any_stvk = false;
-  for (const MaterialBlock& b : setup.materials) any_stvk = any_stvk || b.kind == MaterialKind::stvk;
-  if (reduction.modal_derivatives && any_stvk) {
+  // Modal derivatives for every nonlinear material (central differences of exact
+  // Hessian-vector products, modal_derivatives.hpp); a linear material has none.
+  bool any_nonlinear = false;
+  for (const MaterialBlock& b : setup.materials) any_nonlinear = any_nonlinear || b.kind != MaterialKind::linear;
+  if (reduction.modal_derivatives && any_nonlinear) {
     t = Clock::now();
     const Eigen::Index k = std::min<Eigen::Index>(reduction.derivative_modes, modes.modes.cols());
     Matrix seeds(setup.num_dofs(), k + (reduction.static_responses ? responses.cols() : 0));

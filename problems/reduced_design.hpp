@@ -7,7 +7,7 @@
 //  - displacements: u = Phi q over a mass-orthonormal basis of the static responses to the
 //    handle forces (and the other loads), the linear vibration modes of the constrained mesh,
 //    the design responses -K^-1 K_j u0 and the modal derivatives of the modes and responses
-//    (StVK only);
+//    (nonlinear materials);
 //  - the handles are free vertices loaded with their forces fbar; the objective is their
 //    mean displacement's misfit 1/2 sum_h W_h |mean_v u_v - ubar_h|^2 / |ubar_h|^2 plus
 //    1/2 smoothness sum_j lambda_j w_j^2 (lambda_j the modes' Laplacian eigenvalues);

@@ -6,34 +6,9 @@
 #include <string>
 
 #include "forward/core/timing.hpp"
-#include "forward/reduction/reduced_stvk.hpp"
+#include "forward/reduction/polynomial_design_model.hpp"
 
 namespace tailor {
-namespace {
-
-// s(q) = [q; (q_a q_b)_{a <= b}] (or q alone without pairs).
-Vector lifted(const Vector& q, bool pairs) {
-  const int r = static_cast<int>(q.size());
-  if (!pairs) return q;
-  Vector s(r + r * (r + 1) / 2);
-  s.head(r) = q;
-  for (int a = 0, k = r; a < r; ++a)
-    for (int b = a; b < r; ++b, ++k) s[k] = q[a] * q[b];
-  return s;
-}
-
-// [v; J_s v]: the derivative of s(q) along v.
-Vector lifted_tangent(const Vector& q, const Vector& v, bool pairs) {
-  const int r = static_cast<int>(q.size());
-  if (!pairs) return v;
-  Vector s(r + r * (r + 1) / 2);
-  s.head(r) = v;
-  for (int a = 0, k = r; a < r; ++a)
-    for (int b = a; b < r; ++b, ++k) s[k] = q[a] * v[b] + v[a] * q[b];
-  return s;
-}
-
-}  // namespace
 
 ReducedEquilibriumFunctional::ReducedEquilibriumFunctional(ReducedEquilibriumData data,
                                                            ReducedEquilibriumOptions options)
@@ -43,16 +18,21 @@ ReducedEquilibriumFunctional::ReducedEquilibriumFunctional(ReducedEquilibriumDat
   };
   r_ = static_cast<int>(data_.load.size());
   if (r_ < 1) fail("empty load (r = 0)");
-  const int width = static_cast<int>(data_.base.rows());
-  if (width == r_ + r_ * (r_ + 1) / 2)
-    quadratic_ = true;
-  else if (width != r_)
-    fail("the coefficients are " + std::to_string(width) + " wide; expected r = " + std::to_string(r_) +
-         " or r + r (r + 1) / 2 = " + std::to_string(r_ + r_ * (r_ + 1) / 2));
-  if (data_.base.cols() != width) fail("the base coefficients are not square");
-  if (data_.modes.empty()) fail("no design coordinate (no material mode)");
-  for (const Matrix& g : data_.modes)
-    if (g.rows() != width || g.cols() != width) fail("a mode's coefficients differ in size from the base");
+  if (data_.model) {
+    if (data_.base.size() > 0 || !data_.modes.empty()) fail("give either a model or polynomial coefficients");
+    if (data_.model->size() != r_)
+      fail("the model has " + std::to_string(data_.model->size()) + " coordinates, the load " +
+           std::to_string(r_));
+    if (data_.model->design_size() < 1) fail("no design coordinate (no material mode)");
+    model_ = data_.model;
+  } else {
+    // The coefficients move into the polynomial model (data().model then points to it).
+    model_ = std::make_shared<PolynomialDesignModel>(std::move(data_.base), std::move(data_.modes), r_,
+                                                     "ReducedEquilibriumFunctional");
+    data_.base = Matrix();
+    data_.modes.clear();
+    data_.model = model_;
+  }
   if (data_.rows.cols() != r_) fail("the observation rows need r = " + std::to_string(r_) + " columns");
   if (data_.target.size() != data_.rows.rows() || data_.row_weights.size() != data_.rows.rows())
     fail("target and row weights need one entry per observation row");
@@ -71,40 +51,32 @@ ReducedEquilibriumFunctional::ReducedEquilibriumFunctional(ReducedEquilibriumDat
 }
 
 Matrix ReducedEquilibriumFunctional::coefficients(const Vector& w) const {
-  if (w.size() != size())
-    throw std::invalid_argument("ReducedEquilibriumFunctional: w has " + std::to_string(w.size()) +
-                                " entries, expected " + std::to_string(size()));
-  Matrix g = data_.base;
-  for (int j = 0; j < size(); ++j) g.noalias() += w[j] * data_.modes[static_cast<std::size_t>(j)];
-  return g;
+  const auto* polynomial = dynamic_cast<const PolynomialDesignModel*>(model_.get());
+  if (!polynomial)
+    throw std::invalid_argument("ReducedEquilibriumFunctional: the " + model_->name() +
+                                " model has no polynomial coefficients");
+  return polynomial->coefficients(w);
 }
-
-namespace {
-void evaluate_with(const Matrix& g, bool quadratic, const Vector& q, double* energy, Vector* force,
-                   Matrix* stiffness) {
-  if (quadratic) {
-    evaluate_stvk_polynomial(g, q, energy, force, stiffness);
-    return;
-  }
-  const Vector gq = g * q;
-  if (energy) *energy = 0.5 * q.dot(gq);
-  if (force) *force = gq;
-  if (stiffness) *stiffness = g;
-}
-}  // namespace
 
 void ReducedEquilibriumFunctional::evaluate(const Vector& q, const Vector& w, double* energy, Vector* force,
                                             Matrix* stiffness) const {
   if (q.size() != r_)
     throw std::invalid_argument("ReducedEquilibriumFunctional: q has " + std::to_string(q.size()) +
                                 " entries, expected " + std::to_string(r_));
-  evaluate_with(coefficients(w), quadratic_, q, energy, force, stiffness);
+  if (w.size() != size())
+    throw std::invalid_argument("ReducedEquilibriumFunctional: w has " + std::to_string(w.size()) +
+                                " entries, expected " + std::to_string(size()));
+  model_->evaluate(q, w, energy, force, stiffness);
 }
 
 const Vector& ReducedEquilibriumFunctional::solve(const Vector& w) {
   if (have_state_ && w == w_) return q_;
   const auto t0 = Clock::now();
-  const Matrix g = coefficients(w);
+  if (w.size() != size())
+    throw std::invalid_argument("ReducedEquilibriumFunctional: w has " + std::to_string(w.size()) +
+                                " entries, expected " + std::to_string(size()));
+  // E.g. the polynomial's G(w) once per solve, not per Newton iteration.
+  const ReducedDesignModel::AtDesign evaluate_at = model_->at_design(w);
   Vector q = (options_.warm_start && have_state_) ? q_ : Vector::Zero(r_);
   const Vector& f = data_.load;
   double energy = 0.0;
@@ -114,7 +86,7 @@ const Vector& ReducedEquilibriumFunctional::solve(const Vector& w) {
   int it = 0;
   std::string why = "no convergence in " + std::to_string(options_.max_iterations) + " iterations";
   for (; it <= options_.max_iterations; ++it) {
-    evaluate_with(g, quadratic_, q, &energy, &force, &k);
+    evaluate_at(q, &energy, &force, &k);
     const Vector residual = force - f;
     const double scale = std::max(f.norm(), force.norm());
     if (!std::isfinite(residual.norm())) {
@@ -146,7 +118,7 @@ const Vector& ReducedEquilibriumFunctional::solve(const Vector& w) {
       const Vector trial = q + t * step;
       double e_trial = 0.0;
       Vector f_trial;
-      evaluate_with(g, quadratic_, trial, &e_trial, &f_trial, nullptr);
+      evaluate_at(trial, &e_trial, &f_trial, nullptr);
       const double p_trial = e_trial - f.dot(trial);
       if (std::isfinite(p_trial) && (p_trial <= potential + 1e-4 * t * std::min(slope, 0.0) ||
                                      (f_trial - f).norm() < residual.norm())) {
@@ -159,7 +131,7 @@ const Vector& ReducedEquilibriumFunctional::solve(const Vector& w) {
       break;
     }
     if ((t * 2.0) * step.norm() <= 1e-15 * (1.0 + q.norm())) {
-      evaluate_with(g, quadratic_, q, &energy, &force, &k);
+      evaluate_at(q, &energy, &force, &k);
       converged = true;
       break;
     }
@@ -228,10 +200,10 @@ double ReducedEquilibriumFunctional::value_and_gradient(const Vector& w, Vector&
   const Vector lambda = ldlt.solve(rhs);
   if (ldlt.info() != Eigen::Success || !lambda.allFinite())
     throw EvaluationError("reduced adjoint: singular reduced stiffness");
-  const Vector s = lifted(q_, quadratic_), ls = lifted_tangent(q_, lambda, quadratic_);
-  gradient.resize(size());
-  for (int j = 0; j < size(); ++j)
-    gradient[j] = -ls.dot(data_.modes[static_cast<std::size_t>(j)] * s) + design_gradient[j];
+  // dJ/dw = -lambda^T d(dW/dq)/dw + the design terms' gradient.
+  const Vector mixed = model_->force_design_derivative_transpose(q_, lambda);
+  if (!mixed.allFinite()) throw EvaluationError("reduced adjoint: the mixed derivative is not finite");
+  gradient = design_gradient - mixed;
   ++counters_.adjoint_solves;
   counters_.adjoint_seconds += seconds_since(t0);
   return misfit() + design;

@@ -19,15 +19,25 @@
 //
 // K = d2W/dq2 (symmetric), J_s = ds_pairs/dq. Every evaluation costs O(m (r + P)^2 + r^3 ...),
 // independent of the mesh (P = r (r + 1) / 2, m design coordinates).
+//
+// Other materials give no polynomial; a ReducedDesignModel (forward/reduction/
+// reduced_design_model.hpp) then supplies W(q; w), its q-derivatives and the mixed term
+// lambda^T d(dW/dq)/dw, e.g. a cubature rule (CubatureDesignModel); the gradient is the same
+// adjoint formula, dJ/dw_j = -lambda^T d(dW/dq)/dw_j + rho_j w_j, at cost O(|C| r^2).
+#include <memory>
 #include <vector>
 
 #include "adjoint/reduced_functional.hpp"
+#include "forward/reduction/reduced_design_model.hpp"
 
 namespace tailor {
 
 struct ReducedEquilibriumData {
+  // Either the polynomial coefficients (StVK, linear):
   Matrix base;                // G_0
   std::vector<Matrix> modes;  // G_j, one per design coordinate (same size as base)
+  // or a model (base and modes empty then):
+  std::shared_ptr<const ReducedDesignModel> model;
   Vector load;                // f, r
   Matrix rows;                // B, k x r: the observed displacement components
   Vector target;              // t, k
@@ -58,16 +68,18 @@ double design_terms(const ReducedEquilibriumData& data, const Vector& w, Vector*
 
 class ReducedEquilibriumFunctional final : public ReducedFunctional {
  public:
-  // Throws std::invalid_argument for inconsistent sizes or negative weights.
+  // Throws std::invalid_argument for inconsistent sizes or negative weights. Polynomial
+  // coefficients move into a PolynomialDesignModel: data().model is always set.
   explicit ReducedEquilibriumFunctional(ReducedEquilibriumData data, ReducedEquilibriumOptions options = {});
 
-  int size() const override { return static_cast<int>(data_.modes.size()); }
+  int size() const override { return model_->design_size(); }
   int reduced_size() const { return r_; }
   double value(const Vector& w) override;
   double value_and_gradient(const Vector& w, Vector& gradient) override;
 
-  // G(w) (full symmetric matrix).
+  // G(w) (full symmetric matrix); std::invalid_argument when the model is not polynomial.
   Matrix coefficients(const Vector& w) const;
+  const ReducedDesignModel& model() const { return *model_; }
   // W, dW/dq and d2W/dq2 at (q, w) (null pointers: not wanted).
   void evaluate(const Vector& q, const Vector& w, double* energy, Vector* force, Matrix* stiffness) const;
   // The reduced equilibrium at w (Newton from the last one, or from 0); throws EvaluationError
@@ -82,8 +94,8 @@ class ReducedEquilibriumFunctional final : public ReducedFunctional {
 
   ReducedEquilibriumData data_;
   ReducedEquilibriumOptions options_;
+  std::shared_ptr<const ReducedDesignModel> model_;
   int r_ = 0;
-  bool quadratic_ = false;  // pairs present (StVK)
   Vector q_, w_;
   Matrix stiffness_;  // at (q_, w_)
   bool have_state_ = false;

@@ -18,9 +18,18 @@
 // to it (reduced: precomputation, optimization and the final full-space check; full space: the
 // material modes and the optimization).
 //
+// --material neo_hookean (or corotated) designs that material instead: the reduced energy is
+// then integrated by a cubature rule (problems/reduced_design_cubature.hpp) of at most
+// --cubature-elements elements, whose size, training error and fitting time are reported; the
+// full-space checks use exact Newton Hessians and a relative tolerance of 1e-6 (at E = 1e6 the
+// Neo-Hookean full-space Newton stalls near 2e-7 relative: its line search meets the energy's
+// round-off). The full-space Neo-Hookean design (StaticFunctional, Newton from rest at full
+// load) does not converge at its start on this beam; use --no-full. --material stvk with
+// --cubature-elements N uses a rule for StVK too, against the exact polynomial.
+//
 // usage: reduced_design_bench [--quick] [--cells 2,4] [--displacement-modes 4,8]
 //          [--material-modes 4,8] [--max-iterations 100] [--full-iterations 200] [--refinements 2] [--out FILE]
-//          [--no-full]
+//          [--no-full] [--material stvk|neo_hookean|corotated] [--cubature-elements N]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -53,13 +62,20 @@ std::string num(double v) {
   return b;
 }
 
+// The material of the scene and its solver section.
+std::string g_material = "stvk";
+
 // The scene; `design` is the inverse.design object.
 std::string scene_text(int c, const std::string& design, const std::string& target, int max_iterations) {
+  const std::string solver =
+      g_material == "stvk" ? "" : R"("solver": {"hessian": "exact", "relative_tolerance": 1e-6},)";
   return R"({"name": "reduced_design_bench",
   "mesh": {"box": {"min": [0, 0, 0], "max": [10, 1, 1], "cells": [)" +
          std::to_string(10 * c) + ", " + std::to_string(c) + ", " + std::to_string(c) + R"(]}},
-  "materials": [{"elements": "all", "model": "stvk", "youngs_modulus": 1e6, "poisson_ratio": 0.3, "density": 1000}],
-  "dirichlet": [{"vertices": {"plane": {"axis": "x", "value": 0}}}],
+  "materials": [{"elements": "all", "model": ")" +
+         g_material + R"(", "youngs_modulus": 1e6, "poisson_ratio": 0.3, "density": 1000}],
+  "dirichlet": [{"vertices": {"plane": {"axis": "x", "value": 0}}}], )" +
+         solver + R"(
   "inverse": {"design": )" +
          design + R"(,
     "objective": [{"type": "handles", "handles": [
@@ -69,10 +85,15 @@ std::string scene_text(int c, const std::string& design, const std::string& targ
          R"(, "gradient_tolerance": 1e-8, "objective_tolerance": 1e-12}}})";
 }
 
+int g_cubature_elements = 0;  // 0: the default rule size (and none for StVK)
+
 std::string reduced_design_key(int k, int m, int refinements = 2) {
+  const std::string cubature = g_cubature_elements > 0
+                                   ? R"(, "cubature": {"elements": )" + std::to_string(g_cubature_elements) + "}"
+                                   : std::string();
   return R"({"parameter": "youngs_modulus", "granularity": "modes", "modes": )" + std::to_string(m) +
          R"(, "map": "identity", "reduction": {"displacement_modes": )" + std::to_string(k) +
-         R"(, "smoothness": 1e-4, "refinements": )" + std::to_string(refinements) + "}}";
+         R"(, "smoothness": 1e-4, "refinements": )" + std::to_string(refinements) + cubature + "}}";
 }
 
 Scene parse(const std::string& text) { return parse_scene(text, "reduced_design_bench.json", "."); }
@@ -81,6 +102,8 @@ struct Row {
   int cells = 0, tets = 0, k = 0, m = 0, r = 0, passes = 0, iterations = 0;
   double precompute = 0, coefficients = 0, refinement = 0, median_ms = 0, optimize = 0;
   double reduced_error = 0, full_error = 0, full_solve = 0;
+  int cubature_elements = 0;  // 0: the exact polynomial
+  double cubature_error = 0, cubature_seconds = 0;
   std::string status;
 };
 
@@ -141,6 +164,11 @@ int main(int argc, char** argv) {
   cli.integer("--refinements", refinements, "basis refinements at most (reduction.refinements)", 0);
   cli.flag("--quick", quick, "cells 2, one grid point (4 x 4)");
   cli.flag("--no-full", no_full, "skip the full-space design");
+  cli.app()
+      .add_option("--material", g_material, "the beam's material (non-StVK: cubature)")
+      ->check(CLI::IsMember({"stvk", "neo_hookean", "corotated"}))
+      ->capture_default_str();
+  cli.integer("--cubature-elements", g_cubature_elements, "cubature rule size at most (0: the default)", 0);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   if (quick) cells = {2}, ks = {4}, ms = {4};
@@ -195,6 +223,11 @@ int main(int argc, char** argv) {
         row.full_error = run.passes.back().full_error;
         row.status = to_string(run.result.status);
         row.full_solve = run.full ? run.full->seconds : 0.0;
+        if (run.cubature) {
+          row.cubature_elements = run.cubature->elements;
+          row.cubature_error = run.cubature->training_error;
+          row.cubature_seconds = design.timings.cubature;
+        }
         rows.push_back(row);
         rows_json.push_back({{"cells", c},
                              {"tets", row.tets},
@@ -218,12 +251,20 @@ int main(int argc, char** argv) {
                              {"reduced_handle_error", row.reduced_error},
                              {"full_space_handle_error", row.full_error},
                              {"full_space_solve_seconds", row.full_solve},
+                             {"material", g_material},
+                             {"cubature",
+                              {{"elements", row.cubature_elements},
+                               {"training_error", row.cubature_error},
+                               {"seconds_all_passes", row.cubature_seconds}}},
                              {"status", row.status}});
         std::printf(
             "  k %2d m %2d: r %3d, %d pass(es), %4d iterations, precompute %8.3f s, %8.3f ms/iteration, "
             "handle error reduced %.2e full %.2e\n",
             k, m, row.r, row.passes, row.iterations, row.precompute, row.median_ms, row.reduced_error,
             row.full_error);
+        if (run.cubature)
+          std::printf("           cubature %d of %d elements, training error %.2e, %.3f s over the passes\n",
+                      row.cubature_elements, run.cubature->mesh_elements, row.cubature_error, row.cubature_seconds);
         std::fflush(stdout);
         if (m == m_full) {
           best_full = std::min(best_full, row.full_error);

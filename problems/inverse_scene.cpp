@@ -133,7 +133,7 @@ void parse_mode_keys(const SceneNode& node, DesignSpec& d) {
 ReductionSpec parse_reduction(const SceneNode& node) {
   node.expect_keys({"displacement_modes", "modal_derivatives", "derivative_modes", "static_responses",
                     "design_responses", "smoothness", "full_space_check", "min_relative_modulus",
-                    "positivity_weight", "refinements", "full_space_tolerance"});
+                    "positivity_weight", "refinements", "full_space_tolerance", "cubature"});
   ReductionSpec r;
   r.key = node.path();
   if (auto k = node.find("displacement_modes")) r.displacement_modes = k->integer(1);
@@ -147,6 +147,14 @@ ReductionSpec parse_reduction(const SceneNode& node) {
   if (auto k = node.find("full_space_tolerance")) r.full_space_tolerance = k->positive();
   if (auto k = node.find("min_relative_modulus")) r.min_relative_modulus = k->open_interval(0.0, 1.0);
   if (auto k = node.find("positivity_weight")) r.positivity_weight = k->non_negative();
+  if (auto k = node.find("cubature")) {
+    k->expect_keys({"elements", "training_poses", "tolerance"});
+    CubatureSpec c;
+    if (auto e = k->find("elements")) c.elements = e->integer(1);
+    if (auto e = k->find("training_poses")) c.training_poses = e->integer(1);
+    if (auto e = k->find("tolerance")) c.tolerance = e->positive();
+    r.cubature = c;
+  }
   return r;
 }
 

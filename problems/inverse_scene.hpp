@@ -50,6 +50,14 @@ std::string to_string(DesignMap map);
 // (problems/reduced_design.hpp, docs/reduction.md). The material is E = E0 (1 + sum_j w_j y_j)
 // over the granularity's material modes y_j, linear in w, so the reduced StVK coefficients are
 // precomputed exactly once per mode.
+// A cubature rule for the reduced energy of materials without a polynomial reduced form
+// (forward/reduction/cubature.hpp; problems/reduced_design_cubature.hpp).
+struct CubatureSpec {
+  int elements = 120;       // the rule's elements at most
+  int training_poses = 24;  // displacement poses the rule is fitted on
+  double tolerance = 1e-3;  // relative training error at which the greedy fit stops
+};
+
 struct ReductionSpec {
   int displacement_modes = 6;     // linear vibration modes of the constrained mesh
   bool modal_derivatives = true;  // of the modes and static responses (none for linear materials)
@@ -67,6 +75,9 @@ struct ReductionSpec {
   // (v_e volume fractions), and E <= 0 is an infeasible point.
   double min_relative_modulus = 0.05;  // eps in (0, 1)
   double positivity_weight = 1.0;      // kappa
+  // Given: the reduced energy is integrated by cubature (any material); absent: the exact
+  // polynomial for StVK and linear materials, cubature with the defaults for the others.
+  std::optional<CubatureSpec> cubature;
   std::string key;                     // "inverse.design.reduction"
 };
 

@@ -18,6 +18,7 @@
 #include "forward/reduction/material_modes.hpp"
 #include "forward/reduction/modal_analysis.hpp"
 #include "forward/reduction/modal_derivatives.hpp"
+#include "forward/reduction/polynomial_design_model.hpp"
 #include "forward/reduction/reduced_stvk.hpp"
 #include "forward/solve/sparse_cholesky.hpp"
 #include "problems/inverse_handles.hpp"
@@ -95,6 +96,12 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// The polynomial's coefficient width r + P (or r); 0 for a cubature model.
+int coefficient_width(const ReducedEquilibriumFunctional& f) {
+  const auto* polynomial = dynamic_cast<const PolynomialDesignModel*>(&f.model());
+  return polynomial ? static_cast<int>(polynomial->base().rows()) : 0;
+}
+
 }  // namespace
 
 Eigen::VectorXd ReducedDesign::youngs_modulus(const Vector& w) const {
@@ -124,20 +131,33 @@ void precompute(ReducedDesign& design) {
   const Vector p0 = setup.parameters();
   const double volume = element_volumes(mesh).sum();
   const ReductionSpec& reduction = design.spec;
-  auto t = Clock::now();
-  // Reduced coefficients: G_0 at E0, G_j at E0 y_j.
-  const int m = static_cast<int>(design.material_modes.cols());
-  Matrix weights(mesh.num_elements(), m + 1);
-  weights.col(0).setOnes();
-  weights.rightCols(m) = design.material_modes;
-  std::vector<Matrix> coefficients = reduced_stvk_coefficients(model, p0, design.basis, weights);
-  design.timings.coefficients = seconds_since(t);
-
   ReducedEquilibriumData data;
-  data.base = std::move(coefficients[0]);
-  data.modes.assign(std::make_move_iterator(coefficients.begin() + 1),
-                    std::make_move_iterator(coefficients.end()));
   data.load = design.basis.transpose() * setup.nodal_forces;
+  bool polynomial = !reduction.cubature;
+  for (const MaterialBlock& b : setup.materials)
+    polynomial = polynomial && (b.kind == MaterialKind::stvk || b.kind == MaterialKind::linear);
+  auto t = Clock::now();
+  if (polynomial) {
+    // Reduced coefficients: G_0 at E0, G_j at E0 y_j.
+    const int m = static_cast<int>(design.material_modes.cols());
+    Matrix weights(mesh.num_elements(), m + 1);
+    weights.col(0).setOnes();
+    weights.rightCols(m) = design.material_modes;
+    std::vector<Matrix> coefficients = reduced_stvk_coefficients(model, p0, design.basis, weights);
+    design.timings.coefficients = seconds_since(t);
+    data.base = std::move(coefficients[0]);
+    data.modes.assign(std::make_move_iterator(coefficients.begin() + 1),
+                      std::make_move_iterator(coefficients.end()));
+    design.cubature.reset();
+  } else {
+    // No polynomial: a cubature rule over the base material and every mode (refitted on every
+    // basis, since the rule integrates the forces of this basis).
+    ReducedDesignCubature summary;
+    data.model = fit_reduced_design_cubature(model, p0, design.basis, design.material_modes, data.load,
+                                             reduction.cubature.value_or(CubatureSpec{}), reduction.key, summary);
+    design.timings.cubature += seconds_since(t);
+    design.cubature = summary;
+  }
   // Observations: the mean displacement of each handle's vertices.
   const Eigen::Index rows = dim * static_cast<Eigen::Index>(design.handles.size());
   data.rows = Matrix::Zero(rows, design.basis.cols());
@@ -227,16 +247,13 @@ ReducedDesign build_reduced_design(const Scene& scene) {
   StaticSetup& setup = design.setup;
   const Mesh& mesh = setup.mesh;
   const int dim = mesh.dim();
-  for (std::size_t b = 0; b < setup.materials.size(); ++b) {
-    const MaterialBlock& block = setup.materials[b];
-    const std::string name = block.spline_curves ? std::string("spline") : to_string(block.kind);
-    if (name != "stvk" && name != "linear")
+  // Any material linear in Young's modulus (polynomial for StVK and linear, cubature for the
+  // others); spline curves carry their moduli themselves.
+  for (std::size_t b = 0; b < setup.materials.size(); ++b)
+    if (setup.materials[b].spline_curves)
       throw std::invalid_argument(scene.source + ": " + reduction.key + ": materials[" + std::to_string(b) +
-                                  "] uses the model \"" + name +
-                                  "\"; the reduced design loop precomputes exact reduced forces, which needs "
-                                  "\"stvk\" or \"linear\" (other materials need a cubature rule, not "
-                                  "implemented)");
-  }
+                                  "] is a spline material, whose curves carry the moduli: the reduced design "
+                                  "loop designs Young's modulus, which it ignores");
   if (setup.prescribed_displacement.size() > 0 && setup.prescribed_displacement.cwiseAbs().maxCoeff() > 0.0)
     scene_fail(scene, "dirichlet",
                "the reduced design loop reduces about the rest shape: prescribed displacements must be zero");
@@ -341,9 +358,11 @@ ReducedDesign build_reduced_design(const Scene& scene) {
     design.timings.responses += seconds_since(t);
   }
 
-  bool any_stvk = false;
-  for (const MaterialBlock& b : setup.materials) any_stvk = any_stvk || b.kind == MaterialKind::stvk;
-  if (reduction.modal_derivatives && any_stvk) {
+  // Modal derivatives for every nonlinear material (central differences of exact
+  // Hessian-vector products, modal_derivatives.hpp); a linear material has none.
+  bool any_nonlinear = false;
+  for (const MaterialBlock& b : setup.materials) any_nonlinear = any_nonlinear || b.kind != MaterialKind::linear;
+  if (reduction.modal_derivatives && any_nonlinear) {
     t = Clock::now();
     const Eigen::Index k = std::min<Eigen::Index>(reduction.derivative_modes, modes.modes.cols());
     Matrix seeds(setup.num_dofs(), k + (reduction.static_responses ? responses.cols() : 0));
@@ -413,7 +432,7 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
   run.timings = design.timings;
   run.reduced_size = static_cast<int>(design.basis.cols());
   run.material_modes = design.num_design();
-  run.coefficient_width = static_cast<int>(design.functional->data().base.rows());
+  run.coefficient_width = coefficient_width(*design.functional);
   run.basis_candidates = design.basis_candidates;
   if (log)
     *log << "reduced design of " << design.scene_name << ": r = " << run.reduced_size
@@ -421,6 +440,10 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
          << " candidates), m = " << run.material_modes << " material modes, "
          << design.setup.mesh.num_elements() << " elements; precomputation " << design.timings.total
          << " s\n";
+  if (log && design.cubature)
+    *log << "cubature: " << design.cubature->elements << " of " << design.cubature->mesh_elements
+         << " elements, training error " << design.cubature->training_error << " over "
+         << design.cubature->training_poses << " poses, " << design.cubature->seconds << " s\n";
   OptimizerOptions options = design.optimizer;
   options.checkpoint_every = 0;
   options.on_checkpoint = nullptr;
@@ -495,8 +518,9 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
   }
   run.timings = design.timings;
   run.reduced_size = static_cast<int>(design.basis.cols());
-  run.coefficient_width = static_cast<int>(design.functional->data().base.rows());
+  run.coefficient_width = coefficient_width(*design.functional);
   run.basis_candidates = design.basis_candidates;
+  run.cubature = design.cubature;
   run.median_iteration_ms = median(run.iteration_ms);
 
   if (!out_dir.empty() && writes_output()) {  // rank 0 alone in a replicated MPI run
@@ -529,8 +553,15 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
                                         {"modal_derivatives", tm.modal_derivatives},
                                         {"material_modes", tm.material_modes},
                                         {"coefficients", tm.coefficients},
+                                        {"cubature", tm.cubature},
                                         {"refinement", tm.refinement},
                                         {"total", tm.total}};
+    if (design.cubature) {
+      const ReducedDesignCubature& c = *design.cubature;
+      report["cubature"] = {{"elements", c.elements},           {"mesh_elements", c.mesh_elements},
+                            {"training_poses", c.training_poses}, {"training_error", c.training_error},
+                            {"seconds", c.seconds},             {"exact", c.exact}};
+    }
     const OptimizerResult& r = run.result;
     nlohmann::ordered_json passes = nlohmann::ordered_json::array();
     for (const ReducedDesignPass& pr : run.passes)

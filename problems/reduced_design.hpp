@@ -7,12 +7,15 @@
 //  - displacements: u = Phi q over a mass-orthonormal basis of the static responses to the
 //    handle forces (and the other loads), the linear vibration modes of the constrained mesh,
 //    the design responses -K^-1 K_j u0 and the modal derivatives of the modes and responses
-//    (StVK only);
+//    (nonlinear materials);
 //  - the handles are free vertices loaded with their forces fbar; the objective is their
 //    mean displacement's misfit 1/2 sum_h W_h |mean_v u_v - ubar_h|^2 / |ubar_h|^2 plus
 //    1/2 smoothness sum_j lambda_j w_j^2 (lambda_j the modes' Laplacian eigenvalues);
 //  - per optimizer iteration: Newton in q and the adjoint gradient in w, O(m (r + P)^2),
-//    independent of the mesh (adjoint/reduced_equilibrium_functional.hpp);
+//    independent of the mesh (adjoint/reduced_equilibrium_functional.hpp); for materials
+//    other than StVK and linear (or with inverse.design.reduction.cubature) the reduced
+//    energy is integrated by a cubature rule instead, O(|C| r^2)
+//    (problems/reduced_design_cubature.hpp);
 //  - at the end, the design is solved again in full space and the reduced and full handle
 //    errors are reported side by side.
 #include <iosfwd>
@@ -22,6 +25,7 @@
 
 #include "adjoint/reduced_equilibrium_functional.hpp"
 #include "optimizers/optimizer.hpp"
+#include "problems/reduced_design_cubature.hpp"
 #include "problems/inverse_scene.hpp"
 #include "problems/scene.hpp"
 #include "problems/static_scene.hpp"
@@ -43,6 +47,7 @@ struct ReducedDesignTimings {
   double modal_derivatives = 0.0;
   double material_modes = 0.0;
   double coefficients = 0.0;  // the reduced StVK coefficients of G_0 and every mode (last pass)
+  double cubature = 0.0;      // the cubature fit, instead of the coefficients (every pass)
   double refinement = 0.0;    // basis refinements (without their coefficients)
   double total = 0.0;
 };
@@ -59,6 +64,7 @@ struct ReducedDesign {
   Vector material_eigenvalues;  // lambda_j
   std::vector<ReducedDesignHandle> handles;
   std::unique_ptr<ReducedEquilibriumFunctional> functional;
+  std::optional<ReducedDesignCubature> cubature;  // the rule of the last precomputation, if any
   ReducedDesignTimings timings;
   OptimizerOptions optimizer;
 
@@ -72,13 +78,13 @@ struct ReducedDesign {
 
 // Builds the reduced design of a scene with inverse.design.reduction. Throws SceneError for
 // scene problems (no handles term, a handle without force or displacement, other objective
-// terms) and std::invalid_argument naming inverse.design.reduction for a material other than
-// StVK or linear (they would need a cubature rule).
+// terms) and std::invalid_argument naming inverse.design.reduction.cubature when the cubature
+// rule cannot be fitted.
 ReducedDesign build_reduced_design(const Scene& scene);
 
 // Adds the full-space equilibrium displacement of design w and its sensitivities du/dw_j (at
 // that equilibrium, exact tangent) to the basis, mass-orthonormalizes and precomputes the
-// coefficients again (a new functional). Returns the seconds spent.
+// coefficients (or fits the cubature rule) again (a new functional). Returns the seconds spent.
 double refine_basis(ReducedDesign& design, const Vector& w, const Vector& displacement);
 
 struct FullSpaceCheck {
@@ -114,6 +120,7 @@ struct ReducedDesignRun {
   Vector q;  // the reduced equilibrium at the best design
   std::vector<double> reduced_errors;
   std::optional<FullSpaceCheck> full;
+  std::optional<ReducedDesignCubature> cubature;  // of the last pass
   ReducedDesignTimings timings;
   int reduced_size = 0, material_modes = 0, coefficient_width = 0, basis_candidates = 0;
   std::string report_path;

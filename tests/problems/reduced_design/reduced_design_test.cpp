@@ -93,15 +93,31 @@ TEST(ReducedDesign, ReducedDesignMatchesTheFullSpaceSolve) {
   }
 }
 
-TEST(ReducedDesign, NonPolynomialMaterialIsAClearError) {
+// Materials without a polynomial reduced energy take a cubature rule; its bad sizes are
+// errors naming the key.
+TEST(ReducedDesign, CubatureKeysAreChecked) {
+  for (const char* bad : {R"(, "cubature": {"elements": 0})", R"(, "cubature": {"training_poses": 0})",
+                          R"(, "cubature": {"tolerance": 0})", R"(, "cubature": {"element": 5})"}) {
+    try {
+      small_handle_scene("neo_hookean", "[0, 0, -0.1]", bad);
+      FAIL() << "expected SceneError for " << bad;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("inverse.design.reduction.cubature"), std::string::npos) << e.what();
+    }
+  }
+  // Called directly, a rule of no element is an std::invalid_argument naming the key.
+  const ReducedDesign design = build_reduced_design(small_handle_scene("neo_hookean", "[0, 0, -0.1]",
+                                                                       R"(, "cubature": {"elements": 10})"));
+  CubatureSpec spec;
+  spec.elements = 0;
+  ReducedDesignCubature summary;
   try {
-    build_reduced_design(small_handle_scene("neo_hookean"));
+    fit_reduced_design_cubature(*design.model, design.setup.parameters(), design.basis, design.material_modes,
+                                design.functional->data().load, spec, "inverse.design.reduction", summary);
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("inverse.design.reduction"), std::string::npos) << what;
-    EXPECT_NE(what.find("neo_hookean"), std::string::npos) << what;
-    EXPECT_NE(what.find("cubature"), std::string::npos) << what;
+    EXPECT_NE(std::string(e.what()).find("inverse.design.reduction.cubature"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("at least 1"), std::string::npos) << e.what();
   }
 }
 
@@ -111,7 +127,7 @@ TEST(ReducedDesign, SceneKeysAreChecked) {
   text.replace(text.find("\"map\": \"identity\""), 17, "\"map\": \"log\"");
   EXPECT_THROW(parse_scene(text, "s.json", "."), SceneError);
   // Unknown key under reduction.
-  EXPECT_THROW(parse_scene(small_handle_scene_text("stvk", "[0, 0, -0.1]", R"(, "cubature": true)"), "s.json", "."),
+  EXPECT_THROW(parse_scene(small_handle_scene_text("stvk", "[0, 0, -0.1]", R"(, "cubatures": true)"), "s.json", "."),
                SceneError);
   try {
     parse_scene(small_handle_scene_text("stvk", "[0, 0, -0.1]", R"(, "min_relative_modulus": 2)"), "s.json", ".");

@@ -23,7 +23,8 @@ MassOperator::MassOperator(const Mesh& mesh, MassLumping lumping, int density_of
   for (int e = 0; e < num_elements(); ++e)
     for (int a = 0; a < nodes_; ++a) {
       const int v = elements_(e, a);
-      if (v < 0 || v >= num_vertices) throw std::invalid_argument("MassOperator: an element names a missing vertex");
+      if (v < 0 || v >= num_vertices)
+        throw std::invalid_argument("MassOperator: an element names a missing vertex");
       ++vertex_begin_[static_cast<std::size_t>(v) + 1];
     }
   for (int v = 0; v < num_vertices; ++v) vertex_begin_[v + 1] += vertex_begin_[v];

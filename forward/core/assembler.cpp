@@ -27,20 +27,27 @@ ReducedAssembler::ReducedAssembler(const Model& model) : model_(model) {
   struct Image {
     int row, col, slot;
     double weight;
+    bool constant;  // of a term whose Hessian is constant (gathered once, see constant_sums_)
   };
   std::vector<Image> images;
   images.reserve(slots.size() / 2 + m);
+  std::vector<char> constant_slot(slots.size(), 0);
+  constant_term_.assign(model.terms().size(), 0);
+  for (std::size_t t = 0; t < model.terms().size(); ++t)
+    if ((constant_term_[t] = model.terms()[t]->hessian_is_constant()))
+      std::fill(constant_slot.begin() + static_cast<std::ptrdiff_t>(term_slot_begin_[t]),
+                constant_slot.begin() + static_cast<std::ptrdiff_t>(term_slot_begin_[t + 1]), 1);
   for (std::size_t k = 0; k < slots.size(); ++k) {
     const int i = slots[k].row, j = slots[k].col;
     if (i < 0 || j < 0 || i >= model.num_dofs() || j >= model.num_dofs())
       throw std::out_of_range("ReducedAssembler: a Hessian slot lies outside the DOF range");
     for (int s = rb[i]; s < rb[i + 1]; ++s)
       for (int t = rb[j]; t < rb[j + 1]; ++t)
-        if (rf[s] <= rf[t]) images.push_back({rf[s], rf[t], static_cast<int>(k), rw[s] * rw[t]});
+        if (rf[s] <= rf[t])
+          images.push_back({rf[s], rf[t], static_cast<int>(k), rw[s] * rw[t], constant_slot[k] != 0});
   }
   if (slots.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw std::length_error("ReducedAssembler: more Hessian slots than an int can index");
-  unit_weights_ = std::all_of(images.begin(), images.end(), [](const Image& im) { return im.weight == 1.0; });
 
   // 3. The upper-triangular pattern; the diagonal is always present so that a
   //    regularisation shift can be added without changing the pattern.
@@ -53,25 +60,59 @@ ReducedAssembler::ReducedAssembler(const Model& model) : model_(model) {
   pattern_.makeCompressed();
   pattern_.coeffs().setZero();
 
-  // 4. Group the images by matrix entry (counting sort): entry -> contributing slots.
+  // 4. Group the images by matrix entry (counting sort), separately for the constant terms'
+  //    slots and the others: entry -> contributing slots, in slot order within an entry.
   const int* outer = pattern_.outerIndexPtr();
   const int* inner = pattern_.innerIndexPtr();
   std::vector<int> entry_of(images.size());
-  entry_begin_.assign(pattern_.nonZeros() + 1, 0);
   for (std::size_t t = 0; t < images.size(); ++t) {
     const int* first = inner + outer[images[t].col];
     const int* last = inner + outer[images[t].col + 1];
     entry_of[t] = static_cast<int>(std::lower_bound(first, last, images[t].row) - inner);
-    ++entry_begin_[entry_of[t] + 1];
   }
-  for (std::size_t e = 0; e + 1 < entry_begin_.size(); ++e) entry_begin_[e + 1] += entry_begin_[e];
-  entry_slot_.resize(images.size());
-  weight_.assign(unit_weights_ ? 0 : images.size(), 0.0);
-  std::vector<std::int64_t> fill(entry_begin_.begin(), entry_begin_.end() - 1);
-  for (std::size_t t = 0; t < images.size(); ++t) {
-    const auto position = fill[entry_of[t]]++;
-    entry_slot_[position] = images[t].slot;
-    if (!unit_weights_) weight_[position] = images[t].weight;
+  for (const bool constant : {true, false}) {
+    Gather& gather = constant ? constant_gather_ : state_gather_;
+    gather.begin.assign(pattern_.nonZeros() + 1, 0);
+    std::size_t count = 0;
+    gather.unit_weights = true;
+    for (std::size_t t = 0; t < images.size(); ++t)
+      if (images[t].constant == constant) {
+        ++gather.begin[entry_of[t] + 1];
+        ++count;
+        gather.unit_weights = gather.unit_weights && images[t].weight == 1.0;
+      }
+    for (std::size_t e = 0; e + 1 < gather.begin.size(); ++e) gather.begin[e + 1] += gather.begin[e];
+    gather.slot.resize(count);
+    gather.weight.assign(gather.unit_weights ? 0 : count, 0.0);
+    std::vector<std::int64_t> fill(gather.begin.begin(), gather.begin.end() - 1);
+    for (std::size_t t = 0; t < images.size(); ++t)
+      if (images[t].constant == constant) {
+        const auto position = fill[entry_of[t]]++;
+        gather.slot[position] = images[t].slot;
+        if (!gather.unit_weights) gather.weight[position] = images[t].weight;
+      }
+  }
+}
+
+void ReducedAssembler::Gather::sum(const double* slot_values, double* out, bool add) const {
+  const auto num_entries = static_cast<std::ptrdiff_t>(begin.size()) - 1;
+  const std::int64_t* b = begin.data();
+  const int* s = slot.data();
+  if (unit_weights) {
+#pragma omp parallel for schedule(static) if (num_entries > 16384)
+    for (std::ptrdiff_t e = 0; e < num_entries; ++e) {
+      double sum = add ? out[e] : 0.0;
+      for (auto t = b[e]; t < b[e + 1]; ++t) sum += slot_values[s[t]];
+      out[e] = sum;
+    }
+  } else {
+    const double* w = weight.data();
+#pragma omp parallel for schedule(static) if (num_entries > 16384)
+    for (std::ptrdiff_t e = 0; e < num_entries; ++e) {
+      double sum = add ? out[e] : 0.0;
+      for (auto t = b[e]; t < b[e + 1]; ++t) sum += w[t] * slot_values[s[t]];
+      out[e] = sum;
+    }
   }
 }
 
@@ -107,11 +148,15 @@ void ReducedAssembler::evaluate(const Vector& y, const Vector& p, double* energy
       if (!(written.valid && cache.valid && cache.revision == written.revision && cache.mode == mode)) {
         request.hessian_values = buffer_.data() + term_slot_begin_[k];
         cached_[k].valid = false;  // until the term has written them (it may throw)
+        if (constant_term_[k]) constant_sums_valid_ = false;
       }
     }
     request.hessian_mode = mode;
     if (request.value || request.gradient || request.hessian_values) terms[k]->evaluate(x, p, request);
-    if (request.hessian_values) cached_[k] = written;
+    if (request.hessian_values) {
+      cached_[k] = written;
+      if (constant_term_[k]) constant_sums_valid_ = false;
+    }
   }
 
   if (gradient_y) *gradient_y = elim.reduce(gx);
@@ -119,22 +164,17 @@ void ReducedAssembler::evaluate(const Vector& y, const Vector& p, double* energy
     if (hessian_y->nonZeros() != pattern_.nonZeros() || hessian_y->rows() != pattern_.rows())
       *hessian_y = pattern_;
     double* values = hessian_y->valuePtr();
-    const auto num_entries = static_cast<std::ptrdiff_t>(hessian_y->nonZeros());
     const double* slot_values = buffer_.data();
-    if (unit_weights_) {
-#pragma omp parallel for schedule(static) if (num_entries > 16384)
-      for (std::ptrdiff_t e = 0; e < num_entries; ++e) {
-        double sum = 0.0;
-        for (auto t = entry_begin_[e]; t < entry_begin_[e + 1]; ++t) sum += slot_values[entry_slot_[t]];
-        values[e] = sum;
-      }
+    if (constant_gather_.empty()) {
+      state_gather_.sum(slot_values, values, false);
     } else {
-#pragma omp parallel for schedule(static) if (num_entries > 16384)
-      for (std::ptrdiff_t e = 0; e < num_entries; ++e) {
-        double sum = 0.0;
-        for (auto t = entry_begin_[e]; t < entry_begin_[e + 1]; ++t) sum += weight_[t] * slot_values[entry_slot_[t]];
-        values[e] = sum;
+      if (!constant_sums_valid_) {
+        constant_sums_.resize(static_cast<std::size_t>(pattern_.nonZeros()));
+        constant_gather_.sum(slot_values, constant_sums_.data(), false);
+        constant_sums_valid_ = true;
       }
+      std::copy(constant_sums_.begin(), constant_sums_.end(), values);
+      if (!state_gather_.empty()) state_gather_.sum(slot_values, values, true);
     }
   }
 }

@@ -1,6 +1,7 @@
 #include "forward/dynamics/mass_operator.hpp"
 
 #include <stdexcept>
+#include <vector>
 
 namespace tailor {
 
@@ -14,6 +15,23 @@ MassOperator::MassOperator(const Mesh& mesh, MassLumping lumping, int density_of
       volumes_(element_volumes(mesh)) {
   if (density_offset < 0) throw std::invalid_argument("MassOperator: negative density offset");
   if (elements_.cols() != nodes_) throw std::invalid_argument("MassOperator: elements must be simplices");
+  if (nodes_ > 4) throw std::invalid_argument("MassOperator: simplices of dimension at most 3");
+  // Vertex -> (element, local node) incidences, by element then local node: add_times sums a
+  // vertex's contributions in the order of an element-by-element scatter.
+  const int num_vertices = mesh.num_vertices();
+  vertex_begin_.assign(static_cast<std::size_t>(num_vertices) + 1, 0);
+  for (int e = 0; e < num_elements(); ++e)
+    for (int a = 0; a < nodes_; ++a) {
+      const int v = elements_(e, a);
+      if (v < 0 || v >= num_vertices)
+        throw std::invalid_argument("MassOperator: an element names a missing vertex");
+      ++vertex_begin_[static_cast<std::size_t>(v) + 1];
+    }
+  for (int v = 0; v < num_vertices; ++v) vertex_begin_[v + 1] += vertex_begin_[v];
+  incidences_.resize(static_cast<std::size_t>(vertex_begin_.back()));
+  std::vector<int> fill(vertex_begin_.begin(), vertex_begin_.end() - 1);
+  for (int e = 0; e < num_elements(); ++e)
+    for (int a = 0; a < nodes_; ++a) incidences_[fill[elements_(e, a)]++] = e * nodes_ + a;
 }
 
 MassOperator::MassOperator(Vector diagonal)
@@ -39,14 +57,31 @@ void MassOperator::add_times(const Vector& p, const Vector& w, Vector& out, doub
     out += scale * fixed_diagonal_.cwiseProduct(w);
     return;
   }
-  for (int e = 0; e < num_elements(); ++e) {
-    const double m = scale * p[density_offset_ + e] * volumes_[e];
-    for (int a = 0; a < nodes_; ++a)
+  // Row by row (vertex by vertex) instead of scattering element by element, so that vertices
+  // run in parallel; each vertex adds its elements' terms in element order, the same sums in
+  // the same order as the scatter (so the same bits for every thread count).
+  constexpr int kMaxNodes = 4;
+  double c[kMaxNodes][kMaxNodes];
+  for (int a = 0; a < nodes_; ++a)
+    for (int b = 0; b < nodes_; ++b) c[a][b] = coefficient(a, b);
+  const int num_vertices = static_cast<int>(vertex_begin_.size()) - 1;
+  const double* wv = w.data();
+  double* ov = out.data();
+  const int* elements = elements_.data();  // column-major: node b of element e at b * n + e
+  const auto n = static_cast<std::ptrdiff_t>(elements_.rows());
+#pragma omp parallel for schedule(static) if (num_vertices > 2048)
+  for (int v = 0; v < num_vertices; ++v) {
+    double* o = ov + static_cast<std::ptrdiff_t>(dim_) * v;
+    for (int t = vertex_begin_[v]; t < vertex_begin_[v + 1]; ++t) {
+      const int e = incidences_[t] / nodes_, a = incidences_[t] % nodes_;
+      const double m = scale * p[density_offset_ + e] * volumes_[e];
       for (int b = 0; b < nodes_; ++b) {
-        const double c = coefficient(a, b);
-        if (c == 0.0) continue;
-        out.segment(dim_ * elements_(e, a), dim_) += (m * c) * w.segment(dim_ * elements_(e, b), dim_);
+        if (c[a][b] == 0.0) continue;
+        const double mc = m * c[a][b];
+        const double* wb = wv + static_cast<std::ptrdiff_t>(dim_) * elements[b * n + e];
+        for (int i = 0; i < dim_; ++i) o[i] += mc * wb[i];
       }
+    }
   }
 }
 

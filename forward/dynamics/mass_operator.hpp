@@ -47,6 +47,9 @@ class MassOperator {
   Eigen::MatrixXi elements_;
   Eigen::VectorXd volumes_;
   Vector fixed_diagonal_;  // non-empty: a fixed diagonal mass (no elements)
+  // Per vertex v: incidences_[vertex_begin_[v] .. vertex_begin_[v + 1]) = e * nodes + a for
+  // the elements e with node a at v, by e (add_times runs over vertices).
+  std::vector<int> vertex_begin_, incidences_;
 };
 
 }  // namespace tailor

@@ -153,9 +153,9 @@ NewtonResult TimeIntegrator::step(DynamicState& state, const Vector& p) {
   Vector y = state.y;
   // Convergence relative to the largest out-of-balance force met so far: a body coming to
   // rest has a vanishing initial residual that would make a purely relative test unreachable.
-  Vector g0;
-  newton_.assembler().evaluate(y, p, nullptr, &g0, nullptr);
-  const double scale = std::max(state.residual_scale, g0.norm());
+  // Newton's first iteration evaluates ||g0|| at y anyway and takes max(||g0||, reference) as
+  // its scale: passing the scale so far gives the same test without a gradient evaluation here.
+  double scale = state.residual_scale;
   newton_.options().reference_residual = scale;
   newton_.options().absolute_tolerance = std::max(options_.newton.absolute_tolerance, state.residual_floor);
   // Newton in chunks of a few iterations. Near rest the total potential is a sum of pieces
@@ -170,6 +170,10 @@ NewtonResult TimeIntegrator::step(DynamicState& state, const Vector& p) {
   for (int used = 0;;) {
     newton_.options().max_iterations = std::min(kChunk, budget - used);
     NewtonResult chunk = newton_.solve(p, y);
+    if (used == 0) {
+      scale = std::max(scale, chunk.initial_residual);  // ||g0||, at the step's start
+      newton_.options().reference_residual = scale;
+    }
     used += chunk.iterations;
     if (result.history.empty()) {
       result = chunk;

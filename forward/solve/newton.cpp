@@ -307,8 +307,10 @@ std::string NewtonSolver::external_step(const Vector& p, const Vector& y, const 
 }
 
 bool NewtonSolver::line_search(const Vector& p, Vector& y, const Vector& dy, double energy,
-                               const Vector& gradient, double residual, NewtonIteration& it) {
+                               const Vector& gradient, double residual, NewtonIteration& it,
+                               double& accepted_energy, Vector& accepted_gradient, bool& accepted_evaluated) {
   const auto t0 = Clock::now();
+  accepted_evaluated = false;
   const Vector dx = model_.elimination().expand_direction(dy);
   double alpha = std::min(1.0, model_.max_step(model_.state(y, p), dx));
   const double slope = gradient.dot(dy);
@@ -328,18 +330,25 @@ bool NewtonSolver::line_search(const Vector& p, Vector& y, const Vector& dy, dou
     it.line_search_steps = ls;
     const Vector trial = y + alpha * dy;
     double trial_energy = 0.0;
-    assembler_.evaluate(trial, p, &trial_energy, nullptr, nullptr);
+    // Most steps are accepted at the first trial: its gradient then serves the next iteration.
+    const bool with_gradient = ls == 0;
+    Vector trial_gradient;
+    assembler_.evaluate(trial, p, &trial_energy, with_gradient ? &trial_gradient : nullptr, nullptr);
     if (!std::isfinite(trial_energy)) continue;
     if (trial_energy <= energy + options_.armijo * alpha * slope) {
       accepted = true;
     } else if (std::abs(trial_energy - energy) <= round_off) {
       // Energy differences are at round-off: judge the step by the residual instead.
-      Vector trial_gradient;
-      assembler_.evaluate(trial, p, nullptr, &trial_gradient, nullptr);
+      if (!with_gradient) assembler_.evaluate(trial, p, nullptr, &trial_gradient, nullptr);
       accepted = trial_gradient.norm() < residual;
     }
     if (accepted) {
       y = trial;
+      if (with_gradient) {
+        accepted_energy = trial_energy;
+        accepted_gradient = std::move(trial_gradient);
+        accepted_evaluated = true;
+      }
       break;
     }
   }
@@ -375,6 +384,10 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
 
   double energy = 0.0;
   Vector gradient;
+  // The line search's energy and gradient at the accepted point, when it evaluated them there.
+  double carried_energy = 0.0;
+  Vector carried_gradient;
+  bool carried = false;
   HessianChoice choice;
   bool cg_in_this_solve = true;  // FactorReuse::automatic: no CG step of this solve has stalled
   for (int k = 0;; ++k) {
@@ -385,7 +398,15 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     // (and factorizing it) unnecessary.
     const bool kept_constant = mode == HessianMode::exact && constant_factor_matches(p);
     auto t0 = Clock::now();
-    assembler_.evaluate(y, p, &energy, &gradient, kept_constant ? nullptr : &hessian_, mode);
+    // after_step may have changed the terms' settings: everything is evaluated afresh then.
+    if (carried && !options_.after_step) {
+      energy = carried_energy;
+      gradient.swap(carried_gradient);
+      if (!kept_constant) assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, mode);
+    } else {
+      assembler_.evaluate(y, p, &energy, &gradient, kept_constant ? nullptr : &hessian_, mode);
+    }
+    carried = false;
     it.assembly_seconds = seconds_since(t0);
     if (!kept_constant) {
       assembled_mode_ = mode;
@@ -490,7 +511,8 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     if (options_.direction_converged &&
         options_.direction_converged(model_.state(y, p), model_.elimination().expand_direction(dy)))
       return finish(NewtonStatus::converged, "Newton direction within the caller's tolerance");
-    const bool accepted = line_search(p, y, dy, energy, gradient, residual, it);
+    const bool accepted =
+        line_search(p, y, dy, energy, gradient, residual, it, carried_energy, carried_gradient, carried);
     result.history.push_back(it);
     if (!accepted)
       return finish(NewtonStatus::line_search_failed,

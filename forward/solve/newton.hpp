@@ -215,8 +215,13 @@ class NewtonSolver {
   std::string external_step(const Vector& p, const Vector& y, const Vector& gradient, NewtonIteration& it,
                             Vector& dy);
   // Backtracking line search on E from the largest admissible step; on success y is updated.
+  // The first trial point's gradient is evaluated with its energy (the terms compute both in
+  // one pass); when that point is accepted, its energy and gradient go to accepted_energy and
+  // accepted_gradient (accepted_evaluated true), so the next iteration assembles only the
+  // Hessian there.
   bool line_search(const Vector& p, Vector& y, const Vector& dy, double energy, const Vector& gradient,
-                   double residual, NewtonIteration& it);
+                   double residual, NewtonIteration& it, double& accepted_energy, Vector& accepted_gradient,
+                   bool& accepted_evaluated);
   // For the assembled (exact) Hessian at x: eps * ||H||_inf * (1 + ||x||_inf), and the ratio of
   // its largest to smallest absolute diagonal entry.
   std::pair<double, double> round_off_estimates(const Vector& x) const;

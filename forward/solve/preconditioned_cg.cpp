@@ -11,11 +11,18 @@ PcgResult preconditioned_cg(const SparseMatrix& upper, const SparseCholesky& pre
   Vector& v = solution;
   v = preconditioner.solve(rhs);
   Vector r = rhs - H * v;
+  result.converged = r.norm() <= relative_tolerance * rhs_norm;
+  int it = 0;
+  if (result.converged) {
+    // The preconditioner alone solved it (a factor of a nearby matrix): no search direction
+    // is needed, so its back-solve is skipped.
+    result.iterations = 1;
+    result.relative_residual = rhs_norm > 0.0 ? r.norm() / rhs_norm : 0.0;
+    return result;
+  }
   Vector s = preconditioner.solve(r);
   Vector d = s;
   double rs = r.dot(s);
-  result.converged = r.norm() <= relative_tolerance * rhs_norm;
-  int it = 0;
   for (; !result.converged && it < max_iterations; ++it) {
     const Vector Hd = H * d;
     const double curvature = d.dot(Hd);

@@ -8,7 +8,8 @@ namespace tailor {
 
 struct PcgResult {
   bool converged = false;          // ||rhs - H v|| <= relative_tolerance ||rhs||
-  int iterations = 0;              // preconditioner applications after the first
+  int iterations = 0;              // preconditioner applications after the first (1 also when the
+                                   // first one met the tolerance and no other was made)
   double relative_residual = 0.0;  // ||rhs - H v|| / ||rhs|| of the returned v
 };
 

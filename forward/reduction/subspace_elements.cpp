@@ -8,10 +8,9 @@
 
 namespace tailor {
 
-namespace {
-
-// One element; exactly one of the material pointers is set.
-struct Element {
+// One element; exactly one of the material pointers is set. (Outside the anonymous namespace:
+// SubspaceElements::Impl, which has external linkage, holds it.)
+struct SubspaceElement {
   const Material<2>* material2 = nullptr;
   const Material<3>* material3 = nullptr;
   LameParameters lame{0.0, 0.0};
@@ -20,11 +19,9 @@ struct Element {
   Matrix d;  // D_e, Dim^2 x r
 };
 
-}  // namespace
-
 struct SubspaceElements::Impl {
   int r = 0;
-  std::vector<Element> elements;
+  std::vector<SubspaceElement> elements;
 };
 
 namespace {
@@ -48,10 +45,10 @@ void check_linear_in_modulus(const Material<Dim>& material, const LameParameters
 
 template <int Dim>
 void gather(const ElasticTerm<Dim>& term, const Vector& p, const Matrix& basis,
-            std::vector<Element>& out, bool& checked) {
+            std::vector<SubspaceElement>& out, bool& checked) {
   const int r = static_cast<int>(basis.cols());
   for (int k = 0; k < static_cast<int>(term.elements().size()); ++k) {
-    Element e;
+    SubspaceElement e;
     if constexpr (Dim == 2)
       e.material2 = &term.material();
     else
@@ -75,7 +72,7 @@ void gather(const ElasticTerm<Dim>& term, const Vector& p, const Matrix& basis,
 }
 
 template <int Dim>
-bool add_element(const Material<Dim>& material, const Element& e, const Vector& q,
+bool add_element(const Material<Dim>& material, const SubspaceElement& e, const Vector& q,
                  double scale, double* energy, Vector* force, Matrix* stiffness) {
   Eigen::Matrix<double, Dim * Dim, 1> f = e.d * q;
   for (int i = 0; i < Dim; ++i) f[i + Dim * i] += 1.0;
@@ -107,7 +104,7 @@ SubspaceElements::SubspaceElements(const Model& model, const Vector& p, const Ma
     throw std::invalid_argument("SubspaceElements: the basis has " + std::to_string(basis.rows()) +
                                 " rows, the model " + std::to_string(model.num_dofs()) + " DOFs");
   impl_->r = static_cast<int>(basis.cols());
-  std::vector<Element> all;
+  std::vector<SubspaceElement> all;
   for (const auto& term : model.terms()) {
     bool checked = false;
     if (const auto* t3 = dynamic_cast<const ElasticTerm<3>*>(term.get())) gather<3>(*t3, p, basis, all, checked);
@@ -138,7 +135,7 @@ int SubspaceElements::mesh_element(int k) const {
 
 bool SubspaceElements::add(int k, const Vector& q, double scale, double* energy, Vector* force,
                            Matrix* stiffness) const {
-  const Element& e = impl_->elements[static_cast<std::size_t>(k)];
+  const SubspaceElement& e = impl_->elements[static_cast<std::size_t>(k)];
   if (e.material3) return add_element<3>(*e.material3, e, q, scale, energy, force, stiffness);
   return add_element<2>(*e.material2, e, q, scale, energy, force, stiffness);
 }

@@ -20,7 +20,7 @@ namespace {
 using contact::Jet2;
 // 0-3 (u_a, v_a, u_b, v_b), 4-6 T_a, 7-9 w_a, 10-12 T_b, 13-15 w_b, 16-18 (R_a, r_a, r1_a),
 // 19-21 (R_b, r_b, r1_b).
-using J = Jet2<22>;
+using PairJet = Jet2<22>;
 using Vector4 = Eigen::Vector4d;
 using Matrix4 = Eigen::Matrix4d;
 
@@ -205,31 +205,31 @@ double smallest_implicit(const Surface& surface, const Surface& solid,
 
 // The Jet2 of a surface point's coordinates; slots: (u, v) at angle_slot, T, w, and (R, r, r1)
 // at radius_slot (r1 on r's slot for a circular tube).
-std::array<J, 3> surface_point_jet(const TorusPose& pose, double u, double v, int angle_slot, int t_slot,
+std::array<PairJet, 3> surface_point_jet(const TorusPose& pose, double u, double v, int angle_slot, int t_slot,
                                    int w_slot, int radius_slot) {
   const rigid::RotationDerivatives D = rigid::rotation_derivatives(pose.rotation);
-  auto trig = [](double angle, int slot, J& c, J& s) {
-    c = J(std::cos(angle));
-    s = J(std::sin(angle));
+  auto trig = [](double angle, int slot, PairJet& c, PairJet& s) {
+    c = PairJet(std::cos(angle));
+    s = PairJet(std::sin(angle));
     c.g[slot] = -std::sin(angle);
     c.h(slot, slot) = -std::cos(angle);
     s.g[slot] = std::cos(angle);
     s.h(slot, slot) = -std::sin(angle);
   };
-  J cu, su, cv, sv;
+  PairJet cu, su, cv, sv;
   trig(u, angle_slot, cu, su);
   trig(v, angle_slot + 1, cv, sv);
-  const J R = J::variable(pose.shape.major_radius, radius_slot);
-  const J r = J::variable(pose.shape.minor_radius, radius_slot + 1);
-  const J r1 =
-      J::variable(axial_radius(pose.shape), is_elliptic(pose.shape) ? radius_slot + 2 : radius_slot + 1);
-  const J rho = R + r * cv;
-  const std::array<J, 3> body = {rho * cu, rho * su, r1 * sv};
-  std::array<J, 3> out;
+  const PairJet R = PairJet::variable(pose.shape.major_radius, radius_slot);
+  const PairJet r = PairJet::variable(pose.shape.minor_radius, radius_slot + 1);
+  const PairJet r1 =
+      PairJet::variable(axial_radius(pose.shape), is_elliptic(pose.shape) ? radius_slot + 2 : radius_slot + 1);
+  const PairJet rho = R + r * cv;
+  const std::array<PairJet, 3> body = {rho * cu, rho * su, r1 * sv};
+  std::array<PairJet, 3> out;
   for (int j = 0; j < 3; ++j) {
-    out[j] = J::variable(pose.position[j], t_slot + j);
+    out[j] = PairJet::variable(pose.position[j], t_slot + j);
     for (int k = 0; k < 3; ++k) {
-      J q(D.rotation(j, k));
+      PairJet q(D.rotation(j, k));
       for (int l = 0; l < 3; ++l) {
         q.g[w_slot + l] = D.first[l](j, k);
         for (int m = 0; m < 3; ++m) q.h(w_slot + l, w_slot + m) = D.second[l][m](j, k);
@@ -353,11 +353,11 @@ TorusDistance elliptic_torus_distance(const TorusPose& a, const TorusPose& b, bo
   out.degenerate = !(lambda[0] > 1e-9 * lambda.cwiseAbs().maxCoeff()) || !(out.distance > 0.0);
   if (!derivatives || out.degenerate) return out;
 
-  const std::array<J, 3> xa = surface_point_jet(a, u_best[0], u_best[1], 0, 4, 7, 16);
-  const std::array<J, 3> xb = surface_point_jet(b, u_best[2], u_best[3], 2, 10, 13, 19);
-  J fj = J(0.0);
+  const std::array<PairJet, 3> xa = surface_point_jet(a, u_best[0], u_best[1], 0, 4, 7, 16);
+  const std::array<PairJet, 3> xb = surface_point_jet(b, u_best[2], u_best[3], 2, 10, 13, 19);
+  PairJet fj = PairJet(0.0);
   for (int j = 0; j < 3; ++j) {
-    const J delta = xa[j] - xb[j];
+    const PairJet delta = xa[j] - xb[j];
     fj = fj + delta * delta;
   }
   // Implicit function theorem on f_u = 0 (elliptic_distance.hpp).

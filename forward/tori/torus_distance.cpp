@@ -17,7 +17,7 @@ namespace tailor::tori {
 namespace {
 
 using contact::Jet2;
-using J = Jet2<16>;  // 0-1 core angles, 2-4 T_a, 5-7 w_a, 8-10 T_b, 11-13 w_b, 14 R_a, 15 R_b
+using CoreJet = Jet2<16>;  // 0-1 core angles, 2-4 T_a, 5-7 w_a, 8-10 T_b, 11-13 w_b, 14 R_a, 15 R_b
 
 // A core circle in the world: centre, in-plane axes (the first two columns of Q), radius.
 struct Circle {
@@ -109,26 +109,26 @@ double polish(const Circle& a, const Circle& b, double& t, double& s, int max_it
 }
 
 // The Jet2 of one core point's coordinates in the 16 jet variables.
-std::array<J, 3> core_point_jet(const TorusPose& pose, double angle, int angle_slot, int t_slot, int w_slot,
+std::array<CoreJet, 3> core_point_jet(const TorusPose& pose, double angle, int angle_slot, int t_slot, int w_slot,
                                 int radius_slot) {
   const rigid::RotationDerivatives D = rigid::rotation_derivatives(pose.rotation);
-  J c = J(std::cos(angle)), s = J(std::sin(angle));
+  CoreJet c = CoreJet(std::cos(angle)), s = CoreJet(std::sin(angle));
   c.g[angle_slot] = -std::sin(angle);
   c.h(angle_slot, angle_slot) = -std::cos(angle);
   s.g[angle_slot] = std::cos(angle);
   s.h(angle_slot, angle_slot) = -std::sin(angle);
-  const J radius = J::variable(pose.shape.major_radius, radius_slot);
-  std::array<J, 3> out;
+  const CoreJet radius = CoreJet::variable(pose.shape.major_radius, radius_slot);
+  std::array<CoreJet, 3> out;
   for (int j = 0; j < 3; ++j) {
-    std::array<J, 2> q;
+    std::array<CoreJet, 2> q;
     for (int k = 0; k < 2; ++k) {
-      q[k] = J(D.rotation(j, k));
+      q[k] = CoreJet(D.rotation(j, k));
       for (int l = 0; l < 3; ++l) {
         q[k].g[w_slot + l] = D.first[l](j, k);
         for (int m = 0; m < 3; ++m) q[k].h(w_slot + l, w_slot + m) = D.second[l][m](j, k);
       }
     }
-    out[j] = J::variable(pose.position[j], t_slot + j) + radius * (q[0] * c + q[1] * s);
+    out[j] = CoreJet::variable(pose.position[j], t_slot + j) + radius * (q[0] * c + q[1] * s);
   }
   return out;
 }
@@ -184,11 +184,11 @@ TorusDistance torus_distance(const TorusPose& a, const TorusPose& b, bool deriva
                    !(out.core_distance > 0.0);
   if (!derivatives || out.degenerate) return out;
 
-  const std::array<J, 3> pa = core_point_jet(a, out.theta_a, 0, 2, 5, 14);
-  const std::array<J, 3> pb = core_point_jet(b, out.theta_b, 1, 8, 11, 15);
-  J f = J(0.0);
+  const std::array<CoreJet, 3> pa = core_point_jet(a, out.theta_a, 0, 2, 5, 14);
+  const std::array<CoreJet, 3> pb = core_point_jet(b, out.theta_b, 1, 8, 11, 15);
+  CoreJet f = CoreJet(0.0);
   for (int j = 0; j < 3; ++j) {
-    const J delta = pa[j] - pb[j];
+    const CoreJet delta = pa[j] - pb[j];
     f = f + delta * delta;
   }
   // Implicit function theorem on f_u = 0: D^2's gradient f_y and Hessian f_yy - f_yu f_uu^-1 f_uy.

@@ -66,9 +66,11 @@ TorusContactTerm::TorusContactTerm(const rigid::RigidBodySystem& system, std::ve
     }
 }
 
-bool TorusContactTerm::is_candidate(int a, int b) const {
+bool TorusContactTerm::is_candidate(int a, int b) const { return pair_slot(a, b) >= 0; }
+
+int TorusContactTerm::pair_slot(int a, int b) const {
   if (a > b) std::swap(a, b);
-  return pair_slot_[static_cast<std::size_t>(a * num_tori() + b)] >= 0;
+  return pair_slot_[static_cast<std::size_t>(a * num_tori() + b)];
 }
 
 TorusShape TorusContactTerm::shape(int i, const Vector& p) const {

@@ -82,6 +82,10 @@ class TorusContactTerm final : public EnergyTerm {
   TorusShape shape(int i, const Vector& p) const;
   TorusPose pose(int i, const Vector& q, const Vector& p) const;
   bool is_candidate(int a, int b) const;
+  // The first of a candidate pair's 144 Hessian slots (12 x 12, a's DOFs first), -1 for a pair
+  // that is not a candidate; num_slots() in all (terms on the same pairs share this layout).
+  int pair_slot(int a, int b) const;
+  int num_slots() const { return num_slots_; }
   // The number of fixed tori (6 placement parameters each with placement_offset >= 0).
   int num_placements() const { return num_placements_; }
   // Whether torus i's pose is read from p (a fixed torus with placement_offset >= 0).

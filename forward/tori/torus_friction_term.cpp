@@ -52,26 +52,10 @@ TorusFrictionTerm::TorusFrictionTerm(const rigid::RigidBodySystem& system, const
   if (contact.num_tori() != system.num_bodies())
     throw std::invalid_argument("torus_friction: the contact term has " + std::to_string(contact.num_tori()) +
                                 " tori for " + std::to_string(system.num_bodies()) + " bodies");
-  const int n = system.num_bodies();
-  pair_slot_.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), -1);
-  for (int a = 0; a < n; ++a)
-    for (int b = a + 1; b < n; ++b)
-      if (contact.is_candidate(a, b)) {
-        pair_slot_[static_cast<std::size_t>(a * n + b)] = num_slots_;
-        num_slots_ += 144;
-      }
 }
 
-void TorusFrictionTerm::hessian_pattern(HessianPattern& pattern) const {
-  const int n = system_.num_bodies();
-  for (int a = 0; a < n; ++a)
-    for (int b = a + 1; b < n; ++b) {
-      if (pair_slot_[static_cast<std::size_t>(a * n + b)] < 0) continue;
-      for (int i = 0; i < 12; ++i)
-        for (int j = 0; j < 12; ++j)
-          pattern.push_back({(i < 6 ? 6 * a + i : 6 * b + i - 6), (j < 6 ? 6 * a + j : 6 * b + j - 6)});
-    }
-}
+// The contact term's pairs and slot layout.
+void TorusFrictionTerm::hessian_pattern(HessianPattern& pattern) const { contact_.hessian_pattern(pattern); }
 
 void TorusFrictionTerm::lag(const Vector& q_lag, const Vector& q_start, double time_step) {
   if (!(time_step > 0.0) || !std::isfinite(time_step))
@@ -80,13 +64,12 @@ void TorusFrictionTerm::lag(const Vector& q_lag, const Vector& q_start, double t
   pairs_.clear();
   if (options_.friction.coefficient == 0.0) return;
   const double d_hat = contact_.options().activation_distance, kappa = contact_.options().stiffness;
-  const int n = system_.num_bodies();
   for (const TorusPair& close : contact_.close_pairs(q_lag, Vector(), d_hat, false)) {
     const TorusDistance& d = close.distance;
     // An overlap or a circle of closest points has no contact point (the barrier term refuses
     // such a state anyway).
     if (!(d.distance > 0.0) || d.degenerate) continue;
-    const int slot = pair_slot_[static_cast<std::size_t>(close.a * n + close.b)];
+    const int slot = contact_.pair_slot(close.a, close.b);
     if (slot < 0)
       throw std::runtime_error("torus_friction: tori " + std::to_string(close.a) + " and " +
                                std::to_string(close.b) + " are within d_hat but not a candidate pair");
@@ -136,7 +119,7 @@ std::pair<int, int> TorusFrictionTerm::sliding_and_sticking(const Vector& q) con
 
 void TorusFrictionTerm::evaluate(const Vector& q, const Vector& p, const EnergyRequest& request) const {
   (void)p;
-  if (request.hessian_values) std::fill(request.hessian_values, request.hessian_values + num_slots_, 0.0);
+  if (request.hessian_values) std::fill(request.hessian_values, request.hessian_values + contact_.num_slots(), 0.0);
   if (pairs_.empty()) return;
   const bool derivatives = request.gradient || request.hessian_values;
   const double mu = options_.friction.coefficient;

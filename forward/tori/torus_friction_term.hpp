@@ -77,8 +77,6 @@ class TorusFrictionTerm final : public EnergyTerm {
   const rigid::RigidBodySystem& system_;
   const TorusContactTerm& contact_;
   TorusFrictionOptions options_;
-  std::vector<int> pair_slot_;  // n x n: first Hessian slot of a candidate pair, -1 otherwise
-  int num_slots_ = 0;
   std::vector<TorusFrictionPair> pairs_;
   double threshold_ = 0.0;
 };

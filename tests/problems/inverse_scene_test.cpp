@@ -12,6 +12,7 @@
 
 #include "problems/inverse_problem.hpp"
 #include "scene_text.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -278,7 +279,7 @@ TEST(InverseScene, NoInverseSectionIsAnError) {
 }
 
 TEST(InverseScene, ObservationFilesAreCheckedLineByLine) {
-  const fs::path folder = fs::temp_directory_path() / ("tailor_inverse_obs_" + std::to_string(::getpid()));
+  const fs::path folder = testing::unique_temp_path("tailor_inverse_obs");
   fs::create_directories(folder);
   const std::string observations = R"({
     "design": {"parameter": "youngs_modulus", "granularity": "per_material"},

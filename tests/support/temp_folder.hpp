@@ -1,6 +1,5 @@
 #pragma once
-// A fresh scratch folder for one test (named by a tag and the process id so parallel ctest
-// runs do not collide), removed afterwards.
+// Scratch folders for tests, named so that tests running in parallel never share one.
 #include <unistd.h>
 
 #include <filesystem>
@@ -8,10 +7,15 @@
 
 namespace tailor::testing {
 
+// A path in the temporary folder that no other test process uses at the same time: ctest runs each
+// test in a process of its own, in parallel, so the name carries the process id. Not created.
+inline std::filesystem::path unique_temp_path(const std::string& name) {
+  return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+}
+
 class TempFolder {
  public:
-  explicit TempFolder(const std::string& tag)
-      : path_(std::filesystem::temp_directory_path() / ("tailor_" + tag + "_" + std::to_string(::getpid()))) {
+  explicit TempFolder(const std::string& tag) : path_(unique_temp_path("tailor_" + tag)) {
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }

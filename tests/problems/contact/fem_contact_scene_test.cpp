@@ -23,6 +23,7 @@
 #include "problems/contact/embedded_term.hpp"
 #include "problems/contact/rigid_scene.hpp"
 #include "problems/scene.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -30,7 +31,7 @@ namespace {
 const std::string kScenes = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/contact/";
 
 std::string temporary_directory(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("tailor_fem_contact_" + name);
+  const auto dir = testing::unique_temp_path("tailor_fem_contact_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

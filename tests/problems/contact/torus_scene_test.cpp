@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "problems/scene.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -19,7 +20,7 @@ namespace {
 const std::string kScenes = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/contact/";
 
 std::string temporary_directory(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("tailor_tori_" + name);
+  const auto dir = testing::unique_temp_path("tailor_tori_" + name);
   std::filesystem::remove_all(dir);
   return dir.string();
 }

@@ -11,12 +11,13 @@
 #include "forward/homogenization/engineering_constants.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
 #include "problems/scene.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
 
 std::string write_scene(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / "tailor_homogenize_test";
+  const auto dir = testing::unique_temp_path("tailor_homogenize_test");
   std::filesystem::create_directories(dir);
   const std::string path = (dir / name).string();
   std::ofstream(path) << text;
@@ -39,7 +40,7 @@ TEST(HomogenizeCommand, LayeredCellReportAndOutputs) {
   EXPECT_EQ(scene.name, "layered");
   EXPECT_EQ(scene.plane, PlaneMode::plane_stress);
   const std::string out =
-      (std::filesystem::temp_directory_path() / "tailor_homogenize_test" / "out").string();
+      (testing::unique_temp_path("tailor_homogenize_test") / "out").string();
   const HomogenizeRun run = homogenize_scene(scene, out, nullptr);
   // Along the layers the plane-stress moduli add (Voigt): E_x = (1 + 10) / 2 for equal nu.
   EXPECT_NEAR(directional_youngs_modulus(run.compliance, Vector{{1.0, 0.0}}), 5.5, 1e-12);
@@ -92,7 +93,7 @@ TEST(HomogenizeCommand, PlateLikeCellReportsTheBendingStiffness) {
     "directions": 8
   })");
   const std::string out =
-      (std::filesystem::temp_directory_path() / "tailor_homogenize_test" / "plate").string();
+      (testing::unique_temp_path("tailor_homogenize_test") / "plate").string();
   const HomogenizeRun run = homogenize_scene(read_cell_scene(path), out, nullptr);
   // Same mesh as the coarsest of PlateBending.HomogeneousPlateConvergesToKirchhoffTheory: the
   // Kirchhoff value 2 * 0.5^3 / (12 * 0.91) times (1 + its relative error there).
@@ -126,7 +127,7 @@ TEST(MetamaterialScene, SmallDesignRunsAndReportsTheRechecks) {
   })");
   ASSERT_TRUE(is_metamaterial_scene(path));
   const std::string out =
-      (std::filesystem::temp_directory_path() / "tailor_homogenize_test" / "design").string();
+      (testing::unique_temp_path("tailor_homogenize_test") / "design").string();
   const MetamaterialRun run = run_metamaterial_scene(path, out, nullptr, nullptr);
   EXPECT_EQ(run.stiffness_thresholded.rows(), 3);
   EXPECT_EQ(run.stiffness_refined.rows(), 3);

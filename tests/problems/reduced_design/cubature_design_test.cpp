@@ -18,6 +18,7 @@
 #include "problems/full_space_design.hpp"
 #include "problems/reduced_design.hpp"
 #include "small_handle_scene.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -148,7 +149,7 @@ TEST(CubatureDesign, NeoHookeanReducedDesignMatchesTheFullSpaceDesign) {
   w_star[1] = 0.1;
   const std::string target = target_of(probe, w_star);
   ReducedDesign design = build_reduced_design(small_handle_scene("neo_hookean", target, "", solver));
-  const std::string out = (std::filesystem::temp_directory_path() / "cubature_design_test").string();
+  const std::string out = testing::unique_temp_path("cubature_design_test").string();
   const ReducedDesignRun run = run_reduced_design(design, out);
   ASSERT_TRUE(run.full && run.full->converged);
   ASSERT_TRUE(run.cubature);

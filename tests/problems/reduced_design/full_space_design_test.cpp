@@ -16,6 +16,7 @@
 #include "adjoint/taylor_test.hpp"
 #include "optimizers/optimizer.hpp"
 #include "small_handle_scene.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -104,7 +105,7 @@ TEST(FullSpaceDesign, ShippedHandleScenesReducedMatchTheFullSpaceDesign) {
     j["inverse"]["objective"] = handles;
     const Scene s = parse_scene(j.dump(), std::string(name) + ".json", ".");
     ReducedDesign design = build_reduced_design(s);
-    const std::string out = (std::filesystem::temp_directory_path() / "full_space_design_test").string();
+    const std::string out = testing::unique_temp_path("full_space_design_test").string();
     const ReducedDesignRun run = run_reduced_design(design, out);
     ASSERT_TRUE(run.full && run.full->converged) << name;
     const double reduced = *std::max_element(run.full->handle_errors.begin(), run.full->handle_errors.end());

@@ -12,6 +12,7 @@
 #include "adjoint/taylor_test.hpp"
 #include "forward/reduction/projected_reduced_model.hpp"
 #include "small_handle_scene.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -83,7 +84,7 @@ TEST(ReducedDesign, ReducedDesignMatchesTheFullSpaceSolve) {
         "[" + std::to_string(u[0]) + ", " + std::to_string(u[1]) + ", " + std::to_string(u[2]) + "]";
     ReducedDesign design = build_reduced_design(small_handle_scene(model, target));
     const std::string out =
-        (std::filesystem::temp_directory_path() / (std::string("reduced_design_test_") + model)).string();
+        testing::unique_temp_path(std::string("reduced_design_test_") + model).string();
     const ReducedDesignRun run = run_reduced_design(design, out);
     ASSERT_FALSE(run.reduced_errors.empty());
     ASSERT_TRUE(run.full && run.full->converged);
@@ -146,7 +147,7 @@ TEST(ReducedDesign, ShippedSceneReachesItsTargetInFullSpace) {
       read_scene(std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/cantilever_handle_reduced.json");
   ASSERT_TRUE(s.inverse && s.inverse->design.reduction);
   EXPECT_EQ(s.inverse->design.reduction->key, "inverse.design.reduction");
-  const std::string out = (std::filesystem::temp_directory_path() / "reduced_design_test_scene").string();
+  const std::string out = testing::unique_temp_path("reduced_design_test_scene").string();
   const ReducedDesignRun run = run_reduced_design_scene(s, out);
   ASSERT_TRUE(run.full && run.full->converged);
   ASSERT_FALSE(run.passes.empty());

@@ -25,6 +25,7 @@
 #include "problems/scene.hpp"
 
 #include "rod_scene_files.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -158,7 +159,7 @@ TEST(RodDynamics, ImplicitEulerLosesEnergyAsDocumented) {
 
 // The shipped dynamic scene through `tailor simulate`'s entry point: frames, .pvd and report.
 TEST(RodDynamics, ShippedSwingingRodSceneWritesFramesAndReport) {
-  const auto dir = std::filesystem::temp_directory_path() / "tailor_rod_dynamics_scene";
+  const auto dir = testing::unique_temp_path("tailor_rod_dynamics_scene");
   std::filesystem::remove_all(dir);
   std::ostringstream log;
   ASSERT_TRUE(simulate_rod_scene_file(rod_scene_path("rod_swing.json"), dir.string(), log)) << log.str();

@@ -15,6 +15,7 @@
 #include "problems/static_scene.hpp"
 
 #include "rod_scene_files.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -26,7 +27,7 @@ const std::string kScene = rod_scene_path("rods_and_beam.json");
 
 TEST(RodFemScene, EachPartMatchesItsSeparateSolve) {
   const nlohmann::json document = read_json_file(kScene);
-  const auto dir = std::filesystem::temp_directory_path() / "tailor_rods_and_beam";
+  const auto dir = testing::unique_temp_path("tailor_rods_and_beam");
   std::filesystem::remove_all(dir);
   const RodFemSimulation both = simulate_rods_with_fem(document, kScene, ".", dir.string());
   ASSERT_TRUE(both.rods.converged);
@@ -71,7 +72,7 @@ TEST(RodFemScene, EachPartMatchesItsSeparateSolve) {
 }
 
 TEST(RodFemScene, SimulateEntryPointAndRefusedSections) {
-  const auto dir = std::filesystem::temp_directory_path() / "tailor_rods_and_beam_cli";
+  const auto dir = testing::unique_temp_path("tailor_rods_and_beam_cli");
   std::ostringstream log;
   EXPECT_TRUE(simulate_rod_scene_file(kScene, dir.string(), log)) << log.str();
   EXPECT_TRUE(std::filesystem::exists(dir / "result.vtu"));

@@ -14,6 +14,7 @@
 #include "problems/scene.hpp"
 
 #include "rod_scene_files.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -22,7 +23,7 @@ using testing::read_json_file;
 using testing::rod_scene_path;
 
 std::string out_dir(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("tailor_rod_inverse_" + name)).string();
+  return testing::unique_temp_path("tailor_rod_inverse_" + name).string();
 }
 
 // The "target" section that asks every vertex of the 13-vertex rod to sit where state x has it

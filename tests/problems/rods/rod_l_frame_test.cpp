@@ -26,6 +26,7 @@
 #include "problems/scene.hpp"
 
 #include "rod_scene_files.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -49,7 +50,7 @@ nlohmann::json l_frame(int n, const Eigen::Vector3d& direction) {
 // Tip displacement of the frame scene (the beam's last vertex), and that the joint held.
 Eigen::Vector3d tip_displacement(const nlohmann::json& scene, int n) {
   const RodSceneSpec spec = parse_rod_scene(scene);
-  const auto dir = std::filesystem::temp_directory_path() / ("tailor_rod_l_frame_" + std::to_string(n));
+  const auto dir = testing::unique_temp_path("tailor_rod_l_frame_" + std::to_string(n));
   const RodSimulation sim = simulate_rods(spec, dir.string());
   if (!sim.converged) {
     std::ifstream r(sim.report_path);
@@ -133,7 +134,7 @@ TEST(RodRigidJointFrame, BeamThroughTheJointUnderSymmetricLoads) {
   RodSceneModel m = build_rod_model(spec);
   ASSERT_EQ(m.rigid_joints.size(), 1u);
   EXPECT_EQ(m.rigid_joints[0]->num_members(), 3);  // the column's last edge, the beam's two middle edges
-  const auto dir = std::filesystem::temp_directory_path() / "tailor_rod_t_frame";
+  const auto dir = testing::unique_temp_path("tailor_rod_t_frame");
   const RodSimulation sim = simulate_rods(spec, dir.string());
   std::filesystem::remove_all(dir);
   EXPECT_TRUE(sim.converged);

@@ -22,6 +22,7 @@
 #include "problems/scene.hpp"
 
 #include "rod_scene_files.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -57,7 +58,7 @@ Eigen::Vector2d frame_reference(double P) {
 // The apex displacement (x, y) of the frame scene, and that the joint held.
 Eigen::Vector2d apex_displacement(const nlohmann::json& scene, int n) {
   const RodSceneSpec spec = parse_rod_scene(scene);
-  const auto dir = std::filesystem::temp_directory_path() / ("tailor_rod_frame_" + std::to_string(n));
+  const auto dir = testing::unique_temp_path("tailor_rod_frame_" + std::to_string(n));
   const RodSimulation sim = simulate_rods(spec, dir.string());
   EXPECT_TRUE(sim.converged);
   std::filesystem::remove_all(dir);
@@ -90,7 +91,7 @@ TEST(RodNetwork, WithoutTheJointTheAnswerIsDifferent) {
   s.erase("joints");
   const Eigen::Vector2d reference = frame_reference(1e-4);
   const RodSceneSpec spec = parse_rod_scene(s);
-  const auto dir = std::filesystem::temp_directory_path() / "tailor_rod_frame_free";
+  const auto dir = testing::unique_temp_path("tailor_rod_frame_free");
   const RodSimulation sim = simulate_rods(spec, dir.string());
   std::filesystem::remove_all(dir);
   EXPECT_GT(std::abs((sim.state[3 * 20 + 1] - 0.8) / reference.y() - 1.0), 0.5);

@@ -17,6 +17,7 @@
 #include "problems/scene.hpp"
 
 #include "rod_scene_files.hpp"
+#include "support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -38,7 +39,7 @@ nlohmann::json ring_with(int n) {
 double pinch_deflection(const nlohmann::json& scene) {
   const RodSceneSpec spec = parse_rod_scene(scene);
   const int n = static_cast<int>(spec.rods[0].points.rows()), a = n / 2, b = n / 2 + 1;
-  const auto dir = std::filesystem::temp_directory_path() / ("tailor_rod_ring_" + std::to_string(n));
+  const auto dir = testing::unique_temp_path("tailor_rod_ring_" + std::to_string(n));
   const RodSimulation sim = simulate_rods(spec, dir.string());
   EXPECT_TRUE(sim.converged) << n;
   EXPECT_TRUE(std::filesystem::exists(sim.vtu_path));

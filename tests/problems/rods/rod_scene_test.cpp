@@ -2,6 +2,7 @@
 // polylines. Reference for the small-load deflection: Euler-Bernoulli, P L^3 / (3 EI).
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene.hpp"
+#include "support/temp_folder.hpp"
 
 #include <gtest/gtest.h>
 
@@ -35,7 +36,7 @@ nlohmann::json cantilever_scene(double tip_load) {
 TEST(RodScene, CantileverSmallLoadMatchesEulerBernoulliAndWritesVtu) {
   const double P = 1e-3;
   const RodSceneSpec spec = parse_rod_scene(cantilever_scene(P));
-  const auto dir = std::filesystem::temp_directory_path() / "tailor_rod_scene_test";
+  const auto dir = testing::unique_temp_path("tailor_rod_scene_test");
   const RodSimulation sim = simulate_rods(spec, dir.string());
   ASSERT_TRUE(sim.converged);
   // Tip vertex 40: deflection vs P L^3 / 3EI (first order in h with the clamp at a vertex).

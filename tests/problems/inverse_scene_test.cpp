@@ -12,7 +12,7 @@
 
 #include "problems/inverse_problem.hpp"
 #include "scene_text.hpp"
-#include "support/temp_folder.hpp"
+#include "../support/temp_folder.hpp"
 
 namespace tailor {
 namespace {

@@ -23,7 +23,7 @@
 #include "problems/contact/embedded_term.hpp"
 #include "problems/contact/rigid_scene.hpp"
 #include "problems/scene.hpp"
-#include "support/temp_folder.hpp"
+#include "../../support/temp_folder.hpp"
 
 namespace tailor {
 namespace {

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "problems/scene.hpp"
-#include "support/temp_folder.hpp"
+#include "../../support/temp_folder.hpp"
 
 namespace tailor {
 namespace {

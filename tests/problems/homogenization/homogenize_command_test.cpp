@@ -11,7 +11,7 @@
 #include "forward/homogenization/engineering_constants.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
 #include "problems/scene.hpp"
-#include "support/temp_folder.hpp"
+#include "../../support/temp_folder.hpp"
 
 namespace tailor {
 namespace {
@@ -67,7 +67,7 @@ TEST(HomogenizeCommand, ErrorsNameTheKey) {
       read_cell_scene(write_scene("bad.json", scene_text));
       ADD_FAILURE() << "accepted: " << fragment;
     } catch (const SceneError& e) {
-      EXPECT_THAT(e.what(), testing::HasSubstr(fragment));
+      EXPECT_THAT(e.what(), ::testing::HasSubstr(fragment));
     }
   };
   expect_error(std::string(kLayered).replace(std::string(kLayered).find("\"phase\": 1"), 10, "\"phase\": 5"),

@@ -18,7 +18,7 @@
 #include "problems/full_space_design.hpp"
 #include "problems/reduced_design.hpp"
 #include "small_handle_scene.hpp"
-#include "support/temp_folder.hpp"
+#include "../../support/temp_folder.hpp"
 
 namespace tailor {
 namespace {

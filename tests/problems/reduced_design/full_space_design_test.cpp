@@ -16,7 +16,7 @@
 #include "adjoint/taylor_test.hpp"
 #include "optimizers/optimizer.hpp"
 #include "small_handle_scene.hpp"
-#include "support/temp_folder.hpp"
+#include "../../support/temp_folder.hpp"
 
 namespace tailor {
 namespace {

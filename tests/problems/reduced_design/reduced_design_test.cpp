@@ -12,7 +12,7 @@
 #include "adjoint/taylor_test.hpp"
 #include "forward/reduction/projected_reduced_model.hpp"
 #include "small_handle_scene.hpp"
-#include "support/temp_folder.hpp"
+#include "../../support/temp_folder.hpp"
 
 namespace tailor {
 namespace {

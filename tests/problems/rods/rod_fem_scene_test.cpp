@@ -15,7 +15,7 @@
 #include "problems/static_scene.hpp"
 
 #include "rod_scene_files.hpp"
-#include "support/temp_folder.hpp"
+#include "../../support/temp_folder.hpp"
 
 namespace tailor {
 namespace {

@@ -14,7 +14,7 @@
 #include "problems/scene.hpp"
 
 #include "rod_scene_files.hpp"
-#include "support/temp_folder.hpp"
+#include "../../support/temp_folder.hpp"
 
 namespace tailor {
 namespace {

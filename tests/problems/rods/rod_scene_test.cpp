@@ -2,7 +2,7 @@
 // polylines. Reference for the small-load deflection: Euler-Bernoulli, P L^3 / (3 EI).
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene.hpp"
-#include "support/temp_folder.hpp"
+#include "../../support/temp_folder.hpp"
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,12 @@ namespace tailor {
 
 RayleighDamping::RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOperator> mass, int alpha_offset,
                                  int beta_offset, int youngs_offset, int poisson_offset)
-    : mass_(std::move(mass)), alpha_offset_(alpha_offset), beta_offset_(beta_offset) {
+    : mass_(std::move(mass)),
+      alpha_offset_(alpha_offset),
+      beta_offset_(beta_offset),
+      youngs_offset_(youngs_offset),
+      poisson_offset_(poisson_offset),
+      num_elements_(mesh.num_elements()) {
   if (!mass_) throw std::invalid_argument("RayleighDamping: no mass operator");
   if (mesh.dim() == 3)
     stiffness_ = std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(MaterialKind::linear), youngs_offset,
@@ -28,21 +33,11 @@ RayleighDamping::RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOpe
 void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p,
                                            const EnergyRequest& request) const {
   const double alpha = p[alpha_offset_], beta = p[beta_offset_];
-  const Vector X_plus_v = rest_ + v;
   if (request.value || request.gradient) {
     Vector Mv = Vector::Zero(v.size());
     mass_->add_times(p, v, Mv, alpha);
-    // One pass over the elements for E_lin and its gradient together.
-    double E_lin = 0.0;
-    Vector Kv;
-    EnergyRequest k_request;
-    if (request.value) k_request.value = &E_lin;
-    if (request.gradient) {
-      Kv = Vector::Zero(v.size());
-      k_request.gradient = &Kv;
-    }
-    stiffness_->evaluate(X_plus_v, p, k_request);
-    if (request.value) *request.value += 0.5 * v.dot(Mv) + beta * E_lin;
+    const Vector Kv = *cached_stiffness(p) * v;
+    if (request.value) *request.value += 0.5 * v.dot(Mv) + 0.5 * beta * v.dot(Kv);
     if (request.gradient) {
       *request.gradient += Mv;
       *request.gradient += beta * Kv;
@@ -53,7 +48,7 @@ void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p,
     double* k_values = request.hessian_values + mass_slots_;
     EnergyRequest k_request;
     k_request.hessian_values = k_values;
-    stiffness_->evaluate(X_plus_v, p, k_request);
+    stiffness_->evaluate(rest_ + v, p, k_request);
     for (std::size_t k = 0; k < stiffness_slots_; ++k) k_values[k] *= beta;
   }
 }
@@ -106,6 +101,17 @@ void RayleighDamping::add_dissipation_mixed(const Vector& v, const Vector& p, Tr
   Triplets k_mixed;
   stiffness_->add_mixed(X_plus_v, p, k_mixed);
   for (const auto& t : k_mixed) mixed.emplace_back(t.row(), t.col(), beta * t.value());
+}
+
+std::shared_ptr<const SparseMatrix> RayleighDamping::cached_stiffness(const Vector& p) const {
+  Vector key(2 * num_elements_);
+  key << p.segment(youngs_offset_, num_elements_), p.segment(poisson_offset_, num_elements_);
+  const std::lock_guard<std::mutex> lock(cache_mutex_);
+  if (!cache_ || key != cache_key_) {
+    cache_ = std::make_shared<const SparseMatrix>(rest_stiffness(p));
+    cache_key_ = std::move(key);
+  }
+  return cache_;
 }
 
 SparseMatrix RayleighDamping::rest_stiffness(const Vector& p) const {

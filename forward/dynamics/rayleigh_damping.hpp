@@ -12,9 +12,16 @@
 // the start of each step (tangent damping), whose dependence on x_n would add third
 // derivatives of the elastic energy to the adjoint.
 //
+// On the hot path (the energy and gradient that Newton and its line search ask for at every
+// trial) K is kept as a compressed matrix for the Young's moduli and Poisson ratios it was
+// assembled for, so E_lin(X + v) = 1/2 v^T K v and its gradient K v cost one sparse product
+// instead of an element loop; it is reassembled when those parameters change. The parameter
+// derivatives (adjoint only) still run the element loop.
+//
 // Parameters: alpha = p[alpha_offset] [1/time], beta = p[beta_offset] [time], density through
 // the mass operator, Young's modulus and Poisson ratio at the given offsets (per element).
 #include <memory>
+#include <mutex>
 
 #include "forward/dynamics/damping_term.hpp"
 #include "forward/dynamics/mass_operator.hpp"
@@ -40,10 +47,18 @@ class RayleighDamping final : public DampingTerm {
   SparseMatrix rest_stiffness(const Vector& p) const;
 
  private:
+  // K for the current Young's moduli and Poisson ratios (assembled on first use and when they
+  // change; shared so that a caller keeps a consistent matrix while another parameter vector
+  // replaces it).
+  std::shared_ptr<const SparseMatrix> cached_stiffness(const Vector& p) const;
+
   std::shared_ptr<const MassOperator> mass_;
   std::unique_ptr<EnergyTerm> stiffness_;  // the linear elastic energy E_lin
   Vector rest_;
-  int alpha_offset_, beta_offset_;
+  int alpha_offset_, beta_offset_, youngs_offset_, poisson_offset_, num_elements_;
+  mutable std::mutex cache_mutex_;
+  mutable Vector cache_key_;  // the Young's moduli, then the Poisson ratios, K was assembled for
+  mutable std::shared_ptr<const SparseMatrix> cache_;
   std::size_t mass_slots_, stiffness_slots_;
 };
 

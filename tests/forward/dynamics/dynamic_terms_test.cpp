@@ -80,6 +80,34 @@ TEST(DynamicTerms, RayleighDampingDerivatives) {
   EXPECT_LT((Matrix(a) - Matrix(b)).norm(), 1e-10 * Matrix(a).norm());
 }
 
+TEST(DynamicTerms, RayleighDampingFollowsChangedModuli) {
+  // The damping keeps K assembled for the moduli it last saw; D and its gradient must follow
+  // new moduli (and return to the old ones). Reference: D = alpha/2 v^T M v + beta E_lin(X + v)
+  // with the small-strain energy E_lin evaluated element by element for the same moduli.
+  CantileverOptions o;
+  o.rayleigh = true, o.alpha = 0.7, o.beta = 0.03;
+  Cantilever c(o);
+  const Vector v = random_vector(c.rest.size(), 31, 0.1);
+  const auto linear = elastic_term<3>(c.mesh, MaterialKind::linear);
+  for (unsigned seed : {41u, 43u, 41u}) {
+    const Vector p = varied(c, seed);
+    double D = 0.0;
+    Vector g = Vector::Zero(v.size());
+    EnergyRequest request;
+    request.value = &D;
+    request.gradient = &g;
+    c.terms.damping->evaluate_dissipation(v, p, request);
+    const double alpha = p[c.terms.alpha_offset], beta = p[c.terms.beta_offset];
+    const SparseMatrix M = c.terms.inertia->mass().matrix(p);
+    Vector Kv = Vector::Zero(v.size());
+    linear->add_gradient(c.rest + v, p, Kv);
+    const double reference = 0.5 * alpha * v.dot(M * v) + beta * linear->value(c.rest + v, p);
+    const Vector g_reference = alpha * (M * v) + beta * Kv;
+    EXPECT_NEAR(D, reference, 1e-12 * std::abs(reference)) << seed;
+    EXPECT_LT((g - g_reference).norm(), 1e-12 * g_reference.norm()) << seed;
+  }
+}
+
 TEST(DynamicTerms, RayleighStiffnessIsTheRestTangentOfEveryMaterial) {
   // K in C = alpha M + beta K is the Hessian of the small-strain energy; at rest every
   // material with the same Lame parameters has that Hessian (linearization of hyperelasticity).

@@ -1,5 +1,6 @@
 #include "forward/dynamics/rayleigh_damping.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "forward/fem/elastic_term.hpp"
@@ -28,6 +29,22 @@ RayleighDamping::RayleighDamping(const Mesh& mesh, std::shared_ptr<const MassOpe
   HessianPattern k_pattern;
   stiffness_->hessian_pattern(k_pattern);
   stiffness_slots_ = k_pattern.size();
+  // K's compressed pattern, and the entry of each slot (found in its column's sorted rows).
+  Triplets ones;
+  ones.reserve(k_pattern.size());
+  for (const HessianEntry& e : k_pattern) ones.emplace_back(e.row, e.col, 1.0);
+  stiffness_pattern_.resize(rest_.size(), rest_.size());
+  stiffness_pattern_.setFromTriplets(ones.begin(), ones.end());
+  stiffness_pattern_.makeCompressed();
+  const int* outer = stiffness_pattern_.outerIndexPtr();
+  const int* inner = stiffness_pattern_.innerIndexPtr();
+  slot_entry_.resize(k_pattern.size());
+  for (std::size_t k = 0; k < k_pattern.size(); ++k) {
+    const int* first = inner + outer[k_pattern[k].col];
+    const int* last = inner + outer[k_pattern[k].col + 1];
+    slot_entry_[k] = static_cast<int>(std::lower_bound(first, last, k_pattern[k].row) - inner);
+  }
+  std::fill_n(stiffness_pattern_.valuePtr(), stiffness_pattern_.nonZeros(), 0.0);
 }
 
 void RayleighDamping::evaluate_dissipation(const Vector& v, const Vector& p,
@@ -108,7 +125,14 @@ std::shared_ptr<const SparseMatrix> RayleighDamping::cached_stiffness(const Vect
   key << p.segment(youngs_offset_, num_elements_), p.segment(poisson_offset_, num_elements_);
   const std::lock_guard<std::mutex> lock(cache_mutex_);
   if (!cache_ || key != cache_key_) {
-    cache_ = std::make_shared<const SparseMatrix>(rest_stiffness(p));
+    std::vector<double> values(stiffness_slots_, 0.0);
+    EnergyRequest request;
+    request.hessian_values = values.data();
+    stiffness_->evaluate(rest_, p, request);
+    auto K = std::make_shared<SparseMatrix>(stiffness_pattern_);
+    double* entries = K->valuePtr();
+    for (std::size_t k = 0; k < stiffness_slots_; ++k) entries[slot_entry_[k]] += values[k];
+    cache_ = std::move(K);
     cache_key_ = std::move(key);
   }
   return cache_;

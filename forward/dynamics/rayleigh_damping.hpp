@@ -15,7 +15,9 @@
 // On the hot path (the energy and gradient that Newton and its line search ask for at every
 // trial) K is kept as a compressed matrix for the Young's moduli and Poisson ratios it was
 // assembled for, so E_lin(X + v) = 1/2 v^T K v and its gradient K v cost one sparse product
-// instead of an element loop; it is reassembled when those parameters change. The parameter
+// instead of an element loop. Its pattern and the entry each element slot adds to are computed
+// once, at construction, so a change of those parameters costs one element loop of Hessian
+// values and a scatter, not a triplet assembly. The parameter
 // derivatives (adjoint only) still run the element loop.
 //
 // Parameters: alpha = p[alpha_offset] [1/time], beta = p[beta_offset] [time], density through
@@ -56,6 +58,8 @@ class RayleighDamping final : public DampingTerm {
   std::unique_ptr<EnergyTerm> stiffness_;  // the linear elastic energy E_lin
   Vector rest_;
   int alpha_offset_, beta_offset_, youngs_offset_, poisson_offset_, num_elements_;
+  std::vector<int> slot_entry_;  // per slot of stiffness_'s Hessian pattern: its entry in K
+  SparseMatrix stiffness_pattern_;  // K's compressed pattern (values zero)
   mutable std::mutex cache_mutex_;
   mutable Vector cache_key_;  // the Young's moduli, then the Poisson ratios, K was assembled for
   mutable std::shared_ptr<const SparseMatrix> cache_;

@@ -164,8 +164,13 @@ DynamicsFigures linear_dynamics(int target_tets, int steps, const Config& config
   return out;
 }
 
-// Mean seconds per Newton iteration of a Neo-Hookean solve from rest.
-double newton_iteration(const bench::LoadedBlock& block, const Config& config) {
+// Mean seconds per Newton iteration of a Neo-Hookean solve from rest, and where they go.
+struct NewtonFigures {
+  double iteration = 0, assembly = 0, factorization = 0, solve = 0, line_search = 0;
+  int iterations = 0, factorizations = 0;
+};
+
+NewtonFigures newton_iteration(const bench::LoadedBlock& block, const Config& config) {
   use(config);
   NewtonOptions options;
   options.reuse_factorization = config.reuse;
@@ -173,7 +178,17 @@ double newton_iteration(const bench::LoadedBlock& block, const Config& config) {
   Vector y = block.rest_unknowns();
   const NewtonResult r = newton.solve(block.parameters, y);
   if (!r.converged()) throw std::runtime_error("Neo-Hookean solve failed: " + r.message);
-  return (r.total_seconds - r.analysis_seconds) / std::max(1, r.iterations);
+  NewtonFigures f;
+  f.iterations = std::max(1, r.iterations);
+  f.iteration = (r.total_seconds - r.analysis_seconds) / f.iterations;
+  for (const NewtonIteration& it : r.history) {
+    f.assembly += it.assembly_seconds / f.iterations;
+    f.factorization += it.factorization_seconds / f.iterations;
+    f.solve += it.solve_seconds / f.iterations;
+    f.line_search += it.line_search_seconds / f.iterations;
+  }
+  f.factorizations = r.factorizations();
+  return f;
 }
 
 }  // namespace
@@ -203,7 +218,8 @@ int main(int argc, char** argv) {
       const InverseFigures inverse = inverse_problem(linear, *config, repeats);
       const DynamicsFigures dynamics = linear_dynamics(target, steps, *config, repeats);
       use(*config);
-      const double iteration = newton_iteration(neo, *config);
+      const NewtonFigures newton = newton_iteration(neo, *config);
+      const double iteration = newton.iteration;
       const int k = config == &kNew;
       gradient[k] = inverse.last_gradient;
       trajectory[k] = dynamics.final_state;
@@ -213,6 +229,10 @@ int main(int argc, char** argv) {
                   linear.mesh.num_elements(), config->name, factor, solve, inverse.forward_gradient,
                   inverse.factorizations, dynamics.step, dynamics.factorizations_per_step, dynamics_ratio,
                   newton_ratio);
+      std::printf("%7s   Neo-Hookean Newton: %d iterations, %d factorizations; per iteration %.4f s = assembly %.4f + "
+                  "factorization %.4f + solve %.4f + line search %.4f (+ rest)\n",
+                  "", newton.iterations, newton.factorizations, newton.iteration, newton.assembly,
+                  newton.factorization, newton.solve, newton.line_search);
       rows.push_back({{"tets", linear.mesh.num_elements()},
                       {"config", config->name},
                       {"factorization_seconds", factor},
@@ -223,7 +243,14 @@ int main(int argc, char** argv) {
                       {"dynamics_factorizations_per_step", dynamics.factorizations_per_step},
                       {"dynamics_step_over_factor_and_solve", dynamics_ratio},
                       {"newton_iteration_seconds", iteration},
-                      {"newton_iteration_over_factor_and_solve", newton_ratio}});
+                      {"newton_iteration_over_factor_and_solve", newton_ratio},
+                      {"newton_iterations", newton.iterations},
+                      {"newton_factorizations", newton.factorizations},
+                      {"newton_seconds_per_iteration",
+                       {{"assembly", newton.assembly},
+                        {"factorization", newton.factorization},
+                        {"solve", newton.solve},
+                        {"line_search", newton.line_search}}}});
     }
     const double gradient_difference = (gradient[1] - gradient[0]).norm() / gradient[0].norm();
     const double trajectory_difference =

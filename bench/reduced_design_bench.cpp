@@ -262,6 +262,16 @@ int main(int argc, char** argv) {
             "handle error reduced %.2e full %.2e\n",
             k, m, row.r, row.passes, row.iterations, row.precompute, row.median_ms, row.reduced_error,
             row.full_error);
+        bench::Json by_pass = bench::Json::array();
+        std::printf("           by pass (r: ms/iteration):");
+        for (const ReducedDesignPass& pass : run.passes) {
+          by_pass.push_back({{"reduced_coordinates", pass.reduced_size},
+                             {"iterations", pass.iterations},
+                             {"median_iteration_ms", pass.median_iteration_ms}});
+          std::printf(" %d: %.3f", pass.reduced_size, pass.median_iteration_ms);
+        }
+        std::printf("\n");
+        rows_json.back()["passes_detail"] = by_pass;
         if (run.cubature)
           std::printf("           cubature %d of %d elements, training error %.2e, %.3f s over the passes\n",
                       row.cubature_elements, run.cubature->mesh_elements, row.cubature_error, row.cubature_seconds);

@@ -456,9 +456,12 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
   for (int pass = 0;; ++pass) {
     OptimizerResult result = minimize(*design.functional, w, Bounds{}, {}, options);
     with_ms.flush();
+    std::vector<double> pass_ms;
     for (std::size_t i = 1; i < result.history.size(); ++i)
-      run.iteration_ms.push_back(1e3 * (result.history[i].seconds - result.history[i - 1].seconds));
+      pass_ms.push_back(1e3 * (result.history[i].seconds - result.history[i - 1].seconds));
+    run.iteration_ms.insert(run.iteration_ms.end(), pass_ms.begin(), pass_ms.end());
     ReducedDesignPass record;
+    record.median_iteration_ms = median(pass_ms);
     record.reduced_size = static_cast<int>(design.basis.cols());
     record.iterations = result.history.empty() ? 0 : result.history.back().iteration;
     record.seconds = result.seconds;
@@ -507,7 +510,7 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
     run.passes.push_back(record);
     if (log)
       *log << "pass " << pass << ": r = " << record.reduced_size << ", " << record.iterations
-           << " iterations, reduced handle error " << record.reduced_error << ", full-space "
+           << " iterations (median " << record.median_iteration_ms << " ms), reduced handle error " << record.reduced_error << ", full-space "
            << record.full_error << "\n";
     if (!run.full->converged || record.full_error <= design.spec.full_space_tolerance ||
         pass >= design.spec.refinements)
@@ -568,6 +571,7 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
       passes.push_back({{"reduced_coordinates", pr.reduced_size},
                         {"iterations", pr.iterations},
                         {"seconds", pr.seconds},
+                        {"median_iteration_ms", pr.median_iteration_ms},
                         {"status", pr.status},
                         {"reduced_error", pr.reduced_error},
                         {"full_error", pr.full_error}});

@@ -108,6 +108,7 @@ FullSpaceCheck full_space_solve(const ReducedDesign& design, const Eigen::Vector
 struct ReducedDesignPass {
   int reduced_size = 0, iterations = 0;
   double seconds = 0.0;
+  double median_iteration_ms = 0.0;  // of this pass alone (its cost grows with reduced_size)
   std::string status;
   double reduced_error = 0.0, full_error = 0.0;  // largest over the handles (full: 0 without a check)
 };

@@ -4,6 +4,7 @@
 # report fatal, plus the libFuzzer targets of fuzz/. Shared by sanitize.sh and fuzz.sh, which
 # build what each needs in it. See docs/testing.md.
 #
+# The libraries build in batches (TAILOR_UNITY_BUILD), as in the Release build.
 # -O1 keeps the build about as long as the Release one and the instrumented code fast enough;
 # line tables (not full debug information) are enough for file:line in every report. Asserts
 # stay on (no NDEBUG), so Eigen's index checks run too. Bench programs, the Python module (an
@@ -21,4 +22,4 @@ flags="-O1 -gline-tables-only"
 cmake -S . -B build-asan -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
   -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="${flags}" -DCMAKE_C_FLAGS_SANITIZE="${flags}" \
   -DTAILOR_SANITIZE=address,undefined -DTAILOR_FUZZ=ON -DTAILOR_BUILD_BENCH=OFF -DTAILOR_WITH_PYTHON=OFF \
-  -DTAILOR_WITH_PETSC=OFF "${launcher[@]}" "$@"
+  -DTAILOR_WITH_PETSC=OFF -DTAILOR_UNITY_BUILD=ON "${launcher[@]}" "$@"

@@ -37,7 +37,7 @@ void closest_points(const TorusPose& a, const TorusPose& b, const TorusDistance&
 
 TorusFrictionTerm::TorusFrictionTerm(const rigid::RigidBodySystem& system, const TorusContactTerm& contact,
                                      TorusFrictionOptions options)
-    : system_(system), contact_(contact), options_(options) {
+    : contact_(contact), options_(options) {
   const contact::FrictionOptions& f = options_.friction;
   if (!(f.coefficient >= 0.0) || !std::isfinite(f.coefficient))
     throw std::invalid_argument("torus_friction: the coefficient mu must be >= 0, got " +

@@ -51,8 +51,9 @@ struct TorusFrictionPair {
 
 class TorusFrictionTerm final : public EnergyTerm {
  public:
-  // `system` and `contact` must outlive the term. Throws std::invalid_argument on mu < 0, eps_v <= 0
-  // or a contact term reading radii or placements from p.
+  // `contact` must outlive the term; `system` is only checked against it (one torus per body).
+  // Throws std::invalid_argument on mu < 0, eps_v <= 0, a contact term reading radii or
+  // placements from p, or a body count that differs from the contact term's tori.
   TorusFrictionTerm(const rigid::RigidBodySystem& system, const TorusContactTerm& contact,
                     TorusFrictionOptions options);
 
@@ -74,7 +75,6 @@ class TorusFrictionTerm final : public EnergyTerm {
   std::pair<int, int> sliding_and_sticking(const Vector& q) const;
 
  private:
-  const rigid::RigidBodySystem& system_;
   const TorusContactTerm& contact_;
   TorusFrictionOptions options_;
   std::vector<TorusFrictionPair> pairs_;

@@ -30,6 +30,7 @@
 // usage: reduced_design_bench [--quick] [--cells 2,4] [--displacement-modes 4,8]
 //          [--material-modes 4,8] [--max-iterations 100] [--full-iterations 200] [--refinements 2] [--out FILE]
 //          [--no-full] [--material stvk|neo_hookean|corotated] [--cubature-elements N]
+//          [--cubature-candidates N]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -86,11 +87,16 @@ std::string scene_text(int c, const std::string& design, const std::string& targ
 }
 
 int g_cubature_elements = 0;  // 0: the default rule size (and none for StVK)
+int g_cubature_candidates = 0;  // 0: every element scored in each greedy step
 
 std::string reduced_design_key(int k, int m, int refinements = 2) {
-  const std::string cubature = g_cubature_elements > 0
-                                   ? R"(, "cubature": {"elements": )" + std::to_string(g_cubature_elements) + "}"
-                                   : std::string();
+  std::string cubature;
+  // A cubature section for StVK only with a rule size (else its exact polynomial).
+  if (g_cubature_elements > 0 || (g_cubature_candidates > 0 && g_material != "stvk")) {
+    cubature = R"(, "cubature": {"candidates": )" + std::to_string(g_cubature_candidates);
+    if (g_cubature_elements > 0) cubature += R"(, "elements": )" + std::to_string(g_cubature_elements);
+    cubature += "}";
+  }
   return R"({"parameter": "youngs_modulus", "granularity": "modes", "modes": )" + std::to_string(m) +
          R"(, "map": "identity", "reduction": {"displacement_modes": )" + std::to_string(k) +
          R"(, "smoothness": 1e-4, "refinements": )" + std::to_string(refinements) + cubature + "}}";
@@ -169,6 +175,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"stvk", "neo_hookean", "corotated"}))
       ->capture_default_str();
   cli.integer("--cubature-elements", g_cubature_elements, "cubature rule size at most (0: the default)", 0);
+  cli.integer("--cubature-candidates", g_cubature_candidates,
+              "elements scored per greedy step of the cubature fit, a random subset (0: every element)", 0);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   if (quick) cells = {2}, ks = {4}, ms = {4};

@@ -148,11 +148,12 @@ ReductionSpec parse_reduction(const SceneNode& node) {
   if (auto k = node.find("min_relative_modulus")) r.min_relative_modulus = k->open_interval(0.0, 1.0);
   if (auto k = node.find("positivity_weight")) r.positivity_weight = k->non_negative();
   if (auto k = node.find("cubature")) {
-    k->expect_keys({"elements", "training_poses", "tolerance"});
+    k->expect_keys({"elements", "training_poses", "tolerance", "candidates"});
     CubatureSpec c;
     if (auto e = k->find("elements")) c.elements = e->integer(1);
     if (auto e = k->find("training_poses")) c.training_poses = e->integer(1);
     if (auto e = k->find("tolerance")) c.tolerance = e->positive();
+    if (auto e = k->find("candidates")) c.candidates = e->integer(0);
     r.cubature = c;
   }
   return r;

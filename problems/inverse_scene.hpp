@@ -56,6 +56,7 @@ struct CubatureSpec {
   int elements = 120;       // the rule's elements at most
   int training_poses = 24;  // displacement poses the rule is fitted on
   double tolerance = 1e-3;  // relative training error at which the greedy fit stops
+  int candidates = 0;       // elements scored per greedy step (a random subset); 0: every element
 };
 
 struct ReductionSpec {

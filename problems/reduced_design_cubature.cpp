@@ -96,6 +96,7 @@ std::shared_ptr<const CubatureDesignModel> fit_reduced_design_cubature(
       CubatureOptions options;
       options.max_elements = spec.elements;
       options.tolerance = spec.tolerance;
+      options.candidates = spec.candidates;
       const CubatureRule rule = fit_cubature(training.a, training.b, options);
       if (rule.elements.empty()) throw std::invalid_argument("the greedy fit selected no element");
       summary.training_poses = training.poses;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -51,6 +53,9 @@ CubatureRule fit_cubature(const Matrix& a, const Vector& b, const CubatureOption
     throw std::invalid_argument("fit_cubature: at least one element is needed, got " +
                                 std::to_string(options.max_elements));
   if (!(options.tolerance > 0.0)) throw std::invalid_argument("fit_cubature: the tolerance must be positive");
+  if (options.candidates < 0)
+    throw std::invalid_argument("fit_cubature: candidates must be >= 0 (0: every element), got " +
+                                std::to_string(options.candidates));
   if (b.size() != a.rows()) throw std::invalid_argument("fit_cubature: b and A differ in rows");
   const double b_norm = b.norm();
   if (!(b_norm > 0.0)) throw std::invalid_argument("fit_cubature: nothing to integrate (b = 0)");
@@ -61,18 +66,35 @@ CubatureRule fit_cubature(const Matrix& a, const Vector& b, const CubatureOption
   Vector residual = b;
   Vector weights;  // on rule.elements
   const int limit = static_cast<int>(std::min<Eigen::Index>(options.max_elements, n));
+  std::mt19937_64 random(options.seed);
+  std::vector<Eigen::Index> pool;  // the unchosen elements with a nonzero column
   rule.training_error = 1.0;
   // Each step adds one element; NNLS may drop some, so the steps are bounded separately.
   for (int step = 0; step < 4 * limit + 10 && static_cast<int>(rule.elements.size()) < limit; ++step) {
     if (rule.training_error <= options.tolerance) break;
-    // The element whose column points most along the residual (positive weights only).
-    const Vector score = a.transpose() * residual;
+    // The element whose column points most along the residual (positive weights only), among
+    // every unchosen element or a random subset of them.
+    pool.clear();
+    for (Eigen::Index k = 0; k < n; ++k)
+      if (!chosen[static_cast<std::size_t>(k)] && column_norms[k] > 0.0) pool.push_back(k);
+    std::size_t scored = pool.size();
+    if (options.candidates > 0 && pool.size() > static_cast<std::size_t>(options.candidates)) {
+      scored = static_cast<std::size_t>(options.candidates);
+      for (std::size_t i = 0; i < scored; ++i)  // the first `scored` of a Fisher-Yates shuffle
+        std::swap(pool[i], pool[std::uniform_int_distribution<std::size_t>(i, pool.size() - 1)(random)]);
+    }
     Eigen::Index best = -1;
     double best_value = 0.0;
-    for (Eigen::Index k = 0; k < n; ++k) {
-      if (chosen[static_cast<std::size_t>(k)] || !(column_norms[k] > 0.0)) continue;
-      const double s = score[k] / column_norms[k];
-      if (s > best_value) best_value = s, best = k;
+    if (scored == pool.size()) {
+      const Vector score = a.transpose() * residual;
+      for (const Eigen::Index k : pool)
+        if (const double s = score[k] / column_norms[k]; s > best_value) best_value = s, best = k;
+    } else {
+      // When no candidate of the subset reduces the residual, the others are scored too.
+      for (std::size_t i = 0; i < pool.size() && (i < scored || best < 0); ++i) {
+        const Eigen::Index k = pool[i];
+        if (const double s = a.col(k).dot(residual) / column_norms[k]; s > best_value) best_value = s, best = k;
+      }
     }
     if (best < 0) break;  // no element reduces the residual
     ++rule.steps;

@@ -6,8 +6,10 @@
 // one column of A per element; the rule minimizes |A_C omega - b| with omega >= 0 (non-negative
 // least squares) over a greedily grown C: each step adds the element whose column points most
 // along the current residual, then solves the NNLS problem on C and drops the elements whose
-// weight vanished (the paper's "greedy cubature", section 5, without its random candidate
-// subsets: every element is scored).
+// weight vanished (the paper's "greedy cubature", section 5). By default every element is
+// scored in every step; with CubatureOptions::candidates, each step scores a random subset of
+// that many unchosen elements, as the paper does to keep a step's cost off the mesh size (the
+// scores read all of A, rows x elements, every step).
 //
 // Designs (Xu, Li, Chen, Barbic 2015): with E = E0 (1 + Y w) the force is affine in w, so the
 // training matrix stacks, per pose, the base forces f_e and each mode's y_ej f_e: one rule
@@ -35,6 +37,8 @@ CubatureTraining cubature_training(const SubspaceElements& elements, const std::
 struct CubatureOptions {
   int max_elements = 120;   // |C| at most
   double tolerance = 1e-3;  // stop at |A omega - b| / |b| <= tolerance
+  int candidates = 0;       // elements scored per step (a fresh random subset); 0: every element
+  unsigned seed = 1;        // of the candidate subsets (the same seed gives the same rule)
 };
 
 struct CubatureRule {
@@ -44,7 +48,7 @@ struct CubatureRule {
   int steps = 0;                // greedy steps
 };
 
-// Throws std::invalid_argument for max_elements < 1, tolerance <= 0 or b = 0.
+// Throws std::invalid_argument for max_elements < 1, tolerance <= 0, candidates < 0 or b = 0.
 CubatureRule fit_cubature(const Matrix& a, const Vector& b, const CubatureOptions& options);
 
 }  // namespace tailor

@@ -197,6 +197,40 @@ TEST(Cubature, StvkRuleReproducesThePolynomialForces) {
   EXPECT_GT(small.training_error, 1e-2);
 }
 
+TEST(Cubature, RandomCandidateSubsetsReachTheTolerance) {
+  // An, Kim & James (2008) score a random subset of the elements in each greedy step. With
+  // 20 elements per step the fit still reaches the training tolerance, with a rule of
+  // about the size of the every-element fit; the same seed gives the same rule, and scoring
+  // every element gives the rule of the default options.
+  const ElasticBody body =
+      elastic_body(Eigen::Vector3d(4, 1, 1), Eigen::Vector3i(4, 2, 2), MaterialKind::neo_hookean, true);
+  const Matrix basis = modes_of(body, 6);
+  const int ne = body.mesh.num_elements();
+  const SubspaceElements all(*body.model, body.p, basis);
+  std::vector<Vector> poses;
+  for (unsigned k = 0; k < 10; ++k) poses.push_back(pose(basis, 0.05 + 0.05 * k, 40 + k));
+  const CubatureTraining training = cubature_training(all, poses, Matrix::Ones(ne, 1));
+  CubatureOptions every;
+  every.max_elements = 60;
+  const CubatureRule reference = fit_cubature(training.a, training.b, every);
+  CubatureOptions subsets = every;
+  subsets.candidates = 20;
+  const CubatureRule rule = fit_cubature(training.a, training.b, subsets);
+  std::printf("Neo-Hookean rule on %d elements: %zu elements (error %.2e) scoring every element, %zu (error %.2e) "
+              "scoring 20 per step\n",
+              ne, reference.elements.size(), reference.training_error, rule.elements.size(), rule.training_error);
+  EXPECT_LE(reference.training_error, every.tolerance);
+  EXPECT_LE(rule.training_error, subsets.tolerance);
+  EXPECT_LE(rule.elements.size(), 2 * reference.elements.size());
+  EXPECT_NE(rule.elements, reference.elements);  // the subsets did change the path
+  const CubatureRule again = fit_cubature(training.a, training.b, subsets);
+  EXPECT_EQ(again.elements, rule.elements);
+  subsets.candidates = ne;  // at least every element: the default fit
+  EXPECT_EQ(fit_cubature(training.a, training.b, subsets).elements, reference.elements);
+  subsets.candidates = -1;
+  EXPECT_THROW(fit_cubature(training.a, training.b, subsets), std::invalid_argument);
+}
+
 TEST(Cubature, BadInputIsAClearError) {
   CubatureOptions options;
   options.max_elements = 0;

@@ -17,8 +17,8 @@
 // assembled for, so E_lin(X + v) = 1/2 v^T K v and its gradient K v cost one sparse product
 // instead of an element loop. Its pattern and the entry each element slot adds to are computed
 // once, at construction, so a change of those parameters costs one element loop of Hessian
-// values and a scatter, not a triplet assembly. The parameter
-// derivatives (adjoint only) still run the element loop.
+// values and a scatter, not a triplet assembly. The parameter derivatives (adjoint only) still
+// run the element loop.
 //
 // Parameters: alpha = p[alpha_offset] [1/time], beta = p[beta_offset] [time], density through
 // the mass operator, Young's modulus and Poisson ratio at the given offsets (per element).

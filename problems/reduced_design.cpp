@@ -510,8 +510,8 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
     run.passes.push_back(record);
     if (log)
       *log << "pass " << pass << ": r = " << record.reduced_size << ", " << record.iterations
-           << " iterations (median " << record.median_iteration_ms << " ms), reduced handle error " << record.reduced_error << ", full-space "
-           << record.full_error << "\n";
+           << " iterations (median " << record.median_iteration_ms << " ms), reduced handle error "
+           << record.reduced_error << ", full-space " << record.full_error << "\n";
     if (!run.full->converged || record.full_error <= design.spec.full_space_tolerance ||
         pass >= design.spec.refinements)
       break;

@@ -58,7 +58,7 @@ class RayleighDamping final : public DampingTerm {
   std::unique_ptr<EnergyTerm> stiffness_;  // the linear elastic energy E_lin
   Vector rest_;
   int alpha_offset_, beta_offset_, youngs_offset_, poisson_offset_, num_elements_;
-  std::vector<int> slot_entry_;  // per slot of stiffness_'s Hessian pattern: its entry in K
+  std::vector<int> slot_entry_;     // per slot of stiffness_'s Hessian pattern: its entry in K
   SparseMatrix stiffness_pattern_;  // K's compressed pattern (values zero)
   mutable std::mutex cache_mutex_;
   mutable Vector cache_key_;  // the Young's moduli, then the Poisson ratios, K was assembled for

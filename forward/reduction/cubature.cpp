@@ -92,7 +92,8 @@ CubatureRule fit_cubature(const Matrix& a, const Vector& b, const CubatureOption
       // When no candidate of the subset reduces the residual, the others are scored too.
       for (std::size_t i = 0; i < pool.size() && (i < scored || best < 0); ++i) {
         const Eigen::Index k = pool[i];
-        if (const double s = a.col(k).dot(residual) / column_norms[k]; s > best_value) best_value = s, best = k;
+        if (const double s = a.col(k).dot(residual) / column_norms[k]; s > best_value)
+          best_value = s, best = k;
       }
     }
     if (best < 0) break;  // no element reduces the residual

@@ -138,8 +138,6 @@ std::shared_ptr<const SparseMatrix> RayleighDamping::cached_stiffness(const Vect
   return cache_;
 }
 
-SparseMatrix RayleighDamping::rest_stiffness(const Vector& p) const {
-  return stiffness_->hessian(rest_, p, HessianMode::exact);
-}
+SparseMatrix RayleighDamping::rest_stiffness(const Vector& p) const { return *cached_stiffness(p); }
 
 }  // namespace tailor

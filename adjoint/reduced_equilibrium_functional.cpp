@@ -150,6 +150,18 @@ const Vector& ReducedEquilibriumFunctional::solve(const Vector& w) {
   return q_;
 }
 
+void ReducedEquilibriumFunctional::set_observations(Vector target, Vector row_weights) {
+  if (target.size() != data_.rows.rows() || row_weights.size() != data_.rows.rows())
+    throw std::invalid_argument("ReducedEquilibriumFunctional::set_observations: " +
+                                std::to_string(data_.rows.rows()) + " targets and weights wanted, got " +
+                                std::to_string(target.size()) + " and " + std::to_string(row_weights.size()));
+  if (!target.allFinite() || !row_weights.allFinite() || (row_weights.array() < 0.0).any())
+    throw std::invalid_argument(
+        "ReducedEquilibriumFunctional::set_observations: targets must be finite, weights finite and >= 0");
+  data_.target = std::move(target);
+  data_.row_weights = std::move(row_weights);
+}
+
 double ReducedEquilibriumFunctional::misfit() const {
   const Vector residual = data_.rows * q_ - data_.target;
   return 0.5 * (data_.row_weights.array() * residual.array().square()).sum();

@@ -88,6 +88,10 @@ class ReducedEquilibriumFunctional final : public ReducedFunctional {
   const Vector& state() const { return q_; }  // q of the last solve
   int last_newton_iterations() const { return last_iterations_; }
   const ReducedEquilibriumData& data() const { return data_; }
+  // New observation targets t and weights c for the same rows B (a new design goal on the same
+  // reduced model: the equilibria q(w) do not depend on them and stay warm). Throws
+  // std::invalid_argument for sizes other than B's rows or a negative weight.
+  void set_observations(Vector target, Vector row_weights);
 
  private:
   double misfit() const;  // 1/2 sum_i c_i (B q_ - t)_i^2

@@ -30,14 +30,23 @@
 // usage: reduced_design_bench [--quick] [--cells 2,4] [--displacement-modes 4,8]
 //          [--material-modes 4,8] [--max-iterations 100] [--full-iterations 200] [--refinements 2] [--out FILE]
 //          [--no-full] [--material stvk|neo_hookean|corotated] [--cubature-elements N]
-//          [--cubature-candidates N]
+//          [--cubature-candidates N] [--targets N]
+//
+// --targets N: then N - 1 more targets (full-space responses of other graded designs) are given
+// to the kept design (the last grid point with the most material modes) with set_handle_targets
+// and designed from w = 0 without another precomputation, each against a full-space design to
+// its full-space error; the cumulative ratio (full-space time over reduced time, the reduced
+// precomputation counted once) shows how the precomputation pays off when a mesh is designed
+// more than once, as in the interactive loop.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <iterator>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench_cli.hpp"
@@ -84,6 +93,14 @@ std::string scene_text(int c, const std::string& design, const std::string& targ
          target + R"(}]}],
     "optimizer": {"backend": "nlopt_lbfgs", "max_iterations": )" + std::to_string(max_iterations) +
          R"(, "gradient_tolerance": 1e-8, "objective_tolerance": 1e-12}}})";
+}
+
+// The graded designs whose full-space responses are the targets: (w_1, w_2) of target i, E =
+// E0 (1 + w_1 + w_2 y_2) (y_2 of order 1: E > 0 everywhere).
+std::pair<double, double> graded_design(int i) {
+  static const std::pair<double, double> designs[] = {{-0.6, 0.2}, {-0.4, -0.2}, {-0.7, 0.1}, {-0.2, 0.3},
+                                                      {-0.5, -0.1}, {-0.3, 0.15}, {-0.65, -0.15}, {0.0, -0.25}};
+  return designs[static_cast<std::size_t>(i) % std::size(designs)];
 }
 
 int g_cubature_elements = 0;  // 0: the default rule size (and none for StVK)
@@ -138,6 +155,7 @@ class EvaluationLog final : public ReducedFunctional {
   }
   double seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
   double best_error() const { return best_; }
+  const std::vector<std::pair<double, double>>& trace() const { return trace_; }
   int count() const { return static_cast<int>(trace_.size()); }
 
  private:
@@ -158,7 +176,7 @@ class EvaluationLog final : public ReducedFunctional {
 
 int main(int argc, char** argv) {
   std::vector<int> cells{2, 4}, ks{4, 8}, ms{4, 8};
-  int max_iterations = 100, full_iterations = 200, refinements = 2;
+  int max_iterations = 100, full_iterations = 200, refinements = 2, num_targets = 1;
   bool quick = false, no_full = false;
   std::string out = "bench_reduced_design.json";
   bench::Cli cli("reduced_design_bench", "reduced vs full-space material design with a handle");
@@ -168,6 +186,8 @@ int main(int argc, char** argv) {
   cli.integer("--max-iterations", max_iterations, "optimizer iterations per pass (and full design)", 1);
   cli.integer("--full-iterations", full_iterations, "iteration cap of the full-space design", 1);
   cli.integer("--refinements", refinements, "basis refinements at most (reduction.refinements)", 0);
+  cli.integer("--targets", num_targets,
+              "targets designed on one precomputation (the last grid point with the most material modes)", 1);
   cli.flag("--quick", quick, "cells 2, one grid point (4 x 4)");
   cli.flag("--no-full", no_full, "skip the full-space design");
   cli.app()
@@ -187,14 +207,16 @@ int main(int argc, char** argv) {
   std::vector<FullRow> full_rows;
   const int m_full = *std::max_element(ms.begin(), ms.end());
   for (int c : cells) {
-    // The target: the full-space response of the graded design w* (first two modes).
-    std::string target;
-    {
-      const ReducedDesign probe =
-          build_reduced_design(parse(scene_text(c, reduced_design_key(2, 2), "[0, 0, -1]", 1)));
+    // The targets: the full-space responses of graded designs w* (first two modes); the first
+    // for the grid, the others for --targets.
+    const ReducedDesign probe =
+        build_reduced_design(parse(scene_text(c, reduced_design_key(2, 2), "[0, 0, -1]", 1)));
+    std::vector<Vector> targets;
+    for (int i = 0; i < num_targets; ++i) {
+      const auto [w0, w1] = graded_design(i);
       Vector w = Vector::Zero(probe.num_design());
-      w[0] = -0.6;
-      w[1] = 0.2;
+      w[0] = w0;
+      w[1] = w1;
       const FullSpaceCheck truth = full_space_check(probe, w);
       if (!truth.converged) {
         std::cerr << "the target's full-space solve failed: " << truth.message << "\n";
@@ -203,10 +225,12 @@ int main(int argc, char** argv) {
       Vector mean = Vector::Zero(3);
       for (int v : probe.handles[0].vertices) mean += truth.displacement.segment(3 * v, 3);
       mean /= static_cast<double>(probe.handles[0].vertices.size());
-      target = "[" + num(mean[0]) + ", " + num(mean[1]) + ", " + num(mean[2]) + "]";
-      std::printf("cells %d: %d tets, target mean tip displacement %s\n", c, probe.setup.mesh.num_elements(),
-                  target.c_str());
+      targets.push_back(mean);
     }
+    const std::string target =
+        "[" + num(targets[0][0]) + ", " + num(targets[0][1]) + ", " + num(targets[0][2]) + "]";
+    std::printf("cells %d: %d tets, target mean tip displacement %s\n", c, probe.setup.mesh.num_elements(),
+                target.c_str());
     double best_full = 1e300;  // of the runs with m_full material modes
     std::optional<ReducedDesign> kept;  // the last design with m_full material modes
     for (int k : ks)
@@ -289,77 +313,166 @@ int main(int argc, char** argv) {
           kept.emplace(std::move(design));
         }
       }
-    if (no_full || !kept) continue;
+    if (!kept) continue;
     // The full-space design of the same objective (problems/full_space_design.hpp): the same w
     // over the same m_full material modes, the same optimizer and settings, every evaluation a
     // full-space Newton solve and its adjoint; run until its full-space handle error is at most
-    // the worst of the reduced runs with m_full modes (or --full-iterations iterations).
-    FullSpaceDesignFunctional full(*kept);
-    EvaluationLog evaluations(full);
-    OptimizerOptions options = kept->optimizer;
-    options.max_iterations = full_iterations;
-    options.checkpoint_every = 1;
-    options.on_checkpoint = [&evaluations, best_full](const OptimizerCheckpoint&) {
-      if (evaluations.seconds_to(best_full) >= 0.0)
-        throw std::runtime_error("reached the reduced designs' full-space error");
+    // `goal` (or --full-iterations iterations).
+    struct FullRun {
+      FullRow row;
+      std::vector<std::pair<double, double>> trace;  // (seconds, full-space error) per evaluation
+      double seconds_to(double error) const {
+        for (const auto& [seconds, e] : trace)
+          if (e <= error) return seconds;
+        return -1.0;
+      }
     };
-    const OptimizerResult result = minimize(evaluations, Vector::Zero(kept->num_design()), Bounds{}, {}, options);
-    std::vector<double> per_iteration;
-    for (std::size_t i = 1; i < result.history.size(); ++i)
-      per_iteration.push_back(result.history[i].seconds - result.history[i - 1].seconds);
-    FullRow f;
-    f.cells = c;
-    f.m = m_full;
-    f.iterations = result.history.empty() ? 0 : result.history.back().iteration;
-    f.evaluations = evaluations.count();
-    f.median_ms = 1e3 * median_of(per_iteration);
-    f.best_error = evaluations.best_error();
-    f.goal = best_full;
-    f.seconds = evaluations.seconds();
-    f.material_modes_seconds = kept->timings.material_modes;
-    f.status = evaluations.seconds_to(best_full) >= 0.0 ? "reached" : to_string(result.status) + ": " + result.message;
-    full_rows.push_back(f);
-    bench::Json ratios = bench::Json::array();
-    for (const Row& r : rows) {
-      if (r.cells != c || r.m != m_full) continue;
-      // The full-space design's time to this row's full-space error (its whole run when it never
-      // got there: the ratios are then lower bounds).
-      const double to_error = evaluations.seconds_to(r.full_error);
-      const bool reached = to_error >= 0.0;
-      const double full_seconds = reached ? to_error : f.seconds;
-      const double reduced_total = r.precompute + r.optimize + r.full_solve;
-      const double full_total = f.material_modes_seconds + full_seconds;
-      ratios.push_back({{"displacement_modes", r.k},
-                        {"full_space_error", r.full_error},
-                        {"reached", reached},
-                        {"full_seconds_to_error", full_seconds},
-                        {"per_iteration", f.median_ms / r.median_ms},
-                        {"optimization_to_equal_error", full_seconds / r.optimize},
-                        {"total_to_equal_error", full_total / reduced_total},
-                        {"reduced_total_seconds", reduced_total},
-                        {"full_total_seconds", full_total}});
+    const auto full_design = [&](double goal) {
+      FullSpaceDesignFunctional full(*kept);
+      EvaluationLog evaluations(full);
+      OptimizerOptions options = kept->optimizer;
+      options.max_iterations = full_iterations;
+      options.checkpoint_every = 1;
+      options.on_checkpoint = [&evaluations, goal](const OptimizerCheckpoint&) {
+        if (evaluations.seconds_to(goal) >= 0.0) throw std::runtime_error("reached the reduced design's full-space error");
+      };
+      const OptimizerResult result = minimize(evaluations, Vector::Zero(kept->num_design()), Bounds{}, {}, options);
+      std::vector<double> per_iteration;
+      for (std::size_t i = 1; i < result.history.size(); ++i)
+        per_iteration.push_back(result.history[i].seconds - result.history[i - 1].seconds);
+      FullRun run;
+      FullRow& f = run.row;
+      f.cells = c;
+      f.m = m_full;
+      f.iterations = result.history.empty() ? 0 : result.history.back().iteration;
+      f.evaluations = evaluations.count();
+      f.median_ms = 1e3 * median_of(per_iteration);
+      f.best_error = evaluations.best_error();
+      f.goal = goal;
+      f.seconds = evaluations.seconds();
+      f.material_modes_seconds = kept->timings.material_modes;
+      f.status = evaluations.seconds_to(goal) >= 0.0 ? "reached" : to_string(result.status) + ": " + result.message;
+      run.trace = evaluations.trace();
+      return run;
+    };
+    std::optional<FullRun> first_full;
+    if (!no_full) {
+      const FullRun& full = first_full.emplace(full_design(best_full));
+      const FullRow& f = full.row;
+      full_rows.push_back(f);
+      bench::Json ratios = bench::Json::array();
+      for (const Row& r : rows) {
+        if (r.cells != c || r.m != m_full) continue;
+        // The full-space design's time to this row's full-space error (its whole run when it never
+        // got there: the ratios are then lower bounds).
+        const double to_error = full.seconds_to(r.full_error);
+        const bool reached = to_error >= 0.0;
+        const double full_seconds = reached ? to_error : f.seconds;
+        const double reduced_total = r.precompute + r.optimize + r.full_solve;
+        const double full_total = f.material_modes_seconds + full_seconds;
+        ratios.push_back({{"displacement_modes", r.k},
+                          {"full_space_error", r.full_error},
+                          {"reached", reached},
+                          {"full_seconds_to_error", full_seconds},
+                          {"per_iteration", f.median_ms / r.median_ms},
+                          {"optimization_to_equal_error", full_seconds / r.optimize},
+                          {"total_to_equal_error", full_total / reduced_total},
+                          {"reduced_total_seconds", reduced_total},
+                          {"full_total_seconds", full_total}});
+        std::printf(
+            "  k %2d m %2d against full space at error %.2e: %.0fx per iteration, %.0fx in optimization time, "
+            "%.1fx in total (%.2f s reduced with precomputation and check, %.2f s full%s)\n",
+            r.k, r.m, r.full_error, f.median_ms / r.median_ms, full_seconds / r.optimize, full_total / reduced_total,
+            reduced_total, full_total, reached ? "" : "; full space did not get there: lower bounds");
+      }
+      full_json.push_back({{"cells", c},
+                           {"material_modes", m_full},
+                           {"iterations", f.iterations},
+                           {"evaluations", f.evaluations},
+                           {"median_iteration_ms", f.median_ms},
+                           {"goal_full_space_error", f.goal},
+                           {"seconds", f.seconds},
+                           {"best_full_space_error", f.best_error},
+                           {"material_modes_seconds", f.material_modes_seconds},
+                           {"status", f.status},
+                           {"ratios", ratios}});
       std::printf(
-          "  k %2d m %2d against full space at error %.2e: %.0fx per iteration, %.0fx in optimization time, "
-          "%.1fx in total (%.2f s reduced with precomputation and check, %.2f s full%s)\n",
-          r.k, r.m, r.full_error, f.median_ms / r.median_ms, full_seconds / r.optimize, full_total / reduced_total,
-          reduced_total, full_total, reached ? "" : "; full space did not get there: lower bounds");
+          "  full-space design (m %d): %d iterations, %d evaluations, %.2f ms/iteration, error %.2e in %.3f s "
+          "(goal %.2e, %s)\n",
+          m_full, f.iterations, f.evaluations, f.median_ms, f.best_error, f.seconds, f.goal, f.status.c_str());
+      std::fflush(stdout);
     }
-    full_json.push_back({{"cells", c},
-                         {"material_modes", m_full},
-                         {"iterations", f.iterations},
-                         {"evaluations", f.evaluations},
-                         {"median_iteration_ms", f.median_ms},
-                         {"goal_full_space_error", f.goal},
-                         {"seconds", f.seconds},
-                         {"best_full_space_error", f.best_error},
-                         {"material_modes_seconds", f.material_modes_seconds},
-                         {"status", f.status},
-                         {"ratios", ratios}});
-    std::printf(
-        "  full-space design (m %d): %d iterations, %d evaluations, %.2f ms/iteration, error %.2e in %.3f s "
-        "(goal %.2e, %s)\n",
-        m_full, f.iterations, f.evaluations, f.median_ms, f.best_error, f.seconds, f.goal, f.status.c_str());
-    std::fflush(stdout);
+    if (num_targets < 2) continue;
+    // --targets: the same design (the last grid point with m_full modes, its precomputation and
+    // refinements kept) given new targets (set_handle_targets), each designed from w = 0 again,
+    // as a user moving the handle's target would; each against a full-space design to the same
+    // full-space error. Amortized: the precomputation once, then per target the reduced loop's
+    // wall time (optimization, full-space checks, refinements).
+    const Row& first = [&]() -> const Row& {
+      for (auto it = rows.rbegin(); it != rows.rend(); ++it)
+        if (it->cells == c && it->m == m_full) return *it;
+      throw std::logic_error("no row with m_full");
+    }();
+    double reduced_sum = first.precompute + first.optimize + first.full_solve;
+    // The first target's full-space time to the kept row's error, as in the ratios above (its
+    // whole run when it never got there).
+    double full_sum = 0.0;
+    if (first_full) {
+      const double to_error = first_full->seconds_to(first.full_error);
+      full_sum = first_full->row.material_modes_seconds + (to_error >= 0.0 ? to_error : first_full->row.seconds);
+    }
+    const double first_full_total = full_sum;
+    bench::Json targets_json = bench::Json::array();
+    std::printf("  new targets on the design of k %d m %d (precomputation %.2f s, kept):\n", first.k, m_full,
+                first.precompute);
+    std::printf("  %6s %14s %10s %10s %10s %12s %12s %14s\n", "target", "reduced [s]", "iter", "r", "err full",
+                "full [s]", "cumul. ratio", "full reached");
+    std::printf("  %6d %14.3f %10d %10d %10.2e %12.3f %12.1f %14s\n", 1, reduced_sum, first.iterations, first.r,
+                first.full_error, full_sum, no_full ? 0.0 : full_sum / reduced_sum, no_full ? "-" : first_full->row.status.c_str());
+    for (int i = 1; i < num_targets; ++i) {
+      set_handle_targets(*kept, {targets[static_cast<std::size_t>(i)]});
+      const auto t0 = Clock::now();
+      const ReducedDesignRun run = run_reduced_design(*kept, "");
+      const double reduced_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+      const double full_error = run.passes.back().full_error;
+      reduced_sum += reduced_seconds;
+      bench::Json item = {{"target", i + 1},
+                          {"target_displacement", {targets[i][0], targets[i][1], targets[i][2]}},
+                          {"reduced_wall_seconds", reduced_seconds},
+                          {"optimization_seconds", run.result.seconds},
+                          {"iterations", run.result.history.empty() ? 0 : run.result.history.back().iteration},
+                          {"passes", run.passes.size()},
+                          {"reduced_coordinates", run.reduced_size},
+                          {"median_iteration_ms", run.median_iteration_ms},
+                          {"full_space_handle_error", full_error},
+                          {"reduced_cumulative_seconds", reduced_sum}};
+      double full_seconds = 0.0;
+      bool reached = false;
+      if (!no_full) {
+        const FullRun full = full_design(full_error);
+        const double to_error = full.seconds_to(full_error);
+        reached = to_error >= 0.0;
+        full_seconds = reached ? to_error : full.row.seconds;
+        full_sum += full_seconds;
+        item["full_seconds_to_error"] = full_seconds;
+        item["full_reached"] = reached;
+        item["full_cumulative_seconds"] = full_sum;
+        item["cumulative_ratio"] = full_sum / reduced_sum;
+      }
+      targets_json.push_back(item);
+      std::printf("  %6d %14.3f %10d %10d %10.2e %12.3f %12.1f %14s\n", i + 1, reduced_seconds,
+                  item["iterations"].get<int>(), run.reduced_size, full_error, full_seconds,
+                  no_full ? 0.0 : full_sum / reduced_sum, no_full ? "-" : (reached ? "yes" : "no (lower bound)"));
+      std::fflush(stdout);
+    }
+    json["targets"] = {{"cells", c},
+                       {"displacement_modes", first.k},
+                       {"material_modes", m_full},
+                       {"first_reduced_total_seconds", first.precompute + first.optimize + first.full_solve},
+                       {"first_full_total_seconds", first_full_total},
+                       {"reduced_cumulative_seconds", reduced_sum},
+                       {"full_cumulative_seconds", full_sum},
+                       {"more", targets_json}};
   }
   json["reduced"] = rows_json;
   json["full"] = full_json;

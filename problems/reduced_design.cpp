@@ -122,6 +122,22 @@ std::vector<double> ReducedDesign::handle_errors(const Vector& displacement) con
 
 namespace {
 
+// Per observation row (handle h, component k): ubar_h[k] and the weight W_h / |ubar_h|^2.
+void observation_targets(const ReducedDesign& design, Vector& target, Vector& weights) {
+  const int dim = design.setup.dim();
+  const Eigen::Index rows = dim * static_cast<Eigen::Index>(design.handles.size());
+  target.resize(rows);
+  weights.resize(rows);
+  for (std::size_t h = 0; h < design.handles.size(); ++h) {
+    const ReducedDesignHandle& handle = design.handles[h];
+    for (int k = 0; k < dim; ++k) {
+      const Eigen::Index row = dim * static_cast<Eigen::Index>(h) + k;
+      target[row] = handle.target[k];
+      weights[row] = handle.weight / handle.target.squaredNorm();
+    }
+  }
+}
+
 // The reduced coefficients and the functional for design.basis.
 void precompute(ReducedDesign& design) {
   const StaticSetup& setup = design.setup;
@@ -161,18 +177,15 @@ void precompute(ReducedDesign& design) {
   // Observations: the mean displacement of each handle's vertices.
   const Eigen::Index rows = dim * static_cast<Eigen::Index>(design.handles.size());
   data.rows = Matrix::Zero(rows, design.basis.cols());
-  data.target.resize(rows);
-  data.row_weights.resize(rows);
   for (std::size_t h = 0; h < design.handles.size(); ++h) {
     const ReducedDesignHandle& handle = design.handles[h];
     const double share = 1.0 / static_cast<double>(handle.vertices.size());
     for (int k = 0; k < dim; ++k) {
       const Eigen::Index row = dim * static_cast<Eigen::Index>(h) + k;
       for (int v : handle.vertices) data.rows.row(row) += share * design.basis.row(dim * v + k);
-      data.target[row] = handle.target[k];
-      data.row_weights[row] = handle.weight / handle.target.squaredNorm();
     }
   }
+  observation_targets(design, data.target, data.row_weights);
   data.regularization = reduction.smoothness * design.material_eigenvalues.cwiseMax(0.0);  // lambda_1 ~ -eps
   data.element_modes = design.material_modes;
   data.element_weights = element_volumes(mesh) / volume;
@@ -390,6 +403,25 @@ ReducedDesign build_reduced_design(const Scene& scene) {
   precompute(design);
   design.timings.total = seconds_since(t_begin);
   return design;
+}
+
+void set_handle_targets(ReducedDesign& design, const std::vector<Eigen::VectorXd>& targets) {
+  const int dim = design.setup.dim();
+  if (targets.size() != design.handles.size())
+    throw std::invalid_argument("set_handle_targets: " + std::to_string(design.handles.size()) +
+                                " handle targets wanted, got " + std::to_string(targets.size()));
+  for (std::size_t h = 0; h < targets.size(); ++h) {
+    const std::string name = "set_handle_targets: the target of " + design.handles[h].key;
+    if (targets[h].size() != dim)
+      throw std::invalid_argument(name + " needs " + std::to_string(dim) + " components, not " +
+                                  std::to_string(targets[h].size()));
+    if (!targets[h].allFinite() || !(targets[h].norm() > 0.0))
+      throw std::invalid_argument(name + " must be finite and not zero");
+  }
+  for (std::size_t h = 0; h < targets.size(); ++h) design.handles[h].target = targets[h];
+  Vector target, weights;
+  observation_targets(design, target, weights);
+  design.functional->set_observations(std::move(target), std::move(weights));
 }
 
 FullSpaceCheck full_space_check(const ReducedDesign& design, const Vector& w, const Vector* start_displacement) {

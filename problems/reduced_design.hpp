@@ -87,6 +87,14 @@ ReducedDesign build_reduced_design(const Scene& scene);
 // coefficients (or fits the cubature rule) again (a new functional). Returns the seconds spent.
 double refine_basis(ReducedDesign& design, const Vector& w, const Vector& displacement);
 
+// Gives the handles new target displacements ubar (one per handle, in design.handles' order)
+// for the next run_reduced_design, without another precomputation: the basis (static and
+// design responses to the handle forces, modes, derivatives, refinements), the coefficients and
+// the cubature rule depend on the forces and the materials, not on the targets. This is what
+// makes the loop interactive: move a target, design again in milliseconds per iteration.
+// Throws std::invalid_argument for a wrong count or size, or a zero or non-finite target.
+void set_handle_targets(ReducedDesign& design, const std::vector<Eigen::VectorXd>& targets);
+
 struct FullSpaceCheck {
   bool converged = false;
   std::string message;

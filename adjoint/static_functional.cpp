@@ -83,6 +83,14 @@ Vector StaticFunctional::solve_hessian(const Vector& rhs) {
     // The alternative linear solver (NewtonOptions::linear_solver) on the exact Hessian at the
     // equilibrium, to options_.linear_relative_tolerance (see the header for the rule).
     LinearSolver& solver = *newton_.options().linear_solver;
+    if (!adjoint_solver_ready_ && newton_.assembles_by_parts()) {
+      // Distributed assembly: the processes' shares of the exact Hessian at the equilibrium
+      // (after a converged solve usually the solver's last set-up already).
+      std::string message;
+      if (!newton_.set_up_exact_share(p_, y_, message))
+        throw EvaluationError("adjoint: linear solver '" + solver.name() + "' set-up failed: " + message);
+      adjoint_solver_ready_ = true;
+    }
     if (!adjoint_solver_ready_) {
       // After a converged solve Newton's last assembled Hessian is the one at the equilibrium.
       const SparseMatrix* h = &newton_.hessian();

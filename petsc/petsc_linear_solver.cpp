@@ -85,6 +85,30 @@ struct PetscLinearSolver::Impl {
   int dim = 0;                        // with vertex coordinates: the block size
   Vector coordinates;
   bool near_null_space = false;       // of the current matrix
+  bool by_parts = false;              // assemble_by_parts (options or -tailor_assemble_by_parts)
+  bool shared = false;                // the current matrix is a sum of shares (`full` is empty)
+  std::vector<PetscInt> coo_rows, coo_columns;  // this rank's COO pattern of the current matrix
+
+  // PETSc's default split (PetscSplitOwnership) of n rows, by whole vertices (block size dim)
+  // when the coordinates of all n unknowns are known: the first count % size ranks get one more.
+  struct Split {
+    PetscInt block = 1, begin = 0, local = 0;
+  };
+  Split split(PetscInt n, int rank, int size) const {
+    Split out;
+    const bool blocked = dim > 0 && coordinates.size() == n && n % dim == 0;
+    out.block = blocked ? dim : 1;
+    const PetscInt count = n / out.block, base = count / size, extra = count % size;
+    out.local = out.block * (base + (rank < extra ? 1 : 0));
+    out.begin = out.block * (rank * base + std::min<PetscInt>(rank, extra));
+    return out;
+  }
+  bool blocked(PetscInt n) const { return dim > 0 && coordinates.size() == n && n % dim == 0; }
+  // New matrix (sizes, block size, symmetric and SPD flags), vectors, the near-null space
+  // from the coordinates when blocked, and the gather of solutions. Preallocation is the caller's.
+  void create_matrix(PetscInt n, const Split& s);
+  // After the values are in: the KSP's operators and its set-up.
+  void finish_setup(PetscInt n, const Split& s);
   int solves = 0;
   long long iterations = 0;
   std::vector<int> recent_iterations;
@@ -129,6 +153,10 @@ PetscLinearSolver::PetscLinearSolver(PetscSolverOptions options)
     check(KSPSetFromOptions(impl_->ksp), "KSPSetFromOptions");
     check(KSPGetTolerances(impl_->ksp, &impl_->default_rtol, &impl_->abstol, &impl_->dtol, &impl_->max_iterations),
           "KSPGetTolerances");
+    PetscBool by_parts = options_.assemble_by_parts ? PETSC_TRUE : PETSC_FALSE;
+    check(PetscOptionsGetBool(nullptr, nullptr, "-tailor_assemble_by_parts", &by_parts, nullptr),
+          "reading -tailor_assemble_by_parts");
+    impl_->by_parts = by_parts == PETSC_TRUE;
   } catch (const std::runtime_error& e) {
     throw std::invalid_argument(std::string("petsc_options \"") + options_.options + "\": " + e.what());
   }
@@ -148,21 +176,55 @@ std::string PetscLinearSolver::method() const {
   return std::string(ksp_type ? ksp_type : "?") + "/" + (pc_type ? pc_type : "?");
 }
 
+void PetscLinearSolver::Impl::create_matrix(PetscInt n, const Split& s) {
+  destroy_matrix();
+  check(MatCreate(PETSC_COMM_WORLD, &matrix), "MatCreate");
+  check(MatSetSizes(matrix, s.local, s.local, n, n), "MatSetSizes");
+  check(MatSetBlockSize(matrix, s.block), "MatSetBlockSize");
+  check(MatSetType(matrix, MATMPIAIJ), "MatSetType");
+  check(MatCreateVecs(matrix, &x, &b), "MatCreateVecs");
+  near_null_space = false;
+  if (blocked(n)) {
+    // The rigid-body modes from this rank's vertices (the vector's block size is dim).
+    Vec local_coordinates = nullptr;
+    check(VecDuplicate(x, &local_coordinates), "VecDuplicate");
+    PetscScalar* c = nullptr;
+    check(VecGetArray(local_coordinates, &c), "VecGetArray");
+    std::copy(coordinates.data() + s.begin, coordinates.data() + s.begin + s.local, c);
+    check(VecRestoreArray(local_coordinates, &c), "VecRestoreArray");
+    MatNullSpace modes = nullptr;
+    const PetscErrorCode built = MatNullSpaceCreateRigidBody(local_coordinates, &modes);
+    VecDestroy(&local_coordinates);
+    check(built, "MatNullSpaceCreateRigidBody");
+    const PetscErrorCode attached = MatSetNearNullSpace(matrix, modes);
+    MatNullSpaceDestroy(&modes);
+    check(attached, "MatSetNearNullSpace");
+    near_null_space = true;
+  }
+  check(VecScatterCreateToAll(x, &scatter, &gathered), "VecScatterCreateToAll");
+}
+
+void PetscLinearSolver::Impl::finish_setup(PetscInt size_n, const Split& s) {
+  check(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption(MAT_SYMMETRIC)");
+  check(MatSetOption(matrix, MAT_SPD, PETSC_TRUE), "MatSetOption(MAT_SPD)");
+  check(KSPSetOperators(ksp, matrix, matrix), "KSPSetOperators");
+  check(KSPSetUp(ksp), "KSPSetUp");
+  n = size_n;
+  row_begin = s.begin;
+  row_end = s.begin + s.local;
+}
+
 bool PetscLinearSolver::setup(const SparseMatrix& upper, std::string& message) {
   try {
     Impl& m = *impl_;
     const PetscInt n = static_cast<PetscInt>(upper.rows());
     m.full = upper.selfadjointView<Eigen::Upper>();
     m.full.makeCompressed();
-    const int rank = PetscSession::rank(), size = PetscSession::size();
-    // With vertex coordinates of all n unknowns the split is by whole vertices (block size
-    // dim), else by rows. Either way PETSc's default split (PetscSplitOwnership): the first
-    // count % size ranks get one more.
-    const bool blocked = m.dim > 0 && m.coordinates.size() == n && n % m.dim == 0;
-    const PetscInt block = blocked ? m.dim : 1, count = n / block;
-    const PetscInt base = count / size, extra = count % size;
-    const PetscInt local = block * (base + (rank < extra ? 1 : 0));
-    const PetscInt begin = block * (rank * base + std::min<PetscInt>(rank, extra));
+    m.shared = false;
+    m.coo_rows.clear();
+    m.coo_columns.clear();
+    const Impl::Split s = m.split(n, PetscSession::rank(), PetscSession::size());
+    const PetscInt begin = s.begin, local = s.local;
     std::vector<PetscInt> row_start(local + 1), columns;
     std::vector<PetscScalar> values;
     const auto* outer = m.full.outerIndexPtr();
@@ -170,45 +232,118 @@ bool PetscLinearSolver::setup(const SparseMatrix& upper, std::string& message) {
     row_start[local] = static_cast<PetscInt>(outer[begin + local] - outer[begin]);
     columns.assign(m.full.innerIndexPtr() + outer[begin], m.full.innerIndexPtr() + outer[begin + local]);
     values.assign(m.full.valuePtr() + outer[begin], m.full.valuePtr() + outer[begin + local]);
-    m.destroy_matrix();
-    check(MatCreate(PETSC_COMM_WORLD, &m.matrix), "MatCreate");
-    check(MatSetSizes(m.matrix, local, local, n, n), "MatSetSizes");
-    check(MatSetBlockSize(m.matrix, block), "MatSetBlockSize");
-    check(MatSetType(m.matrix, MATMPIAIJ), "MatSetType");
+    m.create_matrix(n, s);
     check(MatMPIAIJSetPreallocationCSR(m.matrix, row_start.data(), columns.data(), values.data()),
           "MatMPIAIJSetPreallocationCSR");
-    check(MatSetOption(m.matrix, MAT_SYMMETRIC, PETSC_TRUE), "MatSetOption(MAT_SYMMETRIC)");
-    check(MatSetOption(m.matrix, MAT_SPD, PETSC_TRUE), "MatSetOption(MAT_SPD)");
-    check(MatCreateVecs(m.matrix, &m.x, &m.b), "MatCreateVecs");
-    m.near_null_space = false;
-    if (blocked) {
-      // The rigid-body modes from this rank's vertices (the vector's block size is dim).
-      Vec local_coordinates = nullptr;
-      check(VecDuplicate(m.x, &local_coordinates), "VecDuplicate");
-      PetscScalar* c = nullptr;
-      check(VecGetArray(local_coordinates, &c), "VecGetArray");
-      std::copy(m.coordinates.data() + begin, m.coordinates.data() + begin + local, c);
-      check(VecRestoreArray(local_coordinates, &c), "VecRestoreArray");
-      MatNullSpace modes = nullptr;
-      const PetscErrorCode built = MatNullSpaceCreateRigidBody(local_coordinates, &modes);
-      VecDestroy(&local_coordinates);
-      check(built, "MatNullSpaceCreateRigidBody");
-      const PetscErrorCode attached = MatSetNearNullSpace(m.matrix, modes);
-      MatNullSpaceDestroy(&modes);
-      check(attached, "MatSetNearNullSpace");
-      m.near_null_space = true;
-    }
-    check(VecScatterCreateToAll(m.x, &m.scatter, &m.gathered), "VecScatterCreateToAll");
-    check(KSPSetOperators(m.ksp, m.matrix, m.matrix), "KSPSetOperators");
-    check(KSPSetUp(m.ksp), "KSPSetUp");
-    m.n = n;
-    m.row_begin = begin;
-    m.row_end = begin + local;
+    m.finish_setup(n, s);
     return true;
   } catch (const std::runtime_error& e) {
     message = e.what();
     return false;
   }
+}
+
+bool PetscLinearSolver::assembles_by_parts() const { return impl_->by_parts; }
+
+bool PetscLinearSolver::owns_unknown(int unknown, int num_unknowns) const {
+  const Impl::Split s = impl_->split(num_unknowns, PetscSession::rank(), PetscSession::size());
+  return unknown >= s.begin && unknown < s.begin + s.local;
+}
+
+bool PetscLinearSolver::setup_share(const SparseMatrix& upper, std::string& message) {
+  try {
+    Impl& m = *impl_;
+    const PetscInt n = static_cast<PetscInt>(upper.rows());
+    if (upper.cols() != n) throw std::runtime_error("the Hessian share is not square");
+    const Impl::Split s = m.split(n, PetscSession::rank(), PetscSession::size());
+    // COO triplets: both triangles of the share, and a (zero) diagonal entry for every owned
+    // row, so that each owned row has its diagonal whichever ranks' elements fill it.
+    std::vector<PetscInt> rows, columns;
+    std::vector<PetscScalar> values;
+    const std::size_t count = 2 * static_cast<std::size_t>(upper.nonZeros()) + static_cast<std::size_t>(s.local);
+    rows.reserve(count);
+    columns.reserve(count);
+    values.reserve(count);
+    for (int j = 0; j < upper.outerSize(); ++j)
+      for (SparseMatrix::InnerIterator e(upper, j); e; ++e) {
+        if (e.row() > j) continue;  // upper triangle only
+        rows.push_back(e.row());
+        columns.push_back(j);
+        values.push_back(e.value());
+        if (e.row() != j) {
+          rows.push_back(j);
+          columns.push_back(e.row());
+          values.push_back(e.value());
+        }
+      }
+    for (PetscInt i = s.begin; i < s.begin + s.local; ++i) {
+      rows.push_back(i);
+      columns.push_back(i);
+      values.push_back(0.0);
+    }
+    // A new pattern on any rank makes every rank preallocate again (collective).
+    int same = m.matrix && m.shared && m.n == n && m.coo_rows == rows && m.coo_columns == columns ? 1 : 0;
+    int all_same = 0;
+    if (MPI_Allreduce(&same, &all_same, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD) != MPI_SUCCESS)
+      throw std::runtime_error("MPI_Allreduce failed");
+    m.full = {};
+    if (!all_same) {
+      m.create_matrix(n, s);
+      // (PETSc may overwrite the index arrays it is given: it gets copies.)
+      std::vector<PetscInt> coo_i = rows, coo_j = columns;
+      check(MatSetPreallocationCOO(m.matrix, static_cast<PetscCount>(coo_i.size()), coo_i.data(), coo_j.data()),
+            "MatSetPreallocationCOO");
+      m.coo_rows = std::move(rows);
+      m.coo_columns = std::move(columns);
+      m.shared = true;
+    }
+    check(MatSetValuesCOO(m.matrix, values.data(), INSERT_VALUES), "MatSetValuesCOO");
+    m.finish_setup(n, s);
+    return true;
+  } catch (const std::runtime_error& e) {
+    impl_->shared = false;
+    message = e.what();
+    return false;
+  }
+}
+
+bool PetscLinearSolver::matrix_norms(double& inf_norm, double& max_abs_diagonal, double& min_abs_diagonal) const {
+  const Impl& m = *impl_;
+  if (!m.matrix) return false;
+  PetscReal norm = 0.0;
+  if (MatNorm(m.matrix, NORM_INFINITY, &norm) != 0) return false;
+  Vec diagonal = nullptr;
+  if (VecDuplicate(m.x, &diagonal) != 0) return false;
+  PetscReal largest = 0.0, smallest = 0.0;
+  const bool ok = MatGetDiagonal(m.matrix, diagonal) == 0 && VecAbs(diagonal) == 0 &&
+                  VecMax(diagonal, nullptr, &largest) == 0 && VecMin(diagonal, nullptr, &smallest) == 0;
+  VecDestroy(&diagonal);
+  if (!ok) return false;
+  inf_norm = norm;
+  max_abs_diagonal = largest;
+  min_abs_diagonal = smallest;
+  return true;
+}
+
+Vector PetscLinearSolver::multiply(const Vector& in) const {
+  const Impl& m = *impl_;
+  if (!m.matrix) throw std::logic_error("PetscLinearSolver::multiply before setup");
+  if (in.size() != m.n) throw std::invalid_argument("PetscLinearSolver::multiply: vector of the wrong size");
+  PetscScalar* local = nullptr;
+  check(VecGetArray(m.x, &local), "VecGetArray");
+  std::copy(in.data() + m.row_begin, in.data() + m.row_end, local);
+  check(VecRestoreArray(m.x, &local), "VecRestoreArray");
+  Vec product = nullptr;
+  check(VecDuplicate(m.b, &product), "VecDuplicate");
+  check(MatMult(m.matrix, m.x, product), "MatMult");
+  check(VecScatterBegin(m.scatter, product, m.gathered, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+  check(VecScatterEnd(m.scatter, product, m.gathered, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+  VecDestroy(&product);
+  const PetscScalar* all = nullptr;
+  check(VecGetArrayRead(m.gathered, &all), "VecGetArrayRead");
+  Vector out = Eigen::Map<const Vector>(all, m.n);
+  check(VecRestoreArrayRead(m.gathered, &all), "VecRestoreArrayRead");
+  return out;
 }
 
 LinearSolveStats PetscLinearSolver::solve(const Vector& rhs, double relative_tolerance, Vector& solution) {
@@ -250,9 +385,23 @@ LinearSolveStats PetscLinearSolver::solve(const Vector& rhs, double relative_tol
       throw std::invalid_argument("petsc_options \"" + options_.options + "\": option " + unused +
                                   " is not one that the solver (" + method() + ") reads");
   }
-  // The true relative residual, in double precision on the whole matrix (every rank has it).
+  // The true relative residual, in double precision on the whole matrix (every rank has it;
+  // with shares, PETSc's distributed product: b - A x).
   const double b_norm = rhs.norm();
-  stats.relative_residual = b_norm > 0.0 ? (rhs - m.full * solution).norm() / b_norm : (m.full * solution).norm();
+  double r_norm = 0.0;
+  if (m.shared) {
+    Vec residual = nullptr;
+    check(VecDuplicate(m.b, &residual), "VecDuplicate");
+    PetscReal norm = 0.0;
+    const PetscErrorCode code = MatMult(m.matrix, m.x, residual) || VecAYPX(residual, -1.0, m.b) ||
+                                VecNorm(residual, NORM_2, &norm);
+    VecDestroy(&residual);
+    check(code, "the residual b - A x");
+    r_norm = norm;
+  } else {
+    r_norm = (rhs - m.full * solution).norm();
+  }
+  stats.relative_residual = b_norm > 0.0 ? r_norm / b_norm : r_norm;
   stats.iterations = static_cast<int>(iterations);
   stats.converged = reason > 0 && solution.allFinite();
   ++m.solves;
@@ -311,6 +460,7 @@ LinearSolverInfo PetscLinearSolver::info() const {
   i.divergence_tolerance = dtol;
   i.max_iterations = static_cast<int>(max_it);
   i.processes = PetscSession::size();
+  i.assembles_by_parts = m.by_parts;
   i.near_null_space = m.near_null_space;
   i.solves = m.solves;
   i.iterations = m.iterations;

@@ -38,6 +38,7 @@ nlohmann::ordered_json linear_solver_json(const LinearSolver* solver) {
           {"divergence_tolerance", i.divergence_tolerance},
           {"max_iterations", i.max_iterations},
           {"processes", i.processes},
+          {"assembly", i.assembles_by_parts ? "by_parts" : "replicated"},
           {"solves", i.solves},
           {"iterations", i.iterations},
           {"recent_iterations", i.recent_iterations},

@@ -1,21 +1,36 @@
-// PETSc back-end against CHOLMOD on the reduced Hessian of a clamped linear-elastic cantilever
-// (bench/cantilever.hpp) for a few mesh sizes: seconds of a set-up (CHOLMOD: numeric
-// factorization after a symbolic analysis; PETSc: matrix copy + KSPSetUp, e.g. GAMG's
-// hierarchy) and of one solve to a relative residual of 1e-10, medians of 3, and each rank's
-// peak resident memory. Run under mpiexec with 1 and 2 ranks (docs/petsc.md):
-//   mpiexec -n 2 build/bin/petsc_scaling_bench [report.json] [PETSc options]
-// Every rank holds the whole model and matrix (replicated assembly); CHOLMOD runs on rank 0's
-// copy only for the comparison (in a real run every rank would hold the model, not a factor).
+// Memory and time per rank of one linear solve with the reduced Hessian of a clamped
+// linear-elastic cantilever (bench/cantilever.hpp, E = 1000, nu = 0.3), in one of three modes
+// (docs/petsc.md, "Figures"):
+//   --mode cholmod      one process: assembly (ReducedAssembler) + CHOLMOD (analysis,
+//                       factorization, solve): tailor's default path;
+//   --mode replicated   every rank assembles the whole Hessian and copies its rows into PETSc
+//                       (PetscLinearSolver::setup);
+//   --mode by-parts     every rank assembles the Hessian of the elements it owns
+//                       (forward/solve/hessian_share.hpp) and PETSc sums the shares
+//                       (PetscLinearSolver::setup_share): distributed assembly.
+// Per mesh size: assembly, set-up (CHOLMOD: factorization; PETSc: matrix + KSPSetUp, e.g. GAMG's
+// hierarchy) and solve seconds (to a relative residual of 1e-10, medians of --repeats), CG
+// iterations, and each rank's resident memory while it holds everything of that size (VmRSS)
+// and its peak so far (VmHWM; sizes run in increasing order, so it is that size's peak). The
+// rigid-body modes are the near-null space (the clamped unknowns are whole vertices) unless
+// --no-near-null-space. PETSc options (-ksp_type ..., -log_view) may follow on the command line.
+//
+//   mpiexec -n 2 build/bin/petsc_scaling_bench --mode by-parts --tets 24000,96000,384000
 #include <mpi.h>
 
 #include <cstdio>
 #include <fstream>
+#include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "bench/bench_cli.hpp"
 #include "bench/cantilever.hpp"
 #include "forward/core/assembler.hpp"
+#include "forward/solve/hessian_share.hpp"
 #include "forward/solve/sparse_cholesky.hpp"
+#include "petsc/petsc_command_line.hpp"
 #include "petsc/petsc_linear_solver.hpp"
 
 namespace {
@@ -23,92 +38,156 @@ namespace {
 using namespace tailor;
 using namespace tailor::bench;
 
-// This process's peak resident memory (VmHWM) in MiB.
-double peak_mib() {
+// This process's resident memory now (VmRSS) or at its peak so far (VmHWM), in MiB.
+double status_mib(const char* key) {
   std::ifstream status("/proc/self/status");
+  const std::string prefix = std::string(key) + ":";
   for (std::string line; std::getline(status, line);)
-    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+    if (line.rfind(prefix, 0) == 0) return std::stod(line.substr(prefix.size())) / 1024.0;
   return 0.0;
+}
+
+std::vector<double> gather(double value) {
+  std::vector<double> all(static_cast<std::size_t>(PetscSession::size()));
+  MPI_Gather(&value, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  return all;
+}
+
+double max_of(const std::vector<double>& v) {
+  double m = 0.0;
+  for (double x : v) m = std::max(m, x);
+  return m;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   PetscSession session(&argc, &argv);  // reads PETSc's own flags
-  const std::string out = argc > 1 ? argv[1] : "petsc_scaling_bench.json";
+  const std::vector<std::string> words = without_petsc_options(argc, argv);
+  std::vector<const char*> ours;
+  for (const std::string& w : words) ours.push_back(w.c_str());
+
+  std::vector<int> tets{6000, 24000, 96000};
+  int repeats = 3;
+  bool no_modes = false;
+  std::string mode = "by-parts", out = "petsc_scaling_bench.json";
+  Cli cli("petsc_scaling_bench", "memory and time per rank of a solve: CHOLMOD, PETSc replicated, PETSc by parts");
+  cli.tets(tets);
+  cli.repeats(repeats);
+  cli.app()
+      .add_option("--mode", mode, "cholmod, replicated or by-parts")
+      ->check(CLI::IsMember({"cholmod", "replicated", "by-parts"}))
+      ->capture_default_str();
+  cli.flag("--no-near-null-space", no_modes, "GAMG without the rigid-body modes");
+  cli.out(out);
+  if (const auto exit = cli.parse(static_cast<int>(ours.size()), ours.data())) return *exit;
   const int rank = PetscSession::rank(), ranks = PetscSession::size();
+  if (mode == "cholmod" && ranks != 1) return cli.usage_error("--mode cholmod runs on one process");
+
   Json json = report("petsc_scaling_bench");
+  json["mode"] = mode;
   json["ranks"] = ranks;
   json["relative_tolerance"] = 1e-10;
+  json["near_null_space"] = !no_modes && mode != "cholmod";
   Json rows = Json::array();
   if (rank == 0)
-    std::printf("%5s %8s %8s | %9s %9s %8s | %9s %9s %6s %8s %s\n", "ranks", "tets", "unknowns", "chol fact",
-                "chol solve", "chol MiB", "petsc setup", "petsc solve", "its", "MiB/rank", "method");
-  for (int target : {6000, 24000, 96000}) {
+    std::printf("%-10s %5s %8s %8s | %9s %9s %9s %5s | %11s %11s  %s\n", "mode", "ranks", "tets", "unknowns",
+                "assembly", "set-up", "solve", "its", "MiB/rank", "peak/rank", "method");
+  for (int target : tets) {
     Cantilever c = make_cantilever(4.0, cantilever_cells(target, 4.0), MaterialKind::linear);
     const Vector p = cantilever_parameters(c, 1000.0, 0.3);
-    ReducedAssembler assembler(*c.model);
-    SparseMatrix h;
     const Vector y = c.model->elimination().restrict_state(c.rest);
-    assembler.evaluate(y, p, nullptr, nullptr, &h, HessianMode::exact);
-    const Vector b = Vector::Ones(h.rows());
-    std::vector<double> chol_fact, chol_solve, petsc_setup, petsc_solve;
-    double chol_mib = 0.0;
-    if (rank == 0) {
+    const Vector b = Vector::Ones(y.size());
+    std::vector<double> assembly, setup, solve;
+    int iterations = 0;
+    double residual = 0.0;
+    std::string method = "cholmod";
+    double rss = 0.0;
+    long long slots = 0;
+    if (mode == "cholmod") {
+      ReducedAssembler assembler(*c.model);
+      SparseMatrix h = assembler.hessian_pattern_matrix();
       SparseCholesky cholesky;
-      cholesky.analyze(h);
-      for (int r = 0; r < 3; ++r) {
+      for (int r = 0; r < repeats; ++r) {
         auto t0 = Clock::now();
-        cholesky.factorize(h);
-        chol_fact.push_back(seconds_since(t0));
+        assembler.evaluate(y, p, nullptr, nullptr, &h, HessianMode::exact);
+        assembly.push_back(seconds_since(t0));
+        t0 = Clock::now();
+        if (r == 0) cholesky.analyze(h);
+        if (!cholesky.factorize(h).success) {
+          std::fprintf(stderr, "the factorization failed\n");
+          return 1;
+        }
+        setup.push_back(seconds_since(t0));
         t0 = Clock::now();
         const Vector x = cholesky.solve(b);
-        chol_solve.push_back(seconds_since(t0));
+        solve.push_back(seconds_since(t0));
+        residual = (b - h.selfadjointView<Eigen::Upper>() * x).norm() / b.norm();
       }
-      chol_mib = peak_mib();
-    }
-    MPI_Barrier(MPI_COMM_WORLD);
-    PetscLinearSolver solver;
-    LinearSolveStats stats;
-    for (int r = 0; r < 3; ++r) {
-      std::string message;
-      MPI_Barrier(MPI_COMM_WORLD);
-      auto t0 = Clock::now();
-      if (!solver.setup(h, message)) {
-        std::fprintf(stderr, "setup failed: %s\n", message.c_str());
-        return 1;
+      slots = static_cast<long long>(assembler.num_slots());
+      rss = status_mib("VmRSS");
+    } else {
+      PetscLinearSolver solver;
+      if (!no_modes) solver.set_vertex_coordinates(3, y);
+      std::optional<ReducedAssembler> whole;
+      std::optional<HessianShare> share;
+      SparseMatrix h;
+      if (mode == "replicated") {
+        whole.emplace(*c.model);
+        h = whole->hessian_pattern_matrix();
+        slots = static_cast<long long>(whole->num_slots());
+      } else {
+        share.emplace(*c.model, solver);
+        slots = static_cast<long long>(share->num_slots());
       }
-      petsc_setup.push_back(seconds_since(t0));
-      Vector x;
-      MPI_Barrier(MPI_COMM_WORLD);
-      t0 = Clock::now();
-      stats = solver.solve(b, 1e-10, x);
-      petsc_solve.push_back(seconds_since(t0));
+      for (int r = 0; r < repeats; ++r) {
+        std::string message;
+        MPI_Barrier(MPI_COMM_WORLD);
+        auto t0 = Clock::now();
+        if (whole)
+          whole->evaluate(y, p, nullptr, nullptr, &h, HessianMode::exact);
+        else
+          share->assemble(y, p, HessianMode::exact);
+        assembly.push_back(seconds_since(t0));
+        MPI_Barrier(MPI_COMM_WORLD);
+        t0 = Clock::now();
+        const bool ready = whole ? solver.setup(h, message) : solver.setup_share(share->hessian(), message);
+        if (!ready) {
+          std::fprintf(stderr, "set-up failed: %s\n", message.c_str());
+          return 1;
+        }
+        setup.push_back(seconds_since(t0));
+        Vector x;
+        MPI_Barrier(MPI_COMM_WORLD);
+        t0 = Clock::now();
+        const LinearSolveStats stats = solver.solve(b, 1e-10, x);
+        solve.push_back(seconds_since(t0));
+        iterations = stats.iterations;
+        residual = stats.relative_residual;
+      }
+      method = solver.method() + (solver.info().near_null_space ? " + rigid-body modes" : "");
+      rss = status_mib("VmRSS");
     }
-    double mib = peak_mib();
-    std::vector<double> per_rank(ranks);
-    MPI_Gather(&mib, 1, MPI_DOUBLE, per_rank.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    const std::vector<double> rss_per_rank = gather(rss), peak_per_rank = gather(status_mib("VmHWM"));
+    const std::vector<double> slots_per_rank = gather(static_cast<double>(slots));
     if (rank != 0) continue;
     Json row;
     row["tets"] = c.mesh.num_elements();
-    row["unknowns"] = h.rows();
-    row["cholmod_factorize_seconds"] = median(chol_fact);
-    row["cholmod_solve_seconds"] = median(chol_solve);
-    row["cholmod_peak_mib"] = chol_mib;
-    row["petsc_setup_seconds"] = median(petsc_setup);
-    row["petsc_solve_seconds"] = median(petsc_solve);
-    row["petsc_iterations"] = stats.iterations;
-    row["petsc_relative_residual"] = stats.relative_residual;
-    row["petsc_method"] = solver.method();
-    row["peak_mib_per_rank"] = array(per_rank);
-    row["petsc_over_cholmod_total"] =
-        (median(petsc_setup) + median(petsc_solve)) / (median(chol_fact) + median(chol_solve));
+    row["unknowns"] = y.size();
+    row["assembly_seconds"] = median(assembly);
+    row["setup_seconds"] = median(setup);
+    row["solve_seconds"] = median(solve);
+    row["iterations"] = iterations;
+    row["relative_residual"] = residual;
+    row["method"] = method;
+    row["rss_mib_per_rank"] = array(rss_per_rank);
+    row["peak_mib_per_rank"] = array(peak_per_rank);
+    row["hessian_slots_per_rank"] = array(slots_per_rank);
     rows.push_back(row);
-    double max_mib = 0.0;
-    for (double v : per_rank) max_mib = std::max(max_mib, v);
-    std::printf("%5d %8d %8d | %9.4f %9.4f %8.0f | %11.4f %11.4f %6d %8.0f %s\n", ranks, c.mesh.num_elements(),
-                static_cast<int>(h.rows()), median(chol_fact), median(chol_solve), chol_mib, median(petsc_setup),
-                median(petsc_solve), stats.iterations, max_mib, solver.method().c_str());
+    std::printf("%-10s %5d %8d %8d | %9.3f %9.3f %9.3f %5d | %11.0f %11.0f  %s\n", mode.c_str(), ranks,
+                c.mesh.num_elements(), static_cast<int>(y.size()), median(assembly), median(setup), median(solve),
+                iterations, max_of(rss_per_rank), max_of(peak_per_rank), method.c_str());
+    std::fflush(stdout);
   }
   if (rank == 0) {
     json["rows"] = rows;

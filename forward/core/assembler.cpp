@@ -6,7 +6,23 @@
 
 namespace tailor {
 
-ReducedAssembler::ReducedAssembler(const Model& model) : model_(model) {
+namespace {
+
+std::vector<const EnergyTerm*> all_terms(const Model& model) {
+  std::vector<const EnergyTerm*> terms;
+  for (const auto& term : model.terms()) terms.push_back(term.get());
+  return terms;
+}
+
+}  // namespace
+
+ReducedAssembler::ReducedAssembler(const Model& model) : ReducedAssembler(model, all_terms(model)) {}
+
+ReducedAssembler::ReducedAssembler(const Model& model, std::vector<const EnergyTerm*> terms, bool hessian,
+                                   bool full_diagonal)
+    : model_(model), terms_(std::move(terms)), hessian_(hessian) {
+  term_slot_begin_.assign(terms_.size() + 1, 0);
+  if (!hessian_) return;
   const Elimination& elim = model.elimination();
   const auto& rb = elim.row_begin();
   const auto& rf = elim.row_free();
@@ -16,7 +32,7 @@ ReducedAssembler::ReducedAssembler(const Model& model) : model_(model) {
   // 1. All terms' slots, as (row, col) in x.
   HessianPattern slots;
   term_slot_begin_.clear();
-  for (const auto& term : model.terms()) {
+  for (const EnergyTerm* term : terms_) {
     term_slot_begin_.push_back(slots.size());
     term->hessian_pattern(slots);
   }
@@ -32,9 +48,9 @@ ReducedAssembler::ReducedAssembler(const Model& model) : model_(model) {
   std::vector<Image> images;
   images.reserve(slots.size() / 2 + m);
   std::vector<char> constant_slot(slots.size(), 0);
-  constant_term_.assign(model.terms().size(), 0);
-  for (std::size_t t = 0; t < model.terms().size(); ++t)
-    if ((constant_term_[t] = model.terms()[t]->hessian_is_constant()))
+  constant_term_.assign(terms_.size(), 0);
+  for (std::size_t t = 0; t < terms_.size(); ++t)
+    if ((constant_term_[t] = terms_[t]->hessian_is_constant()))
       std::fill(constant_slot.begin() + static_cast<std::ptrdiff_t>(term_slot_begin_[t]),
                 constant_slot.begin() + static_cast<std::ptrdiff_t>(term_slot_begin_[t + 1]), 1);
   for (std::size_t k = 0; k < slots.size(); ++k) {
@@ -54,7 +70,8 @@ ReducedAssembler::ReducedAssembler(const Model& model) : model_(model) {
   Triplets triplets;
   triplets.reserve(images.size() + m);
   for (const auto& im : images) triplets.emplace_back(im.row, im.col, 0.0);
-  for (int a = 0; a < m; ++a) triplets.emplace_back(a, a, 0.0);
+  if (full_diagonal)
+    for (int a = 0; a < m; ++a) triplets.emplace_back(a, a, 0.0);
   pattern_.resize(m, m);
   pattern_.setFromTriplets(triplets.begin(), triplets.end());
   pattern_.makeCompressed();
@@ -126,7 +143,9 @@ void ReducedAssembler::evaluate(const Vector& y, const Vector& p, double* energy
   if (gradient_y) gx = Vector::Zero(model_.num_dofs());
   if (energy) *energy = 0.0;
 
-  const auto& terms = model_.terms();
+  const auto& terms = terms_;
+  if (hessian_y && !hessian_)
+    throw std::logic_error("ReducedAssembler::evaluate: a Hessian from an assembler built without one");
   if (hessian_y) {
     cached_.resize(terms.size());
     if (cached_p_.size() != p.size() || !(cached_p_.array() == p.array()).all()) {

@@ -21,6 +21,12 @@ namespace tailor {
 class ReducedAssembler {
  public:
   explicit ReducedAssembler(const Model& model);
+  // Over some terms only (the model still gives the state and the elimination), e.g. a
+  // process's share of the elements in distributed assembly. Without `hessian` it evaluates
+  // energies and gradients only (no pattern is built: a Hessian request is an error); without
+  // `full_diagonal` the pattern holds the diagonal entries that the terms write, not all of them.
+  ReducedAssembler(const Model& model, std::vector<const EnergyTerm*> terms, bool hessian = true,
+                   bool full_diagonal = true);
 
   int num_free() const { return model_.elimination().num_free(); }
   const Model& model() const { return model_; }
@@ -40,6 +46,8 @@ class ReducedAssembler {
 
  private:
   const Model& model_;
+  std::vector<const EnergyTerm*> terms_;
+  bool hessian_ = true;
   std::vector<std::size_t> term_slot_begin_;  // per term: first slot in buffer_
   std::vector<double> buffer_;                // per-slot values written by the terms
   // Constant-Hessian terms whose slots in buffer_ hold their Hessian at cached_p_, with the

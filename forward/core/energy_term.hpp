@@ -7,6 +7,8 @@
 // per slot in the same order. The Model maps slots to the assembled matrix once, so Newton
 // never rebuilds a sparse matrix from triplets.
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 
 #include "forward/core/types.hpp"
@@ -90,6 +92,16 @@ class EnergyTerm {
   virtual double max_step(const Vector& x, const Vector& dx) const {
     (void)x, (void)dx;
     return 1.0;
+  }
+
+  // Distributed assembly (LinearSolver::assembles_by_parts): the same energy restricted to
+  // the elements for which keep(dofs, count) is true (dofs: the element's DOFs in x). Returns
+  // false when the term cannot be split (it is then assembled whole by one process); else
+  // `share` is the restricted term, or null when no element is kept. Default: cannot split.
+  virtual bool share_by_elements(const std::function<bool(const int* dofs, int count)>& keep,
+                                 std::unique_ptr<EnergyTerm>& share) const {
+    (void)keep, (void)share;
+    return false;
   }
 
   // Convenience wrappers around evaluate().

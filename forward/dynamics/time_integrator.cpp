@@ -30,6 +30,10 @@ TimeScheme parse_time_scheme(const std::string& name) {
 TimeIntegrator::TimeIntegrator(Model& model, TimeIntegratorOptions options)
     : model_(model), options_(std::move(options)), newton_(model, options_.newton) {
   if (!(options_.time_step > 0.0)) throw std::invalid_argument("TimeIntegrator: the time step must be > 0");
+  if (newton_.assembles_by_parts())
+    throw std::invalid_argument("TimeIntegrator: the linear solver '" + options_.newton.linear_solver->name() +
+                                "' assembles by parts (distributed assembly), which this version does for static "
+                                "scenes only; a dynamic scene takes its replicated assembly");
   for (const auto& term : model.terms()) {
     if (auto* inertia = dynamic_cast<InertiaTerm*>(term.get())) {
       if (inertia_) throw std::invalid_argument("TimeIntegrator: the model has more than one inertia term");

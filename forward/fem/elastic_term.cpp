@@ -2,6 +2,7 @@
 
 #include "forward/fem/element_loop.hpp"
 
+#include <array>
 #include <stdexcept>
 #include <string>
 
@@ -16,6 +17,30 @@ ElasticTerm<Dim>::ElasticTerm(const Mesh& mesh, std::shared_ptr<const Material<D
       simplices_(mesh, std::move(elements), "ElasticTerm") {
   if (!material_) throw std::invalid_argument("ElasticTerm: no material given");
   closed_form_hessian_ = material_->has_simplex_hessian();
+}
+
+template <int Dim>
+ElasticTerm<Dim>::ElasticTerm(std::shared_ptr<const Material<Dim>> material, int youngs_offset,
+                              int poisson_offset, LinearSimplices<Dim> simplices)
+    : material_(std::move(material)),
+      closed_form_hessian_(material_->has_simplex_hessian()),
+      youngs_offset_(youngs_offset),
+      poisson_offset_(poisson_offset),
+      simplices_(std::move(simplices)) {}
+
+template <int Dim>
+bool ElasticTerm<Dim>::share_by_elements(const std::function<bool(const int* dofs, int count)>& keep,
+                                         std::unique_ptr<EnergyTerm>& share) const {
+  std::vector<int> kept;
+  std::array<int, kLocal> dofs;
+  for (int k = 0; k < simplices_.size(); ++k) {
+    for (int r = 0; r < kLocal; ++r) dofs[static_cast<std::size_t>(r)] = simplices_.dof(k, r);
+    if (keep(dofs.data(), kLocal)) kept.push_back(k);
+  }
+  share.reset();
+  if (!kept.empty())
+    share.reset(new ElasticTerm(material_, youngs_offset_, poisson_offset_, simplices_.subset(kept)));
+  return true;
 }
 
 template <int Dim>

@@ -34,6 +34,8 @@ class ElasticTerm final : public EnergyTerm {
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override;
   void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
                                  Vector& gradient_p) const override;
+  bool share_by_elements(const std::function<bool(const int* dofs, int count)>& keep,
+                         std::unique_ptr<EnergyTerm>& share) const override;
 
   // Deformation gradient of covered element k (index into elements()) at state x.
   Eigen::Matrix<double, Dim, Dim> deformation_gradient(const Vector& x, int k) const;
@@ -54,6 +56,8 @@ class ElasticTerm final : public EnergyTerm {
   }
 
  private:
+  ElasticTerm(std::shared_ptr<const Material<Dim>> material, int youngs_offset, int poisson_offset,
+              LinearSimplices<Dim> simplices);
   LameParameters lame(const Vector& p, int element) const;
   std::shared_ptr<const Material<Dim>> material_;
   bool closed_form_hessian_ = false;  // the material writes the exact element Hessian itself

@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
 namespace tailor {
 
@@ -73,6 +74,23 @@ void LinearSimplices<Dim>::append_hessian_pattern(HessianPattern& pattern) const
   for (int k = 0; k < size(); ++k)
     for (int r = 0; r < kLocal; ++r)
       for (int c = 0; c < kLocal; ++c) pattern.push_back({dof(k, r), dof(k, c)});
+}
+
+template <int Dim>
+LinearSimplices<Dim> LinearSimplices<Dim>::subset(const std::vector<int>& covered) const {
+  LinearSimplices out;
+  out.elements.reserve(covered.size());
+  out.vertices.reserve(covered.size());
+  out.gradients.reserve(covered.size());
+  out.volumes.reserve(covered.size());
+  for (int k : covered) {
+    if (k < 0 || k >= size()) throw std::out_of_range("LinearSimplices::subset: no covered element " + std::to_string(k));
+    out.elements.push_back(elements[static_cast<std::size_t>(k)]);
+    out.vertices.push_back(vertices[static_cast<std::size_t>(k)]);
+    out.gradients.push_back(gradients[static_cast<std::size_t>(k)]);
+    out.volumes.push_back(volumes[static_cast<std::size_t>(k)]);
+  }
+  return out;
 }
 
 template struct LinearSimplices<2>;

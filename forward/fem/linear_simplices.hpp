@@ -23,6 +23,10 @@ struct LinearSimplices {
   // `owner`, when the mesh dimension is not Dim, an index is out of range or repeated, or an
   // element is degenerate or inverted at rest.
   LinearSimplices(const Mesh& mesh, std::vector<int> elements, const std::string& owner);
+  LinearSimplices() = default;  // covers nothing (see subset)
+
+  // The covered elements k in `covered` (indices into elements), in that order.
+  LinearSimplices subset(const std::vector<int>& covered) const;
 
   int size() const { return static_cast<int>(elements.size()); }
   // Gradient of the vertex field x (positions, or any per-vertex vector field) on covered element k.

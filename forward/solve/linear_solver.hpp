@@ -38,6 +38,7 @@ struct LinearSolverInfo {
   double divergence_tolerance = 0.0;
   int max_iterations = 0;
   int processes = 1;                  // MPI ranks taking part in each solve
+  bool assembles_by_parts = false;    // distributed assembly (LinearSolver::assembles_by_parts)
   bool near_null_space = false;       // rigid-body modes given to the preconditioner
   int solves = 0;                     // since construction
   long long iterations = 0;           // summed over those solves
@@ -67,6 +68,25 @@ class LinearSolver {
   // near-null space of elasticity, for algebraic multigrid). Called before setup(); the default
   // ignores it.
   virtual void set_vertex_coordinates(int /*dim*/, const Vector& /*coordinates*/) {}
+
+  // Distributed assembly (a solver over several processes that each assemble a share of H).
+  // When assembles_by_parts() is true, NewtonSolver does not assemble H on each process:
+  // every element goes to the process that owns one of its free unknowns (owns_unknown, the
+  // same split as the solver's rows), each process assembles the upper triangle of its elements'
+  // part of H (in the numbering of all n unknowns) and hands it to setup_share(); H is the sum of
+  // the processes' parts. Energy, gradient and the line search stay replicated. The defaults
+  // (one process holding everything) keep setup().
+  virtual bool assembles_by_parts() const { return false; }
+  virtual bool owns_unknown(int /*unknown*/, int /*num_unknowns*/) const { return true; }
+  virtual bool setup_share(const SparseMatrix& upper_share, std::string& message) {
+    return setup(upper_share, message);
+  }
+  // ||H||_inf and the largest and smallest |H_ii| of the last setup (for Newton's round-off
+  // floor when no process holds H); false when the solver cannot tell.
+  virtual bool matrix_norms(double& /*inf_norm*/, double& /*max_abs_diagonal*/,
+                            double& /*min_abs_diagonal*/) const {
+    return false;
+  }
 };
 using LinearSolverPtr = std::shared_ptr<LinearSolver>;
 

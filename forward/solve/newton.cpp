@@ -5,6 +5,7 @@
 #include <limits>
 #include <ostream>
 #include <sstream>
+#include <stdexcept>
 #include <tuple>
 
 #include "forward/core/timing.hpp"
@@ -103,10 +104,62 @@ bool NewtonSolver::reuse_pays() const {
          factor >= options_.reuse_min_factor_flops_per_slot * slots;
 }
 
+namespace {
+
+bool by_parts(const NewtonOptions& options) {
+  return options.linear_solver && options.linear_solver->assembles_by_parts();
+}
+
+std::vector<const EnergyTerm*> terms_of(const Model& model) {
+  std::vector<const EnergyTerm*> terms;
+  for (const auto& term : model.terms()) terms.push_back(term.get());
+  return terms;
+}
+
+}  // namespace
+
 NewtonSolver::NewtonSolver(const Model& model, NewtonOptions options)
-    : model_(model), options_(options), assembler_(model), hessian_(assembler_.hessian_pattern_matrix()) {}
+    : model_(model),
+      options_(options),
+      assembler_(model, terms_of(model), /*hessian=*/!by_parts(options_)),
+      hessian_(assembler_.hessian_pattern_matrix()) {
+  if (by_parts(options_)) share_ = std::make_unique<HessianShare>(model, *options_.linear_solver);
+}
+
+void NewtonSolver::assemble_share(const Vector& p, const Vector& y, HessianMode mode) {
+  share_assembled_ = share_set_up_ = false;
+  share_->assemble(y, p, mode);
+  share_p_ = p;
+  share_y_ = y;
+  share_mode_ = mode;
+  share_assembled_ = true;
+}
+
+bool NewtonSolver::set_up_share(std::string& message) {
+  if (share_set_up_) return true;
+  if (!share_assembled_) {
+    message = "no Hessian share assembled";
+    return false;
+  }
+  share_set_up_ = options_.linear_solver->setup_share(share_->hessian(), message);
+  return share_set_up_;
+}
+
+bool NewtonSolver::set_up_exact_share(const Vector& p, const Vector& y, std::string& message) {
+  if (!share_) {
+    message = "the linear solver does not assemble by parts";
+    return false;
+  }
+  const bool same = share_assembled_ && share_mode_ == HessianMode::exact && share_p_.size() == p.size() &&
+                    share_y_.size() == y.size() && share_p_ == p && share_y_ == y;
+  if (!same) assemble_share(p, y, HessianMode::exact);
+  return set_up_share(message);
+}
 
 FactorizationResult NewtonSolver::factorize_hessian(const Vector& p, const Vector& y, HessianMode mode) {
+  if (share_)
+    throw std::logic_error("NewtonSolver::factorize_hessian: no process holds the whole Hessian in distributed "
+                           "assembly (use set_up_exact_share)");
   if (mode == HessianMode::exact && constant_factor_matches(p)) {
     // hessian_ and the factor already hold this (state-independent) Hessian.
     assembled_mode_ = HessianMode::exact;
@@ -162,6 +215,15 @@ HessianMode NewtonSolver::choose_mode(const HessianChoice& choice) const {
   return choice.projected_left > 0 ? HessianMode::projected : HessianMode::exact;
 }
 
+std::pair<double, double> NewtonSolver::round_off_estimates(const Vector& x, double h_norm, double max_diagonal,
+                                                            double min_diagonal) const {
+  const double floor = std::numeric_limits<double>::epsilon() * h_norm * (1.0 + x.lpNorm<Eigen::Infinity>());
+  const double condition = min_diagonal > 0.0 && std::isfinite(min_diagonal)
+                               ? max_diagonal / min_diagonal
+                               : std::numeric_limits<double>::infinity();
+  return {floor, condition};
+}
+
 std::pair<double, double> NewtonSolver::round_off_estimates(const Vector& x) const {
   // ||H||_inf of the symmetric matrix stored as its upper triangle: each off-diagonal entry
   // counts in its row and in its column.
@@ -178,11 +240,7 @@ std::pair<double, double> NewtonSolver::round_off_estimates(const Vector& x) con
       }
     }
   const double h_norm = row_sums.size() ? row_sums.maxCoeff() : 0.0;
-  const double floor = std::numeric_limits<double>::epsilon() * h_norm * (1.0 + x.lpNorm<Eigen::Infinity>());
-  const double condition = min_diagonal > 0.0 && std::isfinite(min_diagonal)
-                               ? max_diagonal / min_diagonal
-                               : std::numeric_limits<double>::infinity();
-  return {floor, condition};
+  return round_off_estimates(x, h_norm, max_diagonal, min_diagonal);
 }
 
 bool NewtonSolver::kept_factor_step(const Vector& gradient, double residual, double scale, double target,
@@ -288,7 +346,7 @@ std::string NewtonSolver::external_step(const Vector& p, const Vector& y, const 
   constant_factor_ = false;
   auto t0 = Clock::now();
   std::string message;
-  const bool ready = solver.setup(hessian_, message);
+  const bool ready = share_ ? set_up_share(message) : solver.setup(hessian_, message);
   ++it.factorizations;
   it.factorization_seconds = seconds_since(t0);
   if (!ready) return "linear solver '" + solver.name() + "' set-up failed at iteration " + std::to_string(it.iteration) + ": " + message;
@@ -368,7 +426,8 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
                      std::to_string(elim.num_free());
     return result;
   }
-  if (!analyzed_) {
+  // (A linear solver of its own needs no CHOLMOD analysis; factorize_hessian does it on demand.)
+  if (!analyzed_ && !options_.linear_solver) {
     const auto t0 = Clock::now();
     cholesky_.analyze(hessian_);
     analyzed_ = true;
@@ -399,7 +458,16 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     const bool kept_constant = mode == HessianMode::exact && constant_factor_matches(p);
     auto t0 = Clock::now();
     // after_step may have changed the terms' settings: everything is evaluated afresh then.
-    if (carried && !options_.after_step) {
+    if (share_) {
+      // Distributed assembly: energy and gradient replicated, the Hessian by shares.
+      if (carried && !options_.after_step) {
+        energy = carried_energy;
+        gradient.swap(carried_gradient);
+      } else {
+        assembler_.evaluate(y, p, &energy, &gradient, nullptr);
+      }
+      assemble_share(p, y, mode);
+    } else if (carried && !options_.after_step) {
       energy = carried_energy;
       gradient.swap(carried_gradient);
       if (!kept_constant) assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, mode);
@@ -429,8 +497,18 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     const double scale = std::max(result.initial_residual, options_.reference_residual);
     const double target = std::max(options_.relative_tolerance * scale, options_.absolute_tolerance);
     if (residual <= target) return finish(NewtonStatus::converged, "residual below tolerance");
-    if (mode == HessianMode::exact && result.residual_floor == 0.0)
-      std::tie(result.residual_floor, result.condition_estimate) = round_off_estimates(model_.state(y, p));
+    if (mode == HessianMode::exact && result.residual_floor == 0.0) {
+      if (!share_) {
+        std::tie(result.residual_floor, result.condition_estimate) = round_off_estimates(model_.state(y, p));
+      } else {
+        // From the solver, which holds the summed shares (a failed set-up is reported by the step).
+        std::string ignored;
+        double h_norm = 0.0, max_diagonal = 0.0, min_diagonal = 0.0;
+        if (set_up_share(ignored) && options_.linear_solver->matrix_norms(h_norm, max_diagonal, min_diagonal))
+          std::tie(result.residual_floor, result.condition_estimate) =
+              round_off_estimates(model_.state(y, p), h_norm, max_diagonal, min_diagonal);
+      }
+    }
     // What a floor must be below to count as converged: sqrt(relative tolerance) of the load
     // scale, which an absolute tolerance implies too (absolute / relative, e.g. when a warm start
     // from a ramped equilibrium makes ||g_0|| tiny).

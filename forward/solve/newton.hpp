@@ -31,11 +31,13 @@
 #include <chrono>
 #include <functional>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "forward/core/assembler.hpp"
+#include "forward/solve/hessian_share.hpp"
 #include "forward/solve/linear_solver.hpp"
 #include "forward/solve/sparse_cholesky.hpp"
 
@@ -190,6 +192,14 @@ class NewtonSolver {
   bool factorization_matches_hessian() const { return factor_matches_hessian_; }
   // Assemble and factorize the Hessian at y in the given mode (the adjoint uses exact).
   FactorizationResult factorize_hessian(const Vector& p, const Vector& y, HessianMode mode);
+  // Distributed assembly (the linear solver assembles_by_parts(), decided at construction):
+  // no process holds the whole Hessian (hessian() is empty, factorize_hessian() and the
+  // assembler's Hessian are errors); each assembles its share (forward/solve/hessian_share.hpp).
+  bool assembles_by_parts() const { return share_ != nullptr; }
+  // Distributed assembly: sets the linear solver up with the exact Hessian at (p, y) (nothing
+  // to do when its last set-up was that one, as after a converged solve()). False with a
+  // message when the set-up fails.
+  bool set_up_exact_share(const Vector& p, const Vector& y, std::string& message);
 
  private:
   // Adaptive Hessian choice across iterations (see NewtonHessian::adaptive).
@@ -225,6 +235,13 @@ class NewtonSolver {
   // For the assembled (exact) Hessian at x: eps * ||H||_inf * (1 + ||x||_inf), and the ratio of
   // its largest to smallest absolute diagonal entry.
   std::pair<double, double> round_off_estimates(const Vector& x) const;
+  // The same from the norms the solver reports of its last set-up (distributed assembly).
+  std::pair<double, double> round_off_estimates(const Vector& x, double h_norm, double max_diagonal,
+                                                double min_diagonal) const;
+  // Distributed assembly: assembles this process's share at (p, y) in `mode`, and hands it to
+  // the solver (set_up_share) when a step or an estimate needs it.
+  void assemble_share(const Vector& p, const Vector& y, HessianMode mode);
+  bool set_up_share(std::string& message);
   void apply_low_rank(const LowRankHessian& low_rank);
   // The kept factor can precondition CG on the exact Hessian: exact, unshifted, LL^T.
   bool can_precondition() const;
@@ -234,8 +251,14 @@ class NewtonSolver {
 
   const Model& model_;
   NewtonOptions options_;
-  ReducedAssembler assembler_;
+  ReducedAssembler assembler_;  // without a Hessian in distributed assembly
   SparseMatrix hessian_;
+  // Distributed assembly: this process's share, where and how it was last assembled, and
+  // whether the solver holds it.
+  std::unique_ptr<HessianShare> share_;
+  Vector share_p_, share_y_;
+  HessianMode share_mode_ = HessianMode::exact;
+  bool share_assembled_ = false, share_set_up_ = false;
   SparseCholesky cholesky_;
   HessianMode assembled_mode_ = HessianMode::projected;
   bool factor_is_exact_ = false;

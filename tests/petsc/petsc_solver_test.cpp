@@ -12,7 +12,9 @@
 #include "../support/traction_bar.hpp"
 #include "adjoint/static_functional.hpp"
 #include "adjoint/taylor_test.hpp"
+#include "forward/dynamics/time_integrator.hpp"
 #include "forward/fem/loads.hpp"
+#include "forward/solve/hessian_share.hpp"
 #include "petsc/petsc_linear_solver.hpp"
 
 namespace tailor {
@@ -41,7 +43,8 @@ double spread_across_ranks(const Vector& v) {
   return (high - low).lpNorm<Eigen::Infinity>();
 }
 
-void expect_matches_cholmod(MaterialKind kind, double load, const std::string& petsc_options) {
+void expect_matches_cholmod(MaterialKind kind, double load, const std::string& petsc_options,
+                            bool by_parts = false) {
   BarProblem bar(kind, load);
   StaticFunctional reference = bar.functional(nullptr);
   Vector g_ref;
@@ -50,6 +53,7 @@ void expect_matches_cholmod(MaterialKind kind, double load, const std::string& p
   PetscSolverOptions options;
   options.options = petsc_options;
   auto solver = std::make_shared<PetscLinearSolver>(options);
+  EXPECT_EQ(solver->assembles_by_parts(), by_parts);
   StaticFunctional f = bar.functional(solver);
   Vector g;
   const double j = f.value_and_gradient(bar.z0(), g);
@@ -78,6 +82,79 @@ TEST(PetscLinearSolver, NeoHookeanBarStateAndGradientMatchCholmodWithCgGamg) {
 TEST(PetscLinearSolver, NeoHookeanBarMatchesCholmodWithMumps) {
   expect_matches_cholmod(MaterialKind::neo_hookean, 60.0,
                          "-ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps");
+}
+
+// Distributed assembly (-tailor_assemble_by_parts): every rank assembles the elements it owns,
+// PETSc sums the shares; Newton's steps and the adjoint must give CHOLMOD's state and gradient.
+TEST(PetscLinearSolver, AssemblyByPartsMatchesCholmod) {
+  expect_matches_cholmod(MaterialKind::neo_hookean, 60.0, "-tailor_assemble_by_parts", true);
+  expect_matches_cholmod(MaterialKind::linear, 20.0,
+                         "-tailor_assemble_by_parts -ksp_type preonly -pc_type cholesky "
+                         "-pc_factor_mat_solver_type mumps",
+                         true);
+}
+
+// The shares (forward/solve/hessian_share.hpp) sum to the replicated Hessian: products with
+// the summed matrix against the whole symmetric H at a deformed state, its norms against H's,
+// every element slot in exactly one share, and each rank's share smaller than the whole on
+// more than one rank. Both splits: by rows, and by whole vertices (with coordinates).
+TEST(PetscLinearSolver, HessianSharesSumToTheHessian) {
+  BarProblem bar(MaterialKind::neo_hookean, 60.0);
+  ReducedAssembler assembler(*bar.model);
+  SparseMatrix h;
+  Vector y = bar.model->elimination().restrict_state(bar.rest);
+  y += 0.01 * Vector::LinSpaced(y.size(), -1.0, 1.0).array().sin().matrix();
+  assembler.evaluate(y, bar.p0, nullptr, nullptr, &h, HessianMode::exact);
+  const SparseMatrix whole = h.selfadjointView<Eigen::Upper>();
+  for (const bool by_vertices : {false, true}) {
+    PetscSolverOptions options;
+    options.assemble_by_parts = true;
+    PetscLinearSolver solver(options);
+    if (by_vertices) solver.set_vertex_coordinates(3, bar.model->elimination().restrict_state(bar.rest));
+    HessianShare share(*bar.model, solver);
+    share.assemble(y, bar.p0, HessianMode::exact);
+    std::string message;
+    ASSERT_TRUE(solver.setup_share(share.hessian(), message)) << message;
+    for (int k = 0; k < 3; ++k) {
+      const Vector v = Vector::LinSpaced(h.rows(), -1.0 + k, 2.0 * k + 1.0).array().cos().matrix();
+      const Vector reference = whole * v;
+      EXPECT_LT((solver.multiply(v) - reference).norm(), 1e-13 * reference.norm()) << by_vertices;
+    }
+    double norm = 0.0, max_diagonal = 0.0, min_diagonal = 0.0;
+    ASSERT_TRUE(solver.matrix_norms(norm, max_diagonal, min_diagonal));
+    Vector row_sums = Vector::Zero(h.rows());
+    for (int j = 0; j < whole.outerSize(); ++j)
+      for (SparseMatrix::InnerIterator e(whole, j); e; ++e) row_sums[e.row()] += std::abs(e.value());
+    const Vector diagonal = whole.diagonal().cwiseAbs();
+    EXPECT_NEAR(norm, row_sums.maxCoeff(), 1e-12 * norm);
+    EXPECT_NEAR(max_diagonal, diagonal.maxCoeff(), 1e-12 * max_diagonal);
+    EXPECT_NEAR(min_diagonal, diagonal.minCoeff(), 1e-12 * min_diagonal);
+    long long slots = static_cast<long long>(share.num_slots()), total = 0;
+    MPI_Allreduce(&slots, &total, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+    EXPECT_EQ(total, static_cast<long long>(assembler.num_slots()));
+    if (PetscSession::size() > 1) {
+      EXPECT_LT(slots, total);
+    }
+    if (PetscSession::rank() == 0)
+      std::printf("Hessian shares (%s) on %d ranks: rank 0 has %lld of %lld slots\n",
+                  by_vertices ? "by vertices" : "by rows", PetscSession::size(), slots, total);
+  }
+}
+
+// A dynamic scene keeps its replicated assembly: a solver that assembles by parts is refused.
+TEST(PetscLinearSolver, AssemblyByPartsIsRefusedByTheTimeIntegrator) {
+  BarProblem bar(MaterialKind::linear, 20.0);
+  PetscSolverOptions options;
+  options.assemble_by_parts = true;
+  TimeIntegratorOptions integrator;
+  integrator.time_step = 0.01;
+  integrator.newton.linear_solver = std::make_shared<PetscLinearSolver>(options);
+  try {
+    TimeIntegrator refused(*bar.model, integrator);
+    ADD_FAILURE() << "a solver that assembles by parts was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("assembles by parts"), std::string::npos) << e.what();
+  }
 }
 
 TEST(PetscLinearSolver, TaylorTestUnderMpi) {

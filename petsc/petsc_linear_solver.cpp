@@ -3,6 +3,7 @@
 #include <petscksp.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -87,7 +88,8 @@ struct PetscLinearSolver::Impl {
   bool near_null_space = false;       // of the current matrix
   bool by_parts = false;              // assemble_by_parts (options or -tailor_assemble_by_parts)
   bool shared = false;                // the current matrix is a sum of shares (`full` is empty)
-  std::vector<PetscInt> coo_rows, coo_columns;  // this rank's COO pattern of the current matrix
+  std::uint64_t coo_pattern = 0;  // a hash of this rank's COO pattern of the current matrix
+  std::size_t coo_count = 0;      // and its length
 
   // PETSc's default split (PetscSplitOwnership) of n rows, by whole vertices (block size dim)
   // when the coordinates of all n unknowns are known: the first count % size ranks get one more.
@@ -221,8 +223,6 @@ bool PetscLinearSolver::setup(const SparseMatrix& upper, std::string& message) {
     m.full = upper.selfadjointView<Eigen::Upper>();
     m.full.makeCompressed();
     m.shared = false;
-    m.coo_rows.clear();
-    m.coo_columns.clear();
     const Impl::Split s = m.split(n, PetscSession::rank(), PetscSession::size());
     const PetscInt begin = s.begin, local = s.local;
     std::vector<PetscInt> row_start(local + 1), columns;
@@ -281,23 +281,31 @@ bool PetscLinearSolver::setup_share(const SparseMatrix& upper, std::string& mess
       columns.push_back(i);
       values.push_back(0.0);
     }
-    // A new pattern on any rank makes every rank preallocate again (collective).
-    int same = m.matrix && m.shared && m.n == n && m.coo_rows == rows && m.coo_columns == columns ? 1 : 0;
+    // A new pattern on any rank makes every rank preallocate again (collective). The pattern is
+    // compared by its length and a hash (FNV-1a over the indices), not kept: at a million tets
+    // its index arrays would be ~0.7 GB per rank for nothing else.
+    std::uint64_t hash = 1469598103934665603ULL;
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      hash = ((hash ^ static_cast<std::uint64_t>(rows[k])) * 1099511628211ULL ^ static_cast<std::uint64_t>(columns[k])) *
+             1099511628211ULL;
+    int same = m.matrix && m.shared && m.n == n && m.coo_count == rows.size() && m.coo_pattern == hash ? 1 : 0;
     int all_same = 0;
     if (MPI_Allreduce(&same, &all_same, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD) != MPI_SUCCESS)
       throw std::runtime_error("MPI_Allreduce failed");
     m.full = {};
     if (!all_same) {
       m.create_matrix(n, s);
-      // (PETSc may overwrite the index arrays it is given: it gets copies.)
-      std::vector<PetscInt> coo_i = rows, coo_j = columns;
-      check(MatSetPreallocationCOO(m.matrix, static_cast<PetscCount>(coo_i.size()), coo_i.data(), coo_j.data()),
+      // (PETSc may overwrite the index arrays; they are not needed after this.)
+      check(MatSetPreallocationCOO(m.matrix, static_cast<PetscCount>(rows.size()), rows.data(), columns.data()),
             "MatSetPreallocationCOO");
-      m.coo_rows = std::move(rows);
-      m.coo_columns = std::move(columns);
+      m.coo_count = rows.size();
+      m.coo_pattern = hash;
       m.shared = true;
     }
+    std::vector<PetscInt>().swap(rows);  // before GAMG's set-up allocates its hierarchy
+    std::vector<PetscInt>().swap(columns);
     check(MatSetValuesCOO(m.matrix, values.data(), INSERT_VALUES), "MatSetValuesCOO");
+    std::vector<PetscScalar>().swap(values);
     m.finish_setup(n, s);
     return true;
   } catch (const std::runtime_error& e) {

@@ -33,7 +33,7 @@ TimeIntegrator::TimeIntegrator(Model& model, TimeIntegratorOptions options)
   if (newton_.assembles_by_parts())
     throw std::invalid_argument("TimeIntegrator: the linear solver '" + options_.newton.linear_solver->name() +
                                 "' assembles by parts (distributed assembly), which this version does for static "
-                                "scenes only; a dynamic scene takes its replicated assembly");
+                                "scenes only: run a dynamic scene without -tailor_assemble_by_parts");
   for (const auto& term : model.terms()) {
     if (auto* inertia = dynamic_cast<InertiaTerm*>(term.get())) {
       if (inertia_) throw std::invalid_argument("TimeIntegrator: the model has more than one inertia term");

@@ -42,7 +42,6 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
-#include <iterator>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -96,11 +95,13 @@ std::string scene_text(int c, const std::string& design, const std::string& targ
 }
 
 // The graded designs whose full-space responses are the targets: (w_1, w_2) of target i, E =
-// E0 (1 + w_1 + w_2 y_2) (y_2 of order 1: E > 0 everywhere).
+// E0 (1 + w_1 + w_2 y_2) (y_2 of order 1: E > 0 everywhere). Designs whose full-space solve
+// (Newton from rest at full load) fails are skipped; there are 8.
+constexpr int kGradedDesigns = 8;
 std::pair<double, double> graded_design(int i) {
-  static const std::pair<double, double> designs[] = {{-0.6, 0.2},   {-0.5, 0.1},  {-0.4, -0.1}, {-0.3, 0.15},
-                                                      {-0.5, -0.1}, {-0.2, -0.1}, {-0.45, 0.05}, {-0.35, -0.05}};
-  return designs[static_cast<std::size_t>(i) % std::size(designs)];
+  static const std::pair<double, double> designs[kGradedDesigns] = {
+      {-0.6, 0.2}, {-0.5, 0.1}, {-0.4, -0.1}, {-0.3, 0.15}, {-0.5, -0.1}, {-0.2, -0.1}, {-0.45, 0.05}, {-0.35, -0.05}};
+  return designs[i];
 }
 
 int g_cubature_elements = 0;  // 0: the default rule size (and none for StVK)
@@ -212,16 +213,22 @@ int main(int argc, char** argv) {
     const ReducedDesign probe =
         build_reduced_design(parse(scene_text(c, reduced_design_key(2, 2), "[0, 0, -1]", 1)));
     std::vector<Vector> targets;
-    for (int i = 0; i < num_targets; ++i) {
+    for (int i = 0; static_cast<int>(targets.size()) < num_targets; ++i) {
+      if (i >= kGradedDesigns) {
+        if (!targets.empty()) break;  // fewer targets than asked for
+        std::cerr << "no graded design's full-space solve converged\n";
+        return 1;
+      }
       const auto [w0, w1] = graded_design(i);
       Vector w = Vector::Zero(probe.num_design());
       w[0] = w0;
       w[1] = w1;
       const FullSpaceCheck truth = full_space_check(probe, w);
       if (!truth.converged) {
-        std::cerr << "the full-space solve of target " << i + 1 << " (w = " << w0 << ", " << w1
-                  << ") failed: " << truth.message << "\n";
-        return 1;
+        // (Newton from rest at full load: some graded designs need a load ramp on fine meshes.)
+        std::printf("cells %d: graded design %d (w = %g, %g) skipped: its full-space solve failed (%s)\n", c, i + 1,
+                    w0, w1, truth.message.c_str());
+        continue;
       }
       Vector mean = Vector::Zero(3);
       for (int v : probe.handles[0].vertices) mean += truth.displacement.segment(3 * v, 3);
@@ -403,7 +410,7 @@ int main(int argc, char** argv) {
           m_full, f.iterations, f.evaluations, f.median_ms, f.best_error, f.seconds, f.goal, f.status.c_str());
       std::fflush(stdout);
     }
-    if (num_targets < 2) continue;
+    if (static_cast<int>(targets.size()) < 2) continue;
     // --targets: the same design (the last grid point with m_full modes, its precomputation and
     // refinements kept) given new targets (set_handle_targets), each designed from w = 0 again,
     // as a user moving the handle's target would; each against a full-space design to the same
@@ -430,7 +437,7 @@ int main(int argc, char** argv) {
                 "full [s]", "cumul. ratio", "full reached");
     std::printf("  %6d %14.3f %10d %10d %10.2e %12.3f %12.1f %14s\n", 1, reduced_sum, first.iterations, first.r,
                 first.full_error, full_sum, no_full ? 0.0 : full_sum / reduced_sum, no_full ? "-" : first_full->row.status.c_str());
-    for (int i = 1; i < num_targets; ++i) {
+    for (int i = 1; i < static_cast<int>(targets.size()); ++i) {
       set_handle_targets(*kept, {targets[static_cast<std::size_t>(i)]});
       const auto t0 = Clock::now();
       const ReducedDesignRun run = run_reduced_design(*kept, "");

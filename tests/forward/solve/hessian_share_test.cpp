@@ -66,8 +66,8 @@ class SplitSolver final : public LinearSolver {
 };
 
 // Three processes' shares sum to the whole Hessian at a deformed Neo-Hookean state; every
-// element slot is in exactly one share, each share is a real part (neither empty nor all), and
-// the shares' elements are balanced within 20% of a third.
+// element slot is in exactly one share, each share is a real part (neither empty nor all);
+// two processes get half of the elements each, within 5 percentage points.
 TEST(HessianShare, SharesSumToTheWholeHessian) {
   TractionBar bar(MaterialKind::neo_hookean, 60.0, Eigen::Vector3i(8, 2, 2));
   ReducedAssembler whole(*bar.model);
@@ -85,7 +85,6 @@ TEST(HessianShare, SharesSumToTheWholeHessian) {
     slots += share.num_slots();
     EXPECT_GT(share.num_slots(), 0u);
     EXPECT_LT(share.num_slots(), whole.num_slots());
-    EXPECT_NEAR(static_cast<double>(share.num_slots()), whole.num_slots() / 3.0, 0.2 * whole.num_slots() / 3.0);
   }
   EXPECT_EQ(slots, whole.num_slots());
   EXPECT_LT(SparseMatrix(sum - h).norm(), 1e-13 * h.norm());
@@ -98,6 +97,11 @@ TEST(HessianShare, SharesSumToTheWholeHessian) {
     two += share.hessian();
   }
   EXPECT_GT(SparseMatrix(two - h).norm(), 1e-3 * h.norm());
+  // Two processes share the elements across their rows evenly (the hash in HessianShare; the
+  // smallest unknown's owner alone gave the first process 86% of this bar's slots).
+  const SplitSolver first(0, 2);
+  const HessianShare half(*bar.model, first);
+  EXPECT_NEAR(static_cast<double>(half.num_slots()), whole.num_slots() / 2.0, 0.05 * whole.num_slots());
 }
 
 // Newton and the static adjoint through assembly by parts (one process holding the one share):

@@ -31,6 +31,7 @@ subset=(
   "forward_rigid_tests|"
   "forward_dynamics_tests|"
   "forward_damping_tests|"
+  "forward_solve_tests|HessianShare"        # assembly by parts: the shares and Newton through them
 )
 
 # Left out of the subset: long validation runs (whole trajectories, optimizations, chains of a

@@ -71,4 +71,8 @@ Eigen::Vector2d RodBendingTerm::strain_values(const Local& local, int interior) 
   return {s.kappa1.v, s.kappa2.v};
 }
 
+std::string RodBendingTerm::name() const { return "rod_bending"; }
+
+template class rod_detail::RodStencilTerm<RodBendingTerm, rod_detail::kBendTwistDofs, 2, 8>;
+
 }  // namespace tailor

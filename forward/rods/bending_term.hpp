@@ -24,7 +24,8 @@ class RodBendingTerm final
  public:
   using Local = rod_detail::BendTwistLocal;
   RodBendingTerm(std::shared_ptr<const DiscreteRod> rod, CrossSection section, RodParameterBlocks blocks);
-  std::string name() const override { return "rod_bending"; }
+  // Out of line: the key function, so the vtable (and the stencil loop) lives in the .cpp.
+  std::string name() const override;
 
   int num_stencils() const { return rod_->num_interior(); }
   std::array<int, rod_detail::kBendTwistDofs> stencil_dofs(int interior) const;
@@ -40,5 +41,9 @@ class RodBendingTerm final
   CrossSection section_;
   RodParameterBlocks blocks_;
 };
+
+// The stencil loop (value, gradient, Hessian, parameter derivatives with Dual2 numbers) is
+// instantiated once, in bending_term.cpp: includers of this header only call it.
+extern template class rod_detail::RodStencilTerm<RodBendingTerm, rod_detail::kBendTwistDofs, 2, 8>;
 
 }  // namespace tailor

@@ -46,4 +46,8 @@ Eigen::Matrix<double, 1, 1> RodStretchingTerm::strain_values(const Eigen::Matrix
   return Eigen::Matrix<double, 1, 1>((local.tail<3>() - local.head<3>()).norm());
 }
 
+std::string RodStretchingTerm::name() const { return "rod_stretching"; }
+
+template class rod_detail::RodStencilTerm<RodStretchingTerm, 6, 1, 3>;
+
 }  // namespace tailor

@@ -14,7 +14,8 @@ namespace tailor {
 class RodStretchingTerm final : public rod_detail::RodStencilTerm<RodStretchingTerm, 6, 1, 3> {
  public:
   RodStretchingTerm(std::shared_ptr<const DiscreteRod> rod, CrossSection section, RodParameterBlocks blocks);
-  std::string name() const override { return "rod_stretching"; }
+  // Out of line: the key function, so the vtable (and the stencil loop) lives in the .cpp.
+  std::string name() const override;
 
   int num_stencils() const { return rod_->num_edges(); }
   std::array<int, 6> stencil_dofs(int edge) const;
@@ -29,5 +30,9 @@ class RodStretchingTerm final : public rod_detail::RodStencilTerm<RodStretchingT
   CrossSection section_;
   RodParameterBlocks blocks_;
 };
+
+// The stencil loop (value, gradient, Hessian, parameter derivatives with Dual2 numbers) is
+// instantiated once, in stretching_term.cpp: includers of this header only call it.
+extern template class rod_detail::RodStencilTerm<RodStretchingTerm, 6, 1, 3>;
 
 }  // namespace tailor

@@ -54,4 +54,8 @@ Eigen::Matrix<double, 1, 1> RodTwistingTerm::strain_values(const Local& local, i
   return Eigen::Matrix<double, 1, 1>(s.twist.v);
 }
 
+std::string RodTwistingTerm::name() const { return "rod_twisting"; }
+
+template class rod_detail::RodStencilTerm<RodTwistingTerm, rod_detail::kBendTwistDofs, 1, 7>;
+
 }  // namespace tailor

@@ -20,7 +20,8 @@ class RodTwistingTerm final
  public:
   using Local = rod_detail::BendTwistLocal;
   RodTwistingTerm(std::shared_ptr<const DiscreteRod> rod, CrossSection section, RodParameterBlocks blocks);
-  std::string name() const override { return "rod_twisting"; }
+  // Out of line: the key function, so the vtable (and the stencil loop) lives in the .cpp.
+  std::string name() const override;
 
   int num_stencils() const { return rod_->num_interior(); }
   std::array<int, rod_detail::kBendTwistDofs> stencil_dofs(int interior) const;
@@ -36,5 +37,9 @@ class RodTwistingTerm final
   CrossSection section_;
   RodParameterBlocks blocks_;
 };
+
+// The stencil loop (value, gradient, Hessian, parameter derivatives with Dual2 numbers) is
+// instantiated once, in twisting_term.cpp: includers of this header only call it.
+extern template class rod_detail::RodStencilTerm<RodTwistingTerm, rod_detail::kBendTwistDofs, 1, 7>;
 
 }  // namespace tailor

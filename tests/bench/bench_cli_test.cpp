@@ -15,6 +15,7 @@
 #include <string>
 
 #include "../support/temp_folder.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor {
 namespace {
@@ -33,7 +34,7 @@ std::string read_file(const std::string& path) {
 int run_bench(const std::string& program, const std::string& arguments, const TempFolder& folder,
               std::string& output) {
   const std::string log = folder / (program + ".log");
-  const std::string command = "cd " + folder.str() + " && " + std::string(TAILOR_BINARY_DIR) + "/bin/" +
+  const std::string command = "cd " + folder.str() + " && " + std::string(::tailor::testing::binary_dir()) + "/bin/" +
                               program + " " + arguments + " > " + log + " 2>&1";
   const int status = std::system(command.c_str());
   output = read_file(log);

@@ -12,6 +12,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include "tests/support/test_paths.hpp"
 
 namespace {
 
@@ -32,7 +33,7 @@ std::string read_file(const std::string& path) {
 // Runs the tailor executable; returns its exit code, with stdout and stderr in `output`.
 int run_cli(const std::string& arguments, const std::string& log, std::string& output) {
   const std::string command =
-      std::string(TAILOR_BINARY_DIR) + "/bin/tailor " + arguments + " > " + log + " 2>&1";
+      std::string(::tailor::testing::binary_dir()) + "/bin/tailor " + arguments + " > " + log + " 2>&1";
   const int status = std::system(command.c_str());
   output = read_file(log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;

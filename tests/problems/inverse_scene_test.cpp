@@ -13,6 +13,7 @@
 #include "problems/inverse_problem.hpp"
 #include "scene_text.hpp"
 #include "../support/temp_folder.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor {
 namespace {
@@ -154,7 +155,7 @@ TEST(InverseScene, DesignGroupsPerRegionAndPerMaterial) {
                      "displacement": [0, 0, -0.01]}]
     }
   })";
-  const std::string meshes = std::string(TAILOR_TEST_DATA_DIR) + "/meshes";
+  const std::string meshes = std::string(::tailor::testing::test_data_dir()) + "/meshes";
   const auto by_region = build_inverse_problem(parse_scene(cube, "cube.json", meshes));
   EXPECT_EQ(by_region->design_labels, (std::vector<std::string>{"region 1", "region 2"}));
   EXPECT_NEAR(by_region->z0[0], std::log(1e5), 1e-12);

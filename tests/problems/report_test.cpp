@@ -16,6 +16,7 @@
 
 #include "problems/commands.hpp"
 #include "scene_text.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor {
 namespace {
@@ -92,7 +93,7 @@ TEST(Report, FailedSolveStillWritesTheReport) {
 // Runs the tailor executable; returns its exit code, with stdout and stderr in `output`.
 int run_cli(const std::string& arguments, const std::string& log, std::string& output) {
   const std::string command =
-      std::string(TAILOR_BINARY_DIR) + "/bin/tailor " + arguments + " > " + log + " 2>&1";
+      std::string(::tailor::testing::binary_dir()) + "/bin/tailor " + arguments + " > " + log + " 2>&1";
   const int status = std::system(command.c_str());
   output = read_file(log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;

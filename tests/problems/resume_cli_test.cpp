@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "../support/temp_folder.hpp"
+#include "tests/support/test_paths.hpp"
 
 extern char** environ;
 
@@ -29,7 +30,7 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 using TempFolder = tailor::testing::TempFolder;
 
-const std::string kTailor = std::string(TAILOR_BINARY_DIR) + "/bin/tailor";
+const std::string kTailor = std::string(::tailor::testing::binary_dir()) + "/bin/tailor";
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);

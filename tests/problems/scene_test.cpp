@@ -10,11 +10,12 @@
 #include "problems/builtin_scenes.hpp"
 #include "problems/static_scene.hpp"
 #include "scene_text.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor {
 namespace {
 
-const std::string kScenes = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes";
+const std::string kScenes = std::string(::tailor::testing::test_data_dir()) + "/../../scenes";
 
 // The SceneError message of parsing and setting up `json`, or "" when it is valid.
 std::string scene_error(const std::string& json) {

@@ -18,16 +18,17 @@
 #include "adjoint/parameterization.hpp"
 #include "forward/mesh/generate.hpp"
 #include "problems/inverse_commands.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string scene_file(const char* name) { return std::string(TAILOR_SOURCE_DIR) + "/scenes/" + name; }
+std::string scene_file(const char* name) { return std::string(::tailor::testing::source_dir()) + "/scenes/" + name; }
 
 std::string scratch(const std::string& name) {
-  const fs::path dir = fs::path(TAILOR_BINARY_DIR) / "tests" / "study" / name;
+  const fs::path dir = fs::path(::tailor::testing::binary_dir()) / "tests" / "study" / name;
   fs::remove_all(dir);
   return dir.string();
 }

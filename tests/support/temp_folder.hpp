@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include "tests/support/test_paths.hpp"
 
 namespace tailor::testing {
 
@@ -30,6 +31,6 @@ class TempFolder {
 };
 
 // The example scenes shipped in scenes/.
-inline const std::string kScenesDir = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes";
+inline const std::string kScenesDir = std::string(::tailor::testing::test_data_dir()) + "/../../scenes";
 
 }  // namespace tailor::testing

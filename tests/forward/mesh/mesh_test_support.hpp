@@ -11,11 +11,12 @@
 #include <string>
 
 #include "forward/mesh/mesh.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor::test {
 
 inline std::string mesh_data(const std::string& name) {
-  return std::string(TAILOR_TEST_DATA_DIR) + "/meshes/" + name;
+  return std::string(::tailor::testing::test_data_dir()) + "/meshes/" + name;
 }
 
 inline std::string read_text(const std::string& path) {

@@ -24,11 +24,12 @@
 #include "problems/contact/rigid_scene.hpp"
 #include "problems/scene.hpp"
 #include "../../support/temp_folder.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor {
 namespace {
 
-const std::string kScenes = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/contact/";
+const std::string kScenes = std::string(::tailor::testing::test_data_dir()) + "/../../scenes/contact/";
 
 std::string temporary_directory(const std::string& name) {
   const auto dir = testing::unique_temp_path("tailor_fem_contact_" + name);

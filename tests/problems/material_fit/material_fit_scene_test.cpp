@@ -13,6 +13,7 @@
 
 #include "problems/scene.hpp"
 #include "tests/support/temp_folder.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor {
 namespace {
@@ -105,7 +106,7 @@ TEST(MaterialFitCli, RunWritesReportAndPlots) {
     std::ofstream scene(folder / "fit.json");
     scene << scene_with("\"initial\"", "\"name\": \"tiny\", \"initial\"");
   }
-  const std::string command = std::string(TAILOR_BINARY_DIR) + "/bin/tailor run " + (folder / "fit.json") +
+  const std::string command = std::string(::tailor::testing::binary_dir()) + "/bin/tailor run " + (folder / "fit.json") +
                               " --out " + (folder / "out") + " --quiet > " + (folder / "log") + " 2>&1";
   const int status = std::system(command.c_str());
   std::ifstream log(folder / "log");

@@ -17,6 +17,7 @@
 #include "optimizers/optimizer.hpp"
 #include "small_handle_scene.hpp"
 #include "../../support/temp_folder.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor {
 namespace {
@@ -93,7 +94,7 @@ TEST(FullSpaceDesign, ReachesAReachableTarget) {
 // full-space design gets below 1%.
 TEST(FullSpaceDesign, ShippedHandleScenesReducedMatchTheFullSpaceDesign) {
   for (const char* name : {"cantilever_handle", "block_core_shell", "cantilever_handle_reduced"}) {
-    const std::string path = std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/" + name + ".json";
+    const std::string path = std::string(::tailor::testing::test_data_dir()) + "/../../scenes/" + name + ".json";
     std::ifstream file(path);
     ASSERT_TRUE(file) << path;
     nlohmann::json j = nlohmann::json::parse(file);

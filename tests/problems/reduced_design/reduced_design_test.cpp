@@ -14,6 +14,7 @@
 #include "forward/reduction/projected_reduced_model.hpp"
 #include "small_handle_scene.hpp"
 #include "../../support/temp_folder.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor {
 namespace {
@@ -187,7 +188,7 @@ TEST(ReducedDesign, SceneKeysAreChecked) {
 // within 1% in full space.
 TEST(ReducedDesign, ShippedSceneReachesItsTargetInFullSpace) {
   const Scene s =
-      read_scene(std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/cantilever_handle_reduced.json");
+      read_scene(std::string(::tailor::testing::test_data_dir()) + "/../../scenes/cantilever_handle_reduced.json");
   ASSERT_TRUE(s.inverse && s.inverse->design.reduction);
   EXPECT_EQ(s.inverse->design.reduction->key, "inverse.design.reduction");
   const std::string out = testing::unique_temp_path("reduced_design_test_scene").string();

@@ -4,11 +4,12 @@
 #include <string>
 
 #include <nlohmann/json.hpp>
+#include "tests/support/test_paths.hpp"
 
 namespace tailor::testing {
 
 inline std::string rod_scene_path(const std::string& name) {
-  return std::string(TAILOR_TEST_DATA_DIR) + "/../../scenes/rods/" + name;
+  return std::string(::tailor::testing::test_data_dir()) + "/../../scenes/rods/" + name;
 }
 
 inline nlohmann::json read_json_file(const std::string& path) {

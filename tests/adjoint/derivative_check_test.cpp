@@ -4,7 +4,7 @@
 
 #include "../support/quadratic_term.hpp"
 
-namespace tailor {
+namespace tailor::derivative_check_test {
 namespace {
 
 using testing::QuadraticTerm;
@@ -91,4 +91,4 @@ TEST(DerivativeCheck, VanishingDerivativeIsNotAPass) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::derivative_check_test

@@ -14,7 +14,7 @@
 #include "adjoint/taylor_test.hpp"
 #include "forward/fem/loads.hpp"
 
-namespace tailor {
+namespace tailor::static_functional_test {
 namespace {
 
 using namespace tailor::testing;
@@ -189,9 +189,9 @@ TEST(TaylorTest, ExactQuadraticPassesInTheAsymptoticRegime) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::static_functional_test
 
-namespace tailor {
+namespace tailor::static_functional_test {
 namespace {
 
 // A test-local objective with second derivatives: the DOF target objective is quadratic in x
@@ -208,13 +208,13 @@ TEST(StaticFunctional, HessianVectorProductPassesTaylorTestOnTheGradient) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::static_functional_test
 
 #include "objectives/target_positions.hpp"
 #include "objectives/target_reaction_forces.hpp"
 #include "objectives/weighted_sum.hpp"
 
-namespace tailor {
+namespace tailor::static_functional_test {
 namespace {
 
 // Handle displacements as design variables: the tip of a clamped Neo-Hookean bar is a handle
@@ -272,4 +272,4 @@ TEST(StaticFunctional, PrescribedHandleDisplacementsAsParameters) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::static_functional_test

@@ -18,7 +18,7 @@
 #include "objectives/tikhonov.hpp"
 #include "objectives/weighted_sum.hpp"
 
-namespace tailor {
+namespace tailor::taylor_matrix_test {
 namespace {
 
 using namespace tailor::testing;
@@ -167,4 +167,4 @@ INSTANTIATE_TEST_SUITE_P(Scenes, TaylorMatrix,
                          [](const auto& param_info) { return param_info.param.name; });
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::taylor_matrix_test

@@ -15,7 +15,7 @@
 #include "adjoint/taylor_test.hpp"
 #include "forward/fem/loads.hpp"
 
-namespace tailor {
+namespace tailor::taylor_regime_test {
 namespace {
 
 using namespace tailor::testing;
@@ -146,4 +146,4 @@ TEST_F(TaylorRegime, HessianVectorProducts) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::taylor_regime_test

@@ -16,7 +16,7 @@
 #include "adjoint/derivative_check.hpp"
 #include "adjoint/taylor_test.hpp"
 
-namespace tailor {
+namespace tailor::transient_functional_test {
 namespace {
 
 using namespace tailor::testing;
@@ -258,4 +258,4 @@ TEST(TrajectoryObjectives, GradientsMatchDifferences) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::transient_functional_test

@@ -17,7 +17,7 @@
 #include "../support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace tailor {
+namespace tailor::bench_cli_test {
 namespace {
 
 using testing::TempFolder;
@@ -137,4 +137,4 @@ TEST(BenchCli, NonFiniteNumbersAndControlCharactersStayValidJson) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::bench_cli_test

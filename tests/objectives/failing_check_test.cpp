@@ -8,7 +8,7 @@
 #include "objectives/material_smoothness.hpp"
 #include "objectives/target_positions.hpp"
 
-namespace tailor {
+namespace tailor::failing_check_test {
 namespace {
 
 using testing::random_vector;
@@ -112,4 +112,4 @@ TEST(FailingChecks, SlightlyWrongHandleDerivativesAreRejected) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::failing_check_test

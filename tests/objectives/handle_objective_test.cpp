@@ -19,7 +19,7 @@
 #include "forward/fem/loads.hpp"
 #include "objective_checks.hpp"
 
-namespace tailor {
+namespace tailor::handle_objective_test {
 namespace {
 
 using testing::random_vector;
@@ -262,4 +262,4 @@ TEST(HandleObjective, TaylorTestLinear) { expect_taylor_rates(MaterialKind::line
 TEST(HandleObjective, TaylorTestNeoHookean) { expect_taylor_rates(MaterialKind::neo_hookean, "neo_hookean"); }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::handle_objective_test

@@ -9,7 +9,7 @@
 
 #include "objective_checks.hpp"
 
-namespace tailor {
+namespace tailor::linear_observations_test {
 namespace {
 
 using testing::random_vector;
@@ -59,4 +59,4 @@ TEST(LinearObservations, BadInputIsRefused) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::linear_observations_test

@@ -8,7 +8,7 @@
 #include "objective_checks.hpp"
 #include "../support/fem_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::material_smoothness_test {
 namespace {
 
 using testing::random_vector;
@@ -177,4 +177,4 @@ TEST(MaterialSmoothness, RejectsInvalidInput) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::material_smoothness_test

@@ -8,7 +8,7 @@
 
 #include "objective_checks.hpp"
 
-namespace tailor {
+namespace tailor::target_dofs_test {
 namespace {
 
 using testing::random_vector;
@@ -64,4 +64,4 @@ TEST(TargetDofs, BadInputIsRefused) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::target_dofs_test

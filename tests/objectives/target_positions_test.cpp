@@ -5,7 +5,7 @@
 #include "objective_checks.hpp"
 #include "../support/fem_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::target_positions_test {
 namespace {
 
 using testing::random_vector;
@@ -105,4 +105,4 @@ TEST(TargetPositions, RejectsInvalidInput) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::target_positions_test

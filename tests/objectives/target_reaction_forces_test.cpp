@@ -5,7 +5,7 @@
 #include "objective_checks.hpp"
 #include "../support/fem_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::target_reaction_forces_test {
 namespace {
 
 using Aggregation = TargetReactionForces::Aggregation;
@@ -126,4 +126,4 @@ TEST(TargetReactionForces, RejectsInvalidInput) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::target_reaction_forces_test

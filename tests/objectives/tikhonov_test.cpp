@@ -5,7 +5,7 @@
 #include "objective_checks.hpp"
 #include "../support/fem_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::tikhonov_test {
 namespace {
 
 using testing::random_vector;
@@ -62,4 +62,4 @@ TEST(Tikhonov, RejectsInvalidInput) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::tikhonov_test

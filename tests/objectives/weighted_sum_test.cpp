@@ -9,7 +9,7 @@
 #include "objectives/tikhonov.hpp"
 #include "../support/fem_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::weighted_sum_test {
 namespace {
 
 using testing::random_vector;
@@ -109,4 +109,4 @@ TEST(WeightedSum, RejectsInvalidInput) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::weighted_sum_test

@@ -13,7 +13,7 @@
 
 #include "tests/optimizers/test_functionals.hpp"
 
-namespace tailor::test {
+namespace tailor::test::checkpoint_test {
 namespace {
 
 using ::testing::HasSubstr;
@@ -243,4 +243,4 @@ TEST(Checkpoint, NoneWithoutACallbackOrWithKZero) {
 }
 
 }  // namespace
-}  // namespace tailor::test
+}  // namespace tailor::test::checkpoint_test

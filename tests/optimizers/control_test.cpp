@@ -16,7 +16,7 @@
 
 #include "tests/optimizers/test_functionals.hpp"
 
-namespace tailor::test {
+namespace tailor::test::control_test {
 namespace {
 
 using ::testing::HasSubstr;
@@ -281,4 +281,4 @@ TEST(Report, SummarizesTheRun) {
 }
 
 }  // namespace
-}  // namespace tailor::test
+}  // namespace tailor::test::control_test

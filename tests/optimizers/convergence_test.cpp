@@ -10,7 +10,7 @@
 
 #include "tests/optimizers/test_functionals.hpp"
 
-namespace tailor::test {
+namespace tailor::test::convergence_test {
 namespace {
 
 enum class Problem { rosenbrock2, rosenbrock10, bounded_rosenbrock, quadratic_eq_ineq, quadratic_ineq };
@@ -233,4 +233,4 @@ INSTANTIATE_TEST_SUITE_P(Optimizers, Convergence, ::testing::ValuesIn(kCases),
                          });
 
 }  // namespace
-}  // namespace tailor::test
+}  // namespace tailor::test::convergence_test

@@ -17,7 +17,7 @@
 #include "forward/solve/hessian_share.hpp"
 #include "petsc/petsc_linear_solver.hpp"
 
-namespace tailor {
+namespace tailor::petsc_solver_test {
 namespace {
 
 using namespace tailor::testing;
@@ -251,4 +251,4 @@ TEST(PetscLinearSolver, BadOptionsAreClearErrors) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::petsc_solver_test

@@ -14,7 +14,7 @@
 #include "problems/optimizer_checkpoint.hpp"
 #include "problems/scene.hpp"
 
-namespace tailor {
+namespace tailor::checkpoint_file_test {
 namespace {
 
 using tailor::testing::TempFolder;
@@ -154,4 +154,4 @@ TEST(CheckpointFile, ACheckpointOfAnotherRunIsRefusedWithTheDifferences) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::checkpoint_file_test

@@ -14,7 +14,7 @@
 #include "problems/cli/run_cli.hpp"
 #include "problems/scene_kinds.hpp"
 
-namespace tailor {
+namespace tailor::cli_registry_test {
 namespace {
 
 using testing::TempFolder;
@@ -194,4 +194,4 @@ TEST_F(CliRegistry, HelpAndVersionExitWithZero) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::cli_registry_test

@@ -16,7 +16,7 @@
 #include "problems/dynamic_scene.hpp"
 #include "scene_text.hpp"
 
-namespace tailor {
+namespace tailor::dynamic_linear_solver_test {
 namespace {
 
 using namespace tailor::testing;
@@ -150,4 +150,4 @@ TEST(DynamicLinearSolver, OnlyTheWritingProcessWritesFrames) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::dynamic_linear_solver_test

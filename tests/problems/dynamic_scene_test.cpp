@@ -11,7 +11,7 @@
 #include "problems/dynamic_scene.hpp"
 #include "scene_text.hpp"
 
-namespace tailor {
+namespace tailor::dynamic_scene_test {
 namespace {
 
 using namespace tailor::testing;
@@ -125,4 +125,4 @@ TEST(DynamicScene, ExampleSceneParses) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::dynamic_scene_test

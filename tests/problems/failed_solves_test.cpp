@@ -13,7 +13,7 @@
 #include "../support/temp_folder.hpp"
 #include "problems/inverse_commands.hpp"
 
-namespace tailor {
+namespace tailor::failed_solves_test {
 namespace {
 
 using TempFolder = tailor::testing::TempFolder;
@@ -132,4 +132,4 @@ TEST(FailedSolvesReport, AreCountedInReportJson) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::failed_solves_test

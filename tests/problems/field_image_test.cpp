@@ -12,7 +12,7 @@
 #include "forward/mesh/generate.hpp"
 #include "problems/inverse_commands.hpp"
 
-namespace tailor {
+namespace tailor::field_image_test {
 namespace {
 
 Eigen::Vector3d centroid(const Mesh& mesh, int e) {
@@ -97,4 +97,4 @@ TEST(FieldImage, TailorRunWritesYoungsModulusPng) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::field_image_test

@@ -22,7 +22,7 @@
 #include "problems/inverse_handles.hpp"
 #include "scene_text.hpp"
 
-namespace tailor {
+namespace tailor::handles_hard_cases_test {
 namespace {
 
 using TempFolder = tailor::testing::TempFolder;
@@ -224,4 +224,4 @@ TEST(HandlesHardCases, RigidMotionLeftFreeIsRejected) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::handles_hard_cases_test

@@ -13,7 +13,7 @@
 #include "problems/inverse_handles.hpp"
 #include "scene_text.hpp"
 
-namespace tailor {
+namespace tailor::handles_scene_test {
 namespace {
 
 using TempFolder = tailor::testing::TempFolder;
@@ -246,4 +246,4 @@ TEST(HandlesScene, BadInputNamesTheKeyPath) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::handles_scene_test

@@ -14,6 +14,7 @@
 #include <string>
 #include "tests/support/test_paths.hpp"
 
+namespace tailor::inverse_cli_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -114,3 +115,4 @@ TEST(InverseCli, UsageListsTheInverseVerbs) {
 }
 
 }  // namespace
+}  // namespace tailor::inverse_cli_test

@@ -15,7 +15,7 @@
 
 #include "scene_text.hpp"
 
-namespace tailor {
+namespace tailor::inverse_commands_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -221,4 +221,4 @@ TEST(InverseRun, IterationLimitStillWritesTheReport) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::inverse_commands_test

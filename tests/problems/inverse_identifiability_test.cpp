@@ -9,7 +9,7 @@
 #include "problems/inverse_problem.hpp"
 #include "../support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::inverse_identifiability_test {
 namespace {
 
 double recovery_error(bool all_vertices) {
@@ -43,4 +43,4 @@ TEST(InverseIdentifiability, MoreObservationsRecoverTheFieldBetter) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::inverse_identifiability_test

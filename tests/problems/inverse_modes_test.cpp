@@ -16,7 +16,7 @@
 #include "problems/scene_selection.hpp"
 #include "scene_text.hpp"
 
-namespace tailor {
+namespace tailor::inverse_modes_test {
 namespace {
 
 using TempFolder = tailor::testing::TempFolder;
@@ -165,4 +165,4 @@ TEST(InverseModes, SceneErrorsNameTheKey) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::inverse_modes_test

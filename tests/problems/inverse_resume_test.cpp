@@ -11,7 +11,7 @@
 #include "problems/inverse_commands.hpp"
 #include "problems/optimizer_checkpoint.hpp"
 
-namespace tailor {
+namespace tailor::inverse_resume_test {
 namespace {
 
 using TempFolder = tailor::testing::TempFolder;
@@ -98,4 +98,4 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<OptimizerBackend>& param_info) { return to_string(param_info.param); });
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::inverse_resume_test

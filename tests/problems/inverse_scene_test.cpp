@@ -15,7 +15,7 @@
 #include "../support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace tailor {
+namespace tailor::inverse_scene_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -307,4 +307,4 @@ TEST(InverseScene, ObservationFilesAreCheckedLineByLine) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::inverse_scene_test

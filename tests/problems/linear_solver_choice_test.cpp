@@ -22,7 +22,7 @@
 #include "problems/static_scene.hpp"
 #include "scene_text.hpp"
 
-namespace tailor {
+namespace tailor::linear_solver_choice_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -139,4 +139,4 @@ TEST(LinearSolverChoice, VertexCoordinatesOnlyForWholeFreeVertices) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::linear_solver_choice_test

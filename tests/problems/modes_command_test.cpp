@@ -9,7 +9,7 @@
 #include "../support/temp_folder.hpp"
 #include "scene_text.hpp"
 
-namespace tailor {
+namespace tailor::modes_command_test {
 namespace {
 
 using namespace tailor::testing;
@@ -62,4 +62,4 @@ TEST(ModesCommand, NeedsDensityAndASensibleCount) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::modes_command_test

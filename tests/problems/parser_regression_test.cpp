@@ -14,7 +14,7 @@
 #include "problems/scene.hpp"
 #include "scene_text.hpp"
 
-namespace tailor {
+namespace tailor::parser_regression_test {
 namespace {
 
 using tailor::testing::TempFolder;
@@ -150,4 +150,4 @@ TEST(ParserRegression, RodScenesWithValuesOfTheWrongKind) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::parser_regression_test

@@ -20,7 +20,7 @@
 #include "problems/plot/line_plot.hpp"
 #include "problems/plot/png_writer.hpp"
 
-namespace tailor {
+namespace tailor::plot_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -234,4 +234,4 @@ TEST(ConvergencePlot, TailorRunWritesConvergencePng) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::plot_test

@@ -18,7 +18,7 @@
 #include "scene_text.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace tailor {
+namespace tailor::report_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -155,4 +155,4 @@ TEST(Cli, UsageVersionAndUnknownInput) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::report_test

@@ -24,6 +24,7 @@
 
 extern char** environ;
 
+namespace tailor::resume_cli_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -235,3 +236,4 @@ TEST(ResumeCli, ACheckpointOfAnotherSceneOrAMissingOneExitsWithTwo) {
 }
 
 }  // namespace
+}  // namespace tailor::resume_cli_test

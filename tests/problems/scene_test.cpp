@@ -12,7 +12,7 @@
 #include "scene_text.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace tailor {
+namespace tailor::scene_test {
 namespace {
 
 const std::string kScenes = std::string(::tailor::testing::test_data_dir()) + "/../../scenes";
@@ -274,4 +274,4 @@ TEST(Scene, MissingMeshFileIsAMeshError) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::scene_test

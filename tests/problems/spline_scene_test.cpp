@@ -16,7 +16,7 @@
 #include "scene_text.hpp"
 #include "tests/support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::spline_scene_test {
 namespace {
 
 using testing::small_box_scene;
@@ -235,4 +235,4 @@ TEST(SplineScene, InverseSceneWithASplineRegionPassesTheTaylorTest) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::spline_scene_test

@@ -6,7 +6,7 @@
 
 #include "scene_text.hpp"
 
-namespace tailor {
+namespace tailor::static_scene_test {
 namespace {
 
 using testing::small_box_scene;
@@ -153,4 +153,4 @@ TEST(StaticScene, DerivativeChecksPassForEveryTerm) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::static_scene_test

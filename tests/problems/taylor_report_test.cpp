@@ -8,7 +8,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
-namespace tailor {
+namespace tailor::taylor_report_test {
 namespace {
 
 TEST(TaylorReport, NonFiniteValuesAreNullAndTheTextStaysValidJson) {
@@ -41,4 +41,4 @@ TEST(TaylorReport, NonFiniteValuesAreNullAndTheTextStaysValidJson) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::taylor_report_test

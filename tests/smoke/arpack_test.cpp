@@ -6,7 +6,7 @@
 #include <numbers>
 #include <vector>
 
-namespace tailor {
+namespace tailor::arpack_test {
 namespace {
 
 // Smallest eigenpairs of tridiag(-1, 2, -1) (size n), whose eigenvalues are known in closed
@@ -55,4 +55,4 @@ TEST(smoke, ArpackShiftInvertFindsSmallestLaplacianEigenvalues) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::arpack_test

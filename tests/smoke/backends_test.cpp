@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
-namespace tailor {
+namespace tailor::backends_test {
 namespace {
 
 TEST(smoke, OptimizerBackendsReportIpoptNloptCeres) {
@@ -22,4 +22,4 @@ TEST(smoke, OptimizerBackendsReportIpoptNloptCeres) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::backends_test

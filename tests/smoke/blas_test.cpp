@@ -4,7 +4,7 @@
 
 #include "forward/solve/blas_info.hpp"
 
-namespace tailor {
+namespace tailor::blas_test {
 namespace {
 
 // This binary links Ceres, whose Debian target hard-links ATLAS. If ATLAS's libf77blas got
@@ -18,4 +18,4 @@ TEST(smoke, BlasDgemmComesFromOpenBlas) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::blas_test

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-namespace tailor {
+namespace tailor::ceres_test {
 namespace {
 
 // Residual of the model y = exp(m t + c) at one sample.
@@ -67,4 +67,4 @@ TEST(smoke, CeresGradientProblemLbfgsMinimizesRosenbrock) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::ceres_test

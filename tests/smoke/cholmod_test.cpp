@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace tailor {
+namespace tailor::cholmod_test {
 namespace {
 
 // The 1D Laplacian tridiag(-1, 2, -1) of size n with right-hand side 1 has the exact
@@ -62,4 +62,4 @@ TEST(smoke, CholmodSupernodalSolveOfLaplacian) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::cholmod_test

@@ -3,7 +3,7 @@
 #include <Eigen/Dense>
 #include <cstdio>
 
-namespace tailor {
+namespace tailor::eigen_test {
 namespace {
 
 TEST(smoke, EigenSolvesSmallSpdSystem) {
@@ -18,4 +18,4 @@ TEST(smoke, EigenSolvesSmallSpdSystem) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::eigen_test

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <array>
 
-namespace tailor {
+namespace tailor::ipopt_test {
 namespace {
 
 using Ipopt::Index;
@@ -146,4 +146,4 @@ TEST(smoke, IpoptSolvesHs071WithMumps) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::ipopt_test

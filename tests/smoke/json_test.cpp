@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace tailor {
+namespace tailor::json_test {
 namespace {
 
 TEST(smoke, JsonParseDumpRoundTrip) {
@@ -17,4 +17,4 @@ TEST(smoke, JsonParseDumpRoundTrip) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::json_test

@@ -4,7 +4,7 @@
 #include <nlopt.hpp>
 #include <vector>
 
-namespace tailor {
+namespace tailor::nlopt_test {
 namespace {
 
 // Rosenbrock: minimum 0 at (1, 1).
@@ -64,4 +64,4 @@ TEST(smoke, NloptSlsqpRespectsNonlinearConstraint) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::nlopt_test

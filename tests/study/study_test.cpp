@@ -20,7 +20,7 @@
 #include "problems/inverse_commands.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace tailor {
+namespace tailor::study_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -523,4 +523,4 @@ TEST(Study, MistakesAreNamed) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::study_test

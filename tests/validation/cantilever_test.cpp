@@ -14,7 +14,7 @@
 #include "forward/fem/loads.hpp"
 #include "forward/solve/newton.hpp"
 
-namespace tailor {
+namespace tailor::cantilever_test {
 namespace {
 
 using namespace tailor::testing;
@@ -100,4 +100,4 @@ TEST(CantileverValidation, TetrahedraConvergeToBeamTheory) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::cantilever_test

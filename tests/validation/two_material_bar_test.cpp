@@ -11,7 +11,7 @@
 #include "objectives/target_positions.hpp"
 #include "optimizers/optimizer.hpp"
 
-namespace tailor {
+namespace tailor::two_material_bar_test {
 namespace {
 
 using namespace tailor::testing;
@@ -106,4 +106,4 @@ INSTANTIATE_TEST_SUITE_P(EveryBackend, TwoMaterialBarRecovery,
                          [](const auto& param_info) { return to_string(param_info.param); });
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::two_material_bar_test

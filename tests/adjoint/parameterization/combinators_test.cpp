@@ -1,7 +1,7 @@
 // compose and embed_blocks: chain rule to second order, and block embedding into a fixed base.
 #include "map_checks.hpp"
 
-namespace tailor {
+namespace tailor::combinators_test {
 namespace {
 
 using testing::random_vector;
@@ -127,4 +127,4 @@ TEST(EmbedBlocks, NoBlocksIsTheConstantBase) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::combinators_test

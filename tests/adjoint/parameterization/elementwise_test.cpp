@@ -4,7 +4,7 @@
 
 #include "map_checks.hpp"
 
-namespace tailor {
+namespace tailor::elementwise_test {
 namespace {
 
 using testing::random_vector;
@@ -95,4 +95,4 @@ TEST(BoundsMap, DerivativesMatchDifferences) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::elementwise_test

@@ -2,7 +2,7 @@
 // the problem.
 #include "map_checks.hpp"
 
-namespace tailor {
+namespace tailor::invalid_input_test {
 namespace {
 
 using testing::expect_invalid;
@@ -113,4 +113,4 @@ TEST(InvalidInput, EmbedBlocks) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::invalid_input_test

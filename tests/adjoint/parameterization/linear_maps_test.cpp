@@ -3,7 +3,7 @@
 
 #include "map_checks.hpp"
 
-namespace tailor {
+namespace tailor::linear_maps_test {
 namespace {
 
 using testing::random_vector;
@@ -120,4 +120,4 @@ TEST(SplineMap, DerivativesAreTheWeightMatrix) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::linear_maps_test

@@ -1,7 +1,7 @@
 // scale_map: p = diag(s) z, against the closed form and differences; a wrong scale is rejected.
 #include "map_checks.hpp"
 
-namespace tailor {
+namespace tailor::scale_map_test {
 namespace {
 
 using testing::random_vector;
@@ -20,4 +20,4 @@ TEST(ScaleMap, IsTheDiagonalScaling) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::scale_map_test

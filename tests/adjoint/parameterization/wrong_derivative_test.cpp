@@ -2,7 +2,7 @@
 // are caught.
 #include "map_checks.hpp"
 
-namespace tailor {
+namespace tailor::wrong_derivative_test {
 namespace {
 
 using testing::random_vector;
@@ -92,4 +92,4 @@ TEST(BaseDefaults, JacobianColumnsAndSecondDerivativeSizeChecks) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::wrong_derivative_test

@@ -7,7 +7,7 @@
 
 #include <cstdio>
 
-namespace tailor::contact {
+namespace tailor::contact::additive_ccd_test {
 namespace {
 
 struct Query {
@@ -148,4 +148,4 @@ TEST(AdditiveCcd, StepKeepsAFractionOfTheGapAndExactAnswersWhereNoMotion) {
 }
 
 }  // namespace
-}  // namespace tailor::contact
+}  // namespace tailor::contact::additive_ccd_test

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-namespace tailor::contact {
+namespace tailor::contact::barrier_stiffness_test {
 namespace {
 
 TEST(BarrierStiffness, BalanceIsTheLeastSquaresKappa) {
@@ -46,4 +46,4 @@ TEST(BarrierStiffness, StiffnessForForceMakesOnePairCarryIt) {
 }
 
 }  // namespace
-}  // namespace tailor::contact
+}  // namespace tailor::contact::barrier_stiffness_test

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <random>
 
-namespace tailor::contact {
+namespace tailor::contact::broad_phase_test {
 namespace {
 
 // A soup of small random triangles in the unit cube.
@@ -84,4 +84,4 @@ TEST(ContactBroadPhase, SkipsAdjacentAndSameGroupPairs) {
 }
 
 }  // namespace
-}  // namespace tailor::contact
+}  // namespace tailor::contact::broad_phase_test

@@ -10,7 +10,7 @@
 
 #include "adjoint/derivative_check.hpp"
 
-namespace tailor {
+namespace tailor::contact_term_test {
 namespace {
 
 using contact::ContactOptions;
@@ -166,9 +166,9 @@ TEST(ContactTerm, RejectsBadInput) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::contact_term_test
 
-namespace tailor {
+namespace tailor::contact_term_test {
 namespace {
 
 // The checks can fail: the same term with its Hessian scaled by 1 + 1e-4 is caught.
@@ -199,4 +199,4 @@ TEST(ContactTerm, PerturbedHessianIsCaught) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::contact_term_test

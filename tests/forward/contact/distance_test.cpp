@@ -9,7 +9,7 @@
 #include "forward/contact/barrier.hpp"
 #include "forward/contact/pair_potential.hpp"
 
-namespace tailor::contact {
+namespace tailor::contact::distance_test {
 namespace {
 
 using testing::fd_gradient;
@@ -239,4 +239,4 @@ TEST(ContactPairBarrier, InactiveBeyondActivationDistance) {
 }
 
 }  // namespace
-}  // namespace tailor::contact
+}  // namespace tailor::contact::distance_test

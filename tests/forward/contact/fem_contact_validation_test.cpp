@@ -12,7 +12,7 @@
 #include "forward/mesh/generate.hpp"
 #include "forward/solve/newton.hpp"
 
-namespace tailor {
+namespace tailor::fem_contact_validation_test {
 namespace {
 
 void solve_cube_on_floor(double pattern_distance) {
@@ -99,4 +99,4 @@ TEST(FemContactValidation, ElasticCubeOnFloorCarriesItsWeightDensePattern) {
 TEST(FemContactValidation, ElasticCubeOnFloorCarriesItsWeightCandidatePattern) { solve_cube_on_floor(0.01); }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::fem_contact_validation_test

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-namespace tailor::contact {
+namespace tailor::contact::intersection_test {
 namespace {
 
 TEST(ContactIntersection, SegmentTriangleKnownCases) {
@@ -37,4 +37,4 @@ TEST(ContactIntersection, PiercingEdgeIsFoundWhereDistancesAreAllPositive) {
 }
 
 }  // namespace
-}  // namespace tailor::contact
+}  // namespace tailor::contact::intersection_test

@@ -4,7 +4,7 @@
 
 #include "../../support/quadratic_term.hpp"
 
-namespace tailor {
+namespace tailor::assembler_test {
 namespace {
 
 using testing::QuadraticTerm;
@@ -147,4 +147,4 @@ TEST(ParameterLayout, BlocksAreContiguousAndNamed) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::assembler_test

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-namespace tailor {
+namespace tailor::elimination_test {
 namespace {
 
 TEST(Elimination, DirichletSelectsFreeDofsInOrder) {
@@ -23,4 +23,4 @@ TEST(Elimination, DirichletSelectsFreeDofsInOrder) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::elimination_test

@@ -7,7 +7,7 @@
 #include <limits>
 #include <sstream>
 
-namespace tailor {
+namespace tailor::format_number_test {
 namespace {
 
 TEST(FormatNumber, DefaultIsWhatAStreamWrites) {
@@ -31,4 +31,4 @@ TEST(FormatNumber, TakesAPrintfConversion) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::format_number_test

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-namespace tailor {
+namespace tailor::statistics_test {
 namespace {
 
 TEST(Median, OddEvenAndEmpty) {
@@ -17,4 +17,4 @@ TEST(Median, OddEvenAndEmpty) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::statistics_test

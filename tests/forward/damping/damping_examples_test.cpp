@@ -6,7 +6,7 @@
 
 #include "damping_fixture.hpp"
 
-namespace tailor {
+namespace tailor::damping_examples_test {
 namespace {
 
 using namespace tailor::testing;
@@ -71,4 +71,4 @@ TEST(DampingExamples, SetupRejectsBadSpecs) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::damping_examples_test

@@ -10,7 +10,7 @@
 #include "adjoint/derivative_check.hpp"
 #include "damping_fixture.hpp"
 
-namespace tailor {
+namespace tailor::example_damping_test {
 namespace {
 
 using namespace tailor::testing;
@@ -246,4 +246,4 @@ TEST(ExampleDamping, NewtonStepIsExactWithTheLowRankHessian) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::example_damping_test

@@ -9,7 +9,7 @@
 #include "adjoint/transient_functional.hpp"
 #include "damping_fixture.hpp"
 
-namespace tailor {
+namespace tailor::linear_solver_refusal_test {
 namespace {
 
 using namespace tailor::testing;
@@ -83,4 +83,4 @@ TEST(LinearSolverRefusal, LowRankDampingIsRefusedByStepsAndTransientAdjoint) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::linear_solver_refusal_test

@@ -7,7 +7,7 @@
 #include "damping_fixture.hpp"
 #include "forward/solve/sparse_cholesky.hpp"
 
-namespace tailor {
+namespace tailor::low_rank_hessian_test {
 namespace {
 
 using namespace tailor::testing;
@@ -42,4 +42,4 @@ TEST(LowRankHessian, WoodburySolveMatchesDense) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::low_rank_hessian_test

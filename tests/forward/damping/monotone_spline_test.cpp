@@ -7,7 +7,7 @@
 
 #include "adjoint/derivative_check.hpp"
 
-namespace tailor {
+namespace tailor::monotone_spline_test {
 namespace {
 
 TEST(MonotoneCubic, InterpolatesAndPreservesMonotonicity) {
@@ -69,4 +69,4 @@ TEST(MonotoneCubic, RejectsBadKnots) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::monotone_spline_test

@@ -9,7 +9,7 @@
 #include "adjoint/derivative_check.hpp"
 #include "forward/fem/loads.hpp"
 
-namespace tailor {
+namespace tailor::dynamic_terms_test {
 namespace {
 
 using namespace tailor::testing;
@@ -205,4 +205,4 @@ TEST(DynamicTerms, BadInputIsRejected) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::dynamic_terms_test

@@ -15,7 +15,7 @@
 
 #include "../../support/modal_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::integrator_validation_test {
 namespace {
 
 using namespace tailor::testing;
@@ -255,4 +255,4 @@ TEST(Integrators, ReductionByProjectionReproducesAModalTrajectory) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::integrator_validation_test

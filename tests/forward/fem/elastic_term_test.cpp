@@ -14,7 +14,7 @@
 #include "forward/core/elimination.hpp"
 #include "forward/solve/newton.hpp"
 
-namespace tailor {
+namespace tailor::elastic_term_test {
 namespace {
 
 using namespace tailor::testing;
@@ -183,4 +183,4 @@ INSTANTIATE_TEST_SUITE_P(AllMaterials, ElasticTermTest,
                          case_name);
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::elastic_term_test

@@ -19,7 +19,7 @@
 #include "forward/mesh/generate.hpp"
 #include "tests/support/fem_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::element_loop_test {
 namespace {
 
 struct Evaluation {
@@ -128,4 +128,4 @@ TEST(ElementLoop, SplineElasticTermIsDeterministicAndReentrant) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::element_loop_test

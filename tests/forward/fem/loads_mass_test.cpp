@@ -4,7 +4,7 @@
 #include "forward/fem/loads.hpp"
 #include "forward/fem/mass.hpp"
 
-namespace tailor {
+namespace tailor::loads_mass_test {
 namespace {
 
 using namespace tailor::testing;
@@ -74,4 +74,4 @@ TEST(Mass, ConsistentAndLumpedCarryTheTotalMass) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::loads_mass_test

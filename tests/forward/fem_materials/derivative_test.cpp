@@ -6,7 +6,7 @@
 #include "forward/fem/material.hpp"
 #include "tests/forward/fem_materials/material_test_support.hpp"
 
-namespace tailor::test {
+namespace tailor::test::derivative_test {
 namespace {
 
 template <class T>
@@ -173,4 +173,4 @@ TYPED_TEST(MaterialDerivatives, YoungPoissonChainMatchesDifferences) {
 }
 
 }  // namespace
-}  // namespace tailor::test
+}  // namespace tailor::test::derivative_test

@@ -10,7 +10,7 @@
 #include "forward/fem/materials/neo_hookean.hpp"
 #include "tests/forward/fem_materials/material_test_support.hpp"
 
-namespace tailor::test {
+namespace tailor::test::invariants_test {
 namespace {
 
 template <class T>
@@ -256,4 +256,4 @@ TYPED_TEST(MaterialInvariants, StableNeoHookeanIsFiniteThroughInversion) {
 }
 
 }  // namespace
-}  // namespace tailor::test
+}  // namespace tailor::test::invariants_test

@@ -8,7 +8,7 @@
 #include "forward/fem/material.hpp"
 #include "tests/forward/fem_materials/material_test_support.hpp"
 
-namespace tailor::test {
+namespace tailor::test::lame_and_factory_test {
 namespace {
 
 TEST(Lame, KnownValues) {
@@ -113,4 +113,4 @@ TEST(MaterialFactory, EvaluateFillsOnlyWhatIsRequested) {
 }
 
 }  // namespace
-}  // namespace tailor::test
+}  // namespace tailor::test::lame_and_factory_test

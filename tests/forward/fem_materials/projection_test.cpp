@@ -8,7 +8,7 @@
 #include "forward/fem/materials/psd_projection.hpp"
 #include "tests/forward/fem_materials/material_test_support.hpp"
 
-namespace tailor::test {
+namespace tailor::test::projection_test {
 namespace {
 
 template <class T>
@@ -130,4 +130,4 @@ TEST(PsdProjection, ClampsNegativeEigenvaluesAndKeepsPsdMatrices) {
 }
 
 }  // namespace
-}  // namespace tailor::test
+}  // namespace tailor::test::projection_test

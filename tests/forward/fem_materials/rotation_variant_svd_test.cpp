@@ -6,7 +6,7 @@
 
 #include "tests/forward/fem_materials/material_test_support.hpp"
 
-namespace tailor::test {
+namespace tailor::test::rotation_variant_svd_test {
 namespace {
 
 template <class T>
@@ -41,4 +41,4 @@ TYPED_TEST(RotationVariantSvdTest, ReconstructsWithProperRotations) {
 }
 
 }  // namespace
-}  // namespace tailor::test
+}  // namespace tailor::test::rotation_variant_svd_test

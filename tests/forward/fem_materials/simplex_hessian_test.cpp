@@ -10,7 +10,7 @@
 #include "forward/fem/linear_simplices.hpp"
 #include "tests/forward/fem_materials/material_test_support.hpp"
 
-namespace tailor::test {
+namespace tailor::test::simplex_hessian_test {
 namespace {
 
 template <int Dim>
@@ -78,4 +78,4 @@ TEST(SimplexHessian, AWrongDeterminantTermIsSeen) {
 }
 
 }  // namespace
-}  // namespace tailor::test
+}  // namespace tailor::test::simplex_hessian_test

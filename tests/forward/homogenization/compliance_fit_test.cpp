@@ -9,7 +9,7 @@
 #include "forward/homogenization/engineering_constants.hpp"
 #include "forward/homogenization/linear_homogenization.hpp"
 
-namespace tailor {
+namespace tailor::compliance_fit_test {
 namespace {
 
 TEST(ComplianceFit, RecoversAnAnisotropicComplianceExactly) {
@@ -51,4 +51,4 @@ TEST(ComplianceFit, SmallStrainSamplesOfANonlinearCellGiveTheLinearCompliance) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::compliance_fit_test

@@ -10,7 +10,7 @@
 #include "forward/homogenization/engineering_constants.hpp"
 #include "forward/homogenization/linear_homogenization.hpp"
 
-namespace tailor {
+namespace tailor::homogeneous_cell_test {
 namespace {
 
 double relative_error(const Matrix& a, const Matrix& b) {
@@ -92,4 +92,4 @@ TEST(HomogeneousCell, RejectsBadMaterialInput) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::homogeneous_cell_test

@@ -12,7 +12,7 @@
 #include "forward/homogenization/engineering_constants.hpp"
 #include "forward/homogenization/linear_homogenization.hpp"
 
-namespace tailor {
+namespace tailor::laminate_test {
 namespace {
 
 // The laminate formula for layers normal to the last axis, phases with Voigt stiffnesses C[k]
@@ -114,4 +114,4 @@ TEST(Laminate, TetCell) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::laminate_test

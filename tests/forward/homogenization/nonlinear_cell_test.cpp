@@ -6,7 +6,7 @@
 #include "forward/homogenization/linear_homogenization.hpp"
 #include "forward/homogenization/nonlinear_homogenization.hpp"
 
-namespace tailor {
+namespace tailor::nonlinear_cell_test {
 namespace {
 
 Mesh square_cell(int n) {
@@ -99,4 +99,4 @@ TEST(NonlinearCell, StressStrainCurveToLargeStrain) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::nonlinear_cell_test

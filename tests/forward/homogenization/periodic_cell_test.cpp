@@ -5,7 +5,7 @@
 
 #include "forward/homogenization/cell_mesh.hpp"
 
-namespace tailor {
+namespace tailor::periodic_cell_test {
 namespace {
 
 Eigen::Matrix2d skewed_lattice() {
@@ -91,4 +91,4 @@ TEST(PeriodicCell, RejectsWrongLatticesAndOutsideVertices) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::periodic_cell_test

@@ -12,7 +12,7 @@
 
 #include "forward/homogenization/cell_mesh.hpp"
 
-namespace tailor {
+namespace tailor::plate_bending_test {
 namespace {
 
 Matrix plate_theory(double E, double nu, double t) {
@@ -57,4 +57,4 @@ TEST(PlateBending, RejectsFullyPeriodicCells) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::plate_bending_test

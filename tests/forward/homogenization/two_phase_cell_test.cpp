@@ -10,7 +10,7 @@
 #include "forward/homogenization/engineering_constants.hpp"
 #include "forward/homogenization/linear_homogenization.hpp"
 
-namespace tailor {
+namespace tailor::two_phase_cell_test {
 namespace {
 
 using PhaseOf = std::function<bool(const Eigen::Vector2d& centroid)>;  // true: phase 1
@@ -186,4 +186,4 @@ TEST(TwoPhaseCell, HexagonalCellIsIsotropicInPlane) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::two_phase_cell_test

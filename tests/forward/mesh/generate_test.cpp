@@ -9,7 +9,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace tailor {
+namespace tailor::generate_test {
 namespace {
 
 TEST(BoxTetMesh, CountsNumberingAndPositiveVolumes) {
@@ -134,4 +134,4 @@ TEST(Generators, RejectInvalidArguments) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::generate_test

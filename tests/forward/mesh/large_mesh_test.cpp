@@ -11,7 +11,7 @@
 #include "forward/mesh/mesh_io.hpp"
 #include "mesh_test_support.hpp"
 
-namespace tailor {
+namespace tailor::large_mesh_test {
 namespace {
 
 using test::ScratchDir;
@@ -92,4 +92,4 @@ TEST(LargeMesh, ReadersWriterAndFacetQueriesScale) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::large_mesh_test

@@ -9,7 +9,7 @@
 
 #include "mesh_test_support.hpp"
 
-namespace tailor {
+namespace tailor::mesh_test {
 namespace {
 
 using test::expect_mesh_error;
@@ -192,4 +192,4 @@ TEST(ElementAdjacency, PairsThroughSharedFacetsOnly) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::mesh_test

@@ -7,7 +7,7 @@
 #include "forward/mesh/mesh_io.hpp"
 #include "mesh_test_support.hpp"
 
-namespace tailor {
+namespace tailor::read_gmsh_test {
 namespace {
 
 using test::expect_mesh_error;
@@ -196,4 +196,4 @@ TEST(ReadGmsh, RejectsFilesWithoutUsableElements) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::read_gmsh_test

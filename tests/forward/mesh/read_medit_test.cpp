@@ -6,7 +6,7 @@
 #include "forward/mesh/mesh_io.hpp"
 #include "mesh_test_support.hpp"
 
-namespace tailor {
+namespace tailor::read_medit_test {
 namespace {
 
 using test::expect_mesh_error;
@@ -113,4 +113,4 @@ TEST(ReadMedit, InvertedTetrahedronIsRejectedNotFlipped) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::read_medit_test

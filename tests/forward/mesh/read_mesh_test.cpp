@@ -10,7 +10,7 @@
 #include "forward/mesh/mesh_io.hpp"
 #include "mesh_test_support.hpp"
 
-namespace tailor {
+namespace tailor::read_mesh_test {
 namespace {
 
 using test::expect_mesh_error;
@@ -80,4 +80,4 @@ TEST(ReadMesh, DispatchIsCaseInsensitiveAndRejectsUnknownExtensions) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::read_mesh_test

@@ -6,7 +6,7 @@
 #include "forward/mesh/mesh_io.hpp"
 #include "mesh_test_support.hpp"
 
-namespace tailor {
+namespace tailor::read_tetgen_test {
 namespace {
 
 using test::expect_mesh_error;
@@ -117,4 +117,4 @@ TEST(ReadTetgen, InvertedElementNamesTheEleLine) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::read_tetgen_test

@@ -29,7 +29,7 @@ void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
-namespace tailor {
+namespace tailor::record_count_test {
 namespace {
 
 using test::expect_mesh_error;
@@ -90,4 +90,4 @@ TEST(RecordCounts, HeaderNumbersBeyondIntAreRefusedNotTruncated) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::record_count_test

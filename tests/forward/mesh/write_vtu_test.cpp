@@ -11,7 +11,7 @@
 #include "forward/mesh/mesh_io.hpp"
 #include "mesh_test_support.hpp"
 
-namespace tailor {
+namespace tailor::write_vtu_test {
 namespace {
 
 using test::read_text;
@@ -163,4 +163,4 @@ TEST(WriteVtu, RejectsMismatchedFieldsAndUnwritablePaths) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::write_vtu_test

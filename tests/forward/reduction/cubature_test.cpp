@@ -17,7 +17,7 @@
 #include "forward/reduction/reduced_stvk.hpp"
 #include "reduction_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::cubature_test {
 namespace {
 
 using namespace tailor::testing;
@@ -250,4 +250,4 @@ TEST(Cubature, BadInputIsAClearError) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::cubature_test

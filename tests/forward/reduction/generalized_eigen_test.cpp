@@ -7,7 +7,7 @@
 #include <numbers>
 #include <stdexcept>
 
-namespace tailor {
+namespace tailor::generalized_eigen_test {
 namespace {
 
 // Graph Laplacian of the path 0 - 1 - ... - (n-1), unit weights (singular: constants).
@@ -215,4 +215,4 @@ TEST(GeneralizedEigen, RepeatedEigenvaluesGiveTheSameVectorsEveryCall) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::generalized_eigen_test

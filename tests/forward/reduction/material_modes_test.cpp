@@ -11,7 +11,7 @@
 
 #include "forward/mesh/generate.hpp"
 
-namespace tailor {
+namespace tailor::material_modes_test {
 namespace {
 
 Mesh small_box() { return box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1.0, 1.3, 1.7), 3, 4, 5); }
@@ -139,4 +139,4 @@ TEST(MaterialModes, TwentyModesOn48kTets) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::material_modes_test

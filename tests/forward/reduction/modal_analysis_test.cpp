@@ -10,7 +10,7 @@
 
 #include "reduction_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::modal_analysis_test {
 namespace {
 
 using namespace tailor::testing;
@@ -150,4 +150,4 @@ TEST(ModalAnalysis, RejectsBadInput) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::modal_analysis_test

@@ -11,7 +11,7 @@
 #include "forward/solve/newton.hpp"
 #include "reduction_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::modal_derivatives_test {
 namespace {
 
 using namespace tailor::testing;
@@ -130,4 +130,4 @@ TEST(ModalDerivatives, NeedAConstrainedBody) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::modal_derivatives_test

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 
-namespace tailor {
+namespace tailor::nnls_test {
 namespace {
 
 // Reference: with A = I the problem separates, min (x_i - b_i)^2 with x_i >= 0: x = max(b, 0).
@@ -57,4 +57,4 @@ TEST(Nnls, BadInputIsAClearError) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::nnls_test

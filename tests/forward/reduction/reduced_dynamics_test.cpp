@@ -15,7 +15,7 @@
 #include "forward/reduction/reduced_stvk.hpp"
 #include "reduction_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::reduced_dynamics_test {
 namespace {
 
 using namespace tailor::testing;
@@ -212,4 +212,4 @@ TEST(ReducedDynamics, RejectsBadOptions) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::reduced_dynamics_test

@@ -13,7 +13,7 @@
 #include "forward/reduction/projected_reduced_model.hpp"
 #include "reduction_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::reduced_stvk_test {
 namespace {
 
 using namespace tailor::testing;
@@ -156,4 +156,4 @@ TEST(ReducedStvk, RejectsOtherMaterialsAndBadSizes) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::reduced_stvk_test

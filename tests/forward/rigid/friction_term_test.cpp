@@ -13,7 +13,7 @@
 #include "adjoint/derivative_check.hpp"
 #include "rigid_scenes.hpp"
 
-namespace tailor::rigid {
+namespace tailor::rigid::friction_term_test {
 namespace {
 
 using contact::PairKind;
@@ -243,4 +243,4 @@ TEST(FrictionTerm, RigidBoxesPassDerivativeChecksAndAWrongHessianFails) {
 }
 
 }  // namespace
-}  // namespace tailor::rigid
+}  // namespace tailor::rigid::friction_term_test

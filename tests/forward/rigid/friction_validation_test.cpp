@@ -16,7 +16,7 @@
 #include "forward/rigid/rigid_gravity_term.hpp"
 #include "forward/rigid/rigid_time_stepper.hpp"
 
-namespace tailor::rigid {
+namespace tailor::rigid::friction_validation_test {
 namespace {
 
 constexpr double kGravity = 9.81;
@@ -193,4 +193,4 @@ TEST(FrictionValidation, KinematicPlatePushesBoxAgainstSlidingFriction) {
 }
 
 }  // namespace
-}  // namespace tailor::rigid
+}  // namespace tailor::rigid::friction_validation_test

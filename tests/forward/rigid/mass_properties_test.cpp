@@ -9,7 +9,7 @@
 
 #include "forward/rigid/rigid_body_system.hpp"
 
-namespace tailor::rigid {
+namespace tailor::rigid::mass_properties_test {
 namespace {
 
 TEST(MassProperties, BoxMatchesClosedFormAnywhere) {
@@ -51,4 +51,4 @@ TEST(MassProperties, RejectsOpenOrInvertedMeshes) {
 }
 
 }  // namespace
-}  // namespace tailor::rigid
+}  // namespace tailor::rigid::mass_properties_test

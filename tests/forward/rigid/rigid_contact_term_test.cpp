@@ -11,7 +11,7 @@
 #include "forward/rigid/rigid_gravity_term.hpp"
 #include "rigid_scenes.hpp"
 
-namespace tailor::rigid {
+namespace tailor::rigid::rigid_contact_term_test {
 namespace {
 
 contact::ContactOptions contact_options(double d_hat, double kappa) {
@@ -126,4 +126,4 @@ TEST(RigidContactTerm, CcdOnSpinningBodyNeverMissesContact) {
 }
 
 }  // namespace
-}  // namespace tailor::rigid
+}  // namespace tailor::rigid::rigid_contact_term_test

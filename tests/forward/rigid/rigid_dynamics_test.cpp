@@ -14,7 +14,7 @@
 #include "forward/rigid/rigid_time_stepper.hpp"
 #include "rigid_scenes.hpp"
 
-namespace tailor::rigid {
+namespace tailor::rigid::rigid_dynamics_test {
 namespace {
 
 RigidBodySystem single_box(const Eigen::Vector3d& size, const Eigen::Vector3d& w) {
@@ -124,4 +124,4 @@ TEST(RigidDynamics, TiltedBoxDroppedOnGroundNeverIntersectsAndComesToRest) {
 }
 
 }  // namespace
-}  // namespace tailor::rigid
+}  // namespace tailor::rigid::rigid_dynamics_test

@@ -17,7 +17,7 @@
 #include "forward/rigid/rigid_time_stepper.hpp"
 #include "rigid_scenes.hpp"
 
-namespace tailor::rigid {
+namespace tailor::rigid::rigid_load_term_test {
 namespace {
 
 Vector loads(const Eigen::Vector3d& force, const Eigen::Vector3d& torque) {
@@ -170,4 +170,4 @@ TEST(RigidLoadTerm, BoxUnderTorqueReachesTheStaticMomentBalance) {
 }
 
 }  // namespace
-}  // namespace tailor::rigid
+}  // namespace tailor::rigid::rigid_load_term_test

@@ -22,7 +22,7 @@
 #include "objectives/target_positions.hpp"
 #include "rigid_scenes.hpp"
 
-namespace tailor::rigid {
+namespace tailor::rigid::rigid_validation_test {
 namespace {
 
 constexpr double kGravity = 9.81;
@@ -178,4 +178,4 @@ TEST(RigidValidation, StaticAdjointThroughActiveContactPassesTaylorTest) {
 }
 
 }  // namespace
-}  // namespace tailor::rigid
+}  // namespace tailor::rigid::rigid_validation_test

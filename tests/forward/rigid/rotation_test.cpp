@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-namespace tailor::rigid {
+namespace tailor::rigid::rotation_test {
 namespace {
 
 const Eigen::Vector3d kAxis = Eigen::Vector3d(1, -2, 3).normalized();
@@ -79,4 +79,4 @@ TEST(Rotation, CoefficientsAreContinuousAcrossTheSeriesSwitch) {
 }
 
 }  // namespace
-}  // namespace tailor::rigid
+}  // namespace tailor::rigid::rotation_test

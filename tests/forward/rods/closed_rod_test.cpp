@@ -13,7 +13,7 @@
 #include "forward/rods/rod_supports.hpp"
 #include "rod_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::closed_rod_test {
 namespace {
 
 using namespace tailor::testing;
@@ -233,4 +233,4 @@ TEST(ClosedRodValidation, MichellInstabilityOfTwistedRing) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::closed_rod_test

@@ -9,7 +9,7 @@
 
 #include <cmath>
 
-namespace tailor {
+namespace tailor::discrete_rod_test {
 namespace {
 
 TEST(DiscreteRod, BadInputIsRejectedWithContext) {
@@ -56,4 +56,4 @@ TEST(DiscreteRod, ReferenceTwistTracksManyTurnsOfHolonomy) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::discrete_rod_test

@@ -9,7 +9,7 @@
 #include "forward/rods/rigid_joint_term.hpp"
 #include "rod_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::rigid_joint_test {
 namespace {
 
 using testing::helix;
@@ -117,4 +117,4 @@ TEST(RodRigidJoint, BadMembersAreRefused) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rigid_joint_test

@@ -11,7 +11,7 @@
 #include "forward/rods/end_moment_term.hpp"
 #include "rod_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::rod_derivatives_test {
 namespace {
 
 using namespace tailor::testing;
@@ -167,4 +167,4 @@ TEST(RodDerivatives, PerturbedDerivativeIsCaught) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rod_derivatives_test

@@ -16,7 +16,7 @@
 #include "optimizers/optimizer.hpp"
 #include "rod_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::rod_inverse_test {
 namespace {
 
 using namespace tailor::testing;
@@ -160,4 +160,4 @@ TEST(RodInverse, RecoversKnownRadiusProfile) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rod_inverse_test

@@ -21,7 +21,7 @@
 #include "forward/solve/newton.hpp"
 #include "rod_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::rod_validation_test {
 namespace {
 
 using namespace tailor::testing;
@@ -243,4 +243,4 @@ TEST(RodValidation, FiftyTurnsOfTwistOnAClampedRod) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rod_validation_test

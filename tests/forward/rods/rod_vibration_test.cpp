@@ -12,7 +12,7 @@
 
 #include "rod_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::rod_vibration_test {
 namespace {
 
 using namespace tailor::testing;
@@ -63,4 +63,4 @@ TEST(RodVibration, CantileverBendingFrequenciesMatchEulerBernoulli) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rod_vibration_test

@@ -12,7 +12,7 @@
 #include "adjoint/static_functional.hpp"
 #include "forward/solve/newton.hpp"
 
-namespace tailor {
+namespace tailor::hessian_share_test {
 namespace {
 
 using namespace tailor::testing;
@@ -132,4 +132,4 @@ TEST(HessianShare, NewtonAndAdjointByPartsMatchCholmod) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::hessian_share_test

@@ -16,7 +16,7 @@
 #include "forward/fem/loads.hpp"
 #include "forward/solve/newton.hpp"
 
-namespace tailor {
+namespace tailor::newton_constant_test {
 namespace {
 
 using namespace tailor::testing;
@@ -182,4 +182,4 @@ TEST(NewtonRoundOffFloor, StiffContrastEndsQuicklyWithAClearStatus) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::newton_constant_test

@@ -13,7 +13,7 @@
 #include "forward/mesh/generate.hpp"
 #include "forward/solve/newton.hpp"
 
-namespace tailor {
+namespace tailor::newton_reuse_test {
 namespace {
 
 using namespace tailor::testing;
@@ -205,4 +205,4 @@ TEST(NewtonReuse, AutomaticKeepsConvergenceOnALargeDeflection) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::newton_reuse_test

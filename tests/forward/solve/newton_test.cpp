@@ -7,7 +7,7 @@
 
 #include "../../support/quadratic_term.hpp"
 
-namespace tailor {
+namespace tailor::newton_test {
 namespace {
 
 using testing::QuadraticTerm;
@@ -90,4 +90,4 @@ TEST(Newton, WrongInitialGuessSizeIsReported) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::newton_test

@@ -4,7 +4,7 @@
 
 #include "../../support/quadratic_term.hpp"
 
-namespace tailor {
+namespace tailor::sparse_cholesky_test {
 namespace {
 
 SparseMatrix upper(const SparseMatrix& full) {
@@ -57,4 +57,4 @@ TEST(SparseCholesky, ReportsSingularMatrix) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::sparse_cholesky_test

@@ -16,7 +16,7 @@
 
 #include "forward/solve/sparse_cholesky.hpp"
 
-namespace tailor {
+namespace tailor::threads_test {
 namespace {
 
 // Upper triangle of the 7-point Laplacian on an n^3 grid (+ identity): large supernodes.
@@ -144,4 +144,4 @@ TEST(FactorizationThreads, ReportNamesWhatRuns) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::threads_test

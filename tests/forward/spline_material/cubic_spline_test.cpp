@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-namespace tailor {
+namespace tailor::cubic_spline_test {
 namespace {
 
 double cubic(double x) { return 0.7 - 1.3 * x + 0.4 * x * x + 0.25 * x * x * x; }
@@ -102,4 +102,4 @@ TEST(CubicSpline, RejectsBadInput) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::cubic_spline_test

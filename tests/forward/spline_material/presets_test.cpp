@@ -9,7 +9,7 @@
 #include "forward/fem/materials/spline_material.hpp"
 #include "tests/forward/fem_materials/material_test_support.hpp"
 
-namespace tailor::test {
+namespace tailor::test::presets_test {
 namespace {
 
 template <class T>
@@ -119,4 +119,4 @@ TEST(SplinePresets, ParsesNames) {
 }
 
 }  // namespace
-}  // namespace tailor::test
+}  // namespace tailor::test::presets_test

@@ -17,7 +17,7 @@
 #include "tests/forward/spline_material/spline_test_curves.hpp"
 #include "tests/support/fem_fixtures.hpp"
 
-namespace tailor {
+namespace tailor::spline_elastic_term_test {
 namespace {
 
 using testing::affine_state;
@@ -214,4 +214,4 @@ TEST(SplineElasticTerm, RejectsAShortParameterVector) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::spline_elastic_term_test

@@ -9,7 +9,7 @@
 #include "tests/forward/fem_materials/material_test_support.hpp"
 #include "tests/forward/spline_material/spline_test_curves.hpp"
 
-namespace tailor::test {
+namespace tailor::test::spline_material_derivative_test {
 namespace {
 
 template <class T>
@@ -161,4 +161,4 @@ TYPED_TEST(SplineMaterialDerivatives, RotationInvariant) {
 }
 
 }  // namespace
-}  // namespace tailor::test
+}  // namespace tailor::test::spline_material_derivative_test

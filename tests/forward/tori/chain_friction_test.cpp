@@ -11,7 +11,7 @@
 #include "forward/rigid/rotation.hpp"
 #include "forward/tori/chain_simulation.hpp"
 
-namespace tailor::tori {
+namespace tailor::tori::chain_friction_test {
 namespace {
 
 ChainSpec heavy_chain() {
@@ -184,4 +184,4 @@ TEST(ChainFriction, StaticRelaxationRefusesFriction) {
 }
 
 }  // namespace
-}  // namespace tailor::tori
+}  // namespace tailor::tori::chain_friction_test

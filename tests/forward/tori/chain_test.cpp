@@ -7,7 +7,7 @@
 
 #include <cstdio>
 
-namespace tailor::tori {
+namespace tailor::tori::chain_test {
 namespace {
 
 ChainSpec chain(int count) {
@@ -82,4 +82,4 @@ TEST(TorusChain, SwingingChainNeverIntersects) { expect_swing_without_intersecti
 TEST(TorusChain, ElevenLinkSwingingChainNeverIntersects) { expect_swing_without_intersections(11, 20); }
 
 }  // namespace
-}  // namespace tailor::tori
+}  // namespace tailor::tori::chain_test

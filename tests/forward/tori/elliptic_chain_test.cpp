@@ -11,7 +11,7 @@
 #include "adjoint/derivative_check.hpp"
 #include "forward/tori/chain_simulation.hpp"
 
-namespace tailor::tori {
+namespace tailor::tori::elliptic_chain_test {
 namespace {
 
 ChainSpec elliptic_chain(int count, double r1) {
@@ -165,4 +165,4 @@ TEST(EllipticTorusChain, CcdHardQueriesHaveNoFalseNegatives) {
 }
 
 }  // namespace
-}  // namespace tailor::tori
+}  // namespace tailor::tori::elliptic_chain_test

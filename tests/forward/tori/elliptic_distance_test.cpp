@@ -13,7 +13,7 @@
 
 #include "forward/rigid/rotation.hpp"
 
-namespace tailor::tori {
+namespace tailor::tori::elliptic_distance_test {
 namespace {
 
 TorusShape elliptic(double R, double r, double r1) { return {R, r, r1}; }
@@ -303,4 +303,4 @@ TEST(EllipticTorusDistance, CircularTubesAgreeWithTheCoreCircleFormula) {
 }
 
 }  // namespace
-}  // namespace tailor::tori
+}  // namespace tailor::tori::elliptic_distance_test

@@ -11,7 +11,7 @@
 #include "forward/tori/elliptic_distance.hpp"
 #include "forward/tori/torus.hpp"
 
-namespace tailor::tori {
+namespace tailor::tori::elliptic_shape_test {
 namespace {
 
 TEST(EllipticTorusShape, MassAndInertiaMatchTheMeshIntegral) {
@@ -77,4 +77,4 @@ TEST(EllipticTorusShape, InscribedMeshLiesInsideTheSolid) {
 }
 
 }  // namespace
-}  // namespace tailor::tori
+}  // namespace tailor::tori::elliptic_shape_test

@@ -18,7 +18,7 @@
 #include "forward/tori/torus_contact_term.hpp"
 #include "objectives/target_positions.hpp"
 
-namespace tailor::tori {
+namespace tailor::tori::placement_adjoint_test {
 namespace {
 
 // A hanging chain of `count` links, link 0 fixed with its placement p = (T_0, w_0) the design:
@@ -144,4 +144,4 @@ TEST(TorusPlacementAdjoint, MovingTheAnchorTranslatesTheHangingChainRigidly) {
 }
 
 }  // namespace
-}  // namespace tailor::tori
+}  // namespace tailor::tori::placement_adjoint_test

@@ -16,7 +16,7 @@
 #include "forward/tori/torus_contact_term.hpp"
 #include "objectives/target_dofs.hpp"
 
-namespace tailor::tori {
+namespace tailor::tori::radius_adjoint_test {
 namespace {
 
 TEST(TorusRadiusAdjoint, BottomLinkHeightGradientPassesTheTaylorTest) {
@@ -66,4 +66,4 @@ TEST(TorusRadiusAdjoint, BottomLinkHeightGradientPassesTheTaylorTest) {
 }
 
 }  // namespace
-}  // namespace tailor::tori
+}  // namespace tailor::tori::radius_adjoint_test

@@ -12,7 +12,7 @@
 #include "forward/rigid/rotation.hpp"
 #include "forward/tori/chain.hpp"
 
-namespace tailor::tori {
+namespace tailor::tori::torus_contact_term_test {
 namespace {
 
 // Two interlocked links `gap` apart, b twisted and shifted off the symmetric pose so that
@@ -252,4 +252,4 @@ TEST(TorusContactTerm, CcdHardQueriesHaveNoFalseNegatives) {
 }
 
 }  // namespace
-}  // namespace tailor::tori
+}  // namespace tailor::tori::torus_contact_term_test

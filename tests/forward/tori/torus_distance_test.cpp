@@ -9,7 +9,7 @@
 
 #include "forward/rigid/rotation.hpp"
 
-namespace tailor::tori {
+namespace tailor::tori::torus_distance_test {
 namespace {
 
 // Brute force: over n angles of a, the exact distance of a's core point to b's core circle
@@ -68,4 +68,4 @@ TEST(TorusDistance, RandomPairsAgreeWithDenseSampling) {
 }
 
 }  // namespace
-}  // namespace tailor::tori
+}  // namespace tailor::tori::torus_distance_test

@@ -15,7 +15,7 @@
 #include "forward/rigid/rotation.hpp"
 #include "forward/tori/chain.hpp"
 
-namespace tailor::tori {
+namespace tailor::tori::torus_friction_term_test {
 namespace {
 
 // Two interlocked links `gap` apart, b twisted and shifted off the symmetric pose so that the
@@ -197,4 +197,4 @@ TEST(TorusFrictionTerm, RejectsBadInput) {
 }
 
 }  // namespace
-}  // namespace tailor::tori
+}  // namespace tailor::tori::torus_friction_term_test

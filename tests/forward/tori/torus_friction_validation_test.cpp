@@ -23,7 +23,7 @@
 #include "forward/rigid/rigid_time_stepper.hpp"
 #include "forward/tori/torus_friction_term.hpp"
 
-namespace tailor::tori {
+namespace tailor::tori::torus_friction_validation_test {
 namespace {
 
 constexpr double kGravity = 9.81;
@@ -130,4 +130,4 @@ TEST(TorusFrictionValidation, TorusOnInclineSticksBelowTheFrictionAngle) {
 }
 
 }  // namespace
-}  // namespace tailor::tori
+}  // namespace tailor::tori::torus_friction_validation_test

@@ -26,7 +26,7 @@
 #include "../../support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace tailor {
+namespace tailor::fem_contact_scene_test {
 namespace {
 
 const std::string kScenes = std::string(::tailor::testing::test_data_dir()) + "/../../scenes/contact/";
@@ -220,4 +220,4 @@ TEST(FemContactScene, BadFemBodiesAreReportedWithContext) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::fem_contact_scene_test

@@ -15,7 +15,7 @@
 #include "../../support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace tailor {
+namespace tailor::rigid_scene_test {
 namespace {
 
 const std::string kScenes = std::string(::tailor::testing::test_data_dir()) + "/../../scenes/contact/";
@@ -168,4 +168,4 @@ TEST(RigidScene, BadInputIsReportedWithContext) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rigid_scene_test

@@ -15,7 +15,7 @@
 #include "../../support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace tailor {
+namespace tailor::torus_scene_test {
 namespace {
 
 const std::string kScenes = std::string(::tailor::testing::test_data_dir()) + "/../../scenes/contact/";
@@ -316,4 +316,4 @@ TEST(TorusScene, FrictionAndStiffnessKeysAreChecked) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::torus_scene_test

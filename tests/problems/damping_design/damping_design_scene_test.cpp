@@ -11,7 +11,7 @@
 #include "../../support/temp_folder.hpp"
 #include "problems/scene.hpp"
 
-namespace tailor {
+namespace tailor::damping_design_scene_test {
 namespace {
 
 const char* kCoarse = R"({"name": "coarse", "damping_design": {
@@ -56,4 +56,4 @@ TEST(DampingDesignScene, RunWritesReportAndPlots) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::damping_design_scene_test

@@ -12,7 +12,7 @@
 
 #include <cstdio>
 
-namespace tailor {
+namespace tailor::damping_study_test {
 namespace {
 
 DampingStudyOptions coarse_study() {
@@ -75,4 +75,4 @@ TEST(DampingStudy, NonlinearLossPerCycleFollowsTheCurve) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::damping_study_test

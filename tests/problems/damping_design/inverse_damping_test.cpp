@@ -14,7 +14,7 @@
 #include "adjoint/transient_functional.hpp"
 #include "optimizers/optimizer.hpp"
 
-namespace tailor {
+namespace tailor::inverse_damping_test {
 namespace {
 
 using namespace tailor::testing;
@@ -180,4 +180,4 @@ TEST(InverseDamping, RecoversCurvesFromATrajectory) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::inverse_damping_test

@@ -13,7 +13,7 @@
 #include "problems/scene.hpp"
 #include "../../support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::homogenize_command_test {
 namespace {
 
 std::string write_scene(const std::string& name, const std::string& text) {
@@ -143,4 +143,4 @@ TEST(MetamaterialScene, SmallDesignRunsAndReportsTheRechecks) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::homogenize_command_test

@@ -11,7 +11,7 @@
 #include "problems/material_fit/material_fit.hpp"
 #include "tests/support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::curve_fit_test {
 namespace {
 
 PrincipalStretchGrids coarse_grids() {
@@ -101,4 +101,4 @@ TEST(MaterialFit, RecoversANeoHookeanResponse) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::curve_fit_test

@@ -15,7 +15,7 @@
 #include "tests/support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace tailor {
+namespace tailor::material_fit_scene_test {
 namespace {
 
 const std::string kScenes = testing::kScenesDir + "/";
@@ -94,9 +94,9 @@ TEST(MaterialFitScene, ReportsBadInputWithItsKeyPath) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::material_fit_scene_test
 
-namespace tailor {
+namespace tailor::material_fit_scene_test {
 namespace {
 
 // `tailor run` dispatches a material-fit scene and writes the report and one plot per case.
@@ -118,4 +118,4 @@ TEST(MaterialFitCli, RunWritesReportAndPlots) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::material_fit_scene_test

@@ -12,7 +12,7 @@
 #include "problems/material_fit/material_fit.hpp"
 #include "tests/support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::shape_constraints_test {
 namespace {
 
 PrincipalStretchGrids coarse_grids() {
@@ -110,4 +110,4 @@ TEST(ShapeConstraints, FitHonoursAnActiveMonotonicityConstraint) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::shape_constraints_test

@@ -11,7 +11,7 @@
 #include "adjoint/taylor_test.hpp"
 #include "forward/homogenization/cell_mesh.hpp"
 
-namespace tailor {
+namespace tailor::cell_design_test {
 namespace {
 
 Vector random_design(int n, unsigned seed) {
@@ -125,4 +125,4 @@ TEST(CellDesign, FilterRowsAreAveragesAndVolumeGradientMatches) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::cell_design_test

@@ -20,7 +20,7 @@
 #include "small_handle_scene.hpp"
 #include "../../support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::cubature_design_test {
 namespace {
 
 std::string target_of(const ReducedDesign& probe, const Vector& w) {
@@ -170,4 +170,4 @@ TEST(CubatureDesign, NeoHookeanReducedDesignMatchesTheFullSpaceDesign) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::cubature_design_test

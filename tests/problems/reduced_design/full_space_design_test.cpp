@@ -19,7 +19,7 @@
 #include "../../support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace tailor {
+namespace tailor::full_space_design_test {
 namespace {
 
 // The small handle scene (small_handle_scene.hpp) with its smoothness weight.
@@ -128,4 +128,4 @@ TEST(FullSpaceDesign, ShippedHandleScenesReducedMatchTheFullSpaceDesign) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::full_space_design_test

@@ -16,7 +16,7 @@
 #include "../../support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
-namespace tailor {
+namespace tailor::reduced_design_test {
 namespace {
 
 Vector parameters_at(const ReducedDesign& design, const Vector& w) {
@@ -200,4 +200,4 @@ TEST(ReducedDesign, ShippedSceneReachesItsTargetInFullSpace) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::reduced_design_test

@@ -27,7 +27,7 @@
 #include "rod_scene_files.hpp"
 #include "../../support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::rod_dynamics_test {
 namespace {
 
 using testing::read_json_file;
@@ -209,4 +209,4 @@ TEST(RodDynamics, BadDynamicsKeysNameTheKey) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rod_dynamics_test

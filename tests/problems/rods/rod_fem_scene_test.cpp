@@ -17,7 +17,7 @@
 #include "rod_scene_files.hpp"
 #include "../../support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::rod_fem_scene_test {
 namespace {
 
 using testing::read_json_file;
@@ -87,4 +87,4 @@ TEST(RodFemScene, SimulateEntryPointAndRefusedSections) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rod_fem_scene_test

@@ -16,7 +16,7 @@
 #include "rod_scene_files.hpp"
 #include "../../support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::rod_inverse_scene_test {
 namespace {
 
 using testing::read_json_file;
@@ -179,4 +179,4 @@ TEST(RodInverseScene, BadInputNamesTheKey) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rod_inverse_scene_test

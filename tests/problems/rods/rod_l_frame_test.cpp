@@ -28,7 +28,7 @@
 #include "rod_scene_files.hpp"
 #include "../../support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::rod_l_frame_test {
 namespace {
 
 using testing::read_rod_scene;
@@ -163,4 +163,4 @@ TEST(RodRigidJointFrame, RigidJointsWithDynamicsAreRefused) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rod_l_frame_test

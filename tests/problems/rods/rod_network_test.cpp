@@ -24,7 +24,7 @@
 #include "rod_scene_files.hpp"
 #include "../../support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::rod_network_test {
 namespace {
 
 using testing::read_rod_scene;
@@ -124,4 +124,4 @@ TEST(RodNetwork, BadJointsNameTheKey) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rod_network_test

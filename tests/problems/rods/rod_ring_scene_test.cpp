@@ -19,7 +19,7 @@
 #include "rod_scene_files.hpp"
 #include "../../support/temp_folder.hpp"
 
-namespace tailor {
+namespace tailor::rod_ring_scene_test {
 namespace {
 
 using testing::read_rod_scene;
@@ -107,4 +107,4 @@ TEST(RodRingScene, BadClosedRodKeysNameTheKey) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rod_ring_scene_test

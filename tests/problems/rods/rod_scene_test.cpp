@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-namespace tailor {
+namespace tailor::rod_scene_test {
 namespace {
 
 nlohmann::json cantilever_scene(double tip_load) {
@@ -68,4 +68,4 @@ TEST(RodScene, BadInputNamesTheKey) {
 }
 
 }  // namespace
-}  // namespace tailor
+}  // namespace tailor::rod_scene_test

@@ -16,9 +16,10 @@ class ProjectedTangent : public ::testing::Test {};
 using Dims = ::testing::Types<std::integral_constant<int, 2>, std::integral_constant<int, 3>>;
 TYPED_TEST_SUITE(ProjectedTangent, Dims);
 
-template <class M>
-M spectral_clamp(const M& A) {
-  const Eigen::SelfAdjointEigenSolver<M> eig(A);
+// The reference decomposition runs on a dynamic-size copy: one instantiation of Eigen's solver
+// instead of one per fixed size (the 9x9 one alone took most of this file's compile time).
+Eigen::MatrixXd spectral_clamp(const Eigen::MatrixXd& A) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A);
   return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() * eig.eigenvectors().transpose();
 }
 

@@ -23,6 +23,8 @@
 #include "objectives/target_positions.hpp"
 #include "tailor_version.hpp"
 
+namespace tailor::bench::adjoint_bench {
+
 using namespace tailor;
 
 namespace {
@@ -85,7 +87,7 @@ Row run(MaterialKind kind, int target_tets) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   int tets = 50000;
   std::string out = "bench_adjoint.json";
   bench::Cli cli("adjoint_bench", "Cost of one gradient of a static inverse problem / one forward solve.");
@@ -125,3 +127,5 @@ int main(int argc, char** argv) {
   json["results"] = results;
   return bench::write_report(out, json, "adjoint_bench") ? 0 : 1;
 }
+
+}  // namespace tailor::bench::adjoint_bench

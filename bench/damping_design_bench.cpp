@@ -11,7 +11,9 @@
 #include "bench_cli.hpp"
 #include "problems/damping_design/damping_study.hpp"
 
-int main(int argc, char** argv) {
+namespace tailor::bench::damping_design_bench {
+
+int run(int argc, char** argv) {
   using namespace tailor;
   std::string out = "damping_design_bench";
   bench::Cli cli("damping_design_bench", "Example-based damping on a cantilever plate (Xu & Barbic 2017).");
@@ -46,3 +48,5 @@ int main(int argc, char** argv) {
                 c.achieved_gamma, c.designed_gamma);
   return 0;
 }
+
+}  // namespace tailor::bench::damping_design_bench

@@ -25,6 +25,8 @@
 #include "forward/dynamics/setup.hpp"
 #include "tailor_version.hpp"
 
+namespace tailor::bench::dynamics_bench {
+
 using namespace tailor;
 
 namespace {
@@ -130,7 +132,7 @@ Row run(TimeScheme scheme, int target_tets, int steps, FactorReuse reuse_factori
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   int tets = 58000, steps = 10;
   FactorReuse reuse_factorization = FactorReuse::automatic;
   std::string out = "bench_dynamics.json";
@@ -194,3 +196,5 @@ int main(int argc, char** argv) {
   json["results"] = results;
   return bench::write_report(out, json, "dynamics_bench") ? 0 : 1;
 }
+
+}  // namespace tailor::bench::dynamics_bench

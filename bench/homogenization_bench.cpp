@@ -14,6 +14,8 @@
 #include "forward/homogenization/cell_mesh.hpp"
 #include "forward/homogenization/linear_homogenization.hpp"
 
+namespace tailor::bench::homogenization_bench {
+
 namespace {
 
 using namespace tailor;
@@ -55,7 +57,7 @@ Row run(int dim, int n) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   int max2d = 512, max3d = 32;
   std::string out = "bench_homogenization.json";
   std::vector<int> n2d, n3d;
@@ -98,3 +100,5 @@ int main(int argc, char** argv) {
   json["rows"] = results;
   return bench::write_report(out, json, "homogenization_bench") ? 0 : 1;
 }
+
+}  // namespace tailor::bench::homogenization_bench

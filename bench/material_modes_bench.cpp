@@ -44,6 +44,8 @@
 #include "problems/plot/line_plot.hpp"
 #include "tailor_version.hpp"
 
+namespace tailor::bench::material_modes_bench {
+
 using namespace tailor;
 
 namespace {
@@ -263,7 +265,7 @@ std::vector<std::string> write_plots(const Settings& settings, const std::vector
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   Settings settings;
   bool quick = false;
   std::vector<std::string> backends;
@@ -401,3 +403,5 @@ int main(int argc, char** argv) {
   for (const std::string& path : write_plots(settings, rows)) std::printf("wrote %s\n", path.c_str());
   return 0;
 }
+
+}  // namespace tailor::bench::material_modes_bench

@@ -23,6 +23,8 @@
 #include "loaded_block.hpp"
 #include "tailor_version.hpp"
 
+namespace tailor::bench::newton_bench {
+
 using namespace tailor;
 
 namespace {
@@ -83,7 +85,7 @@ SizeResult run(int target_tets, int max_iterations) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::vector<int> sizes = {10000, 50000, 200000};
   std::string out = "bench_newton.json";
   int max_iterations = 50;
@@ -136,3 +138,5 @@ int main(int argc, char** argv) {
   json["results"] = rows;
   return bench::write_report(out, json, "newton_bench") ? 0 : 1;
 }
+
+}  // namespace tailor::bench::newton_bench

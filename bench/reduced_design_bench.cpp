@@ -52,6 +52,8 @@
 #include "problems/full_space_design.hpp"
 #include "problems/reduced_design.hpp"
 
+namespace tailor::bench::reduced_design_bench {
+
 using namespace tailor;
 
 namespace {
@@ -175,7 +177,7 @@ class EvaluationLog final : public ReducedFunctional {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::vector<int> cells{2, 4}, ks{4, 8}, ms{4, 8};
   int max_iterations = 100, full_iterations = 200, refinements = 2, num_targets = 1;
   bool quick = false, no_full = false;
@@ -496,3 +498,5 @@ int main(int argc, char** argv) {
                 f.cells, f.m, f.median_ms, f.iterations, f.best_error, f.seconds, f.status.c_str());
   return bench::write_report(out, json, "reduced_design_bench") ? 0 : 1;
 }
+
+}  // namespace tailor::bench::reduced_design_bench

@@ -36,6 +36,8 @@
 #include "forward/reduction/reduced_stvk.hpp"
 #include "tailor_version.hpp"
 
+namespace tailor::bench::reduced_dynamics_bench {
+
 using namespace tailor;
 
 namespace {
@@ -68,7 +70,7 @@ struct Row {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::vector<int> cells = {4, 10}, ranks = {10, 20, 40};
   int steps = 1000, repeats = 3;
   std::string out = "bench_reduced_dynamics.json";
@@ -263,3 +265,5 @@ int main(int argc, char** argv) {
   json["results"] = results;
   return bench::write_report(out, json, "reduced_dynamics_bench") ? 0 : 1;
 }
+
+}  // namespace tailor::bench::reduced_dynamics_bench

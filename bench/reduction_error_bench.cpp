@@ -52,6 +52,8 @@
 #include "problems/plot/line_plot.hpp"
 #include "tailor_version.hpp"
 
+namespace tailor::bench::reduction_error_bench {
+
 using namespace tailor;
 using bench::Clock;
 using bench::cpu_seconds;
@@ -351,7 +353,7 @@ void write_plots(const std::string& path, const std::vector<MeshResult>& meshes,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::vector<int> tets = {3000, 58000}, mode_counts = {10, 20, 40}, derivative_mode_counts = {5, 10};
   double duration = 1.0, h = 0.02;
   bool quick = false;
@@ -482,3 +484,5 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
+}  // namespace tailor::bench::reduction_error_bench

@@ -32,6 +32,8 @@
 #include "forward/rigid/rigid_gravity_term.hpp"
 #include "forward/rigid/rigid_time_stepper.hpp"
 
+namespace tailor::bench::rigid_pile_bench {
+
 using namespace tailor;
 using namespace tailor::rigid;
 
@@ -70,7 +72,7 @@ class TimedTerm final : public EnergyTerm {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   int columns = 5, layers = 2, steps = 100, max_iterations = 100;
   NewtonHessian hessian = NewtonHessian::adaptive;
   double force_tolerance = 0.0;  // Newton's absolute tolerance as a fraction of the total weight
@@ -265,3 +267,5 @@ int main(int argc, char** argv) {
   if (!bench::write_report(out, json, "rigid_pile_bench")) return 1;
   return crossings_total == 0 && completed == steps ? 0 : 1;
 }
+
+}  // namespace tailor::bench::rigid_pile_bench

@@ -19,6 +19,8 @@
 #include "forward/rigid/rigid_gravity_term.hpp"
 #include "forward/solve/newton.hpp"
 
+namespace tailor::bench::rigid_stack_bench {
+
 using namespace tailor;
 using namespace tailor::rigid;
 
@@ -103,7 +105,7 @@ StackResult run(int columns, int height) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::vector<int> columns = {1, 3, 5};
   int height = 2;
   std::string out = "bench_rigid_stack.json";
@@ -141,3 +143,5 @@ int main(int argc, char** argv) {
   json["runs"] = runs;
   return bench::write_report(out, json, "rigid_stack_bench") ? 0 : 1;
 }
+
+}  // namespace tailor::bench::rigid_stack_bench

@@ -37,6 +37,8 @@
 #include "forward/solve/newton.hpp"
 #include "problems/rods/rod_inverse.hpp"
 
+namespace tailor::bench::rod_bench {
+
 using namespace tailor;
 
 namespace {
@@ -151,7 +153,7 @@ StrandResult design_strand(int k, int strands, int vertices, double shape_error)
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::vector<int> sizes = {100, 1000, 10000, 100000};
   int iterations = 5;
   std::string out = "bench_rods.json";
@@ -219,3 +221,5 @@ int main(int argc, char** argv) {
   }
   return bench::write_report(out, json, "rod_bench") ? 0 : 1;
 }
+
+}  // namespace tailor::bench::rod_bench

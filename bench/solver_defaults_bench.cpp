@@ -31,6 +31,8 @@
 #include "loaded_block.hpp"
 #include "objectives/target_positions.hpp"
 
+namespace tailor::bench::solver_defaults_bench {
+
 using namespace tailor;
 using bench::Clock;
 using bench::Json;
@@ -193,7 +195,7 @@ NewtonFigures newton_iteration(const bench::LoadedBlock& block, const Config& co
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::vector<int> sizes{6000, 47000};
   int steps = 20, repeats = 5;
   std::string out = "bench_solver_defaults.json";
@@ -263,3 +265,5 @@ int main(int argc, char** argv) {
   report["rows"] = rows;
   return bench::write_report(out, report, "solver_defaults_bench") ? 0 : 1;
 }
+
+}  // namespace tailor::bench::solver_defaults_bench

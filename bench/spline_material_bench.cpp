@@ -22,6 +22,8 @@
 #include "forward/fem/spline_elastic_term.hpp"
 #include "forward/mesh/generate.hpp"
 
+namespace tailor::bench::spline_material_bench {
+
 using namespace tailor;
 
 namespace {
@@ -46,7 +48,7 @@ struct Row {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   int target_tets = 50000, repeats = 7;
   std::string out = "bench_spline_material.json";
   bench::Cli cli("spline_material_bench",
@@ -142,3 +144,5 @@ int main(int argc, char** argv) {
   json["rows"] = results;
   return bench::write_report(out, json, "spline_material_bench") ? 0 : 1;
 }
+
+}  // namespace tailor::bench::spline_material_bench

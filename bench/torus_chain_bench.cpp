@@ -26,6 +26,8 @@
 #include "forward/core/statistics.hpp"
 #include "forward/tori/chain_simulation.hpp"
 
+namespace tailor::bench::torus_chain_bench {
+
 using namespace tailor;
 using namespace tailor::tori;
 
@@ -120,7 +122,7 @@ StaticResult run_static(const ChainSpec& chain, ContactModel model, int max_iter
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   int links = 100, steps = 20, mesh_segments = 24, static_links = 10, band = 2, max_iterations = 100;
   double h = 0.01, tilt = 0.3;
   std::vector<int> segments = {12, 16, 24, 32};
@@ -192,3 +194,5 @@ int main(int argc, char** argv) {
                     {"mesh", comparison}};
   return bench::write_report(out, json, "torus_chain_bench") ? 0 : 1;
 }
+
+}  // namespace tailor::bench::torus_chain_bench

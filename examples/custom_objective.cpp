@@ -26,6 +26,7 @@ class MeanDisplacement final : public Objective {
   void add_gradient_x(const Vector& x, const Vector&, Vector& gx) const override {
     add_along(gx, (mean(x) - t_) / (t_ * t_));
   }
+  bool has_second_derivatives() const override { return true; }
   void add_hessian_times(const Vector&, const Vector&, const Vector& dx, const Vector&, Vector& out_x,
                          Vector&) const override {
     add_along(out_x, along(dx) / (t_ * t_));

@@ -20,6 +20,7 @@ class LinearObservations final : public Objective {
   std::string name() const override { return "linear_observations"; }
   double value(const Vector& x, const Vector& p) const override;
   void add_gradient_x(const Vector& x, const Vector& p, Vector& gx) const override;
+  bool has_second_derivatives() const override { return true; }
   void add_hessian_times(const Vector& x, const Vector& p, const Vector& dx, const Vector& dp, Vector& out_x,
                          Vector& out_p) const override;
 

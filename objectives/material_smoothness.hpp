@@ -47,6 +47,7 @@ class MaterialSmoothness final : public Objective {
   double value(const Vector& x, const Vector& p) const override;
   void add_gradient_x(const Vector& x, const Vector& p, Vector& gx) const override;
   void add_gradient_p(const Vector& x, const Vector& p, Vector& gp) const override;
+  bool has_second_derivatives() const override { return true; }
   void add_hessian_times(const Vector& x, const Vector& p, const Vector& dx, const Vector& dp, Vector& out_x,
                          Vector& out_p) const override;
 

@@ -2,11 +2,15 @@
 // Objective: a design objective J(x, p) of the full state x (world positions, interleaved) and
 // the model parameters p, with its partial derivatives. The adjoint layer supplies dx/dp.
 //
-// Second-order terms (for Hessian-vector products of the reduced functional) are optional;
-// an objective that does not provide them says so with has_second_derivatives() == false.
+// Second-order terms (for Hessian-vector products of the reduced functional) are opt-in: an
+// objective that provides them overrides both has_second_derivatives() (true) and
+// add_hessian_times(). One that overrides neither reports false, so the adjoint layer and the
+// back-ends do not use Hessian-vector products with it; one that claims them without the product
+// gets an exception, never a silent zero (tests/objectives/objective_contract_test.cpp).
 // Least-squares objectives (J = 1/2 ||r(x, p)||^2) expose r and its partial Jacobians so
 // Gauss-Newton back-ends can use them.
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -24,11 +28,13 @@ class Objective {
     (void)x, (void)p, (void)gp;
   }
 
-  virtual bool has_second_derivatives() const { return true; }
+  virtual bool has_second_derivatives() const { return false; }
   // += J_xx dx + J_xp dp  and  += J_px dx + J_pp dp (directional derivatives of the gradients).
+  // Throws std::logic_error unless overridden.
   virtual void add_hessian_times(const Vector& x, const Vector& p, const Vector& dx, const Vector& dp,
                                  Vector& out_x, Vector& out_p) const {
     (void)x, (void)p, (void)dx, (void)dp, (void)out_x, (void)out_p;
+    throw std::logic_error("objective '" + name() + "' provides no second derivatives (add_hessian_times)");
   }
 
   virtual bool is_least_squares() const { return false; }

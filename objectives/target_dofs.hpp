@@ -22,6 +22,7 @@ class TargetDofs final : public Objective {
   std::string name() const override { return "target_dofs"; }
   double value(const Vector& x, const Vector& p) const override;
   void add_gradient_x(const Vector& x, const Vector& p, Vector& gx) const override;
+  bool has_second_derivatives() const override { return true; }
   void add_hessian_times(const Vector& x, const Vector& p, const Vector& dx, const Vector& dp, Vector& out_x,
                          Vector& out_p) const override;
 

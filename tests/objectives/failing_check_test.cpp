@@ -30,6 +30,7 @@ class Skewed final : public Objective {
     inner_->add_gradient_p(x, p, g);
     gp += (1 + g_) * g;
   }
+  bool has_second_derivatives() const override { return inner_->has_second_derivatives(); }
   void add_hessian_times(const Vector& x, const Vector& p, const Vector& dx, const Vector& dp, Vector& out_x,
                          Vector& out_p) const override {
     Vector hx = Vector::Zero(out_x.size()), hp = Vector::Zero(out_p.size());

@@ -66,6 +66,8 @@ inline DerivativeCheck check_hessian(const Objective& J, const Vector& x, const 
     g << gradient_x(J, xt, pt), gradient_p(J, xt, pt);
     return g;
   };
+  // A term whose product is checked must also say it has one, or the adjoint layer never asks.
+  EXPECT_TRUE(J.has_second_derivatives()) << J.name();
   Vector out_x = Vector::Zero(n), out_p = Vector::Zero(p.size());
   J.add_hessian_times(x, p, dx, dp, out_x, out_p);
   Vector analytic(n + p.size());

@@ -83,6 +83,7 @@ class PenalizedCompliance final : public Objective {
   void add_gradient_p(const Vector&, const Vector& p, Vector& gp) const override {
     gp.segment(offset_, n_) += a_ * p.segment(offset_, n_) / (ref_ * ref_);
   }
+  bool has_second_derivatives() const override { return true; }
   void add_hessian_times(const Vector&, const Vector&, const Vector&, const Vector& dp, Vector&,
                          Vector& out_p) const override {
     out_p.segment(offset_, n_) += a_ * dp.segment(offset_, n_) / (ref_ * ref_);
@@ -310,6 +311,7 @@ class MeanSag final : public Objective {
   void add_gradient_x(const Vector& x, const Vector&, Vector& gx) const override {
     for (int v : v_) gx[3 * v + 2] += (mean(x) - t_) / static_cast<double>(v_.size());
   }
+  bool has_second_derivatives() const override { return true; }
   void add_hessian_times(const Vector&, const Vector&, const Vector& dx, const Vector&, Vector& out_x,
                          Vector&) const override {
     double m = 0.0;

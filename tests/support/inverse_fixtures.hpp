@@ -54,6 +54,7 @@ class DofTargetObjective final : public Objective {
     for (std::size_t k = 0; k < dofs_.size(); ++k) gx[dofs_[k]] += x[dofs_[k]] - target_[k];
   }
   void add_gradient_p(const Vector&, const Vector& p, Vector& gp) const override { gp.head(head_) += c_ * p.head(head_); }
+  bool has_second_derivatives() const override { return true; }
   void add_hessian_times(const Vector&, const Vector&, const Vector& dx, const Vector& dp, Vector& out_x,
                          Vector& out_p) const override {
     for (int d : dofs_) out_x[d] += dx[d];

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "forward/contact/psd_projection.hpp"
+#include "forward/core/psd_projection.hpp"
 
 namespace tailor {
 namespace {
@@ -96,7 +96,7 @@ void ContactTerm::evaluate(const Vector& x, const Vector& p, const EnergyRequest
         (*request.gradient)[dofs[static_cast<std::size_t>(i)]] += pair.derivatives.gradient[i];
     if (!request.hessian_values) return;
     Eigen::Matrix<double, 12, 12> hessian = pair.derivatives.hessian;
-    if (request.hessian_mode == HessianMode::projected) contact::project_to_psd(hessian);
+    if (request.hessian_mode == HessianMode::projected) project_psd(hessian);
     for (int i = 0; i < 12; ++i)
       for (int j = 0; j < 12; ++j) {
         if (hessian(i, j) == 0.0) continue;

@@ -99,12 +99,12 @@ ClassifiedDistance classify_edge_edge(const Point& a0, const Point& a1, const Po
                      point_edge_in_stencil(s, 2, 0, 1), point_edge_in_stencil(s, 3, 0, 1)});
 }
 
-std::array<Vec3<Jet2<12>>, 4> stencil_jets(const std::array<Point, 4>& points) {
-  std::array<Vec3<Jet2<12>>, 4> s;
+std::array<Vec3<Dual2<12>>, 4> stencil_jets(const std::array<Point, 4>& points) {
+  std::array<Vec3<Dual2<12>>, 4> s;
   for (int k = 0; k < 4; ++k) {
-    s[k].x = Jet2<12>::variable(points[k].x(), 3 * k);
-    s[k].y = Jet2<12>::variable(points[k].y(), 3 * k + 1);
-    s[k].z = Jet2<12>::variable(points[k].z(), 3 * k + 2);
+    s[k].x = Dual2<12>::variable(points[k].x(), 3 * k);
+    s[k].y = Dual2<12>::variable(points[k].y(), 3 * k + 1);
+    s[k].z = Dual2<12>::variable(points[k].z(), 3 * k + 2);
   }
   return s;
 }
@@ -115,7 +115,7 @@ std::array<Vec3<double>, 4> stencil_values(const std::array<Point, 4>& points) {
   return s;
 }
 
-Jet2<12> squared_distance_jet(const ClassifiedDistance& c, const std::array<Point, 4>& points) {
+Dual2<12> squared_distance_jet(const ClassifiedDistance& c, const std::array<Point, 4>& points) {
   return branch_squared_distance(c, stencil_jets(points));
 }
 

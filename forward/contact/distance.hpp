@@ -10,7 +10,7 @@
 //   point_edge     |(e0 - p) x (e1 - p)|^2 / |e1 - e0|^2            (point to the edge's line)
 //   point_plane    ((p - t0) . n)^2 / |n|^2,  n = (t1 - t0) x (t2 - t0)
 //   line_line      ((b0 - a0) . n)^2 / |n|^2, n = (a1 - a0) x (b1 - b0)
-// Each formula is a template on the scalar so that Jet2 (jet2.hpp) gives its exact gradient
+// Each formula is a template on the scalar so that Dual2 (forward/core/dual2.hpp) gives its exact gradient
 // and Hessian; within a branch the formula equals the true distance, so the derivatives of
 // the classified distance are those of the branch formula.
 #include <Eigen/Core>
@@ -18,7 +18,7 @@
 #include <array>
 #include <string>
 
-#include "forward/contact/jet2.hpp"
+#include "forward/core/dual2.hpp"
 
 namespace tailor::contact {
 
@@ -44,7 +44,7 @@ ClassifiedDistance classify_edge_edge(const Point& a0, const Point& a1, const Po
 // Closest features of point p to segment (e0, e1), stencil (p, e0, e1) = (0, 1, 2).
 ClassifiedDistance classify_point_edge(const Point& p, const Point& e0, const Point& e1);
 
-// ---- The branch formulas, on any scalar (double or Jet2). ----
+// ---- The branch formulas, on any scalar (double or Dual2). ----
 template <class S>
 struct Vec3 {
   S x, y, z;
@@ -110,10 +110,10 @@ S branch_squared_distance(const ClassifiedDistance& c, const std::array<Vec3<S>,
 }
 
 // The four stencil points as jets in the 12 coordinates (point k, axis j -> input 3k + j).
-std::array<Vec3<Jet2<12>>, 4> stencil_jets(const std::array<Point, 4>& points);
+std::array<Vec3<Dual2<12>>, 4> stencil_jets(const std::array<Point, 4>& points);
 std::array<Vec3<double>, 4> stencil_values(const std::array<Point, 4>& points);
 
 // Squared distance of the pair with its exact gradient and Hessian in the 12 coordinates.
-Jet2<12> squared_distance_jet(const ClassifiedDistance& c, const std::array<Point, 4>& points);
+Dual2<12> squared_distance_jet(const ClassifiedDistance& c, const std::array<Point, 4>& points);
 
 }  // namespace tailor::contact

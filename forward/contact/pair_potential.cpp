@@ -27,11 +27,11 @@ bool pair_barrier(PairKind kind, const std::array<Point, 4>& points, double s_ha
     return true;
   }
   const auto jets = stencil_jets(points);
-  const Jet2<12> s = branch_squared_distance(out.distance, jets);
+  const Dual2<12> s = branch_squared_distance(out.distance, jets);
   const ScalarDerivatives bs = barrier(s.v, s_hat);
-  Jet2<12> energy = chain(s, bs.value, bs.first, bs.second);
+  Dual2<12> energy = chain(s, bs.value, bs.first, bs.second);
   if (out.mollified) {
-    const Jet2<12> c = edge_cross_squared(jets[0], jets[1], jets[2], jets[3]);
+    const Dual2<12> c = edge_cross_squared(jets[0], jets[1], jets[2], jets[3]);
     const ScalarDerivatives m = edge_mollifier(c.v, mollifier_eps);
     energy = chain(c, m.value, m.first, m.second) * energy;
   }

@@ -5,7 +5,7 @@
 //   edge-edge (a0, a1, b0, b1):      m(c(x); eps) b(d^2(x); d_hat^2),  c = |(a1-a0) x (b1-b0)|^2
 // with d^2 the classified squared distance (distance.hpp), b the barrier and m the mollifier
 // (barrier.hpp). Derivatives are taken in the 12 stencil coordinates (point k, axis j -> 3k+j)
-// by Jet2, so the mollified product's Hessian includes both cross terms m' b' (dc dd^T + dd dc^T).
+// by Dual2, so the mollified product's Hessian includes both cross terms m' b' (dc dd^T + dd dc^T).
 #include <Eigen/Core>
 #include <array>
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "forward/core/assembler.hpp"
+#include "forward/core/symmetric_eigen.hpp"
 
 namespace tailor {
 
@@ -81,7 +82,8 @@ Matrix admissible_rigid_modes(const Model& model, const Vector& x, int dim,
   return llt.matrixU().solve<Eigen::OnTheRight>(modes);
 }
 
-std::vector<std::string> unconstrained_rigid_motions(const Mesh& mesh, const std::vector<int>& constrained_dofs) {
+std::vector<std::string> unconstrained_rigid_motions(const Mesh& mesh,
+                                                     const std::vector<int>& constrained_dofs) {
   const int dim = mesh.dim();
   const int modes = dim == 3 ? 6 : 3;
   const Eigen::RowVectorXd lo = mesh.rest_positions.colwise().minCoeff(),
@@ -104,10 +106,10 @@ std::vector<std::string> unconstrained_rigid_motions(const Mesh& mesh, const std
       }
     }
   }
-  const Vector values = Eigen::SelfAdjointEigenSolver<Matrix>(R.transpose() * R, Eigen::EigenvaluesOnly).eigenvalues();
+  const Vector values = symmetric_eigenvalues(R.transpose() * R);
   const double largest = std::max(values.maxCoeff(), 0.0);
   const char* const names[6] = {"translation along x", "translation along y", "translation along z",
-                                 "rotation about x",    "rotation about y",    "rotation about z"};
+                                "rotation about x",    "rotation about y",    "rotation about z"};
   auto name = [&](int j) { return names[dim == 2 && j == 2 ? 5 : j]; };
   int free_count = 0;
   for (Eigen::Index i = 0; i < values.size(); ++i)
@@ -117,7 +119,8 @@ std::vector<std::string> unconstrained_rigid_motions(const Mesh& mesh, const std
   std::vector<std::string> free;
   for (int j = 0; j < modes && static_cast<int>(free.size()) < free_count; ++j)
     if (!(R.col(j).squaredNorm() > 1e-10 * largest) || largest == 0.0) free.emplace_back(name(j));
-  while (static_cast<int>(free.size()) < free_count) free.emplace_back("a rigid motion combining translation and rotation");
+  while (static_cast<int>(free.size()) < free_count)
+    free.emplace_back("a rigid motion combining translation and rotation");
   return free;
 }
 

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "forward/contact/psd_projection.hpp"
+#include "forward/core/psd_projection.hpp"
 
 namespace tailor::rigid {
 
@@ -190,7 +190,7 @@ void ContactBodies::add_stencil(const std::array<int, 4>& vertices, const Eigen:
         Hq(c + 3 + l, c + 3 + n) +=
             gk.dot(r.second[static_cast<std::size_t>(l)][static_cast<std::size_t>(n)] * body_frame(v));
   }
-  if (request.hessian_mode == HessianMode::projected) contact::project_to_psd<Eigen::Dynamic>(Hq);
+  if (request.hessian_mode == HessianMode::projected) project_psd(Hq);
   for (Eigen::Index i = 0; i < Hq.rows(); ++i)
     for (Eigen::Index j = 0; j < Hq.cols(); ++j) {
       if (Hq(i, j) == 0.0) continue;

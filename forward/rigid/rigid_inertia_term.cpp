@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "forward/contact/psd_projection.hpp"
+#include "forward/core/psd_projection.hpp"
 
 namespace tailor::rigid {
 
@@ -73,7 +73,7 @@ void RigidInertiaTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
       for (int l = 0; l < 3; ++l)
         H(k, l) = scale *
                   (r.second[k][l].cwiseProduct(DJ).sum() + (r.first[k] * J * r.first[l].transpose()).trace());
-    if (request.hessian_mode == HessianMode::projected) contact::project_to_psd<3>(H);
+    if (request.hessian_mode == HessianMode::projected) project_psd(H);
     for (int k = 0; k < 3; ++k)
       for (int l = 0; l < 3; ++l) *slot++ = H(k, l);
   }

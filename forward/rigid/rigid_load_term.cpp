@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "forward/contact/psd_projection.hpp"
+#include "forward/core/psd_projection.hpp"
 #include "forward/rigid/rotation.hpp"
 
 namespace tailor::rigid {
@@ -75,7 +75,7 @@ void RigidLoadTerm::evaluate(const Vector& x, const Vector& p, const EnergyReque
       for (int l = 0; l < 3; ++l)
         H(k, l) = -tau.dot(
             skew_vee(r.second[static_cast<std::size_t>(k)][static_cast<std::size_t>(l)] * Rb.transpose()));
-    if (request.hessian_mode == HessianMode::projected) contact::project_to_psd<3>(H);
+    if (request.hessian_mode == HessianMode::projected) project_psd(H);
     for (int k = 0; k < 3; ++k)
       for (int l = 0; l < 3; ++l) *slot++ = H(k, l);
   }

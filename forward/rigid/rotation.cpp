@@ -4,7 +4,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "forward/contact/jet2.hpp"
+#include "forward/core/dual2.hpp"
 
 namespace tailor::rigid {
 
@@ -58,11 +58,11 @@ Eigen::Matrix3d rotation_matrix(const Eigen::Vector3d& w) {
 }
 
 RotationDerivatives rotation_derivatives(const Eigen::Vector3d& w) {
-  using J = contact::Jet2<3>;
+  using J = Dual2<3>;
   const std::array<J, 3> wj{J::variable(w.x(), 0), J::variable(w.y(), 1), J::variable(w.z(), 2)};
   const J s = wj[0] * wj[0] + wj[1] * wj[1] + wj[2] * wj[2];
   const RodriguesCoefficients c = rodrigues_coefficients(s.v);
-  const J a = contact::chain(s, c.a, c.da, c.d2a), b = contact::chain(s, c.b, c.db, c.d2b);
+  const J a = chain(s, c.a, c.da, c.d2a), b = chain(s, c.b, c.db, c.d2b);
   // [w]_ij = -eps_ijk w_k;  ([w]^2)_ij = w_i w_j - delta_ij s.
   const J zero(0.0);
   const std::array<std::array<J, 3>, 3> K{

@@ -23,12 +23,12 @@ RodEndMomentTerm::RodEndMomentTerm(const DiscreteRod& rod, int edge, const Eigen
 }
 
 namespace {
-rod_detail::Dual2<6> edge_angle(const Eigen::Matrix<double, 6, 1>& local, const Eigen::Vector3d& n,
-                                const Eigen::Vector3d& d, double stored) {
-  using D = rod_detail::Dual2<6>;
+Dual2<6> edge_angle(const Eigen::Matrix<double, 6, 1>& local, const Eigen::Vector3d& n,
+                    const Eigen::Vector3d& d, double stored) {
+  using D = Dual2<6>;
   rod_detail::Dual2Vec3<6> e;
   for (int k = 0; k < 3; ++k) e[k] = D::variable(local[3 + k], 3 + k) - D::variable(local[k], k);
-  D phi = rod_detail::atan2(rod_detail::dot(n.cross(d).eval(), e) * 1.0, rod_detail::dot(d, e));
+  D phi = atan2(rod_detail::dot(n.cross(d).eval(), e) * 1.0, rod_detail::dot(d, e));
   phi.v += rod_detail::nearest_branch_shift(phi.v, stored);
   return phi;
 }
@@ -49,7 +49,7 @@ void RodEndMomentTerm::evaluate(const Vector& x, const Vector&, const EnergyRequ
     for (int r = 0; r < 6; ++r) (*request.gradient)[dofs_[static_cast<std::size_t>(r)]] -= moment_ * phi.g[r];
   if (request.hessian_values) {
     Eigen::Matrix<double, 6, 6> H = -moment_ * phi.h;
-    if (request.hessian_mode == HessianMode::projected) rod_detail::project_to_psd<6>(H);
+    if (request.hessian_mode == HessianMode::projected) project_psd(H);
     std::copy(H.data(), H.data() + 36, request.hessian_values);
   }
 }

@@ -12,7 +12,7 @@ namespace tailor {
 namespace {
 
 constexpr int kJointDofs = 10;  // x_a (0-2), x_b (3-5), theta (6), w (7-9)
-using JD = rod_detail::Dual2<kJointDofs>;
+using JD = Dual2<kJointDofs>;
 using JV = rod_detail::Dual2Vec3<kJointDofs>;
 using JointLocal = Eigen::Matrix<double, kJointDofs, 1>;
 
@@ -30,10 +30,10 @@ std::array<JD, 3> relative_rotation_dual(const JointLocal& local, const Stored& 
   }
   const JD theta = JD::variable(local[6], 6);
   const JV e = xb - xa;
-  const JV t = rod_detail::reciprocal(rod_detail::norm(e)) * e;
+  const JV t = reciprocal(rod_detail::norm(e)) * e;
   const JV a1 = rod_detail::transport(JV::constant(stored.tangent), t, JV::constant(stored.director));
   const JV a2 = rod_detail::cross(t, a1);
-  const JD c = rod_detail::cos(theta), s = rod_detail::sin(theta);
+  const JD c = cos(theta), s = sin(theta);
   const std::array<JV, 3> d = {t, c * a1 + s * a2, c * a2 - s * a1};
 
   // The joint's copy D_k = R(w) R_ref u_k, with R's exact first and second derivatives in w.
@@ -60,9 +60,10 @@ std::array<JD, 3> relative_rotation_dual(const JointLocal& local, const Stored& 
 
 }  // namespace
 
-Eigen::Vector3d rigid_joint_stiffness(const CrossSection& section, double youngs_modulus, double shear_modulus,
-                                      double radius, double rest_length) {
-  if (!(rest_length > 0.0)) throw std::invalid_argument("rigid_joint_stiffness: rest length must be positive");
+Eigen::Vector3d rigid_joint_stiffness(const CrossSection& section, double youngs_modulus,
+                                      double shear_modulus, double radius, double rest_length) {
+  if (!(rest_length > 0.0))
+    throw std::invalid_argument("rigid_joint_stiffness: rest length must be positive");
   const double r4 = radius * radius * radius * radius;
   return Eigen::Vector3d(2.0 * shear_modulus * section.torsion_coefficient() * r4,
                          2.0 * youngs_modulus * section.bending_coefficient2() * r4,
@@ -109,8 +110,8 @@ Eigen::Vector3d RodRigidJointTerm::relative_rotation(const Vector& x, int member
   const Member& m = members_.at(static_cast<std::size_t>(member));
   JointLocal local;
   for (int r = 0; r < kJointDofs; ++r) local[r] = x[m.dofs[static_cast<std::size_t>(r)]];
-  const auto psi = relative_rotation_dual(local, {m.rod->stored_tangent(m.edge), m.rod->stored_director(m.edge)},
-                                          reference_, m.frame);
+  const auto psi = relative_rotation_dual(
+      local, {m.rod->stored_tangent(m.edge), m.rod->stored_director(m.edge)}, reference_, m.frame);
   return {psi[0].v, psi[1].v, psi[2].v};
 }
 
@@ -135,7 +136,7 @@ void RodRigidJointTerm::evaluate(const Vector& x, const Vector&, const EnergyReq
       for (int r = 0; r < kJointDofs; ++r) (*request.gradient)[m.dofs[static_cast<std::size_t>(r)]] += g[r];
     if (request.hessian_values) {
       H = 0.5 * (H + H.transpose()).eval();
-      if (request.hessian_mode == HessianMode::projected) rod_detail::project_to_psd<kJointDofs>(H);
+      if (request.hessian_mode == HessianMode::projected) project_psd(H);
       std::copy(H.data(), H.data() + kJointDofs * kJointDofs,
                 request.hessian_values + k * kJointDofs * kJointDofs);
     }

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "forward/rods/dual2.hpp"
+#include "forward/rods/dual2_vec3.hpp"
 
 namespace tailor::rod_detail {
 

@@ -14,13 +14,14 @@
 //     (the same strains without derivatives, for value-only requests such as line searches)
 //   StencilEnergy<S, Q> energy_density(const Eigen::Matrix<double, S, 1>& s,
 //                                      const Eigen::Matrix<double, Q, 1>& q, int k) const;
-#include <Eigen/Eigenvalues>
+#include <Eigen/Core>
 #include <algorithm>
 #include <array>
 #include <vector>
 
 #include "forward/core/energy_term.hpp"
-#include "forward/rods/dual2.hpp"
+#include "forward/core/psd_projection.hpp"
+#include "forward/rods/dual2_vec3.hpp"
 
 namespace tailor::rod_detail {
 
@@ -32,14 +33,6 @@ struct StencilEnergy {
   Eigen::Matrix<double, Q, 1> dq = Eigen::Matrix<double, Q, 1>::Zero();
   Eigen::Matrix<double, S, Q> dsq = Eigen::Matrix<double, S, Q>::Zero();
 };
-
-// Nearest positive semidefinite matrix (eigenvalues clamped at zero).
-template <int N>
-void project_to_psd(Eigen::Matrix<double, N, N>& H) {
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(H);
-  if (eig.eigenvalues().minCoeff() >= 0.0) return;
-  H = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() * eig.eigenvectors().transpose();
-}
 
 template <class Derived, int N, int S, int Q>
 class RodStencilTerm : public EnergyTerm {
@@ -94,7 +87,7 @@ class RodStencilTerm : public EnergyTerm {
         }
         H += J.transpose() * W.dss * J;
         H = 0.5 * (H + H.transpose()).eval();
-        if (request.hessian_mode == HessianMode::projected) project_to_psd<N>(H);
+        if (request.hessian_mode == HessianMode::projected) project_psd(H);
         std::copy(H.data(), H.data() + N * N, request.hessian_values + static_cast<std::size_t>(k) * N * N);
       }
     }

@@ -21,8 +21,7 @@ std::array<int, 3> RodStretchingTerm::stencil_parameters(int edge) const {
   return {blocks_.youngs_modulus + edge, blocks_.radius + edge, blocks_.rest_length + edge};
 }
 
-std::array<rod_detail::Dual2<6>, 1> RodStretchingTerm::strains(const Eigen::Matrix<double, 6, 1>& local,
-                                                               int) const {
+std::array<Dual2<6>, 1> RodStretchingTerm::strains(const Eigen::Matrix<double, 6, 1>& local, int) const {
   return {rod_detail::edge_length(local)};
 }
 

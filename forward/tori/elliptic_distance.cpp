@@ -2,7 +2,7 @@
 // elliptic_distance.hpp).
 #include "forward/tori/elliptic_distance.hpp"
 
-#include <Eigen/Dense>
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,17 +10,17 @@
 #include <stdexcept>
 #include <vector>
 
-#include "forward/contact/jet2.hpp"
+#include "forward/core/dual2.hpp"
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/rigid/rotation.hpp"
 #include "forward/tori/implicit_minimum.hpp"
 
 namespace tailor::tori {
 namespace {
 
-using contact::Jet2;
 // 0-3 (u_a, v_a, u_b, v_b), 4-6 T_a, 7-9 w_a, 10-12 T_b, 13-15 w_b, 16-18 (R_a, r_a, r1_a),
 // 19-21 (R_b, r_b, r1_b).
-using PairJet = Jet2<22>;
+using PairJet = Dual2<22>;
 using Vector4 = Eigen::Vector4d;
 using Matrix4 = Eigen::Matrix4d;
 
@@ -133,13 +133,14 @@ double newton_minimize(const Function& function, Eigen::Matrix<double, N, 1>& x,
   double f = function(x, &g, &H);
   for (int escape = 0;; ++escape) {
     for (int it = 0; it < max_iterations; ++it) {
-      Eigen::SelfAdjointEigenSolver<MatrixN> eig(H);
-      const VectorN lambda = eig.eigenvalues();
+      VectorN lambda;
+      MatrixN vectors;
+      symmetric_eigen(H, lambda, vectors);
       const double scale = std::max(1e-300, lambda.cwiseAbs().maxCoeff());
       VectorN floored = lambda;
       for (int k = 0; k < N; ++k)
         if (lambda[k] < 1e-8 * scale) floored[k] = std::max(std::abs(lambda[k]), 1e-3 * scale);
-      const VectorN step = -eig.eigenvectors() * (eig.eigenvectors().transpose() * g).cwiseQuotient(floored);
+      const VectorN step = -vectors * (vectors.transpose() * g).cwiseQuotient(floored);
       if (!(step.norm() > 1e-15)) break;
       double alpha = 1.0;
       VectorN trial = x;
@@ -171,14 +172,16 @@ double newton_minimize(const Function& function, Eigen::Matrix<double, N, 1>& x,
       g = gn;
       H = Hn;
     }
-    Eigen::SelfAdjointEigenSolver<MatrixN> eig(H);
-    const double scale = std::max(1e-300, eig.eigenvalues().cwiseAbs().maxCoeff());
-    if (escape >= 4 || !(eig.eigenvalues()[0] < -1e-9 * scale)) return f;
+    VectorN lambda;
+    MatrixN vectors;
+    symmetric_eigen(H, lambda, vectors);
+    const double scale = std::max(1e-300, lambda.cwiseAbs().maxCoeff());
+    if (escape >= 4 || !(lambda[0] < -1e-9 * scale)) return f;
     // The quadratic model drops by |lambda| t^2 / 2 along the eigenvector: from t = sqrt(f / |lambda|)
     // (the model's decrease comparable to f) halving until f decreases.
-    const VectorN e = eig.eigenvectors().col(0);
+    const VectorN e = vectors.col(0);
     bool moved = false;
-    for (double t = std::sqrt(std::max(f, 1e-30) / -eig.eigenvalues()[0]); t > 1e-12 && !moved; t *= 0.5)
+    for (double t = std::sqrt(std::max(f, 1e-30) / -lambda[0]); t > 1e-12 && !moved; t *= 0.5)
       for (double sign : {1.0, -1.0}) {
         const VectorN trial = x + sign * t * e;
         if (function(trial, nullptr, nullptr) < f) {
@@ -203,10 +206,10 @@ double smallest_implicit(const Surface& surface, const Surface& solid,
   return best;
 }
 
-// The Jet2 of a surface point's coordinates; slots: (u, v) at angle_slot, T, w, and (R, r, r1)
+// The Dual2 of a surface point's coordinates; slots: (u, v) at angle_slot, T, w, and (R, r, r1)
 // at radius_slot (r1 on r's slot for a circular tube).
-std::array<PairJet, 3> surface_point_jet(const TorusPose& pose, double u, double v, int angle_slot, int t_slot,
-                                   int w_slot, int radius_slot) {
+std::array<PairJet, 3> surface_point_jet(const TorusPose& pose, double u, double v, int angle_slot,
+                                         int t_slot, int w_slot, int radius_slot) {
   const rigid::RotationDerivatives D = rigid::rotation_derivatives(pose.rotation);
   auto trig = [](double angle, int slot, PairJet& c, PairJet& s) {
     c = PairJet(std::cos(angle));
@@ -221,8 +224,8 @@ std::array<PairJet, 3> surface_point_jet(const TorusPose& pose, double u, double
   trig(v, angle_slot + 1, cv, sv);
   const PairJet R = PairJet::variable(pose.shape.major_radius, radius_slot);
   const PairJet r = PairJet::variable(pose.shape.minor_radius, radius_slot + 1);
-  const PairJet r1 =
-      PairJet::variable(axial_radius(pose.shape), is_elliptic(pose.shape) ? radius_slot + 2 : radius_slot + 1);
+  const PairJet r1 = PairJet::variable(axial_radius(pose.shape),
+                                       is_elliptic(pose.shape) ? radius_slot + 2 : radius_slot + 1);
   const PairJet rho = R + r * cv;
   const std::array<PairJet, 3> body = {rho * cu, rho * su, r1 * sv};
   std::array<PairJet, 3> out;
@@ -252,7 +255,8 @@ double implicit_value(const TorusPose& pose, const Eigen::Vector3d& x) {
 
 TorusDistance elliptic_torus_distance(const TorusPose& a, const TorusPose& b, bool derivatives,
                                       const DistanceOptions& options) {
-  if (!a.position.allFinite() || !a.rotation.allFinite() || !b.position.allFinite() || !b.rotation.allFinite())
+  if (!a.position.allFinite() || !a.rotation.allFinite() || !b.position.allFinite() ||
+      !b.rotation.allFinite())
     throw std::invalid_argument("elliptic_torus_distance: non-finite torus pose");
   const Surface sa = surface_of(a), sb = surface_of(b);
   const int nu = std::max(4, options.surface_samples), nv = std::max(4, nu / 2), n = nu * nv;
@@ -349,7 +353,7 @@ TorusDistance elliptic_torus_distance(const TorusPose& a, const TorusPose& b, bo
   Vector4 g;
   Matrix4 H;
   pair_function(sa, sb, u_best, &g, &H);
-  const Vector4 lambda = Eigen::SelfAdjointEigenSolver<Matrix4>(H).eigenvalues();
+  const Vector4 lambda = symmetric_eigenvalues(H);
   out.degenerate = !(lambda[0] > 1e-9 * lambda.cwiseAbs().maxCoeff()) || !(out.distance > 0.0);
   if (!derivatives || out.degenerate) return out;
 

@@ -20,7 +20,7 @@
 // Derivatives by the implicit function theorem as in the circular case: with y the other
 // variables (T_a, w_a, T_b, w_b, R_a, r_a, r1_a, R_b, r_b, r1_b) and f_u = 0 at the minimizer,
 //   d(d^2)/dy = f_y,   d2(d^2)/dy2 = f_yy - f_yu f_uu^-1 f_uy,
-// then d = sqrt(d^2); f's derivatives in (u, y) from Jet2<22>. For a circular torus of the pair
+// then d = sqrt(d^2); f's derivatives in (u, y) from Dual2<22>. For a circular torus of the pair
 // its r1 is the same jet variable as its r (r moves both semi-axes). Unlike the circular case
 // f_uu has an eigenvalue of order d (both points sliding together along the common tangent
 // plane), so the derivatives lose about eps R^2 / d of relative accuracy as d -> 0, and pairs

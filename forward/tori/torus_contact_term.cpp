@@ -8,7 +8,7 @@
 #include <string>
 
 #include "forward/contact/barrier.hpp"
-#include "forward/contact/psd_projection.hpp"
+#include "forward/core/psd_projection.hpp"
 
 namespace tailor::tori {
 namespace {
@@ -45,7 +45,8 @@ TorusContactTerm::TorusContactTerm(const rigid::RigidBodySystem& system, std::ve
   if (static_cast<int>(shapes_.size()) != n)
     throw std::invalid_argument("TorusContactTerm: " + std::to_string(shapes_.size()) + " shapes for " +
                                 std::to_string(n) + " bodies");
-  for (int i = 0; i < n; ++i) validate_shape(shapes_[static_cast<std::size_t>(i)], "TorusContactTerm: torus " + std::to_string(i));
+  for (int i = 0; i < n; ++i)
+    validate_shape(shapes_[static_cast<std::size_t>(i)], "TorusContactTerm: torus " + std::to_string(i));
   if (!(options_.activation_distance > 0.0) || !(options_.stiffness > 0.0))
     throw std::invalid_argument("TorusContactTerm: activation_distance and stiffness must be positive");
   if (options_.pair_band < 0) throw std::invalid_argument("TorusContactTerm: pair_band must be >= 0");
@@ -115,9 +116,11 @@ std::vector<TorusPair> TorusContactTerm::close_pairs(const Vector& q, const Vect
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b) {
       if (system_.body(a).fixed && system_.body(b).fixed) continue;
-      const TorusShape &sa = poses[static_cast<std::size_t>(a)].shape, &sb = poses[static_cast<std::size_t>(b)].shape;
+      const TorusShape &sa = poses[static_cast<std::size_t>(a)].shape,
+                       &sb = poses[static_cast<std::size_t>(b)].shape;
       const double reach = pair_reach(sa, sb) + range;
-      if ((poses[static_cast<std::size_t>(a)].position - poses[static_cast<std::size_t>(b)].position).norm() >= reach)
+      if ((poses[static_cast<std::size_t>(a)].position - poses[static_cast<std::size_t>(b)].position)
+              .norm() >= reach)
         continue;
       TorusPair pair;
       pair.a = a;
@@ -182,7 +185,8 @@ void TorusContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
       if (slot < 0)
         throw std::runtime_error("torus_contact: " + pair_name(a, b) +
                                  " came within the activation distance but are not a candidate pair "
-                                 "(pair_band " + std::to_string(options_.pair_band) + ")");
+                                 "(pair_band " +
+                                 std::to_string(options_.pair_band) + ")");
       Eigen::Matrix<double, 12, 12> H =
           e.second * pair.distance.gradient.head<12>() * pair.distance.gradient.head<12>().transpose() +
           e.first * pair.distance.hessian.topLeftCorner<12, 12>();
@@ -191,7 +195,7 @@ void TorusContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
           H.middleRows<6>(6 * end).setZero();
           H.middleCols<6>(6 * end).setZero();
         }
-      if (request.hessian_mode == HessianMode::projected) contact::project_to_psd<12>(H);
+      if (request.hessian_mode == HessianMode::projected) project_psd(H);
       double* out = request.hessian_values + slot;
       for (int i = 0; i < 12; ++i)
         for (int j = 0; j < 12; ++j) *out++ = H(i, j);

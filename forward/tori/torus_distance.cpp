@@ -1,23 +1,23 @@
 // Distance between two tori by a minimization over the core angles (see torus_distance.hpp).
 #include "forward/tori/torus_distance.hpp"
 
-#include <Eigen/Dense>
+#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include "forward/contact/jet2.hpp"
+#include "forward/core/dual2.hpp"
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/rigid/rotation.hpp"
-#include "forward/tori/implicit_minimum.hpp"
 #include "forward/tori/elliptic_distance.hpp"
+#include "forward/tori/implicit_minimum.hpp"
 
 namespace tailor::tori {
 namespace {
 
-using contact::Jet2;
-using CoreJet = Jet2<16>;  // 0-1 core angles, 2-4 T_a, 5-7 w_a, 8-10 T_b, 11-13 w_b, 14 R_a, 15 R_b
+using CoreJet = Dual2<16>;  // 0-1 core angles, 2-4 T_a, 5-7 w_a, 8-10 T_b, 11-13 w_b, 14 R_a, 15 R_b
 
 // A core circle in the world: centre, in-plane axes (the first two columns of Q), radius.
 struct Circle {
@@ -62,15 +62,15 @@ double polish(const Circle& a, const Circle& b, double& t, double& s, int max_it
   Eigen::Matrix2d H;
   double f = core_function(a, b, t, s, &g, &H);
   for (int it = 0; it < max_iterations; ++it) {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(H);
-    const Eigen::Vector2d lambda = eig.eigenvalues();
+    Eigen::Vector2d lambda;
+    Eigen::Matrix2d vectors;
+    symmetric_eigen(H, lambda, vectors);
     const double scale = std::max(1e-300, lambda.cwiseAbs().maxCoeff());
     // Eigenvalues floored to a positive fraction of the largest (a descent direction).
     Eigen::Vector2d floored = lambda;
     for (int k = 0; k < 2; ++k)
       if (lambda[k] < 1e-8 * scale) floored[k] = std::max(std::abs(lambda[k]), 1e-3 * scale);
-    const Eigen::Vector2d step =
-        -eig.eigenvectors() * (eig.eigenvectors().transpose() * g).cwiseQuotient(floored);
+    const Eigen::Vector2d step = -vectors * (vectors.transpose() * g).cwiseQuotient(floored);
     if (!(step.norm() > 1e-15)) break;
     double alpha = 1.0, f_new = f;
     double tn = t, sn = s;
@@ -108,9 +108,9 @@ double polish(const Circle& a, const Circle& b, double& t, double& s, int max_it
   return f;
 }
 
-// The Jet2 of one core point's coordinates in the 16 jet variables.
-std::array<CoreJet, 3> core_point_jet(const TorusPose& pose, double angle, int angle_slot, int t_slot, int w_slot,
-                                int radius_slot) {
+// The Dual2 of one core point's coordinates in the 16 jet variables.
+std::array<CoreJet, 3> core_point_jet(const TorusPose& pose, double angle, int angle_slot, int t_slot,
+                                      int w_slot, int radius_slot) {
   const rigid::RotationDerivatives D = rigid::rotation_derivatives(pose.rotation);
   CoreJet c = CoreJet(std::cos(angle)), s = CoreJet(std::sin(angle));
   c.g[angle_slot] = -std::sin(angle);
@@ -154,14 +154,16 @@ TorusDistance torus_distance(const TorusPose& a, const TorusPose& b, bool deriva
   std::vector<int> minima;
   for (int k = 0; k < n; ++k) {
     const double v = value[static_cast<std::size_t>(k)];
-    if (v <= value[static_cast<std::size_t>((k + n - 1) % n)] && v <= value[static_cast<std::size_t>((k + 1) % n)])
+    if (v <= value[static_cast<std::size_t>((k + n - 1) % n)] &&
+        v <= value[static_cast<std::size_t>((k + 1) % n)])
       minima.push_back(k);
   }
   std::sort(minima.begin(), minima.end(), [&](int i, int j) {
     return value[static_cast<std::size_t>(i)] < value[static_cast<std::size_t>(j)];
   });
   if (minima.empty()) minima.push_back(0);  // a constant sequence (coaxial circles)
-  if (static_cast<int>(minima.size()) > options.max_starts) minima.resize(static_cast<std::size_t>(options.max_starts));
+  if (static_cast<int>(minima.size()) > options.max_starts)
+    minima.resize(static_cast<std::size_t>(options.max_starts));
   TorusDistance out;
   double best = std::numeric_limits<double>::infinity();
   for (int k : minima) {
@@ -179,8 +181,9 @@ TorusDistance torus_distance(const TorusPose& a, const TorusPose& b, bool deriva
   Eigen::Vector2d g;
   Eigen::Matrix2d H;
   core_function(ca, cb, out.theta_a, out.theta_b, &g, &H);
-  const Eigen::Vector2d lambda = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(H).eigenvalues();
-  out.degenerate = !(lambda[0] > 1e-9 * std::max(lambda.cwiseAbs().maxCoeff(), a.shape.major_radius * b.shape.major_radius)) ||
+  const Eigen::Vector2d lambda = symmetric_eigenvalues(H);
+  out.degenerate = !(lambda[0] > 1e-9 * std::max(lambda.cwiseAbs().maxCoeff(),
+                                                 a.shape.major_radius * b.shape.major_radius)) ||
                    !(out.core_distance > 0.0);
   if (!derivatives || out.degenerate) return out;
 

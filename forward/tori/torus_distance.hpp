@@ -13,7 +13,7 @@
 // R_a, R_b) and f_u = 0 at the minimizer,
 //   dD^2/dy = f_y,   d2D^2/dy2 = f_yy - f_yu f_uu^{-1} f_uy,
 // exact where the minimizer is unique and non-degenerate (f_uu positive definite); f and its
-// first and second derivatives in (u, y) come from Jet2 (forward/contact/jet2.hpp) through the
+// first and second derivatives in (u, y) come from Dual2 (forward/core/dual2.hpp) through the
 // Rodrigues rotation's exact derivatives. Coaxial or otherwise degenerate pairs (a circle of
 // minimizers) have no such derivatives: distance() reports them (`degenerate`).
 //
@@ -46,7 +46,7 @@ struct TorusDistance {
   double core_distance = 0.0;           // D (elliptic: NaN, no such reduction)
   double theta_a = 0.0, theta_b = 0.0;  // the minimizing core angles (elliptic: the surface's u)
   double tube_a = 0.0, tube_b = 0.0;    // elliptic: the minimizing tube angles v
-  bool degenerate = false;     // f_uu not positive definite at the minimizer (no derivatives)
+  bool degenerate = false;              // f_uu not positive definite at the minimizer (no derivatives)
   // Elliptic: the solids overlap (found by the tubes' implicit functions); distance is then a
   // negative penetration estimate and there are no derivatives (degenerate is set too).
   bool overlapping = false;
@@ -58,8 +58,8 @@ struct TorusDistance {
 };
 
 struct DistanceOptions {
-  int samples = 32;      // angles of a sampled for the starts
-  int max_starts = 4;    // Newton runs from the lowest local minima of the samples
+  int samples = 32;    // angles of a sampled for the starts
+  int max_starts = 4;  // Newton runs from the lowest local minima of the samples
   int max_iterations = 50;
   // Elliptic pairs: each surface sampled at surface_samples x surface_samples / 2 (u, v) points;
   // Newton from the pairs of the surface_starts lowest local minima over a's samples.

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "forward/contact/barrier.hpp"
-#include "forward/contact/psd_projection.hpp"
+#include "forward/core/psd_projection.hpp"
 #include "forward/rigid/rotation.hpp"
 #include "forward/tori/elliptic_distance.hpp"
 
@@ -59,7 +59,8 @@ void TorusFrictionTerm::hessian_pattern(HessianPattern& pattern) const { contact
 
 void TorusFrictionTerm::lag(const Vector& q_lag, const Vector& q_start, double time_step) {
   if (!(time_step > 0.0) || !std::isfinite(time_step))
-    throw std::invalid_argument("torus_friction: the time step must be positive, got " + std::to_string(time_step));
+    throw std::invalid_argument("torus_friction: the time step must be positive, got " +
+                                std::to_string(time_step));
   threshold_ = options_.friction.velocity_threshold * time_step;
   pairs_.clear();
   if (options_.friction.coefficient == 0.0) return;
@@ -73,7 +74,8 @@ void TorusFrictionTerm::lag(const Vector& q_lag, const Vector& q_start, double t
     if (slot < 0)
       throw std::runtime_error("torus_friction: tori " + std::to_string(close.a) + " and " +
                                std::to_string(close.b) + " are within d_hat but not a candidate pair");
-    const TorusPose pa = contact_.pose(close.a, q_lag, Vector()), pb = contact_.pose(close.b, q_lag, Vector());
+    const TorusPose pa = contact_.pose(close.a, q_lag, Vector()),
+                    pb = contact_.pose(close.b, q_lag, Vector());
     Eigen::Vector3d x_a, x_b, normal;
     closest_points(pa, pb, d, x_a, x_b, normal);
     TorusFrictionPair pair;
@@ -92,10 +94,12 @@ void TorusFrictionTerm::lag(const Vector& q_lag, const Vector& q_start, double t
     pair.stencil.tangent.block<2, 3>(0, 0) = P.transpose();
     pair.stencil.tangent.block<2, 3>(0, 3) = -P.transpose();
     pair.stencil.start.setZero();
-    pair.stencil.start.segment<3>(0) = q_start.segment<3>(6 * pair.a) +
-                                       rigid::rotation_matrix(q_start.segment<3>(6 * pair.a + 3)) * pair.material_a;
-    pair.stencil.start.segment<3>(3) = q_start.segment<3>(6 * pair.b) +
-                                       rigid::rotation_matrix(q_start.segment<3>(6 * pair.b + 3)) * pair.material_b;
+    pair.stencil.start.segment<3>(0) =
+        q_start.segment<3>(6 * pair.a) +
+        rigid::rotation_matrix(q_start.segment<3>(6 * pair.a + 3)) * pair.material_a;
+    pair.stencil.start.segment<3>(3) =
+        q_start.segment<3>(6 * pair.b) +
+        rigid::rotation_matrix(q_start.segment<3>(6 * pair.b + 3)) * pair.material_b;
     pairs_.push_back(pair);
   }
 }
@@ -104,8 +108,10 @@ std::vector<double> TorusFrictionTerm::slips(const Vector& q) const {
   std::vector<double> out;
   for (const TorusFrictionPair& pair : pairs_) {
     Vector12 x = Vector12::Zero();
-    x.segment<3>(0) = q.segment<3>(6 * pair.a) + rigid::rotation_matrix(q.segment<3>(6 * pair.a + 3)) * pair.material_a;
-    x.segment<3>(3) = q.segment<3>(6 * pair.b) + rigid::rotation_matrix(q.segment<3>(6 * pair.b + 3)) * pair.material_b;
+    x.segment<3>(0) =
+        q.segment<3>(6 * pair.a) + rigid::rotation_matrix(q.segment<3>(6 * pair.a + 3)) * pair.material_a;
+    x.segment<3>(3) =
+        q.segment<3>(6 * pair.b) + rigid::rotation_matrix(q.segment<3>(6 * pair.b + 3)) * pair.material_b;
     out.push_back((pair.stencil.tangent * (x - pair.stencil.start)).norm());
   }
   return out;
@@ -119,7 +125,8 @@ std::pair<int, int> TorusFrictionTerm::sliding_and_sticking(const Vector& q) con
 
 void TorusFrictionTerm::evaluate(const Vector& q, const Vector& p, const EnergyRequest& request) const {
   (void)p;
-  if (request.hessian_values) std::fill(request.hessian_values, request.hessian_values + contact_.num_slots(), 0.0);
+  if (request.hessian_values)
+    std::fill(request.hessian_values, request.hessian_values + contact_.num_slots(), 0.0);
   if (pairs_.empty()) return;
   const bool derivatives = request.gradient || request.hessian_values;
   const double mu = options_.friction.coefficient;
@@ -160,10 +167,9 @@ void TorusFrictionTerm::evaluate(const Vector& q, const Vector& p, const EnergyR
       for (int e = 0; e < 2; ++e)
         for (int k = 0; k < 3; ++k)
           for (int l = 0; l < 3; ++l)
-            H(6 * e + 3 + k, 6 * e + 3 + l) +=
-                g_x.segment<3>(3 * e).dot(rotation[e].second[static_cast<std::size_t>(k)][static_cast<std::size_t>(l)] *
-                                          material[e]);
-    if (request.hessian_mode == HessianMode::projected) contact::project_to_psd<12>(H);
+            H(6 * e + 3 + k, 6 * e + 3 + l) += g_x.segment<3>(3 * e).dot(
+                rotation[e].second[static_cast<std::size_t>(k)][static_cast<std::size_t>(l)] * material[e]);
+    if (request.hessian_mode == HessianMode::projected) project_psd(H);
     double* out = request.hessian_values + pair.slot;
     for (int i = 0; i < 12; ++i)
       for (int j = 0; j < 12; ++j) *out++ += H(i, j);

@@ -4,7 +4,7 @@
 #include <array>
 #include <cmath>
 
-#include "forward/fem/materials/psd_projection.hpp"
+#include "forward/core/psd_projection.hpp"
 #include "forward/fem/materials/rotation_variant_svd.hpp"
 #include "forward/fem/materials/tensor_ops.hpp"
 
@@ -92,7 +92,7 @@ void CorotatedMaterial<Dim>::evaluate(const Mat& F, const LameParameters& lame, 
     T.noalias() += coefficient * k.twist[p] * k.twist[p].transpose();
   }
   // Negative shear modulus (unphysical): every other mode may be negative too, clamp generically.
-  if (mode == HessianMode::projected && !analytic_projection) md::project_psd<Dim * Dim>(T);
+  if (mode == HessianMode::projected && !analytic_projection) project_psd<Dim * Dim>(T);
 }
 
 template <int Dim>

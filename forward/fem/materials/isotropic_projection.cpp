@@ -1,8 +1,9 @@
 #include "forward/fem/materials/isotropic_projection.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <cmath>
+
+#include "forward/core/symmetric_eigen.hpp"
 
 namespace tailor::material_detail {
 
@@ -31,11 +32,13 @@ void subtract_negative_modes(const RotationVariantSvd<Dim>& svd, const Isotropic
   }
   // Scaling block: nothing to do when it is positive definite (cheap Cholesky test).
   if (Eigen::LLT<M>(modes.scaling).info() == Eigen::Success) return;
-  const Eigen::SelfAdjointEigenSolver<M> eig(modes.scaling);
+  Eigen::Matrix<double, Dim, 1> lambda;
+  M vectors;
+  symmetric_eigen(modes.scaling, lambda, vectors);
   for (int m = 0; m < Dim; ++m) {
-    const double ev = eig.eigenvalues()(m);
+    const double ev = lambda(m);
     if (!(ev < 0.0)) continue;
-    const Eigen::Matrix<double, Dim, 1> y = eig.eigenvectors().col(m);
+    const Eigen::Matrix<double, Dim, 1> y = vectors.col(m);
     const M S = U * y.asDiagonal() * V.transpose();  // sum_i y_i u_i v_i^T
     const Eigen::Map<const VecN> e(S.data());
     T.noalias() -= ev * e * e.transpose();

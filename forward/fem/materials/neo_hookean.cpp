@@ -3,8 +3,8 @@
 #include <Eigen/LU>
 #include <cmath>
 
+#include "forward/core/psd_projection.hpp"
 #include "forward/fem/materials/isotropic_projection.hpp"
-#include "forward/fem/materials/psd_projection.hpp"
 #include "forward/fem/materials/rotation_variant_svd.hpp"
 #include "forward/fem/materials/tensor_ops.hpp"
 
@@ -101,8 +101,7 @@ void NeoHookeanMaterial<Dim>::evaluate(const Mat& F, const LameParameters& lame,
     T.noalias() += lambda_s * g * g.transpose();
     T.diagonal().array() += a;
     md::add_determinant_hessian(s, F, T);
-    if (mode == HessianMode::projected && !md::cholesky_accepts<Dim * Dim>(T))
-      project(F, a, b, lambda_s, s, T);
+    if (mode == HessianMode::projected && !cholesky_accepts<Dim * Dim>(T)) project(F, a, b, lambda_s, s, T);
   }
 }
 

@@ -1,7 +1,7 @@
 #include "forward/fem/materials/stvk.hpp"
 
+#include "forward/core/psd_projection.hpp"
 #include "forward/fem/materials/isotropic_projection.hpp"
-#include "forward/fem/materials/psd_projection.hpp"
 #include "forward/fem/materials/rotation_variant_svd.hpp"
 #include "forward/fem/materials/tensor_ops.hpp"
 
@@ -57,7 +57,7 @@ void StvkMaterial<Dim>::evaluate(const Mat& F, const LameParameters& lame, bool 
             if (j == l) v += lame.mu * B(i, k);
             T(i + Dim * j, k + Dim * l) = v;
           }
-    if (mode == HessianMode::projected && !md::cholesky_accepts<Dim * Dim>(T)) project(F, lame, tr, T);
+    if (mode == HessianMode::projected && !cholesky_accepts<Dim * Dim>(T)) project(F, lame, tr, T);
   }
 }
 

@@ -29,7 +29,7 @@ Stencil unflatten(const Eigen::VectorXd& x) {
 // The branch formula (classification frozen at x) with its jet derivatives vs differences.
 void check_branch(const ClassifiedDistance& c, const Stencil& s) {
   const Eigen::VectorXd x = flatten(s);
-  const Jet2<12> jet = squared_distance_jet(c, s);
+  const Dual2<12> jet = squared_distance_jet(c, s);
   EXPECT_NEAR(jet.v, c.squared_distance, 1e-12 * std::max(1.0, c.squared_distance));
   auto value = [&](const Eigen::VectorXd& y) {
     return branch_squared_distance(c, stencil_values(unflatten(y)));
@@ -214,8 +214,8 @@ TEST(ContactPairBarrier, FlippedMollifierDerivativeIsCaught) {
   const Stencil s{Point(0, 0, 0), Point(1, 0, 0), Point(0.2, -0.005, 0.05), Point(0.8, 0.005, 0.05)};
   const auto jets = stencil_jets(s);
   const ClassifiedDistance c = classify_edge_edge(s[0], s[1], s[2], s[3]);
-  const Jet2<12> d = branch_squared_distance(c, jets);
-  const Jet2<12> cross = edge_cross_squared(jets[0], jets[1], jets[2], jets[3]);
+  const Dual2<12> d = branch_squared_distance(c, jets);
+  const Dual2<12> cross = edge_cross_squared(jets[0], jets[1], jets[2], jets[3]);
   const ScalarDerivatives b = barrier(d.v, s_hat), m = edge_mollifier(cross.v, eps);
   const Eigen::Matrix<double, 12, 1> wrong = m.value * b.first * d.g - b.value * m.first * cross.g;
   auto value = [&](const Eigen::VectorXd& y) {

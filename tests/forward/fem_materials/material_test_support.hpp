@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <cmath>
@@ -16,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/fem/material.hpp"
 
 namespace tailor::test {
@@ -194,7 +194,7 @@ Eigen::VectorXd flat(const Mat<Dim>& A) {
 // Minimum eigenvalue of a symmetric matrix.
 template <class M>
 double min_eigenvalue(const M& A) {
-  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Eigen::MatrixXd(A)).eigenvalues()(0);
+  return symmetric_eigenvalues(Eigen::MatrixXd(A))(0);
 }
 
 }  // namespace tailor::test

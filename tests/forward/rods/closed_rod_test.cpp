@@ -3,13 +3,13 @@
 // instability of a twisted ring as validation.
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
 #include "adjoint/derivative_check.hpp"
 #include "forward/core/elimination.hpp"
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/rods/rod_supports.hpp"
 #include "rod_fixtures.hpp"
 
@@ -62,11 +62,12 @@ TEST(ClosedRod, LayoutWrapsAroundTheClosingEdge) {
   for (const auto& term : s.model->terms()) term->add_gradient(s.rest, s.p, g);
   EXPECT_LT(g.lpNorm<Eigen::Infinity>(), 1e-10);
   EXPECT_THROW(clamped_end_dofs(rod, RodEnd::first), std::invalid_argument);
-  EXPECT_THROW(DiscreteRod(Eigen::MatrixX3d::Random(2, 3), 0, 6, Eigen::Vector3d::Zero(), RodTopology::closed),
-               std::invalid_argument);
+  EXPECT_THROW(
+      DiscreteRod(Eigen::MatrixX3d::Random(2, 3), 0, 6, Eigen::Vector3d::Zero(), RodTopology::closed),
+      std::invalid_argument);
   // Masses wrap: every vertex of a regular ring gets one edge's mass.
-  const Eigen::VectorXd m = lumped_vertex_masses(rod, s.material.section, 2.0, Eigen::VectorXd::Ones(6),
-                                                 Eigen::VectorXd::Ones(6));
+  const Eigen::VectorXd m =
+      lumped_vertex_masses(rod, s.material.section, 2.0, Eigen::VectorXd::Ones(6), Eigen::VectorXd::Ones(6));
   EXPECT_NEAR(m.minCoeff(), m.maxCoeff(), 1e-14);
 }
 
@@ -120,7 +121,7 @@ TEST(ClosedRod, RigidRotationKeepsEnergyWithFrameUpdates) {
   const int n = s.rod->num_vertices();
   Vector x = s.rest;
   for (int j = 0; j < n; ++j) x[s.rod->twist_dof(j)] = 0.7 * std::sin(3.0 * j);  // a twisted state
-  x.head(3 * n) += 0.05 * uniform_noise(3 * n, 35);                               // and bent
+  x.head(3 * n) += 0.05 * uniform_noise(3 * n, 35);                              // and bent
   const double e0 = energy(s, x, s.p);
   ASSERT_GT(e0, 1e-3);
   const Eigen::Vector3d axis = Eigen::Vector3d(0.3, -0.5, 1.0).normalized();
@@ -203,7 +204,7 @@ double smallest_ring_eigenvalue(Ring& ring, double twist) {
   for (const auto& term : s.model->terms()) H += term->hessian(s.rest, p, HessianMode::exact);
   const SparseMatrix& S = s.model->elimination().basis();
   const Matrix reduced = Matrix(S.transpose() * H * S);
-  return Eigen::SelfAdjointEigenSolver<Matrix>(reduced, Eigen::EigenvaluesOnly).eigenvalues()[0];
+  return symmetric_eigenvalues(reduced)[0];
 }
 
 double critical_twist(int n) {

@@ -8,13 +8,13 @@
 //    (Saint-Venant torsion).
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
 
 #include "forward/core/elimination.hpp"
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/fem/loads.hpp"
 #include "forward/rods/end_moment_term.hpp"
 #include "forward/rods/rod_supports.hpp"
@@ -193,7 +193,7 @@ double smallest_column_eigenvalue(RodSetup& s, double P) {
   for (const auto& term : s.model->terms()) H += term->hessian(x, s.p, HessianMode::exact);
   const SparseMatrix& S = s.model->elimination().basis();
   const Matrix reduced = Matrix(S.transpose() * H * S);
-  return Eigen::SelfAdjointEigenSolver<Matrix>(reduced, Eigen::EigenvaluesOnly).eigenvalues()[0];
+  return symmetric_eigenvalues(reduced)[0];
 }
 
 double buckling_load(int n) {

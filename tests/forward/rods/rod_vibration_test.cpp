@@ -7,9 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "forward/core/symmetric_eigen.hpp"
 #include "rod_fixtures.hpp"
 
 namespace tailor::rod_vibration_test {
@@ -39,8 +39,7 @@ Eigen::Vector2d cantilever_frequencies(int n) {
   }
   const double K00 = K(s.rod->position_dof(n + 1, 1), s.rod->position_dof(n + 1, 1));
   const Matrix condensed = (Kmm - Km0 * Km0.transpose() / K00) / h;  // M = h I
-  const Eigen::VectorXd w2 =
-      Eigen::SelfAdjointEigenSolver<Matrix>(condensed, Eigen::EigenvaluesOnly).eigenvalues();
+  const Eigen::VectorXd w2 = symmetric_eigenvalues(condensed);
   return {std::sqrt(w2[0]), std::sqrt(w2[1])};
 }
 

@@ -38,11 +38,11 @@ struct ReducedEquilibriumData {
   std::vector<Matrix> modes;  // G_j, one per design coordinate (same size as base)
   // or a model (base and modes empty then):
   std::shared_ptr<const ReducedDesignModel> model;
-  Vector load;                // f, r
-  Matrix rows;                // B, k x r: the observed displacement components
-  Vector target;              // t, k
-  Vector row_weights;         // c, k, >= 0
-  Vector regularization;      // rho, m, >= 0 (empty: zero)
+  Vector load;            // f, r
+  Matrix rows;            // B, k x r: the observed displacement components
+  Vector target;          // t, k
+  Vector row_weights;     // c, k, >= 0
+  Vector regularization;  // rho, m, >= 0 (empty: zero)
   // Optional positivity of the relative moduli e = 1 + Y w per element (Y: elements x m, empty:
   // none): the penalty kappa/3 sum_e v_e ((eps - e_e)_+ / eps)^3 (C2), and an evaluation
   // error where some e_e <= 0. This part costs O(elements * m) per evaluation (a product with
@@ -63,7 +63,7 @@ struct ReducedEquilibriumOptions {
 // The part of J that does not depend on the displacements: 1/2 sum_j rho_j w_j^2 plus the
 // positivity penalty of data.element_modes (when given); adds its gradient to `gradient` (when
 // set, sized m). Throws EvaluationError where some relative modulus 1 + (Y w)_e <= 0. Shared
-// with the full-space form of the same objective (problems/full_space_design.hpp).
+// with the full-space form of the same objective (problems/fem/full_space_design.hpp).
 double design_terms(const ReducedEquilibriumData& data, const Vector& w, Vector* gradient);
 
 class ReducedEquilibriumFunctional final : public ReducedFunctional {

@@ -18,6 +18,7 @@
 
 #include "forward/core/format_number.hpp"
 #include "problems/cli/flag_checks.hpp"
+#include "problems/json_text.hpp"
 #include "problems/report_header.hpp"
 
 namespace tailor::bench {
@@ -129,7 +130,7 @@ inline Json report(const std::string& benchmark) {
 // stderr, when the file cannot be written. Invalid UTF-8 in strings is replaced, not thrown.
 inline bool write_report(const std::string& path, const Json& json, const std::string& program) {
   std::ofstream file(path);
-  file << json.dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
+  file << dump_json(json, 2, true) << "\n";
   file.close();
   if (!file) {
     std::cerr << program << ": cannot write '" << path << "'\n";

@@ -40,7 +40,8 @@
 #include <vector>
 
 #include "bench_cli.hpp"
-#include "problems/inverse_problem.hpp"
+#include "problems/fem/inverse_problem.hpp"
+#include "problems/json_text.hpp"
 #include "problems/plot/line_plot.hpp"
 #include "tailor_version.hpp"
 
@@ -77,9 +78,9 @@ struct Settings {
                                             OptimizerBackend::gradient_descent};
   int max_iterations = 200;
   double full_time_limit = 600.0;
-  double time_limit = 0.0;          // of the reduced runs; 0 = none
+  double time_limit = 0.0;                  // of the reduced runs; 0 = none
   std::optional<bool> reuse_factorization;  // overrides solver.reuse_factorization when set
-  bool full = true;                 // run the full design
+  bool full = true;                         // run the full design
   std::string scene_dir = "scenes", out = "bench_material_modes.json", plot = "bench_material_modes.png";
 };
 
@@ -145,7 +146,8 @@ double time_to_error(const Row& row, double error) {
 Row run(const Settings& settings, const Setting& setting) {
   Scene scene = read_scene(scene_file(settings, setting.scene));
   if (settings.reuse_factorization)
-    scene.solver.newton.reuse_factorization = *settings.reuse_factorization ? FactorReuse::on : FactorReuse::off;
+    scene.solver.newton.reuse_factorization =
+        *settings.reuse_factorization ? FactorReuse::on : FactorReuse::off;
   auto spec = std::make_shared<InverseSpec>(*scene.inverse);
   spec->design.granularity = DesignGranularity::modes;
   spec->design.modes = setting.modes;
@@ -344,7 +346,9 @@ int run(int argc, char** argv) {
       "reuse_factorization %s)\n",
       version_string, std::getenv("OPENBLAS_NUM_THREADS") ? std::getenv("OPENBLAS_NUM_THREADS") : "unset",
       settings.max_iterations, settings.full_time_limit,
-      !settings.reuse_factorization ? "as in the scenes" : *settings.reuse_factorization ? "on" : "off");
+      !settings.reuse_factorization   ? "as in the scenes"
+      : *settings.reuse_factorization ? "on"
+                                      : "off");
   std::printf("%-6s %6s %5s %-17s %5s %5s %6s %6s %9s %8s %9s %9s %12s %8s %4s %s\n", "scene", "tets", "r",
               "backend", "iters", "evals", "nwt/ev", "fac/ev", "wall s", "modes s", "fwd ms/it", "adj ms/it",
               "objective", "E error", "load", "status");
@@ -360,8 +364,7 @@ int run(int argc, char** argv) {
       return 1;
     }
     // After every run, so that a long bench leaves its results so far.
-    std::ofstream(settings.out)
-        << write_json(settings, rows).dump(2, ' ', false, bench::Json::error_handler_t::replace);
+    std::ofstream(settings.out) << dump_json(write_json(settings, rows), 2, true);
   }
   std::printf(
       "(wall = material modes + optimization; per-iteration times are totals / iterations; E error = "

@@ -1,6 +1,6 @@
 // Material design with a handle in reduced displacements and reduced materials (Xu, Li, Chen,
-// Barbic 2015; problems/reduced_design.hpp) against the full-space design of the same objective
-// (problems/full_space_design.hpp: same design w, same handle misfit, smoothness and positivity
+// Barbic 2015; problems/fem/reduced_design.hpp) against the full-space design of the same objective
+// (problems/fem/full_space_design.hpp: same design w, same handle misfit, smoothness and positivity
 // terms, same optimizer; every evaluation a full-space Newton solve and adjoint), at equal
 // full-space error.
 //
@@ -19,7 +19,7 @@
 // material modes and the optimization).
 //
 // --material neo_hookean (or corotated) designs that material instead: the reduced energy is
-// then integrated by a cubature rule (problems/reduced_design_cubature.hpp) of at most
+// then integrated by a cubature rule (problems/fem/reduced_design_cubature.hpp) of at most
 // --cubature-elements elements, whose size, training error and fitting time are reported; the
 // full-space checks use exact Newton Hessians and a relative tolerance of 1e-6 (at E = 1e6 the
 // Neo-Hookean full-space Newton stalls near 2e-7 relative: its line search meets the energy's
@@ -28,7 +28,8 @@
 // --cubature-elements N uses a rule for StVK too, against the exact polynomial.
 //
 // usage: reduced_design_bench [--quick] [--cells 2,4] [--displacement-modes 4,8]
-//          [--material-modes 4,8] [--max-iterations 100] [--full-iterations 200] [--refinements 2] [--out FILE]
+//          [--material-modes 4,8] [--max-iterations 100] [--full-iterations 200] [--refinements 2] [--out
+//          FILE]
 //          [--no-full] [--material stvk|neo_hookean|corotated] [--cubature-elements N]
 //          [--cubature-candidates N] [--targets N]
 //
@@ -49,8 +50,8 @@
 #include <vector>
 
 #include "bench_cli.hpp"
-#include "problems/full_space_design.hpp"
-#include "problems/reduced_design.hpp"
+#include "problems/fem/full_space_design.hpp"
+#include "problems/fem/reduced_design.hpp"
 
 namespace tailor::bench::reduced_design_bench {
 
@@ -92,8 +93,8 @@ std::string scene_text(int c, const std::string& design, const std::string& targ
     "objective": [{"type": "handles", "handles": [
       {"vertices": {"plane": {"axis": "x", "value": 10}}, "force": [0, 0, -100], "displacement": )" +
          target + R"(}]}],
-    "optimizer": {"backend": "nlopt_lbfgs", "max_iterations": )" + std::to_string(max_iterations) +
-         R"(, "gradient_tolerance": 1e-8, "objective_tolerance": 1e-12}}})";
+    "optimizer": {"backend": "nlopt_lbfgs", "max_iterations": )" +
+         std::to_string(max_iterations) + R"(, "gradient_tolerance": 1e-8, "objective_tolerance": 1e-12}}})";
 }
 
 // The graded designs whose full-space responses are the targets: (w_1, w_2) of target i, E =
@@ -102,11 +103,12 @@ std::string scene_text(int c, const std::string& design, const std::string& targ
 constexpr int kGradedDesigns = 8;
 std::pair<double, double> graded_design(int i) {
   static const std::pair<double, double> designs[kGradedDesigns] = {
-      {-0.6, 0.2}, {-0.5, 0.1}, {-0.4, -0.1}, {-0.3, 0.15}, {-0.5, -0.1}, {-0.2, -0.1}, {-0.45, 0.05}, {-0.35, -0.05}};
+      {-0.6, 0.2},  {-0.5, 0.1},  {-0.4, -0.1},  {-0.3, 0.15},
+      {-0.5, -0.1}, {-0.2, -0.1}, {-0.45, 0.05}, {-0.35, -0.05}};
   return designs[i];
 }
 
-int g_cubature_elements = 0;  // 0: the default rule size (and none for StVK)
+int g_cubature_elements = 0;    // 0: the default rule size (and none for StVK)
 int g_cubature_candidates = 0;  // 0: every element scored in each greedy step
 
 std::string reduced_design_key(int k, int m, int refinements = 2) {
@@ -228,8 +230,8 @@ int run(int argc, char** argv) {
       const FullSpaceCheck truth = full_space_check(probe, w);
       if (!truth.converged) {
         // (Newton from rest at full load: some graded designs need a load ramp on fine meshes.)
-        std::printf("cells %d: graded design %d (w = %g, %g) skipped: its full-space solve failed (%s)\n", c, i + 1,
-                    w0, w1, truth.message.c_str());
+        std::printf("cells %d: graded design %d (w = %g, %g) skipped: its full-space solve failed (%s)\n", c,
+                    i + 1, w0, w1, truth.message.c_str());
         continue;
       }
       Vector mean = Vector::Zero(3);
@@ -241,12 +243,12 @@ int run(int argc, char** argv) {
         "[" + num(targets[0][0]) + ", " + num(targets[0][1]) + ", " + num(targets[0][2]) + "]";
     std::printf("cells %d: %d tets, target mean tip displacement %s\n", c, probe.setup.mesh.num_elements(),
                 target.c_str());
-    double best_full = 1e300;  // of the runs with m_full material modes
+    double best_full = 1e300;           // of the runs with m_full material modes
     std::optional<ReducedDesign> kept;  // the last design with m_full material modes
     for (int k : ks)
       for (int m : ms) {
-        ReducedDesign design =
-            build_reduced_design(parse(scene_text(c, reduced_design_key(k, m, refinements), target, max_iterations)));
+        ReducedDesign design = build_reduced_design(
+            parse(scene_text(c, reduced_design_key(k, m, refinements), target, max_iterations)));
         const ReducedDesignRun run = run_reduced_design(design, "");
         Row row;
         row.cells = c;
@@ -316,7 +318,8 @@ int run(int argc, char** argv) {
         rows_json.back()["passes_detail"] = by_pass;
         if (run.cubature)
           std::printf("           cubature %d of %d elements, training error %.2e, %.3f s over the passes\n",
-                      row.cubature_elements, run.cubature->mesh_elements, row.cubature_error, row.cubature_seconds);
+                      row.cubature_elements, run.cubature->mesh_elements, row.cubature_error,
+                      row.cubature_seconds);
         std::fflush(stdout);
         if (m == m_full) {
           best_full = std::min(best_full, row.full_error);
@@ -324,7 +327,7 @@ int run(int argc, char** argv) {
         }
       }
     if (!kept) continue;
-    // The full-space design of the same objective (problems/full_space_design.hpp): the same w
+    // The full-space design of the same objective (problems/fem/full_space_design.hpp): the same w
     // over the same m_full material modes, the same optimizer and settings, every evaluation a
     // full-space Newton solve and its adjoint; run until its full-space handle error is at most
     // `goal` (or --full-iterations iterations).
@@ -344,9 +347,11 @@ int run(int argc, char** argv) {
       options.max_iterations = full_iterations;
       options.checkpoint_every = 1;
       options.on_checkpoint = [&evaluations, goal](const OptimizerCheckpoint&) {
-        if (evaluations.seconds_to(goal) >= 0.0) throw std::runtime_error("reached the reduced design's full-space error");
+        if (evaluations.seconds_to(goal) >= 0.0)
+          throw std::runtime_error("reached the reduced design's full-space error");
       };
-      const OptimizerResult result = minimize(evaluations, Vector::Zero(kept->num_design()), Bounds{}, {}, options);
+      const OptimizerResult result =
+          minimize(evaluations, Vector::Zero(kept->num_design()), Bounds{}, {}, options);
       std::vector<double> per_iteration;
       for (std::size_t i = 1; i < result.history.size(); ++i)
         per_iteration.push_back(result.history[i].seconds - result.history[i - 1].seconds);
@@ -361,7 +366,8 @@ int run(int argc, char** argv) {
       f.goal = goal;
       f.seconds = evaluations.seconds();
       f.material_modes_seconds = kept->timings.material_modes;
-      f.status = evaluations.seconds_to(goal) >= 0.0 ? "reached" : to_string(result.status) + ": " + result.message;
+      f.status =
+          evaluations.seconds_to(goal) >= 0.0 ? "reached" : to_string(result.status) + ": " + result.message;
       run.trace = evaluations.trace();
       return run;
     };
@@ -390,10 +396,12 @@ int run(int argc, char** argv) {
                           {"reduced_total_seconds", reduced_total},
                           {"full_total_seconds", full_total}});
         std::printf(
-            "  k %2d m %2d against full space at error %.2e: %.0fx per iteration, %.0fx in optimization time, "
+            "  k %2d m %2d against full space at error %.2e: %.0fx per iteration, %.0fx in optimization "
+            "time, "
             "%.1fx in total (%.2f s reduced with precomputation and check, %.2f s full%s)\n",
-            r.k, r.m, r.full_error, f.median_ms / r.median_ms, full_seconds / r.optimize, full_total / reduced_total,
-            reduced_total, full_total, reached ? "" : "; full space did not get there: lower bounds");
+            r.k, r.m, r.full_error, f.median_ms / r.median_ms, full_seconds / r.optimize,
+            full_total / reduced_total, reduced_total, full_total,
+            reached ? "" : "; full space did not get there: lower bounds");
       }
       full_json.push_back({{"cells", c},
                            {"material_modes", m_full},
@@ -407,9 +415,11 @@ int run(int argc, char** argv) {
                            {"status", f.status},
                            {"ratios", ratios}});
       std::printf(
-          "  full-space design (m %d): %d iterations, %d evaluations, %.2f ms/iteration, error %.2e in %.3f s "
+          "  full-space design (m %d): %d iterations, %d evaluations, %.2f ms/iteration, error %.2e in %.3f "
+          "s "
           "(goal %.2e, %s)\n",
-          m_full, f.iterations, f.evaluations, f.median_ms, f.best_error, f.seconds, f.goal, f.status.c_str());
+          m_full, f.iterations, f.evaluations, f.median_ms, f.best_error, f.seconds, f.goal,
+          f.status.c_str());
       std::fflush(stdout);
     }
     if (static_cast<int>(targets.size()) < 2) continue;
@@ -429,16 +439,18 @@ int run(int argc, char** argv) {
     double full_sum = 0.0;
     if (first_full) {
       const double to_error = first_full->seconds_to(first.full_error);
-      full_sum = first_full->row.material_modes_seconds + (to_error >= 0.0 ? to_error : first_full->row.seconds);
+      full_sum =
+          first_full->row.material_modes_seconds + (to_error >= 0.0 ? to_error : first_full->row.seconds);
     }
     const double first_full_total = full_sum;
     bench::Json targets_json = bench::Json::array();
     std::printf("  new targets on the design of k %d m %d (precomputation %.2f s, kept):\n", first.k, m_full,
                 first.precompute);
-    std::printf("  %6s %14s %10s %10s %10s %12s %12s %14s\n", "target", "reduced [s]", "iter", "r", "err full",
-                "full [s]", "cumul. ratio", "full reached");
-    std::printf("  %6d %14.3f %10d %10d %10.2e %12.3f %12.1f %14s\n", 1, reduced_sum, first.iterations, first.r,
-                first.full_error, full_sum, no_full ? 0.0 : full_sum / reduced_sum, no_full ? "-" : first_full->row.status.c_str());
+    std::printf("  %6s %14s %10s %10s %10s %12s %12s %14s\n", "target", "reduced [s]", "iter", "r",
+                "err full", "full [s]", "cumul. ratio", "full reached");
+    std::printf("  %6d %14.3f %10d %10d %10.2e %12.3f %12.1f %14s\n", 1, reduced_sum, first.iterations,
+                first.r, first.full_error, full_sum, no_full ? 0.0 : full_sum / reduced_sum,
+                no_full ? "-" : first_full->row.status.c_str());
     for (int i = 1; i < static_cast<int>(targets.size()); ++i) {
       set_handle_targets(*kept, {targets[static_cast<std::size_t>(i)]});
       const auto t0 = Clock::now();
@@ -446,16 +458,17 @@ int run(int argc, char** argv) {
       const double reduced_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
       const double full_error = run.passes.back().full_error;
       reduced_sum += reduced_seconds;
-      bench::Json item = {{"target", i + 1},
-                          {"target_displacement", {targets[i][0], targets[i][1], targets[i][2]}},
-                          {"reduced_wall_seconds", reduced_seconds},
-                          {"optimization_seconds", run.result.seconds},
-                          {"iterations", run.result.history.empty() ? 0 : run.result.history.back().iteration},
-                          {"passes", run.passes.size()},
-                          {"reduced_coordinates", run.reduced_size},
-                          {"median_iteration_ms", run.median_iteration_ms},
-                          {"full_space_handle_error", full_error},
-                          {"reduced_cumulative_seconds", reduced_sum}};
+      bench::Json item = {
+          {"target", i + 1},
+          {"target_displacement", {targets[i][0], targets[i][1], targets[i][2]}},
+          {"reduced_wall_seconds", reduced_seconds},
+          {"optimization_seconds", run.result.seconds},
+          {"iterations", run.result.history.empty() ? 0 : run.result.history.back().iteration},
+          {"passes", run.passes.size()},
+          {"reduced_coordinates", run.reduced_size},
+          {"median_iteration_ms", run.median_iteration_ms},
+          {"full_space_handle_error", full_error},
+          {"reduced_cumulative_seconds", reduced_sum}};
       double full_seconds = 0.0;
       bool reached = false;
       if (!no_full) {
@@ -472,7 +485,8 @@ int run(int argc, char** argv) {
       targets_json.push_back(item);
       std::printf("  %6d %14.3f %10d %10d %10.2e %12.3f %12.1f %14s\n", i + 1, reduced_seconds,
                   item["iterations"].get<int>(), run.reduced_size, full_error, full_seconds,
-                  no_full ? 0.0 : full_sum / reduced_sum, no_full ? "-" : (reached ? "yes" : "no (lower bound)"));
+                  no_full ? 0.0 : full_sum / reduced_sum,
+                  no_full ? "-" : (reached ? "yes" : "no (lower bound)"));
       std::fflush(stdout);
     }
     json["targets"] = {{"cells", c},
@@ -494,8 +508,9 @@ int run(int argc, char** argv) {
                 r.r, r.passes, r.iterations, r.precompute, r.median_ms, r.reduced_error, r.full_error,
                 r.full_solve);
   for (const FullRow& f : full_rows)
-    std::printf("full-space design, cells %d, m %d: %.2f ms/iteration, %d iterations, error %.2e after %.3f s (%s)\n",
-                f.cells, f.m, f.median_ms, f.iterations, f.best_error, f.seconds, f.status.c_str());
+    std::printf(
+        "full-space design, cells %d, m %d: %.2f ms/iteration, %d iterations, error %.2e after %.3f s (%s)\n",
+        f.cells, f.m, f.median_ms, f.iterations, f.best_error, f.seconds, f.status.c_str());
   return bench::write_report(out, json, "reduced_design_bench") ? 0 : 1;
 }
 

@@ -6,7 +6,7 @@
 #include <iostream>
 #include <memory>
 
-#include "problems/study.hpp"
+#include "problems/fem/study.hpp"
 
 using namespace tailor;
 

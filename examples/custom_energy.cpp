@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "adjoint/derivative_check.hpp"
-#include "problems/study.hpp"
+#include "problems/fem/study.hpp"
 
 using namespace tailor;
 

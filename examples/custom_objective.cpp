@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include "problems/study.hpp"
+#include "problems/fem/study.hpp"
 
 using namespace tailor;
 

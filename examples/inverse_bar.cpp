@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "problems/study.hpp"
+#include "problems/fem/study.hpp"
 
 using namespace tailor;
 

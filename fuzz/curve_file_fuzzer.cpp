@@ -2,6 +2,7 @@
 // material-fit run writes as material.json), read through a scene's spline material as
 // {"curves": {"file": ...}}.
 #include "fuzz/fuzz_support.hpp"
+#include "problems/fem/scene.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string path = tailor::fuzz::write_input("curves.json", tailor::fuzz::as_text(data, size));

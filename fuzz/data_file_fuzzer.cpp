@@ -4,6 +4,7 @@
 // per-element values (materials[].youngs_modulus_file, a ground-truth modulus field). Every
 // input is tried in each of these roles.
 #include "fuzz/fuzz_support.hpp"
+#include "problems/fem/scene.hpp"
 
 namespace {
 

@@ -18,7 +18,7 @@
 #include <string>
 
 #include "forward/mesh/mesh.hpp"
-#include "problems/scene.hpp"  // SceneError only, so the mesh targets need not link problems/
+#include "problems/scene_error.hpp"  // header-only, so the mesh targets need not link problems/
 
 namespace tailor::fuzz {
 

@@ -8,19 +8,19 @@
 #include <limits>
 #include <ostream>
 
-#include "problems/builtin_scenes.hpp"
 #include "problems/cli/flag_checks.hpp"
-#include "problems/commands.hpp"
 #include "problems/contact/rigid_scene.hpp"
 #include "problems/contact/torus_scene.hpp"
 #include "problems/damping_design/damping_design_scene.hpp"
-#include "problems/dynamic_commands.hpp"
+#include "problems/fem/builtin_scenes.hpp"
+#include "problems/fem/commands.hpp"
+#include "problems/fem/dynamic_commands.hpp"
+#include "problems/fem/inverse_commands.hpp"
+#include "problems/fem/modes_command.hpp"
+#include "problems/fem/reduced_design.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
-#include "problems/inverse_commands.hpp"
 #include "problems/material_fit/material_fit_scene.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
-#include "problems/modes_command.hpp"
-#include "problems/reduced_design.hpp"
 #include "problems/rods/rod_inverse.hpp"
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene_kinds.hpp"
@@ -100,7 +100,7 @@ int report_gradcheck(const GradcheckRun& run, std::ostream& out) {
 int gradcheck_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
   if (scene.inverse && scene.inverse->design.reduction) {
-    // The reduced design loop's functional (problems/reduced_design.hpp) at w = 0.
+    // The reduced design loop's functional (problems/fem/reduced_design.hpp) at w = 0.
     if (args.hessian)
       throw SceneError(scene.source + ": " + scene.inverse->design.reduction->key +
                        ": the reduced design loop has no Hessian-vector products (--hessian)");
@@ -130,7 +130,7 @@ int gradcheck_dynamic(const SceneFile& file, const VerbArguments& args, std::ost
 int run_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
   if (scene.inverse && scene.inverse->design.reduction) {
-    // The reduced design loop (problems/reduced_design.hpp): no checkpoints.
+    // The reduced design loop (problems/fem/reduced_design.hpp): no checkpoints.
     if (args.resume || args.checkpoint_every)
       throw SceneError(scene.source + ": " + scene.inverse->design.reduction->key +
                        ": --resume and --checkpoint-every are not supported by the reduced design loop");

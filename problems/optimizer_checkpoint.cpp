@@ -13,9 +13,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "problems/json_text.hpp"
 #include "problems/optimizer_report.hpp"
 #include "problems/report_header.hpp"
-#include "problems/scene.hpp"
+#include "problems/scene_error.hpp"
 #include "problems/scene_node.hpp"
 #include "tailor_version.hpp"
 
@@ -98,7 +99,7 @@ void write_checkpoint_json(const std::string& path, const CheckpointOwner& owner
   OptimizerResult rows;
   rows.history = c.history;
   document["history"] = optimizer_history_json(rows);
-  write_atomically(path, document.dump(1) + "\n");
+  write_atomically(path, dump_json(document, 1) + "\n");
 }
 
 CheckpointFile read_checkpoint_json(const std::string& folder) {
@@ -115,7 +116,7 @@ CheckpointFile read_checkpoint_json(const std::string& folder) {
   text << in.rdbuf();
   nlohmann::json document;
   try {
-    document = nlohmann::json::parse(text.str());
+    document = parse_json(text.str());
   } catch (const nlohmann::json::exception& e) {
     throw SceneError(file.path + ": not a checkpoint (invalid JSON: " + e.what() + ")");
   }

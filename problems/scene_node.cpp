@@ -6,7 +6,8 @@
 #include <sstream>
 
 #include "forward/core/format_number.hpp"
-#include "problems/scene.hpp"
+#include "problems/json_text.hpp"
+#include "problems/scene_error.hpp"
 
 namespace tailor {
 namespace {
@@ -45,12 +46,12 @@ std::string describe_json(const nlohmann::json& value) {
     case nlohmann::json::value_t::null:
       return "null";
     case nlohmann::json::value_t::string: {
-      std::string text = value.dump();
+      std::string text = dump_json(value);
       if (text.size() > 60) text = text.substr(0, 57) + "...";
       return "a string " + text;
     }
     default:
-      return value.dump();  // numbers and booleans as written
+      return dump_json(value);  // numbers and booleans as written
   }
 }
 

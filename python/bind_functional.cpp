@@ -10,8 +10,8 @@
 
 #include "adjoint/taylor_test.hpp"
 #include "bindings.hpp"
-#include "problems/scene.hpp"
-#include "problems/study.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/fem/study.hpp"
 
 namespace py = pybind11;
 

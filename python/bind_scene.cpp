@@ -10,11 +10,12 @@
 
 #include "arrays.hpp"
 #include "bindings.hpp"
-#include "problems/commands.hpp"
-#include "problems/dynamic_commands.hpp"
-#include "problems/inverse_commands.hpp"
-#include "problems/modes_command.hpp"
-#include "problems/scene.hpp"
+#include "problems/fem/commands.hpp"
+#include "problems/fem/dynamic_commands.hpp"
+#include "problems/fem/inverse_commands.hpp"
+#include "problems/fem/modes_command.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
 #include "problems/scene_kinds.hpp"
 #include "problems/scene_node.hpp"
 #include "python_stream.hpp"
@@ -236,7 +237,7 @@ void bind_scene(py::module_& m) {
       .def_readonly("source", &SceneDocument::source)
       .def_readonly("directory", &SceneDocument::directory)
       .def_readonly("path", &SceneDocument::path)
-      .def_property_readonly("text", [](const SceneDocument& s) { return s.document.dump(); })
+      .def_property_readonly("text", [](const SceneDocument& s) { return dump_json(s.document); })
       .def(
           "name",
           [](const SceneDocument& doc) {

@@ -9,7 +9,7 @@
 #include "adjoint/reduced_functional.hpp"
 #include "bindings.hpp"
 #include "forward/mesh/mesh.hpp"
-#include "problems/scene.hpp"
+#include "problems/fem/scene.hpp"
 #include "problems/scene_kinds.hpp"
 #include "tailor_version.hpp"
 

@@ -30,8 +30,8 @@
 #include "forward/core/assembler.hpp"
 #include "forward/solve/hessian_share.hpp"
 #include "forward/solve/sparse_cholesky.hpp"
-#include "petsc/petsc_command_line.hpp"
 #include "petsc/petsc_linear_solver.hpp"
+#include "problems/cli/petsc_command_line.hpp"
 
 namespace {
 
@@ -71,7 +71,8 @@ int main(int argc, char** argv) {
   int repeats = 3;
   bool no_modes = false;
   std::string mode = "by-parts", out = "petsc_scaling_bench.json";
-  Cli cli("petsc_scaling_bench", "memory and time per rank of a solve: CHOLMOD, PETSc replicated, PETSc by parts");
+  Cli cli("petsc_scaling_bench",
+          "memory and time per rank of a solve: CHOLMOD, PETSc replicated, PETSc by parts");
   cli.tets(tets);
   cli.repeats(repeats);
   cli.app()
@@ -185,8 +186,8 @@ int main(int argc, char** argv) {
     row["hessian_slots_per_rank"] = array(slots_per_rank);
     rows.push_back(row);
     std::printf("%-10s %5d %8d %8d | %9.3f %9.3f %9.3f %5d | %11.0f %11.0f  %s\n", mode.c_str(), ranks,
-                c.mesh.num_elements(), static_cast<int>(y.size()), median(assembly), median(setup), median(solve),
-                iterations, max_of(rss_per_rank), max_of(peak_per_rank), method.c_str());
+                c.mesh.num_elements(), static_cast<int>(y.size()), median(assembly), median(setup),
+                median(solve), iterations, max_of(rss_per_rank), max_of(peak_per_rank), method.c_str());
     std::fflush(stdout);
   }
   if (rank == 0) {

@@ -11,9 +11,10 @@
 //    every material agrees with linear elasticity to first order at F = I. A material that
 //    needs other internal constants (e.g. stable Neo-Hookean) maps them itself.
 #include <Eigen/Core>
-#include <array>
+#include <iosfwd>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "forward/core/types.hpp"
@@ -42,8 +43,8 @@ struct MaterialEvaluation {
 
 template <int Dim>
 struct MaterialLameDerivatives {
-  Eigen::Vector2d energy_density;                    // (dPsi/dlambda, dPsi/dmu)
-  Eigen::Matrix<double, Dim * Dim, 2> stress;        // dvec(P)/d(lambda, mu)
+  Eigen::Vector2d energy_density;              // (dPsi/dlambda, dPsi/dmu)
+  Eigen::Matrix<double, Dim * Dim, 2> stress;  // dvec(P)/d(lambda, mu)
 };
 
 template <int Dim>
@@ -77,24 +78,37 @@ class Material {
                                double /*V*/, double* /*H*/) const {}
 };
 
-// Adding a material: a value here, its name in kMaterialNames, and a case in make_material
-// (material_factory.cpp; the compiler flags a missing case). Every parser takes the names from
-// material_names().
-enum class MaterialKind { linear, corotated, stvk, neo_hookean };
+// A material by its registered name (forward/fem/material_registry.hpp). The constants name the
+// built-in ones for C++ code; a material added later needs none (MaterialKind("my_material")).
+// The kind does not own its name: give a string literal, or a run-time name through
+// parse_material_kind, which checks it and views the registry's copy.
+class MaterialKind {
+ public:
+  constexpr MaterialKind() = default;  // linear
+  constexpr explicit MaterialKind(std::string_view name) : name_(name) {}
+  constexpr std::string_view name() const { return name_; }
+  friend constexpr bool operator==(MaterialKind a, MaterialKind b) { return a.name_ == b.name_; }
 
-struct MaterialName {
-  MaterialKind kind;
-  const char* name;
+  static const MaterialKind linear;
+  static const MaterialKind corotated;
+  static const MaterialKind stvk;
+  static const MaterialKind neo_hookean;
+
+ private:
+  std::string_view name_ = "linear";
 };
-inline constexpr std::array<MaterialName, 4> kMaterialNames{{{MaterialKind::linear, "linear"},
-                                                             {MaterialKind::corotated, "corotated"},
-                                                             {MaterialKind::stvk, "stvk"},
-                                                             {MaterialKind::neo_hookean, "neo_hookean"}}};
+inline constexpr MaterialKind MaterialKind::linear{"linear"};
+inline constexpr MaterialKind MaterialKind::corotated{"corotated"};
+inline constexpr MaterialKind MaterialKind::stvk{"stvk"};
+inline constexpr MaterialKind MaterialKind::neo_hookean{"neo_hookean"};
 
+// The registered material's Material<Dim>; std::invalid_argument naming the registered ones when
+// the name is not registered.
 template <int Dim>
 std::unique_ptr<Material<Dim>> make_material(MaterialKind kind);
 MaterialKind parse_material_kind(const std::string& name);  // throws std::invalid_argument naming the choices
 std::string to_string(MaterialKind kind);
-std::vector<std::string> material_names();  // in kMaterialNames order
+std::vector<std::string> material_names();  // registered_materials() order
+std::ostream& operator<<(std::ostream& out, MaterialKind kind);
 
 }  // namespace tailor

@@ -1,9 +1,9 @@
 // bin/tailor: the command line is a library function (problems/cli/run_cli.hpp). Built with the
 // PETSc back-end, it first starts PETSc and MPI and registers the "petsc" linear solver
-// (petsc/petsc_command_line.hpp, docs/petsc.md).
+// (problems/cli/petsc_command_line.hpp, docs/petsc.md).
 #include "problems/cli/run_cli.hpp"
 #ifdef TAILOR_HAVE_PETSC
-#include "petsc/petsc_command_line.hpp"
+#include "problems/cli/petsc_command_line.hpp"
 #endif
 
 int main(int argc, char** argv) {

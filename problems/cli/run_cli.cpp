@@ -11,7 +11,8 @@
 
 #include "forward/mesh/mesh.hpp"
 #include "problems/cli/flag_checks.hpp"
-#include "problems/scene.hpp"
+#include "problems/json_text.hpp"
+#include "problems/scene_error.hpp"
 #include "problems/scene_kinds.hpp"
 #include "tailor_version.hpp"
 
@@ -92,7 +93,7 @@ SceneFile read_scene_file(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   file.text = text.str();
-  file.document = nlohmann::json::parse(file.text, nullptr, /*allow_exceptions=*/false);
+  file.document = parse_json_or_discarded(file.text);
   if (file.document.is_discarded()) {
     // The scene parser says where the JSON breaks (and which key holds a number out of range).
     parse_scene(file.text, path, file.directory());

@@ -3,7 +3,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "problems/scene.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
 
 namespace tailor {
 
@@ -39,7 +40,7 @@ FemBodySpec parse_fem_body(const SceneNode& node, const Eigen::Vector3d& gravity
   if (has_density && gravity.squaredNorm() > 0.0 &&
       !(sub.contains("loads") && sub["loads"].contains("gravity")))
     sub["loads"]["gravity"] = {gravity.x(), gravity.y(), gravity.z()};
-  auto scene = std::make_shared<Scene>(parse_scene(sub.dump(), source + ": " + node.path(), directory));
+  auto scene = std::make_shared<Scene>(parse_scene(dump_json(sub), source + ": " + node.path(), directory));
   scene->name = spec.name;
   spec.scene = std::move(scene);
   return spec;

@@ -10,8 +10,8 @@
 #include "forward/core/model.hpp"
 #include "forward/mesh/mesh.hpp"
 #include "problems/contact/rigid_scene.hpp"
+#include "problems/fem/static_scene.hpp"
 #include "problems/scene_node.hpp"
-#include "problems/static_scene.hpp"
 
 namespace tailor {
 

@@ -19,7 +19,7 @@
 
 namespace tailor {
 
-struct Scene;  // problems/scene.hpp
+struct Scene;  // problems/fem/scene.hpp
 
 // An FEM body of a contact scene: the FEM scene's keys (mesh, materials, dirichlet, loads) as a
 // parsed Scene. Its boundary triangles take part in contact; it does not touch itself.

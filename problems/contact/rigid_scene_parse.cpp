@@ -7,7 +7,8 @@
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/contact/fem_bodies.hpp"
 #include "problems/contact/rigid_scene.hpp"
-#include "problems/scene.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
 #include "problems/scene_node.hpp"
 
 namespace tailor {
@@ -110,7 +111,7 @@ bool RigidSceneSpec::has_torques() const {
 bool is_rigid_scene(const std::string& path) {
   std::ifstream in(path);
   if (!in) return false;
-  const nlohmann::json document = nlohmann::json::parse(in, nullptr, false);
+  const nlohmann::json document = parse_json_or_discarded(in);
   return document.is_object() && document.contains("rigid_bodies");
 }
 
@@ -118,7 +119,7 @@ RigidSceneSpec parse_rigid_scene(const std::string& json_text, const std::string
                                  const std::string& directory_in) {
   const std::string directory =
       directory_in.empty() ? std::filesystem::path(source).parent_path().string() : directory_in;
-  const nlohmann::json document = nlohmann::json::parse(json_text, nullptr, false);
+  const nlohmann::json document = parse_json_or_discarded(json_text);
   if (document.is_discarded()) throw SceneError(source + ": invalid JSON");
   const SceneNode root(document, source, "");
   root.expect_keys(

@@ -18,11 +18,12 @@
 #include "forward/rigid/rotation.hpp"
 #include "forward/tori/mesh_intersections.hpp"
 #include "objectives/target_positions.hpp"
-#include "problems/report_header.hpp"
-#include "problems/taylor_report.hpp"
 #include "problems/contact/surface_vtu.hpp"
-#include "problems/scene.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
+#include "problems/report_header.hpp"
 #include "problems/scene_node.hpp"
+#include "problems/taylor_report.hpp"
 
 namespace tailor {
 
@@ -35,18 +36,43 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
   if (root.has("name")) spec.name = root.at("name").string();
   if (root.has("description")) spec.description = root.at("description").string();
   const SceneNode t = root.at("tori");
-  t.expect_keys({"count", "major_radius", "minor_radius", "minor_radius_1", "spacing", "gap", "density", "tilt",
-                 "fix_first", "segments", "contact_model", "activation_distance", "stiffness", "min_stiffness",
-                 "max_stiffness", "friction", "friction_velocity", "pair_band",
-                 "gravity", "mode", "time_step", "steps", "output_every", "static_time_step", "static_tolerance",
-                 "max_static_steps", "check_intersections", "direction_tolerance", "newton_iterations",
+  t.expect_keys({"count",
+                 "major_radius",
+                 "minor_radius",
+                 "minor_radius_1",
+                 "spacing",
+                 "gap",
+                 "density",
+                 "tilt",
+                 "fix_first",
+                 "segments",
+                 "contact_model",
+                 "activation_distance",
+                 "stiffness",
+                 "min_stiffness",
+                 "max_stiffness",
+                 "friction",
+                 "friction_velocity",
+                 "pair_band",
+                 "gravity",
+                 "mode",
+                 "time_step",
+                 "steps",
+                 "output_every",
+                 "static_time_step",
+                 "static_tolerance",
+                 "max_static_steps",
+                 "check_intersections",
+                 "direction_tolerance",
+                 "newton_iterations",
                  "gradcheck"});
   tori::ChainSpec& c = spec.chain;
   c.count = t.at("count").integer(2);
   if (c.count > 1000) t.at("count").fail("at most 1000 links");
   c.shape.major_radius = t.at("major_radius").positive();
   c.shape.minor_radius = t.at("minor_radius").positive();
-  if (!(c.shape.minor_radius < c.shape.major_radius)) t.at("minor_radius").fail("must be smaller than major_radius");
+  if (!(c.shape.minor_radius < c.shape.major_radius))
+    t.at("minor_radius").fail("must be smaller than major_radius");
   // An elliptic tube (torus.hpp); equal to minor_radius it is the circular one (r1 follows r).
   if (t.has("minor_radius_1")) {
     const double r1 = t.at("minor_radius_1").positive();
@@ -88,7 +114,8 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
   }
   for (const char* key : {"min_stiffness", "max_stiffness"})
     if (t.has(key) && !o.stiffness_control.adaptive)
-      t.at(key).fail("only with adaptive stiffness (\"stiffness\": \"adaptive\" or absent; a number fixes kappa)");
+      t.at(key).fail(
+          "only with adaptive stiffness (\"stiffness\": \"adaptive\" or absent; a number fixes kappa)");
   if (auto v = t.find("min_stiffness")) o.stiffness_control.min_stiffness = v->positive();
   if (auto v = t.find("max_stiffness")) o.stiffness_control.max_stiffness = v->positive();
   if (o.stiffness_control.min_stiffness > 0.0 && o.stiffness_control.max_stiffness > 0.0 &&
@@ -127,7 +154,7 @@ TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string
     spec.gradcheck_masses = spec.gradcheck_radii = spec.gradcheck_placements = false;
     for (const SceneNode& name : names) {
       const std::string kind = name.choice({"masses", "radii", "placements"});
-      bool& selected = kind == "masses" ? spec.gradcheck_masses
+      bool& selected = kind == "masses"  ? spec.gradcheck_masses
                        : kind == "radii" ? spec.gradcheck_radii
                                          : spec.gradcheck_placements;
       if (selected) name.fail("\"" + kind + "\" is listed twice");
@@ -161,7 +188,8 @@ double finite_or(double v, double fallback) { return std::isfinite(v) ? v : fall
 
 }  // namespace
 
-TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
+TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::string& out_dir,
+                                      std::ostream* log) {
   std::filesystem::create_directories(out_dir);
   tori::ChainSimulation sim(spec.chain, spec.options);
   TorusSimulateRun run;
@@ -187,8 +215,8 @@ TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::str
            << " Newton iterations, min distance " << r.min_distance << ", " << r.active_pairs
            << " active pairs, " << r.intersections << " intersections, kappa " << r.stiffness
            << (spec.options.friction.coefficient > 0.0
-                   ? ", friction pairs " + std::to_string(r.sliding) + " sliding / " + std::to_string(r.sticking) +
-                         " sticking"
+                   ? ", friction pairs " + std::to_string(r.sliding) + " sliding / " +
+                         std::to_string(r.sticking) + " sticking"
                    : std::string())
            << "\n";
   };
@@ -217,7 +245,8 @@ TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::str
         spec.static_tolerance > 0.0 ? spec.static_tolerance : 1e-10 * spec.chain.shape.major_radius;
     run.converged = sim.relax(tolerance, spec.max_static_steps, &records);
     for (std::size_t n = 0; n < records.size(); ++n) record_step(static_cast<int>(n) + 1, records[n]);
-    if (!run.converged && log) *log << "no rest within " << spec.max_static_steps << " steps: " << sim.last_message() << "\n";
+    if (!run.converged && log)
+      *log << "no rest within " << spec.max_static_steps << " steps: " << sim.last_message() << "\n";
     write_frame(sim, out_dir, frame_suffix(1));
   }
   nlohmann::json links = nlohmann::json::array();
@@ -230,7 +259,9 @@ TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::str
   nlohmann::json pairs = nlohmann::json::array();
   if (sim.implicit_term())
     for (const tori::TorusPairForce& f : sim.implicit_term()->pair_forces(q, Vector()))
-      pairs.push_back({{"a", f.a}, {"b", f.b}, {"distance", f.distance},
+      pairs.push_back({{"a", f.a},
+                       {"b", f.b},
+                       {"distance", f.distance},
                        {"force_on_b", {f.force_on_b.x(), f.force_on_b.y(), f.force_on_b.z()}}});
   nlohmann::json report = {{"scene", spec.name},
                            {"contact_model", implicit ? "implicit" : "mesh"},
@@ -250,7 +281,7 @@ TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::str
                            {"per_step", steps},
                            {"bodies", links},
                            {"pairs", pairs}};
-  std::ofstream(std::filesystem::path(out_dir) / "report.json") << report.dump(2) << "\n";
+  std::ofstream(std::filesystem::path(out_dir) / "report.json") << dump_json(report, 2) << "\n";
   if (log)
     *log << (run.completed() ? "completed" : "NOT completed") << ": " << run.steps << " steps, "
          << run.intersections << " intersections, min distance " << run.min_distance << "\n";
@@ -260,10 +291,12 @@ TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::str
 TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::string& out_dir,
                                         const TorusGradcheckOptions& options, std::ostream* log) {
   if (spec.dynamic)
-    throw SceneError(spec.source + ": tori.mode: gradcheck differentiates the static equilibrium (\"mode\": "
+    throw SceneError(spec.source +
+                     ": tori.mode: gradcheck differentiates the static equilibrium (\"mode\": "
                      "\"static\"); the adjoint of torus dynamics is not implemented");
   if (spec.options.model != tori::ContactModel::implicit)
-    throw SceneError(spec.source + ": tori.contact_model: gradcheck needs the implicit model (the mesh "
+    throw SceneError(spec.source +
+                     ": tori.contact_model: gradcheck needs the implicit model (the mesh "
                      "model has no radius parameters)");
   // The equilibrium by relaxation, as in `simulate`.
   tori::ChainSimulationOptions sim_options = spec.options;
@@ -312,7 +345,8 @@ TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::s
       centres.push_back(2 * b);  // block 2b of 3 DOFs is T_b
       weight += system.body(b).mass * spec.options.gravity.norm();
     }
-  if (centres.empty()) throw SceneError(spec.source + ": gradcheck needs at least one link that is not fixed");
+  if (centres.empty())
+    throw SceneError(spec.source + ": gradcheck needs at least one link that is not fixed");
   model.set_elimination(Elimination::dirichlet(fixed, equilibrium));
   Matrix targets(static_cast<Eigen::Index>(centres.size()), 3);
   for (std::size_t i = 0; i < centres.size(); ++i)
@@ -379,7 +413,7 @@ TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::s
   document["active_pairs"] = run.active_pairs;
   document["min_distance"] = run.min_distance;
   document["intersections"] = run.intersections;
-  std::ofstream(std::filesystem::path(out_dir) / "gradcheck.json") << document.dump(2) << "\n";
+  std::ofstream(std::filesystem::path(out_dir) / "gradcheck.json") << dump_json(document, 2) << "\n";
   return run;
 }
 

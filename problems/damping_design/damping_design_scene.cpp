@@ -6,7 +6,8 @@
 #include <ostream>
 #include <sstream>
 
-#include "problems/scene.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
 #include "problems/scene_node.hpp"
 
 namespace tailor {
@@ -25,12 +26,12 @@ std::string read_text(const std::string& path) {
 bool is_damping_design_scene(const std::string& path) {
   std::ifstream in(path);
   if (!in) return false;
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  const nlohmann::json j = parse_json_or_discarded(in);
   return j.is_object() && j.contains("damping_design");
 }
 
 DampingStudyOptions parse_damping_design(const std::string& json_text, const std::string& source) {
-  const nlohmann::json root = nlohmann::json::parse(json_text, nullptr, false);
+  const nlohmann::json root = parse_json_or_discarded(json_text);
   if (root.is_discarded()) throw SceneError(source + ": not valid JSON");
   const SceneNode top(root, source, "");
   top.expect_keys({"name", "damping_design"});

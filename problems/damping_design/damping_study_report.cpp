@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "problems/damping_design/damping_study.hpp"
+#include "problems/json_text.hpp"
 #include "problems/plot/line_plot.hpp"
 
 namespace tailor {
@@ -65,7 +66,7 @@ std::string write_damping_study(const DampingStudy& study, const std::string& fo
                                      {"designed_loss", c.designed_loss},
                                      {"achieved_gamma", c.achieved_gamma},
                                      {"designed_gamma", c.designed_gamma}});
-  const std::string text = j.dump(2);
+  const std::string text = dump_json(j, 2);
   std::ofstream out(folder + "/report.json");
   if (!(out << text << "\n")) throw std::runtime_error("cannot write " + folder + "/report.json");
 

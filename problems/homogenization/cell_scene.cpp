@@ -1,6 +1,7 @@
 #include "problems/homogenization/cell_scene.hpp"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,9 +10,10 @@
 
 #include "forward/homogenization/cell_mesh.hpp"
 #include "forward/mesh/mesh_io.hpp"
-#include "problems/scene.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/fem/scene_parsing.hpp"
+#include "problems/json_text.hpp"
 #include "problems/scene_node.hpp"
-#include "problems/scene_parsing.hpp"
 
 namespace tailor {
 namespace {
@@ -95,7 +97,7 @@ Vector CellScene::poisson_ratio() const {
 bool is_periodic_cell_scene(const std::string& path) {
   std::ifstream in(path);
   if (!in) return false;
-  const nlohmann::json document = nlohmann::json::parse(in, nullptr, false);
+  const nlohmann::json document = parse_json_or_discarded(in);
   return document.is_object() && document.contains("type") && document["type"] == "periodic_cell";
 }
 
@@ -154,19 +156,46 @@ CellScene parse_cell_scene(const SceneNode& root, const std::string& directory) 
     scene.plane =
         plane->choice({"strain", "stress"}) == "stress" ? PlaneMode::plane_stress : PlaneMode::plane_strain;
   }
-  for (const SceneNode& m : root.at("materials").items()) {
-    m.expect_keys({"youngs_modulus", "poisson_ratio", "name"});
+  // Materials by index (element region r takes materials[r]) or by the mesh file's tags
+  // ({"region": 1, ...}: every entry names one, and elements take the entry of their tag).
+  std::vector<int> region_tags;
+  const std::vector<SceneNode> material_nodes = root.at("materials").items();
+  for (const SceneNode& m : material_nodes) {
+    m.expect_keys({"youngs_modulus", "poisson_ratio", "name", "region"});
     scene.materials.push_back(
         {m.at("youngs_modulus").positive(), m.at("poisson_ratio").open_interval(-1.0, 0.5)});
+    if (m.has("region") != material_nodes.front().has("region"))
+      m.fail("either every material names its \"region\" or none does");
+    if (m.has("region")) {
+      const int tag = m.at("region").integer(0);
+      for (std::size_t k = 0; k < region_tags.size(); ++k)
+        if (region_tags[k] == tag)
+          m.at("region").fail("region " + std::to_string(tag) + " is already materials[" + std::to_string(k) +
+                              "]");
+      region_tags.push_back(tag);
+    }
   }
   if (scene.materials.empty()) root.at("materials").fail("need at least one material");
   const int num_phases = static_cast<int>(scene.materials.size());
+  const Eigen::VectorXi& element_regions = scene.cell.mesh.element_regions;
+  if (!region_tags.empty() && element_regions.size() == 0)
+    root.at("materials").fail("materials name regions, but the mesh has none (a generated grid has none)");
   scene.element_phase.assign(scene.cell.mesh.num_elements(), 0);
   for (int e = 0; e < scene.cell.mesh.num_elements(); ++e) {
-    const int region = scene.cell.mesh.element_regions.size() ? scene.cell.mesh.element_regions[e] : 0;
+    const int region = element_regions.size() == 0 ? 0 : element_regions[e];
+    if (!region_tags.empty()) {
+      const auto found = std::find(region_tags.begin(), region_tags.end(), region);
+      if (found == region_tags.end())
+        root.at("materials")
+            .fail("element " + std::to_string(e) + " has region " + std::to_string(region) +
+                  ", which no material names");
+      scene.element_phase[e] = static_cast<int>(found - region_tags.begin());
+      continue;
+    }
     if (region < 0 || region >= num_phases)
       cell.fail("element " + std::to_string(e) + " has region " + std::to_string(region) + " but there are " +
-                std::to_string(num_phases) + " materials (regions index the materials)");
+                std::to_string(num_phases) +
+                " materials (regions index the materials; or give each material its \"region\")");
     scene.element_phase[e] = region;
   }
   if (const auto phases = root.find("phases"))
@@ -178,8 +207,7 @@ CellScene parse_cell_scene(const SceneNode& root, const std::string& directory) 
     curves->expect_keys({"material", "max_strain", "steps", "directions"});
     StressStrainSpec spec;
     if (curves->has("material"))
-      spec.material =
-          parse_material_kind(curves->at("material").choice({"linear", "corotated", "stvk", "neo_hookean"}));
+      spec.material = parse_material_kind(curves->at("material").choice(material_names()));
     if (curves->has("max_strain")) spec.max_strain = curves->at("max_strain").open_interval(-0.9, 10.0);
     if (curves->has("steps")) spec.steps = curves->at("steps").integer(1);
     for (const SceneNode& d : curves->at("directions").items()) {

@@ -15,7 +15,9 @@
 //                       "directions": [[1, 0], [0, 1]]},        (nonlinear curves)
 //     "design": {...}                                       (problems/metamaterial)
 //   }
-// Elements start in the phase of their mesh region (0 for generated meshes); each "phases" rule
+// Elements start in the phase of their mesh region: region r takes materials[r] (0 for generated
+// meshes), or, when every material names a "region" (the mesh file's physical tag, e.g. Gmsh's
+// 1 and 2), the material naming the element's tag. Each "phases" rule
 // then moves the elements whose centroid it contains (later rules win). Discs (spheres in
 // 3D) use the distance to the nearest periodic image of the centre (Cartesian); slabs use the
 // fractional coordinate along lattice vector `axis` of the centroid.

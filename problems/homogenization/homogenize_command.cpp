@@ -13,6 +13,7 @@
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/homogenization/directional_plots.hpp"
 #include "problems/homogenization/plate_command.hpp"
+#include "problems/json_text.hpp"
 #include "problems/plot/line_plot.hpp"
 #include "problems/report_header.hpp"
 
@@ -189,7 +190,7 @@ HomogenizeRun homogenize_scene(const CellScene& scene, const std::string& out_di
   const std::string report_path = out_dir + "/report.json";
   std::ofstream out(report_path);
   if (!out) throw std::runtime_error("cannot write " + report_path);
-  out << std::setw(2) << report << "\n";
+  out << dump_json(report, 2) << "\n";
   if (!out) throw std::runtime_error("cannot write " + report_path);
 
   write_directional_plots(out_dir, scene.name, samples);
@@ -202,7 +203,7 @@ HomogenizeRun homogenize_scene(const CellScene& scene, const std::string& out_di
          << run.result.solve_seconds << " s\n"
          << "C^H (Voigt " << (dim == 2 ? "11, 22, 12" : "11, 22, 33, 23, 13, 12") << ", engineering shear):\n"
          << std::setprecision(6) << run.result.stiffness << "\n"
-         << "engineering constants: " << report["engineering_constants"].dump() << "\n"
+         << "engineering constants: " << dump_json(report["engineering_constants"]) << "\n"
          << "wrote " << report_path << ", youngs_modulus_polar.png, poisson_ratio.png and load_case_*.vtu\n";
   }
   return run;

@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "forward/homogenization/plate_bending.hpp"
+#include "problems/json_text.hpp"
 #include "problems/plot/line_plot.hpp"
 #include "tailor_version.hpp"
 
@@ -70,7 +71,7 @@ HomogenizeRun homogenize_plate(const CellScene& scene, const std::string& out_di
   const std::string path = out_dir + "/report.json";
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write " + path);
-  out << std::setw(2) << report << "\n";
+  out << dump_json(report, 2) << "\n";
   if (log)
     *log << "plate bending of " << scene.name << ": D (Voigt 11, 22, 12, engineering twist) =\n"
          << std::setprecision(6) << plate.stiffness << "\nwrote " << path

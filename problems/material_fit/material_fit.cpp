@@ -10,10 +10,10 @@
 #include "forward/fem/elastic_term.hpp"
 #include "forward/fem/materials/spline_material.hpp"
 #include "forward/solve/newton.hpp"
+#include "problems/fem/spline_curves_json.hpp"
 #include "problems/material_fit/curve_fit_functional.hpp"
 #include "problems/material_fit/material_fit_report.hpp"
 #include "problems/plot/line_plot.hpp"
-#include "problems/spline_curves_json.hpp"
 
 namespace tailor {
 namespace {

@@ -5,9 +5,10 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "problems/fem/report.hpp"
+#include "problems/fem/spline_curves_json.hpp"
+#include "problems/json_text.hpp"
 #include "problems/optimizer_report.hpp"
-#include "problems/report.hpp"
-#include "problems/spline_curves_json.hpp"
 
 namespace tailor {
 
@@ -72,7 +73,7 @@ void write_material_fit_report(const std::string& path, const MaterialFitSpec& s
 
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write '" + path + "'");
-  out << report.dump(2) << "\n";
+  out << dump_json(report, 2) << "\n";
   if (!out) throw std::runtime_error("error while writing '" + path + "'");
 }
 

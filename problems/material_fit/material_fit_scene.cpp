@@ -4,7 +4,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "problems/scene.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
 #include "problems/scene_node.hpp"
 
 namespace tailor {
@@ -49,12 +50,12 @@ ShapeConstraint parse_shape(const SceneNode& node) {
 bool is_material_fit_scene(const std::string& path) {
   std::ifstream in(path);
   if (!in) return false;
-  const nlohmann::json document = nlohmann::json::parse(in, nullptr, false);
+  const nlohmann::json document = parse_json_or_discarded(in);
   return document.is_object() && document.contains("type") && document["type"] == "material_fit";
 }
 
 MaterialFitSpec parse_material_fit_scene(const std::string& json_text, const std::string& source) {
-  const nlohmann::json document = nlohmann::json::parse(json_text, nullptr, false);
+  const nlohmann::json document = parse_json_or_discarded(json_text);
   if (document.is_discarded()) throw SceneError(source + ": invalid JSON");
   const SceneNode root(document, source, "");
   root.expect_keys({"name", "type", "description", "specimen", "curves", "load_cases", "reference", "initial",
@@ -103,8 +104,7 @@ MaterialFitSpec parse_material_fit_scene(const std::string& json_text, const std
     if (r->has("material") == r->has("preset"))
       r->fail("expected exactly one of \"material\" and \"preset\"");
     if (r->has("material"))
-      spec.reference_material =
-          parse_material_kind(r->at("material").choice(material_names()));
+      spec.reference_material = parse_material_kind(r->at("material").choice(material_names()));
     else
       spec.reference_preset = parse_preset(r->at("preset"));
     spec.reference_lame = parse_moduli(*r);

@@ -14,12 +14,13 @@
 #include "forward/homogenization/cell_mesh.hpp"
 #include "forward/homogenization/engineering_constants.hpp"
 #include "forward/mesh/mesh_io.hpp"
+#include "problems/fem/scene.hpp"
 #include "problems/homogenization/directional_plots.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
+#include "problems/json_text.hpp"
 #include "problems/plot/field_image.hpp"
-#include "problems/scene.hpp"
-#include "problems/scene_node.hpp"
 #include "problems/report_header.hpp"
+#include "problems/scene_node.hpp"
 
 namespace tailor {
 
@@ -184,7 +185,7 @@ nlohmann::json summary_json(const CellObjective& objective, const Matrix& C) {
 bool is_metamaterial_scene(const std::string& path) {
   if (!is_periodic_cell_scene(path)) return false;
   std::ifstream in(path);
-  const nlohmann::json document = nlohmann::json::parse(in, nullptr, false);
+  const nlohmann::json document = parse_json_or_discarded(in);
   return document.is_object() && document.contains("design");
 }
 
@@ -302,7 +303,7 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
                                                       std::max(1, counters.evaluations)}};
   std::ofstream out(out_dir + "/report.json");
   if (!out) throw std::runtime_error("cannot write " + out_dir + "/report.json");
-  out << std::setw(2) << report << "\n";
+  out << dump_json(report, 2) << "\n";
 
   VtkFields fields;
   fields.cell["design"] = run.result.z;
@@ -320,9 +321,9 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
   if (log)
     *log << "status " << to_string(run.result.status) << " after " << run.result.history.size()
          << " iterations (" << run.result.seconds << " s)\n"
-         << "gray design:        " << report["gray"].dump() << "\n"
-         << "thresholded (1/2):  " << report["thresholded"].dump() << "\n"
-         << "refined x" << spec.refine << ":        " << refined_json.dump() << "\n"
+         << "gray design:        " << dump_json(report["gray"]) << "\n"
+         << "thresholded (1/2):  " << dump_json(report["thresholded"]) << "\n"
+         << "refined x" << spec.refine << ":        " << dump_json(refined_json) << "\n"
          << "wrote " << out_dir << "/report.json, design.vtu, design.png and the thresholded design's "
          << "youngs_modulus_polar.png and poisson_ratio.png\n";
   return run;

@@ -8,8 +8,9 @@
 #include <ostream>
 
 #include "forward/mesh/mesh_io.hpp"
+#include "problems/fem/static_scene.hpp"
+#include "problems/json_text.hpp"
 #include "problems/rods/rod_scene.hpp"
-#include "problems/static_scene.hpp"
 
 namespace tailor {
 
@@ -83,13 +84,15 @@ RodFemSimulation simulate_rods_with_fem(const nlohmann::json& document, const st
   nlohmann::json fem = nlohmann::json::object();
   for (const char* key : {"name", "description", "mesh", "materials", "dirichlet", "loads", "solver"})
     if (document.contains(key)) fem[key] = document[key];
-  const Scene scene = parse_scene(fem.dump(), source, directory);
+  const Scene scene = parse_scene(dump_json(fem), source, directory);
   const StaticSetup setup = setup_static_scene(scene);
   if (setup.solver.load_steps > 1)
-    scene_fail(source, "solver.load_steps: a scene with rods and a mesh is solved in one step (load_steps 1)");
+    scene_fail(source,
+               "solver.load_steps: a scene with rods and a mesh is solved in one step (load_steps 1)");
   RodSceneSpec spec = parse_rod_scene(document);
   spec.source = source;
-  if (spec.load_steps > 1) scene_fail(source, "load_steps: a scene with rods and a mesh is solved in one step");
+  if (spec.load_steps > 1)
+    scene_fail(source, "load_steps: a scene with rods and a mesh is solved in one step");
   const std::shared_ptr<const Model> fem_model = build_static_model(setup, 1.0);
   const Elimination& fe = fem_model->elimination();
   if (!fe.is_selection() || fem_model->has_prescribed_parameters())

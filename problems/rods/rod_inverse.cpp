@@ -12,9 +12,10 @@
 #include "objectives/target_dofs.hpp"
 #include "objectives/tikhonov.hpp"
 #include "objectives/weighted_sum.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
 #include "problems/optimizer_report.hpp"
 #include "problems/report_header.hpp"
-#include "problems/scene.hpp"
 #include "problems/scene_node.hpp"
 #include "problems/taylor_report.hpp"
 
@@ -277,7 +278,7 @@ nlohmann::json read_document(const std::string& path) {
   std::ifstream f(path);
   if (!f) throw SceneError(path + ": cannot open the scene file");
   try {
-    return nlohmann::json::parse(f);
+    return parse_json(f);
   } catch (const nlohmann::json::exception& e) {
     throw SceneError(path + ": invalid JSON: " + e.what());
   }
@@ -286,7 +287,7 @@ nlohmann::json read_document(const std::string& path) {
 void write_json(const std::filesystem::path& path, const nlohmann::ordered_json& document) {
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write " + path.string());
-  out << document.dump(2) << "\n";
+  out << dump_json(document, 2) << "\n";
 }
 
 nlohmann::ordered_json scene_json(const RodInverseProblem& P) {
@@ -311,7 +312,7 @@ RodGradcheck gradcheck_rod_scene(const RodInverseProblem& problem, const std::st
   check.gradient = taylor_test(*problem.functional, problem.z0, options);
   if (log)
     *log << "gradient of the rod shape misfit with respect to " << problem.z0.size() << " design variables ("
-         << scene_json(problem)["design"].dump() << ")\n"
+         << dump_json(scene_json(problem)["design"]) << ")\n"
          << check.gradient.table();
   if (hessian) {
     check.hessian = taylor_test_hessian(*problem.functional, problem.z0, options);
@@ -337,10 +338,10 @@ RodInverseRun run_rod_inverse(RodInverseProblem& P, const std::string& out_dir, 
   const std::filesystem::path dir(out_dir);
   write_rods_vtu((dir / "rods_initial.vtu").string(), P.model.outputs(), f.state(), f.parameters());
   if (log)
-    *log << "designing " << P.name << ": " << P.z0.size() << " variables " << scene_json(P)["design"].dump()
-         << ", " << P.spec.target_vertices.size() << " target vertices; initial shape error "
-         << run.initial_shape_error << " (of the rod's length), " << to_string(P.spec.optimizer.backend)
-         << "\n";
+    *log << "designing " << P.name << ": " << P.z0.size() << " variables "
+         << dump_json(scene_json(P)["design"]) << ", " << P.spec.target_vertices.size()
+         << " target vertices; initial shape error " << run.initial_shape_error << " (of the rod's length), "
+         << to_string(P.spec.optimizer.backend) << "\n";
   OptimizerOptions options = P.spec.optimizer;
   options.progress = progress;
   run.result = minimize(f, P.z0, Bounds{}, {}, options);

@@ -1,8 +1,10 @@
 #include "problems/rods/rod_scene.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -12,9 +14,6 @@
 #include <ostream>
 #include <stdexcept>
 
-#include <chrono>
-#include <cstdio>
-
 #include "forward/core/elimination.hpp"
 #include "forward/dynamics/inertia_term.hpp"
 #include "forward/dynamics/mass_operator.hpp"
@@ -22,11 +21,12 @@
 #include "forward/rods/stretching_term.hpp"
 #include "forward/rods/twisting_term.hpp"
 #include "forward/solve/newton.hpp"
-#include "problems/rods/rod_vtu.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/fem/scene_parsing.hpp"
+#include "problems/json_text.hpp"
 #include "problems/report_header.hpp"
-#include "problems/scene.hpp"
+#include "problems/rods/rod_vtu.hpp"
 #include "problems/scene_node.hpp"
-#include "problems/scene_parsing.hpp"
 
 namespace tailor {
 
@@ -103,8 +103,10 @@ Eigen::MatrixX3d points_of(const json& r, const std::string& where) {
     const json& c = r["circle"];
     const std::string w = where + ".circle";
     if (!c.is_object()) fail(w, "expected an object with radius and vertices");
-    const Eigen::Vector3d center = c.contains("center") ? vec3(c["center"], w + ".center") : Eigen::Vector3d::Zero();
-    const Eigen::Vector3d normal = c.contains("normal") ? vec3(c["normal"], w + ".normal") : Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d center =
+        c.contains("center") ? vec3(c["center"], w + ".center") : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d normal =
+        c.contains("normal") ? vec3(c["normal"], w + ".normal") : Eigen::Vector3d::UnitZ();
     if (!(normal.norm() > 0.0)) fail(w + ".normal", "must be non-zero");
     const double R = number(c, "radius", w);
     if (!(R > 0.0) || !std::isfinite(R)) fail(w + ".radius", "must be positive");
@@ -146,7 +148,7 @@ std::vector<RodOutput> RodSceneModel::outputs() const {
 bool is_rod_scene(const std::string& path) {
   std::ifstream f(path);
   if (!f) return false;
-  const json j = json::parse(f, nullptr, false);
+  const json j = parse_json_or_discarded(f);
   return j.is_object() && j.contains("rods");
 }
 
@@ -207,7 +209,8 @@ RodSceneSpec parse_rod_scene(const json& scene) {
       else
         fail(where + ".clamp", "expected \"first\" or \"last\"");
     }
-    if (rod.closed && !rod.clamped.empty()) fail(where + ".clamp", "a closed rod has no ends (use clamp_edges)");
+    if (rod.closed && !rod.clamped.empty())
+      fail(where + ".clamp", "a closed rod has no ends (use clamp_edges)");
     const int nv = static_cast<int>(rod.points.rows());
     const int ne = rod.closed ? nv : nv - 1;
     for (const auto& e : r.value("clamp_edges", json::array())) {
@@ -274,7 +277,8 @@ RodSceneSpec parse_rod_scene(const json& scene) {
         for (const auto& [r0, v0] : joint.members) {
           if (r0 == rod) fail(w, "a joint joins different rods (rod " + std::to_string(rod) + " twice)");
           const double gap = (spec.rods[static_cast<std::size_t>(r0)].points.row(v0) -
-                              spec.rods[static_cast<std::size_t>(rod)].points.row(vertex)).norm();
+                              spec.rods[static_cast<std::size_t>(rod)].points.row(vertex))
+                                 .norm();
           if (gap > 1e-9 * extent)
             fail(w, "the vertex is " + std::to_string(gap) + " away from the joint's first vertex");
         }
@@ -294,7 +298,8 @@ RodSceneSpec parse_rod_scene(const json& scene) {
       fail("dynamics.mass", "rods have a lumped mass only (\"lumped\")");
     if (d.initial_velocity && d.initial_velocity->size() != 3)
       fail("dynamics.initial_velocity", "expected 3 components");
-    if (scene.contains("load_steps")) fail("load_steps", "not used with a dynamics section (loads act from t = 0)");
+    if (scene.contains("load_steps"))
+      fail("load_steps", "not used with a dynamics section (loads act from t = 0)");
     for (std::size_t k = 0; k < spec.rods.size(); ++k)
       if (!(spec.rods[k].density > 0.0))
         fail("rods[" + std::to_string(k) + "].material.density", "a dynamic scene needs a positive density");
@@ -319,7 +324,8 @@ Elimination tied_dirichlet(const std::vector<int>& fixed, const std::vector<std:
   for (int i = 0; i < n; ++i) parent[static_cast<std::size_t>(i)] = i;
   auto find = [&](int i) {
     while (parent[static_cast<std::size_t>(i)] != i)
-      i = parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+      i = parent[static_cast<std::size_t>(i)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
     return i;
   };
   for (const auto& group : ties)
@@ -457,11 +463,11 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& pr
         twisting[static_cast<std::size_t>(rod_index)]->omit_stencil(edges[0]);
       }
       for (int e : edges)
-        term->add_member(rod, e,
-                         rigid_joint_stiffness(r.material.section, r.material.youngs_modulus,
-                                               r.material.shear_modulus, m.p[blocks.radius + e],
-                                               m.p[blocks.rest_length + e]),
-                         m.rest);
+        term->add_member(
+            rod, e,
+            rigid_joint_stiffness(r.material.section, r.material.youngs_modulus, r.material.shear_modulus,
+                                  m.p[blocks.radius + e], m.p[blocks.rest_length + e]),
+            m.rest);
     }
     m.rigid_joints.push_back(&model.add(std::move(term)));
   }
@@ -474,7 +480,7 @@ namespace {
 void write_report(const std::filesystem::path& path, const nlohmann::ordered_json& report) {
   std::ofstream f(path);
   if (!f) throw std::runtime_error("cannot write " + path.string());
-  f << report.dump(2) << "\n";
+  f << dump_json(report, 2) << "\n";
   if (!f) throw std::runtime_error("cannot write " + path.string());
 }
 
@@ -485,7 +491,9 @@ nlohmann::ordered_json scene_summary(const RodSceneSpec& spec, const RodSceneMod
                     {"vertices", m.rods[k]->num_vertices()},
                     {"edges", m.rods[k]->num_edges()},
                     {"closed", m.rods[k]->closed()}});
-  return {{"source", spec.source}, {"rods", rods}, {"dofs", m.model->num_dofs()},
+  return {{"source", spec.source},
+          {"rods", rods},
+          {"dofs", m.model->num_dofs()},
           {"free_dofs", m.model->elimination().num_free()}};
 }
 
@@ -587,11 +595,13 @@ Vector rod_scene_mass_diagonal(const RodSceneSpec& spec, const RodSceneModel& m)
 }
 
 InertiaTerm& add_rod_inertia(RodSceneModel& m, Vector diagonal) {
-  return m.model->add(std::make_unique<InertiaTerm>(std::make_shared<const MassOperator>(std::move(diagonal))));
+  return m.model->add(
+      std::make_unique<InertiaTerm>(std::make_shared<const MassOperator>(std::move(diagonal))));
 }
 
-RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, const Vector& x0, const Vector& v0,
-                              const std::string& out_dir, std::ostream* log, const RodStepObserver& observer) {
+RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, const Vector& x0,
+                              const Vector& v0, const std::string& out_dir, std::ostream* log,
+                              const RodStepObserver& observer) {
   const auto start = std::chrono::steady_clock::now();
   Model& model = *m.model;
   const Vector& p = m.p;
@@ -639,9 +649,9 @@ RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, co
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (log)
-    *log << "rod dynamics: " << run.steps << "/" << dynamics.steps << " steps of " << to_string(dynamics.scheme)
-         << ", h = " << dynamics.time_step << ", " << run.newton_iterations << " Newton iterations, "
-         << run.seconds << " s\n";
+    *log << "rod dynamics: " << run.steps << "/" << dynamics.steps << " steps of "
+         << to_string(dynamics.scheme) << ", h = " << dynamics.time_step << ", " << run.newton_iterations
+         << " Newton iterations, " << run.seconds << " s\n";
   if (!files) return run;
   std::filesystem::create_directories(dir);
   run.pvd_path = (dir / "rods.pvd").string();
@@ -669,18 +679,20 @@ RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, co
   report["potential_energy"] = run.potential_energy.back();
   report["energy_initial"] = run.kinetic_energy.front() + run.potential_energy.front();
   report["energy_final"] = run.kinetic_energy.back() + run.potential_energy.back();
-  report["series"] = {{"time", run.time},
-                      {"kinetic_energy", run.kinetic_energy},
-                      {"potential_energy", run.potential_energy}};
+  report["series"] = {
+      {"time", run.time}, {"kinetic_energy", run.kinetic_energy}, {"potential_energy", run.potential_energy}};
   report["frames"] = run.frames;
   report["pvd"] = "rods.pvd";
   run.report_path = (dir / "report.json").string();
   write_report(run.report_path, report);
-  if (log) *log << "wrote " << run.pvd_path << ", " << run.frames.size() << " frames and " << run.report_path << "\n";
+  if (log)
+    *log << "wrote " << run.pvd_path << ", " << run.frames.size() << " frames and " << run.report_path
+         << "\n";
   return run;
 }
 
-RodDynamicsRun simulate_rod_dynamics(const RodSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
+RodDynamicsRun simulate_rod_dynamics(const RodSceneSpec& spec, const std::string& out_dir,
+                                     std::ostream* log) {
   if (!spec.dynamics) throw SceneError("rods scene: no dynamics section");
   RodSceneModel m = build_rod_model(spec);
   add_rod_inertia(m, rod_scene_mass_diagonal(spec, m));
@@ -693,7 +705,8 @@ RodDynamicsRun simulate_rod_dynamics(const RodSceneSpec& spec, const std::string
   const Vector x0 = m.model->elimination().expand(m.model->elimination().restrict_state(m.rest));
   const Elimination& elimination = m.model->elimination();
   for (int i = 0; i < elimination.num_dofs(); ++i)
-    if (elimination.row_begin()[static_cast<std::size_t>(i) + 1] == elimination.row_begin()[static_cast<std::size_t>(i)])
+    if (elimination.row_begin()[static_cast<std::size_t>(i) + 1] ==
+        elimination.row_begin()[static_cast<std::size_t>(i)])
       v0[i] = 0.0;
   return integrate_rods(m, *spec.dynamics, x0, v0, out_dir, log);
 }
@@ -703,7 +716,7 @@ bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir
   if (!f) throw SceneError(path + ": cannot open the scene file");
   json document;
   try {
-    document = json::parse(f);
+    document = parse_json(f);
   } catch (const json::exception& e) {
     throw SceneError(path + ": invalid JSON: " + e.what());
   }

@@ -5,8 +5,8 @@
 #include <functional>
 #include <iosfwd>
 #include <memory>
-#include <optional>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,7 +14,7 @@
 #include "forward/rods/rigid_joint_term.hpp"
 #include "forward/rods/rod_parameters.hpp"
 #include "forward/rods/rod_supports.hpp"
-#include "problems/dynamic_scene.hpp"
+#include "problems/fem/dynamic_scene.hpp"
 #include "problems/rods/rod_vtu.hpp"
 
 namespace tailor {
@@ -28,10 +28,10 @@ struct RodSpec {
   std::string name;
   Eigen::MatrixX3d points;
   RodMaterial material;
-  double density = 0.0;  // [mass / length^3]
-  bool closed = false;           // a ring: the last vertex joins the first
-  double closing_twist = 0.0;    // closed rods: total twist imposed when the ends were joined [rad]
-  bool straight_rest = false;    // rest curvatures and twists zero (naturally straight rod)
+  double density = 0.0;        // [mass / length^3]
+  bool closed = false;         // a ring: the last vertex joins the first
+  double closing_twist = 0.0;  // closed rods: total twist imposed when the ends were joined [rad]
+  bool straight_rest = false;  // rest curvatures and twists zero (naturally straight rod)
   std::vector<RodEnd> clamped;
   std::vector<int> clamped_edges;  // both vertices and the twist of each edge held
   std::vector<int> pinned;
@@ -115,7 +115,6 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& pr
 RodSimulation solve_rod_model(RodSceneModel& m, const RodSceneSpec& spec, const std::string& out_dir,
                               std::ostream* log = nullptr);
 
-
 // Solves the scene's equilibrium and writes out_dir/rods.vtu and out_dir/report.json (status,
 // energies by term, the final residual, Newton iterations per load step, threads).
 RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir,
@@ -135,8 +134,8 @@ struct RodDynamicsRun {
   int steps = 0, newton_iterations = 0;
   double seconds = 0.0;
   std::vector<double> time, kinetic_energy, potential_energy;  // at every step, step 0 included
-  DynamicState state;                                           // the last one
-  std::vector<std::string> frames;                              // .vtu files written
+  DynamicState state;                                          // the last one
+  std::vector<std::string> frames;                             // .vtu files written
   std::string pvd_path, report_path;
 };
 using RodStepObserver = std::function<void(const DynamicState&)>;
@@ -147,8 +146,8 @@ using RodStepObserver = std::function<void(const DynamicState&)>;
 // transport; the material frames are unchanged by the update, so the state stays valid). With a
 // non-empty out_dir: out_dir/frames/rods_<step>.vtu every output_every steps (and the last),
 // out_dir/rods.pvd and out_dir/report.json. `observer` sees every state, step 0 included.
-RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, const Vector& x0, const Vector& v0,
-                              const std::string& out_dir, std::ostream* log = nullptr,
+RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, const Vector& x0,
+                              const Vector& v0, const std::string& out_dir, std::ostream* log = nullptr,
                               const RodStepObserver& observer = {});
 // The scene's dynamics from rest positions with dynamics.initial_velocity on every vertex.
 RodDynamicsRun simulate_rod_dynamics(const RodSceneSpec& spec, const std::string& out_dir,

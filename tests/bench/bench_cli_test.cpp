@@ -15,6 +15,7 @@
 #include <string>
 
 #include "../support/temp_folder.hpp"
+#include "problems/json_text.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::bench_cli_test {
@@ -34,8 +35,8 @@ std::string read_file(const std::string& path) {
 int run_bench(const std::string& program, const std::string& arguments, const TempFolder& folder,
               std::string& output) {
   const std::string log = folder / (program + ".log");
-  const std::string command = "cd " + folder.str() + " && " + std::string(::tailor::testing::binary_dir()) + "/bin/" +
-                              program + " " + arguments + " > " + log + " 2>&1";
+  const std::string command = "cd " + folder.str() + " && " + std::string(::tailor::testing::binary_dir()) +
+                              "/bin/" + program + " " + arguments + " > " + log + " 2>&1";
   const int status = std::system(command.c_str());
   output = read_file(log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -106,7 +107,7 @@ TEST(BenchCli, AReportStartsWithTheHeaderAndParses) {
   std::string output;
   ASSERT_EQ(run_bench("rod_bench", "--vertices 5,8 --iterations 1 --out rods.json", folder, output), 0)
       << output;
-  const auto report = nlohmann::ordered_json::parse(read_file(folder / "rods.json"));
+  const auto report = parse_ordered_json(read_file(folder / "rods.json"));
   EXPECT_EQ(report.begin().key(), "tailor_version");
   EXPECT_EQ(report["benchmark"], "rod_newton_iteration");
   EXPECT_TRUE(report["threads"].contains("blas_library"));
@@ -124,7 +125,7 @@ TEST(BenchCli, NonFiniteNumbersAndControlCharactersStayValidJson) {
   report["label"] = std::string("tab\there, bell \a, quote \" and newline\n");
   ASSERT_TRUE(bench::write_report(folder / "report.json", report, "bench_cli_test"));
   const std::string text = read_file(folder / "report.json");
-  const auto parsed = nlohmann::json::parse(text);
+  const auto parsed = parse_json(text);
   EXPECT_TRUE(parsed["infinite"].is_null());
   EXPECT_EQ(parsed["values"][0], 1.5);
   EXPECT_TRUE(parsed["values"][1].is_null());

@@ -34,7 +34,7 @@ foreach(header ${installed_headers})
     endif()
   endforeach()
 endforeach()
-foreach(private forward/mesh/text_scanner_detail.hpp optimizers/backend_detail.hpp problems/scene_parsing.hpp)
+foreach(private forward/mesh/text_scanner_detail.hpp optimizers/backend_detail.hpp problems/fem/scene_parsing.hpp)
   if(EXISTS ${include_root}/${private})
     message(FATAL_ERROR "the private header ${private} was installed")
   endif()
@@ -56,7 +56,7 @@ if(found EQUAL -1)
   message(FATAL_ERROR "minimal did not report tailor ${EXPECTED_VERSION}")
 endif()
 
-# Whole problems through the installed API (problems/study.hpp); each exits non-zero unless its
+# Whole problems through the installed API (problems/fem/study.hpp); each exits non-zero unless its
 # checks pass (Taylor test, derivative checks) and it reaches what it states (inverse_bar: both
 # moduli to 1e-6; custom_objective: the target deflection to 1e-6; custom_energy: the modulus to
 # 1e-6; constrained_design: the budget kept and the compliance lowered by 10% or more).

@@ -11,8 +11,8 @@
 #include <limits>
 
 #include "../support/temp_folder.hpp"
+#include "problems/fem/scene.hpp"
 #include "problems/optimizer_checkpoint.hpp"
-#include "problems/scene.hpp"
 
 namespace tailor::checkpoint_file_test {
 namespace {

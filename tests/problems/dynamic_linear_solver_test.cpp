@@ -12,8 +12,9 @@
 #include "../support/temp_folder.hpp"
 #include "adjoint/transient_functional.hpp"
 #include "ldlt_stand_in.hpp"
-#include "problems/dynamic_commands.hpp"
-#include "problems/dynamic_scene.hpp"
+#include "problems/fem/dynamic_commands.hpp"
+#include "problems/fem/dynamic_scene.hpp"
+#include "problems/json_text.hpp"
 #include "scene_text.hpp"
 
 namespace tailor::dynamic_linear_solver_test {
@@ -115,14 +116,14 @@ TEST(DynamicLinearSolver, ReportsRecordTheSolverAndTheAdjointTolerance) {
   const DynamicRun simulated = simulate_dynamic_scene(scene, folder / "simulate", nullptr);
   ASSERT_TRUE(simulated.completed) << simulated.message;
   std::ifstream report_file(simulated.report_path);
-  const auto report = nlohmann::json::parse(report_file);
+  const auto report = parse_json(report_file);
   EXPECT_EQ(report["linear_solver"]["name"], "petsc");
   EXPECT_EQ(report["linear_solver"]["options"], "-x 1");
 
   const GradcheckRun checked = gradcheck_dynamic_scene(scene, folder / "gradcheck", 1, nullptr);
   EXPECT_TRUE(checked.passed()) << checked.gradient.table();
   std::ifstream gradcheck_file(checked.report_path);
-  const auto gradcheck = nlohmann::json::parse(gradcheck_file);
+  const auto gradcheck = parse_json(gradcheck_file);
   EXPECT_EQ(gradcheck["linear_solver"]["name"], "petsc");
   EXPECT_EQ(gradcheck["adjoint_linear_solves"]["relative_tolerance"], 1e-12);
   EXPECT_EQ(gradcheck["adjoint_linear_solves"]["solves"], 6);
@@ -131,7 +132,7 @@ TEST(DynamicLinearSolver, ReportsRecordTheSolverAndTheAdjointTolerance) {
   const Scene reference = parse_scene(dynamic_box(""), "box.json", "");
   const GradcheckRun plain = gradcheck_dynamic_scene(reference, folder / "plain", 1, nullptr);
   std::ifstream plain_file(plain.report_path);
-  const auto plain_json = nlohmann::json::parse(plain_file);
+  const auto plain_json = parse_json(plain_file);
   EXPECT_FALSE(plain_json.contains("adjoint_linear_solves"));
   EXPECT_EQ(plain_json["linear_solver"], nlohmann::json({{"name", "cholmod"}}));
 }

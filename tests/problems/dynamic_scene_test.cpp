@@ -1,5 +1,7 @@
 // `tailor simulate` on scenes with a "dynamics" section: parsing and its errors, the frame
 // series and report, and a physical check (a swinging beam with Rayleigh damping loses energy).
+#include "problems/fem/dynamic_scene.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -7,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "../support/temp_folder.hpp"
-#include "problems/dynamic_commands.hpp"
-#include "problems/dynamic_scene.hpp"
+#include "problems/fem/dynamic_commands.hpp"
+#include "problems/json_text.hpp"
 #include "scene_text.hpp"
 
 namespace tailor::dynamic_scene_test {
@@ -53,8 +55,9 @@ TEST(DynamicScene, ParsesAndReportsErrorsWithKeyPaths) {
 TEST(DynamicScene, SolverSetsTheKeptFactorizationRule) {
   // The time integrator's Newton takes solver.reuse_factorization from the scene [automatic].
   const auto reuse = [](const std::string& key) {
-    const std::string text = with(R"("solver": {"load_steps": 1})", R"("solver": {"load_steps": 1)" + key + "}",
-                                  dynamic_box(R"({"time_step": 0.05, "steps": 2})"));
+    const std::string text =
+        with(R"("solver": {"load_steps": 1})", R"("solver": {"load_steps": 1)" + key + "}",
+             dynamic_box(R"({"time_step": 0.05, "steps": 2})"));
     return build_dynamic_scene(parse_scene(text, "box.json", "")).options.newton.reuse_factorization;
   };
   EXPECT_EQ(reuse(""), FactorReuse::automatic);
@@ -90,7 +93,7 @@ TEST(DynamicScene, WritesASeriesAndAReportWithDecayingEnergy) {
     EXPECT_TRUE(std::filesystem::exists(folder / name)) << name;
   }
   std::ifstream in(run.report_path);
-  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json report = parse_json(in);
   EXPECT_EQ(report["kind"], "dynamics");
   EXPECT_EQ(report["status"], "completed");
   ASSERT_EQ(report["steps"].size(), 21u);

@@ -11,7 +11,8 @@
 #include <string>
 
 #include "../support/temp_folder.hpp"
-#include "problems/inverse_commands.hpp"
+#include "problems/fem/inverse_commands.hpp"
+#include "problems/json_text.hpp"
 
 namespace tailor::failed_solves_test {
 namespace {
@@ -126,7 +127,7 @@ TEST(FailedSolvesReport, AreCountedInReportJson) {
   ASSERT_TRUE(run.result.converged()) << run.result.message;
   EXPECT_GT(run.result.failed_evaluations, 0);
   std::ifstream in(folder / "out/report.json");
-  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json report = parse_json(in);
   EXPECT_EQ(report["failed_evaluations"].get<int>(), run.result.failed_evaluations);
   EXPECT_EQ(report["status"], "converged");
 }

@@ -10,7 +10,7 @@
 
 #include "../support/temp_folder.hpp"
 #include "forward/mesh/generate.hpp"
-#include "problems/inverse_commands.hpp"
+#include "problems/fem/inverse_commands.hpp"
 
 namespace tailor::field_image_test {
 namespace {

@@ -18,8 +18,8 @@
 #include "forward/mesh/generate.hpp"
 #include "forward/reduction/free_space.hpp"
 #include "optimizers/optimizer.hpp"
-#include "problems/inverse_commands.hpp"
-#include "problems/inverse_handles.hpp"
+#include "problems/fem/inverse_commands.hpp"
+#include "problems/fem/inverse_handles.hpp"
 #include "scene_text.hpp"
 
 namespace tailor::handles_hard_cases_test {

@@ -9,8 +9,9 @@
 #include <sstream>
 
 #include "../support/temp_folder.hpp"
-#include "problems/inverse_commands.hpp"
-#include "problems/inverse_handles.hpp"
+#include "problems/fem/inverse_commands.hpp"
+#include "problems/fem/inverse_handles.hpp"
+#include "problems/json_text.hpp"
 #include "scene_text.hpp"
 
 namespace tailor::handles_scene_test {
@@ -188,7 +189,7 @@ TEST(HandlesScene, RunReportsTheErrorsAtEachHandle) {
   EXPECT_LT(run.handles[0].relative_force_error, 1e-4);
   EXPECT_LT(run.handles[0].relative_displacement_error, 1e-4);
 
-  const auto report = nlohmann::json::parse(read_file(folder / "out/report.json"));
+  const auto report = parse_json(read_file(folder / "out/report.json"));
   EXPECT_EQ(report["design"]["size"], 1);
   const auto& h = report["handles"];
   EXPECT_EQ(h["alpha"], 0.01);

@@ -1,11 +1,9 @@
 // The inverse verbs through the C++ API: gradient checks of the example scenes and of every
 // term and design map, recovery of the two-material bar's moduli, observations from a file,
 // and the documented report.json / gradcheck.json keys (also when the optimizer stops early).
-#include "problems/inverse_commands.hpp"
+#include "problems/fem/inverse_commands.hpp"
 
 #include <gtest/gtest.h>
-
-#include "../support/temp_folder.hpp"
 #include <unistd.h>
 
 #include <filesystem>
@@ -13,6 +11,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "../support/temp_folder.hpp"
+#include "problems/json_text.hpp"
 #include "scene_text.hpp"
 
 namespace tailor::inverse_commands_test {
@@ -47,7 +47,7 @@ TEST(InverseGradcheck, ExampleScenesPassAndWriteTheirJson) {
     EXPECT_EQ(run.gradient.status, TaylorStatus::passed);
     EXPECT_GE(run.gradient.rate1, 1.9) << run.gradient.table();
     EXPECT_FALSE(run.hessian);
-    const auto json = nlohmann::json::parse(read_file(folder / (std::string(name) + "/gradcheck.json")));
+    const auto json = parse_json(read_file(folder / (std::string(name) + "/gradcheck.json")));
     EXPECT_EQ(json["status"], "passed");
     EXPECT_EQ(json["passed"], true);
     EXPECT_EQ(json["scene"]["name"], name);
@@ -70,7 +70,7 @@ TEST(InverseGradcheck, HessianCheckAndSeedOverride) {
   ASSERT_TRUE(run.hessian);
   EXPECT_TRUE(run.passed()) << run.gradient.table() << run.hessian->table();
   EXPECT_GE(run.hessian->rate1, 1.9) << run.hessian->table();
-  const auto json = nlohmann::json::parse(read_file(folder / "out/gradcheck.json"));
+  const auto json = parse_json(read_file(folder / "out/gradcheck.json"));
   EXPECT_EQ(json["seed"], 7);
   EXPECT_EQ(json["hessian"]["status"], "passed");
 }
@@ -124,7 +124,7 @@ TEST(InverseGradcheck, FailedForwardSolveIsAStatusNotAnException) {
   const GradcheckRun run = gradcheck_scene(parse_scene(json, "box.json", ""), folder / "out", {});
   EXPECT_FALSE(run.passed());
   EXPECT_EQ(run.gradient.status, TaylorStatus::evaluation_failed) << run.gradient.table();
-  EXPECT_EQ(nlohmann::json::parse(read_file(folder / "out/gradcheck.json"))["status"], "evaluation_failed");
+  EXPECT_EQ(parse_json(read_file(folder / "out/gradcheck.json"))["status"], "evaluation_failed");
 }
 
 TEST(InverseRun, TwoMaterialBarRecoversBothModuli) {
@@ -139,7 +139,7 @@ TEST(InverseRun, TwoMaterialBarRecoversBothModuli) {
   EXPECT_LT(run.error->relative_l2, 1e-6);
   EXPECT_GT(run.initial_error->relative_l2, 0.5);  // the start was 3x off
 
-  const auto report = nlohmann::json::parse(read_file(folder / "out/report.json"));
+  const auto report = parse_json(read_file(folder / "out/report.json"));
   for (const char* key : {"tailor_version", "report_format", "kind", "scene", "status", "message",
                           "converged", "backend", "iterations", "evaluations", "history", "objective",
                           "solves", "design", "ground_truth", "timings", "mesh"})
@@ -210,7 +210,7 @@ TEST(InverseRun, IterationLimitStillWritesTheReport) {
   json = testing::with("\"max_iterations\": 100", "\"max_iterations\": 2", json);
   const InverseRun run = run_inverse_scene(parse_scene(json, "bar.json", kScenes), folder / "out");
   EXPECT_EQ(run.result.status, OptimizerStatus::max_iterations) << run.result.report();
-  const auto report = nlohmann::json::parse(read_file(folder / "out/report.json"));
+  const auto report = parse_json(read_file(folder / "out/report.json"));
   EXPECT_EQ(report["status"], "max_iterations");
   EXPECT_EQ(report["converged"], false);
   EXPECT_EQ(report["iterations"], 2);

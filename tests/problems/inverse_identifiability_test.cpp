@@ -6,8 +6,8 @@
 // modes cannot represent whatever is observed.
 #include <gtest/gtest.h>
 
-#include "problems/inverse_problem.hpp"
 #include "../support/temp_folder.hpp"
+#include "problems/fem/inverse_problem.hpp"
 
 namespace tailor::inverse_identifiability_test {
 namespace {

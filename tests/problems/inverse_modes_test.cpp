@@ -2,18 +2,18 @@
 // the reduced functional (linear and Neo-Hookean), the smooth box keeping E inside the bounds
 // on an optimizer's result, r = "full" reproducing the per-element design, the initial design
 // reproduced exactly, expression fields and the boundary selector, and scene errors.
-#include "adjoint/scaled_gradient.hpp"
-#include "problems/inverse_modes.hpp"
+#include "problems/fem/inverse_modes.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "../support/temp_folder.hpp"
+#include "adjoint/scaled_gradient.hpp"
 #include "forward/mesh/generate.hpp"
-#include "problems/inverse_commands.hpp"
-#include "problems/inverse_problem.hpp"
-#include "problems/scene_selection.hpp"
+#include "problems/fem/inverse_commands.hpp"
+#include "problems/fem/inverse_problem.hpp"
+#include "problems/fem/scene_selection.hpp"
 #include "scene_text.hpp"
 
 namespace tailor::inverse_modes_test {

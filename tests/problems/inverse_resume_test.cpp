@@ -8,7 +8,8 @@
 #include <string>
 
 #include "../support/temp_folder.hpp"
-#include "problems/inverse_commands.hpp"
+#include "problems/fem/inverse_commands.hpp"
+#include "problems/json_text.hpp"
 #include "problems/optimizer_checkpoint.hpp"
 
 namespace tailor::inverse_resume_test {
@@ -79,7 +80,7 @@ TEST_P(InverseResume, AStoppedRunContinuesToTheSameMinimum) {
   EXPECT_NEAR(resumed.design_values[1], whole.design_values[1], 1e-5 * whole.design_values[1]);
   // The report counts the work of both parts.
   std::ifstream in(folder / "part/report.json");
-  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json report = parse_json(in);
   EXPECT_EQ(report["resumed"]["iteration"].get<int>(), stop);
   EXPECT_EQ(report["iterations"].get<int>(), resumed.result.history.back().iteration);
   EXPECT_GT(report["evaluations"].get<int>(), stopped.result.evaluations);
@@ -87,7 +88,7 @@ TEST_P(InverseResume, AStoppedRunContinuesToTheSameMinimum) {
   // The checkpoint's time (not the stopped run's whole time, which includes work after its last
   // checkpoint) is carried over.
   EXPECT_GE(report["timings"]["optimization"].get<double>(), checkpoint.seconds);
-  EXPECT_EQ(nlohmann::json::parse(std::ifstream(folder / "whole/report.json"))["resumed"], nullptr);
+  EXPECT_EQ(parse_json(std::ifstream(folder / "whole/report.json"))["resumed"], nullptr);
 }
 
 INSTANTIATE_TEST_SUITE_P(

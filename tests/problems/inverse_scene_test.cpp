@@ -1,6 +1,6 @@
 // The inverse section of scenes: typed parsing with defaults, the design groups and maps built
 // against the mesh, and every kind of bad input as one SceneError naming the key path.
-#include "problems/inverse_scene.hpp"
+#include "problems/fem/inverse_scene.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -10,9 +10,9 @@
 #include <fstream>
 #include <string>
 
-#include "problems/inverse_problem.hpp"
-#include "scene_text.hpp"
 #include "../support/temp_folder.hpp"
+#include "problems/fem/inverse_problem.hpp"
+#include "scene_text.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::inverse_scene_test {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "forward/solve/linear_solver.hpp"
-#include "problems/linear_solver_choice.hpp"
+#include "problems/fem/linear_solver_choice.hpp"
 #include "problems/output_process.hpp"
 
 namespace tailor::testing {

@@ -1,10 +1,10 @@
-// The scene's "solver.linear_solver" (problems/linear_solver_choice.hpp): parsing, the clear
+// The scene's "solver.linear_solver" (problems/fem/linear_solver_choice.hpp): parsing, the clear
 // error of a program that registered no PETSc back-end (what a build without PETSc is), the
 // plumbing of a registered solver into simulate / report.json, the rank-0-only output switch,
 // and the vertex coordinates given for algebraic multigrid's rigid-body modes. The registered
 // stand-in is Eigen's SimplicialLDLT (not tailor's CHOLMOD path), so the equilibrium it finds
 // must match CHOLMOD's to round-off.
-#include "problems/linear_solver_choice.hpp"
+#include "problems/fem/linear_solver_choice.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,10 +16,11 @@
 #include "../support/temp_folder.hpp"
 #include "ldlt_stand_in.hpp"
 #include "problems/cli/run_cli.hpp"
-#include "problems/commands.hpp"
+#include "problems/fem/commands.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/fem/static_scene.hpp"
+#include "problems/json_text.hpp"
 #include "problems/output_process.hpp"
-#include "problems/scene.hpp"
-#include "problems/static_scene.hpp"
 #include "scene_text.hpp"
 
 namespace tailor::linear_solver_choice_test {
@@ -69,9 +70,10 @@ TEST(LinearSolverChoice, BadKeysAreSceneErrors) {
             std::string::npos);
   RegisteredStandIn registered;
   // The back-end's rejection of its options, at the options' key.
-  EXPECT_NE(scene_error(with(kSolver, "\"solver\": {\"linear_solver\": \"petsc\", \"petsc_options\": \"-bad 1\"}"))
-                .find("solver.petsc_options: option -bad is unknown"),
-            std::string::npos);
+  EXPECT_NE(
+      scene_error(with(kSolver, "\"solver\": {\"linear_solver\": \"petsc\", \"petsc_options\": \"-bad 1\"}"))
+          .find("solver.petsc_options: option -bad is unknown"),
+      std::string::npos);
 }
 
 TEST(LinearSolverChoice, ACommandLineWithoutTheBackEndFailsWithTheBuildOption) {
@@ -91,7 +93,8 @@ TEST(LinearSolverChoice, ARegisteredSolverTakesTheStepsAndIsReported) {
   const std::string clamped = with("\"components\": [0]}", "\"components\": [0, 1, 2]}");
   const Scene reference_scene = parse_scene(clamped, "box.json", "");
   const Scene scene = parse_scene(
-      with(kSolver, "\"solver\": {\"linear_solver\": \"petsc\", \"petsc_options\": \"-ksp_type preonly\"}", clamped),
+      with(kSolver, "\"solver\": {\"linear_solver\": \"petsc\", \"petsc_options\": \"-ksp_type preonly\"}",
+           clamped),
       "box.json", "");
   ASSERT_NE(scene.solver.newton.linear_solver, nullptr);
   testing::TempFolder folder("linear_solver_simulate");
@@ -103,13 +106,13 @@ TEST(LinearSolverChoice, ARegisteredSolverTakesTheStepsAndIsReported) {
             1e-10 * reference.solution.positions.norm());
 
   std::ifstream in(folder / "standin/report.json");
-  const auto report = nlohmann::json::parse(in);
+  const auto report = parse_json(in);
   EXPECT_EQ(report["linear_solver"]["name"], "petsc");
   EXPECT_EQ(report["linear_solver"]["options"], "-ksp_type preonly");
   EXPECT_EQ(report["linear_solver"]["krylov_method"], "preonly");
   EXPECT_EQ(report["linear_solver"]["solves"], last_made()->solves);
   std::ifstream in_reference(folder / "cholmod/report.json");
-  EXPECT_EQ(nlohmann::json::parse(in_reference)["linear_solver"], nlohmann::json({{"name", "cholmod"}}));
+  EXPECT_EQ(parse_json(in_reference)["linear_solver"], nlohmann::json({{"name", "cholmod"}}));
 
   // The coordinates of the free vertices, 3 per vertex, in the unknowns' order.
   const StaticSetup setup = setup_static_scene(scene);
@@ -122,7 +125,8 @@ TEST(LinearSolverChoice, OnlyTheWritingProcessWritesFiles) {
   RegisteredStandIn registered;
   set_writes_output(false);
   testing::TempFolder folder("linear_solver_silent");
-  const SimulateRun run = simulate_scene(parse_scene(testing::small_box_scene(), "box.json", ""), folder / "out");
+  const SimulateRun run =
+      simulate_scene(parse_scene(testing::small_box_scene(), "box.json", ""), folder / "out");
   EXPECT_TRUE(run.solution.converged);
   EXPECT_FALSE(fs::exists(folder / "out"));
 }

@@ -1,5 +1,5 @@
 // `tailor modes`: report.json and modes.vtu of a scene's modal analysis.
-#include "problems/modes_command.hpp"
+#include "problems/fem/modes_command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../support/temp_folder.hpp"
+#include "problems/json_text.hpp"
 #include "scene_text.hpp"
 
 namespace tailor::modes_command_test {
@@ -16,7 +17,7 @@ using namespace tailor::testing;
 
 nlohmann::json read_json(const std::string& path) {
   std::ifstream in(path);
-  return nlohmann::json::parse(in);
+  return parse_json(in);
 }
 
 const std::string kDensity = R"("poisson_ratio": 0.3, "density": 2)";

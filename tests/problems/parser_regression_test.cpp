@@ -9,9 +9,10 @@
 #include <string>
 
 #include "../support/temp_folder.hpp"
+#include "problems/fem/scene.hpp"
 #include "problems/homogenization/cell_scene.hpp"
+#include "problems/json_text.hpp"
 #include "problems/rods/rod_scene.hpp"
-#include "problems/scene.hpp"
 #include "scene_text.hpp"
 
 namespace tailor::parser_regression_test {
@@ -121,7 +122,7 @@ TEST(ParserRegression, RodScenesWithValuesOfTheWrongKind) {
           "material": {"youngs_modulus": 1e9}, "clamp": ["first"]})";
   const auto rod_error = [](const std::string& text) {
     try {
-      parse_rod_scene(nlohmann::json::parse(text));
+      parse_rod_scene(parse_json(text));
       return std::string();
     } catch (const SceneError& e) {
       return std::string(e.what());

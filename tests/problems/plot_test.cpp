@@ -15,7 +15,7 @@
 
 #include "../support/read_png.hpp"
 #include "../support/temp_folder.hpp"
-#include "problems/inverse_commands.hpp"
+#include "problems/fem/inverse_commands.hpp"
 #include "problems/plot/convergence_plot.hpp"
 #include "problems/plot/line_plot.hpp"
 #include "problems/plot/png_writer.hpp"

@@ -1,10 +1,8 @@
 // report.json carries every documented key, consistent with the solution; the CLI maps
 // outcomes to exit codes and error messages.
-#include "problems/report.hpp"
+#include "problems/fem/report.hpp"
 
 #include <gtest/gtest.h>
-
-#include "../support/temp_folder.hpp"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,7 +12,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "problems/commands.hpp"
+#include "../support/temp_folder.hpp"
+#include "problems/fem/commands.hpp"
+#include "problems/json_text.hpp"
 #include "scene_text.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -40,11 +40,11 @@ TEST(Report, HasEveryDocumentedKey) {
   const SimulateRun run = simulate_scene(scene, folder / "out");
   ASSERT_TRUE(run.solution.converged);
   ASSERT_TRUE(fs::exists(folder / "out/result.vtu"));
-  const auto report = nlohmann::json::parse(read_file(folder / "out/report.json"));
+  const auto report = parse_json(read_file(folder / "out/report.json"));
 
-  for (const char* key :
-       {"tailor_version", "report_format", "scene", "status", "message", "converged", "iterations",
-        "linear_solver", "load_steps", "residual_history", "energy_history", "timings", "mesh", "dofs", "results"})
+  for (const char* key : {"tailor_version", "report_format", "scene", "status", "message", "converged",
+                          "iterations", "linear_solver", "load_steps", "residual_history", "energy_history",
+                          "timings", "mesh", "dofs", "results"})
     EXPECT_TRUE(report.contains(key)) << key;
   for (const char* key :
        {"total", "setup", "analysis", "assembly", "factorization", "solve", "line_search", "output"})
@@ -84,7 +84,7 @@ TEST(Report, FailedSolveStillWritesTheReport) {
   json = testing::with("\"load_steps\": 1", "\"load_steps\": 1, \"max_iterations\": 1", json);
   const SimulateRun run = simulate_scene(parse_scene(json, "box.json", ""), folder.str());
   EXPECT_FALSE(run.solution.converged);
-  const auto report = nlohmann::json::parse(read_file(folder / "report.json"));
+  const auto report = parse_json(read_file(folder / "report.json"));
   EXPECT_EQ(report["status"], "max_iterations");
   EXPECT_EQ(report["converged"], false);
   EXPECT_FALSE(report["message"].get<std::string>().empty());
@@ -118,7 +118,7 @@ TEST(Cli, DefaultJobConverges) {
   ASSERT_EQ(run_cli("simulate --out " + (folder / "out"), folder / "log", output), 0) << output;
   EXPECT_NE(output.find("built-in cantilever"), std::string::npos) << output;
   EXPECT_NE(output.find("newton"), std::string::npos) << output;
-  const auto report = nlohmann::json::parse(read_file(folder / "out/report.json"));
+  const auto report = parse_json(read_file(folder / "out/report.json"));
   EXPECT_EQ(report["converged"], true);
   EXPECT_EQ(report["scene"]["name"], "cantilever");
   // The tip bends down by a visible fraction of the length.

@@ -1,14 +1,14 @@
 // Scene parsing and validation: the example scenes parse, and every kind of bad input is one
 // SceneError that names the scene and the JSON key path.
-#include "problems/scene.hpp"
+#include "problems/fem/scene.hpp"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <string>
 
-#include "problems/builtin_scenes.hpp"
-#include "problems/static_scene.hpp"
+#include "problems/fem/builtin_scenes.hpp"
+#include "problems/fem/static_scene.hpp"
 #include "scene_text.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -141,7 +141,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadScene{"missing_model", with("\"model\": \"linear\", ", ""),
                  "materials[0]: missing required key \"model\""},
         BadScene{"bad_model", with("\"model\": \"linear\"", "\"model\": \"rubber\""),
-                 "materials[0].model: expected one of linear, corotated, stvk, neo_hookean, spline, got \"rubber\""},
+                 "materials[0].model: expected one of corotated, linear, neo_hookean, stvk, spline, got "
+                 "\"rubber\""},
         BadScene{
             "missing_mesh",
             with("\"mesh\": {\"box\": {\"min\": [0, 0, 0], \"max\": [2, 1, 1], \"cells\": [4, 2, 2]}},", ""),
@@ -231,9 +232,9 @@ TEST(Scene, AFolderIsNotASceneFile) {
 }
 
 TEST(Scene, ThreadSettingsParse) {
-  const Scene scene =
-      parse_scene(with("\"load_steps\": 1", "\"load_steps\": 1, \"threads\": {\"assembly\": 2, \"factorization\": 0}"),
-                  "test.json", "");
+  const Scene scene = parse_scene(
+      with("\"load_steps\": 1", "\"load_steps\": 1, \"threads\": {\"assembly\": 2, \"factorization\": 0}"),
+      "test.json", "");
   ASSERT_TRUE(scene.solver.threads.has_value());
   EXPECT_EQ(scene.solver.threads->assembly, 2);
   EXPECT_EQ(scene.solver.threads->blas, 0);
@@ -258,7 +259,8 @@ TEST(Scene, UnsupportedBodyIsRefusedNamingItsFreeMotions) {
     FAIL() << "no error";
   } catch (const SceneError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("dirichlet: the supports leave the body free to move rigidly"), std::string::npos) << what;
+    EXPECT_NE(what.find("dirichlet: the supports leave the body free to move rigidly"), std::string::npos)
+        << what;
     EXPECT_NE(what.find("translation along y"), std::string::npos) << what;
     EXPECT_NE(what.find("rotation about x"), std::string::npos) << what;
   }

@@ -8,11 +8,12 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "problems/inverse_commands.hpp"
+#include "problems/fem/inverse_commands.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/fem/spline_curves_json.hpp"
+#include "problems/fem/static_scene.hpp"
+#include "problems/json_text.hpp"
 #include "problems/material_fit/material_fit.hpp"
-#include "problems/scene.hpp"
-#include "problems/spline_curves_json.hpp"
-#include "problems/static_scene.hpp"
 #include "scene_text.hpp"
 #include "tests/support/temp_folder.hpp"
 
@@ -168,11 +169,12 @@ TEST(SplineScene, FittedMaterialFileDrivesAScene) {
                   "test.json", folder.str());
   EXPECT_EQ(scene.materials[0].spline_curves->controls(), run.result.z);  // written without loss
   // The report holds the same curves (usable as a curves file) and the fields every report has.
-  const Scene from_report = parse_scene(
-      with(kLinearMaterial, R"("model": "spline", "curves": {"file": "report.json"})"), "test.json", folder.str());
+  const Scene from_report =
+      parse_scene(with(kLinearMaterial, R"("model": "spline", "curves": {"file": "report.json"})"),
+                  "test.json", folder.str());
   EXPECT_EQ(from_report.materials[0].spline_curves->controls(), run.result.z);
   std::ifstream report_file(run.report_path);
-  const nlohmann::json report = nlohmann::json::parse(report_file);
+  const nlohmann::json report = parse_json(report_file);
   EXPECT_EQ(report["report_format"], 1);
   EXPECT_EQ(report["kind"], "material_fit");
   EXPECT_EQ(report["scene"]["name"], "round_trip");

@@ -1,6 +1,6 @@
 // Static scenes against analytic solutions: a bar under uniaxial tension (3D and plane
 // strain), where linear elements reproduce the linear exact displacement field exactly.
-#include "problems/static_scene.hpp"
+#include "problems/fem/static_scene.hpp"
 
 #include <gtest/gtest.h>
 

@@ -8,6 +8,8 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "problems/json_text.hpp"
+
 namespace tailor::taylor_report_test {
 namespace {
 
@@ -22,8 +24,8 @@ TEST(TaylorReport, NonFiniteValuesAreNullAndTheTextStaysValidJson) {
   result.rate1 = 2.0;
   result.rows.push_back({1e-2, inf, inf, std::nan(""), std::nan(""), std::nan(""), false, inf, true});
 
-  const std::string text = taylor_json(result).dump(2);
-  const nlohmann::json parsed = nlohmann::json::parse(text);  // throws on invalid JSON
+  const std::string text = dump_json(taylor_json(result), 2);
+  const nlohmann::json parsed = parse_json(text);  // throws on invalid JSON
   EXPECT_EQ(parsed["status"], "evaluation_failed");
   EXPECT_EQ(parsed["message"], result.message);
   EXPECT_NE(text.find("\\u0001"), std::string::npos) << text;

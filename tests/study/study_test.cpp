@@ -2,7 +2,7 @@
 // the library would use them): C++-built scenes against scene files, a user Objective, a user
 // EnergyTerm, a user Parameterization, a user scene term type, constraints on every back-end
 // that takes them, and the files of `tailor run`.
-#include "problems/study.hpp"
+#include "problems/fem/study.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +17,8 @@
 #include "adjoint/derivative_check.hpp"
 #include "adjoint/parameterization.hpp"
 #include "forward/mesh/generate.hpp"
-#include "problems/inverse_commands.hpp"
+#include "problems/fem/inverse_commands.hpp"
+#include "problems/json_text.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::study_test {
@@ -25,7 +26,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string scene_file(const char* name) { return std::string(::tailor::testing::source_dir()) + "/scenes/" + name; }
+std::string scene_file(const char* name) {
+  return std::string(::tailor::testing::source_dir()) + "/scenes/" + name;
+}
 
 std::string scratch(const std::string& name) {
   const fs::path dir = fs::path(::tailor::testing::binary_dir()) / "tests" / "study" / name;
@@ -291,7 +294,7 @@ TEST(Study, UserParameterizationDesignsTheField) {
   EXPECT_NEAR(run.result.z[0], 1.0, 1e-5);
   EXPECT_NEAR(run.result.z[1], 0.25, 1e-5);
   std::ifstream in(run.report_path);
-  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json report = parse_json(in);
   EXPECT_EQ(report["design"]["granularity"], "element_map");
   EXPECT_EQ(report["design"]["map"], "linear_gradient");
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "forward/core/psd_projection.hpp"
+#include "forward/fem/material_registry.hpp"
 #include "forward/fem/materials/rotation_variant_svd.hpp"
 #include "forward/fem/materials/tensor_ops.hpp"
 
@@ -110,5 +111,12 @@ void CorotatedMaterial<Dim>::lame_derivatives(const Mat& F, const LameParameters
 
 template class CorotatedMaterial<2>;
 template class CorotatedMaterial<3>;
+
+// The registry's entry (forward/fem/material_registry.hpp).
+MaterialEntry corotated_material_entry() {
+  return make_material_entry<CorotatedMaterial>(
+      "corotated", "linear corotated elasticity (polar decomposition, inversion-safe SVD)",
+      {.polynomial_in_deformation = false});
+}
 
 }  // namespace tailor

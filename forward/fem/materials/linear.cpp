@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "forward/fem/material_registry.hpp"
 #include "forward/fem/materials/tensor_ops.hpp"
 
 namespace tailor {
@@ -43,5 +44,11 @@ void LinearMaterial<Dim>::lame_derivatives(const Mat& F, const LameParameters& /
 
 template class LinearMaterial<2>;
 template class LinearMaterial<3>;
+
+// The registry's entry (forward/fem/material_registry.hpp).
+MaterialEntry linear_material_entry() {
+  return make_material_entry<LinearMaterial>("linear", "linear (small-strain) isotropic elasticity",
+                                             {.polynomial_in_deformation = true});
+}
 
 }  // namespace tailor

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "forward/core/psd_projection.hpp"
+#include "forward/fem/material_registry.hpp"
 #include "forward/fem/materials/isotropic_projection.hpp"
 #include "forward/fem/materials/rotation_variant_svd.hpp"
 #include "forward/fem/materials/tensor_ops.hpp"
@@ -160,5 +161,12 @@ void NeoHookeanMaterial<Dim>::lame_derivatives(const Mat& F, const LameParameter
 
 template class NeoHookeanMaterial<2>;
 template class NeoHookeanMaterial<3>;
+
+// The registry's entry (forward/fem/material_registry.hpp).
+MaterialEntry neo_hookean_material_entry() {
+  return make_material_entry<NeoHookeanMaterial>(
+      "neo_hookean", "stable Neo-Hookean (Smith, de Goes and Kim 2018), finite for inverted elements",
+      {.polynomial_in_deformation = false});
+}
 
 }  // namespace tailor

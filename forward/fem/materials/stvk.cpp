@@ -1,6 +1,7 @@
 #include "forward/fem/materials/stvk.hpp"
 
 #include "forward/core/psd_projection.hpp"
+#include "forward/fem/material_registry.hpp"
 #include "forward/fem/materials/isotropic_projection.hpp"
 #include "forward/fem/materials/rotation_variant_svd.hpp"
 #include "forward/fem/materials/tensor_ops.hpp"
@@ -75,5 +76,12 @@ void StvkMaterial<Dim>::lame_derivatives(const Mat& F, const LameParameters& /*l
 
 template class StvkMaterial<2>;
 template class StvkMaterial<3>;
+
+// The registry's entry (forward/fem/material_registry.hpp).
+MaterialEntry stvk_material_entry() {
+  return make_material_entry<StvkMaterial>("stvk",
+                                           "Saint Venant-Kirchhoff: linear elasticity on the Green strain",
+                                           {.polynomial_in_deformation = true});
+}
 
 }  // namespace tailor

@@ -17,17 +17,19 @@
 
 #include "forward/core/symmetric_eigen.hpp"
 #include "forward/fem/material.hpp"
+#include "forward/fem/material_registry.hpp"
 
 namespace tailor::test {
 
 template <int Dim>
 using Mat = Eigen::Matrix<double, Dim, Dim>;
 
-// Every registered material (kMaterialNames), so that a new one is tested without listing it.
+// Every registered material (forward/fem/material_registry.hpp), so that a new one is tested
+// without listing it.
 inline const std::vector<MaterialKind>& all_kinds() {
   static const std::vector<MaterialKind> kinds = [] {
     std::vector<MaterialKind> out;
-    for (const MaterialName& entry : kMaterialNames) out.push_back(entry.kind);
+    for (const MaterialEntry* entry : registered_materials()) out.push_back(parse_material_kind(entry->name));
     return out;
   }();
   return kinds;

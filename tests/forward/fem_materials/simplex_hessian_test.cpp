@@ -27,7 +27,8 @@ void expect_closed_form_matches_tangent() {
       for (const DeformationCase<Dim>& deformation : deformation_cases<Dim>()) {
         // Shape gradients of a random non-degenerate simplex: rows sum to zero.
         typename Material<Dim>::NodeGradients G;
-        G.template topRows<Dim>() = Mat<Dim>::Identity() + 0.4 * Mat<Dim>::NullaryExpr([&] { return coordinate(rng); });
+        G.template topRows<Dim>() =
+            Mat<Dim>::Identity() + 0.4 * Mat<Dim>::NullaryExpr([&] { return coordinate(rng); });
         G.row(Dim) = -G.template topRows<Dim>().colwise().sum();
         const double V = 0.37;
         MaterialEvaluation<Dim> m;

@@ -17,13 +17,14 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../../support/temp_folder.hpp"
 #include "adjoint/derivative_check.hpp"
 #include "forward/fem/elastic_term.hpp"
 #include "forward/mesh/generate.hpp"
 #include "problems/contact/embedded_term.hpp"
 #include "problems/contact/rigid_scene.hpp"
-#include "problems/scene.hpp"
-#include "../../support/temp_folder.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::fem_contact_scene_test {
@@ -134,7 +135,7 @@ TEST(FemContactScene, HertzContactOfAnElasticParaboloidOnARigidPlane) {
               {"traction", {0, 0, -F / 4 / (W * W)}}}}}}}}}},
       {"contact", {{"activation_distance", d_hat}}},
       {"newton", {{"max_iterations", 200}}}};
-  std::ofstream(dir + "/hertz.json") << scene.dump(2);
+  std::ofstream(dir + "/hertz.json") << dump_json(scene, 2);
   const RigidSceneSpec spec = read_rigid_scene(dir + "/hertz.json");
   ASSERT_EQ(spec.fem_bodies.size(), 1u);
   const RigidSimulateRun run = simulate_rigid_scene(spec, dir + "/out", nullptr);
@@ -145,7 +146,7 @@ TEST(FemContactScene, HertzContactOfAnElasticParaboloidOnARigidPlane) {
   EXPECT_NEAR(run.fem_contact_forces[0].z(), F / 4, 1e-6 * F);
   // Contact radius from the nodal contact forces of the lens: a^2 = 5/2 <r^2>_f.
   std::ifstream in(dir + "/out/report.json");
-  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json report = parse_json(in);
   const int first_dof = 6;  // after the plane's rigid DOFs
   double weight = 0, moment = 0;
   for (Eigen::Index dof = first_dof; dof + 2 < run.state.size(); dof += 3) {

@@ -11,8 +11,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "problems/scene.hpp"
 #include "../../support/temp_folder.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::rigid_scene_test {
@@ -38,7 +39,7 @@ TEST(RigidScene, SphereOnBoxCarriesTheWeightsDownToTheGround) {
   EXPECT_NEAR(run.contact_forces[2], -(box + sphere) * g, 1e-7 * (box + sphere) * g);  // ground: both
   EXPECT_GT(run.min_distance, 0.0);
   std::ifstream in(out + "/report.json");
-  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json report = parse_json(in);
   EXPECT_EQ(report["status"], "converged");
   EXPECT_EQ(report["bodies"].size(), 3u);
   for (const char* body : {"ground", "box", "sphere"})
@@ -96,7 +97,7 @@ TEST(RigidScene, BoxSlidesDownTheInclineWithCoulombFriction) {
   std::printf("incline scene: acceleration %.6f m/s^2, Coulomb %.6f m/s^2\n", measured, a);
   EXPECT_NEAR(measured, a, 1e-2 * a);  // the box still rocks a little from its landing
   std::ifstream in(out + "/report.json");
-  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json report = parse_json(in);
   EXPECT_EQ(report["stiffness"]["mode"], "adaptive");
   const double kappa = report["stiffness"]["final"];
   EXPECT_GE(kappa, report["stiffness"]["min"].get<double>());

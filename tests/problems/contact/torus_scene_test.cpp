@@ -11,8 +11,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "problems/scene.hpp"
 #include "../../support/temp_folder.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::torus_scene_test {
@@ -47,7 +48,7 @@ TEST(TorusScene, ShippedChainSwingsWithoutIntersectionsAndWritesEveryTorusPerFra
       std::snprintf(name, sizeof name, "/link_%d_%04d.vtu", b, f);
       EXPECT_TRUE(std::filesystem::exists(out + name)) << name;
     }
-  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/report.json"));
+  const nlohmann::json report = parse_json(std::ifstream(out + "/report.json"));
   EXPECT_EQ(report["per_step"].size(), static_cast<std::size_t>(spec.steps));
   EXPECT_EQ(report["intersections"], 0);
 }
@@ -68,7 +69,7 @@ TEST(TorusScene, StaticChainReportsTheWeightBelowEachPair) {
   const std::string out = temporary_directory("static");
   const TorusSimulateRun run = simulate_torus_scene(spec, out, nullptr);
   ASSERT_TRUE(run.completed());
-  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/report.json"));
+  const nlohmann::json report = parse_json(std::ifstream(out + "/report.json"));
   const double weight = report["bodies"][1]["mass"].get<double>() * 9.81;
   ASSERT_EQ(report["pairs"].size(), 3u);
   for (const nlohmann::json& pair : report["pairs"]) {
@@ -81,15 +82,17 @@ TEST(TorusScene, MeshModelHangsTheSameChainWithoutIntersections) {
   // Reference: the implicit model's equilibrium; the triangulated tori (24 x 6) differ from the
   // implicit ones by their chord sag, so the link heights agree to a fraction of the tube radius.
   const std::string out_mesh = temporary_directory("mesh"), out_implicit = temporary_directory("implicit");
-  const TorusSimulateRun mesh = simulate_torus_scene(parse_torus_scene(static_scene("mesh"), "m.json"), out_mesh, nullptr);
+  const TorusSimulateRun mesh =
+      simulate_torus_scene(parse_torus_scene(static_scene("mesh"), "m.json"), out_mesh, nullptr);
   const TorusSimulateRun implicit =
       simulate_torus_scene(parse_torus_scene(static_scene("implicit"), "i.json"), out_implicit, nullptr);
   ASSERT_TRUE(mesh.completed());
   ASSERT_TRUE(implicit.completed());
-  const nlohmann::json a = nlohmann::json::parse(std::ifstream(out_mesh + "/report.json"));
-  const nlohmann::json b = nlohmann::json::parse(std::ifstream(out_implicit + "/report.json"));
+  const nlohmann::json a = parse_json(std::ifstream(out_mesh + "/report.json"));
+  const nlohmann::json b = parse_json(std::ifstream(out_implicit + "/report.json"));
   for (int k = 1; k < 4; ++k) {
-    const double za = a["bodies"][k]["position"][2].get<double>(), zb = b["bodies"][k]["position"][2].get<double>();
+    const double za = a["bodies"][k]["position"][2].get<double>(),
+                 zb = b["bodies"][k]["position"][2].get<double>();
     EXPECT_NEAR(za, zb, 0.1) << k;
     EXPECT_NE(za, zb) << k;  // two different models
   }
@@ -104,7 +107,7 @@ TEST(TorusScene, EllipticTubesAreReadAndHangWithTheWeightBelowEachPair) {
   const TorusSimulateRun run = simulate_torus_scene(spec, out, nullptr);
   ASSERT_TRUE(run.completed());
   EXPECT_EQ(run.intersections, 0);
-  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/report.json"));
+  const nlohmann::json report = parse_json(std::ifstream(out + "/report.json"));
   const double mass = report["bodies"][1]["mass"].get<double>(), weight = mass * 9.81;
   EXPECT_NEAR(mass, 1000.0 * 2.0 * M_PI * M_PI * 1.0 * 0.2 * 0.3, 1e-9);  // rho 2 pi^2 R r r1
   ASSERT_EQ(report["pairs"].size(), 3u);
@@ -134,11 +137,13 @@ TEST(TorusScene, BadInputNamesTheKey) {
   EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "spacing": 1.7}})")
                 .find("tori.spacing"),
             std::string::npos);
-  EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 1.2}})").find("tori.minor_radius"),
-            std::string::npos);
+  EXPECT_NE(
+      message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 1.2}})").find("tori.minor_radius"),
+      std::string::npos);
   EXPECT_NE(message(R"({"tori": {"count": 1, "major_radius": 1, "minor_radius": 0.2}})").find("tori.count"),
             std::string::npos);
-  EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "colour": 1}})").find("colour"),
+  EXPECT_NE(message(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, "colour": 1}})")
+                .find("colour"),
             std::string::npos);
 }
 
@@ -161,13 +166,15 @@ TEST(TorusScene, GradcheckOfTheShippedSceneThroughActiveContact) {
 
   TorusGradcheckOptions wrong;
   wrong.gradient_scale = 1.001;
-  const TorusGradcheckRun bad = gradcheck_torus_scene(spec, temporary_directory("gradcheck_wrong"), wrong, nullptr);
+  const TorusGradcheckRun bad =
+      gradcheck_torus_scene(spec, temporary_directory("gradcheck_wrong"), wrong, nullptr);
   EXPECT_EQ(bad.taylor.status, TaylorStatus::failed) << bad.taylor.table();
 }
 
 TEST(TorusScene, GradcheckRefusesDynamicAndMeshScenes) {
   TorusSceneSpec spec = parse_torus_scene(read_text(kScenes + "torus_chain.json"), "torus_chain.json");
-  EXPECT_THROW(gradcheck_torus_scene(spec, temporary_directory("gradcheck_dynamic"), {}, nullptr), SceneError);
+  EXPECT_THROW(gradcheck_torus_scene(spec, temporary_directory("gradcheck_dynamic"), {}, nullptr),
+               SceneError);
   spec = parse_torus_scene(read_text(kScenes + "torus_gradcheck.json"), "torus_gradcheck.json");
   spec.options.model = tori::ContactModel::mesh;
   EXPECT_THROW(gradcheck_torus_scene(spec, temporary_directory("gradcheck_mesh"), {}, nullptr), SceneError);
@@ -176,9 +183,9 @@ TEST(TorusScene, GradcheckRefusesDynamicAndMeshScenes) {
 // The same gradcheck with elliptic tubes (r1 = 0.3 held, R and r the radius parameters): the
 // distance's derivatives in r at fixed r1 (elliptic_distance.hpp) through the same adjoint.
 TEST(TorusScene, GradcheckOfAnEllipticChainThroughActiveContact) {
-  nlohmann::json scene = nlohmann::json::parse(read_text(kScenes + "torus_gradcheck.json"));
+  nlohmann::json scene = parse_json(read_text(kScenes + "torus_gradcheck.json"));
   scene["tori"]["minor_radius_1"] = 0.3;
-  const TorusSceneSpec spec = parse_torus_scene(scene.dump(), "elliptic_gradcheck.json");
+  const TorusSceneSpec spec = parse_torus_scene(dump_json(scene), "elliptic_gradcheck.json");
   const TorusGradcheckRun run =
       gradcheck_torus_scene(spec, temporary_directory("gradcheck_elliptic"), {}, nullptr);
   std::printf("%s", run.taylor.table().c_str());
@@ -213,7 +220,7 @@ TEST(TorusScene, GradcheckOfTheAnchorPlacementThroughActiveContact) {
   EXPECT_NEAR(run.taylor.rate0, 1.0, 0.1);
   EXPECT_GE(run.taylor.rate1, 1.9);
   EXPECT_TRUE(run.passed());
-  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/gradcheck.json"));
+  const nlohmann::json report = parse_json(std::ifstream(out + "/gradcheck.json"));
   EXPECT_EQ(report["parameters"], "the placement (T, w) of each fixed link");
 
   TorusGradcheckOptions wrong;
@@ -222,9 +229,9 @@ TEST(TorusScene, GradcheckOfTheAnchorPlacementThroughActiveContact) {
       gradcheck_torus_scene(spec, temporary_directory("gradcheck_placement_wrong"), wrong, nullptr);
   EXPECT_EQ(bad.taylor.status, TaylorStatus::failed) << bad.taylor.table();
 
-  nlohmann::json scene = nlohmann::json::parse(read_text(kScenes + "torus_placement_gradcheck.json"));
+  nlohmann::json scene = parse_json(read_text(kScenes + "torus_placement_gradcheck.json"));
   scene["tori"]["gradcheck"]["parameters"] = {"placements", "radii", "masses"};
-  const TorusSceneSpec all = parse_torus_scene(scene.dump(), "all_gradcheck.json");
+  const TorusSceneSpec all = parse_torus_scene(dump_json(scene), "all_gradcheck.json");
   const TorusGradcheckRun every =
       gradcheck_torus_scene(all, temporary_directory("gradcheck_all"), {}, nullptr);
   std::printf("%s", every.taylor.table().c_str());
@@ -234,11 +241,11 @@ TEST(TorusScene, GradcheckOfTheAnchorPlacementThroughActiveContact) {
 
 TEST(TorusScene, GradcheckParametersAreCheckedWithTheirKey) {
   auto message = [](const std::string& gradcheck, bool fix_first) {
-    nlohmann::json scene = nlohmann::json::parse(read_text(kScenes + "torus_placement_gradcheck.json"));
-    scene["tori"]["gradcheck"] = nlohmann::json::parse(gradcheck);
+    nlohmann::json scene = parse_json(read_text(kScenes + "torus_placement_gradcheck.json"));
+    scene["tori"]["gradcheck"] = parse_json(gradcheck);
     scene["tori"]["fix_first"] = fix_first;
     try {
-      parse_torus_scene(scene.dump(), "bad.json");
+      parse_torus_scene(dump_json(scene), "bad.json");
     } catch (const SceneError& e) {
       return std::string(e.what());
     }
@@ -268,7 +275,7 @@ TEST(TorusScene, ShippedFrictionChainSwingsWithAdaptiveStiffness) {
   EXPECT_TRUE(run.completed());
   EXPECT_EQ(run.steps, spec.steps);
   EXPECT_GT(run.min_distance, 0.0);
-  const nlohmann::json report = nlohmann::json::parse(read_text(out + "/report.json"));
+  const nlohmann::json report = parse_json(read_text(out + "/report.json"));
   EXPECT_TRUE(report["adaptive_stiffness"].get<bool>());
   EXPECT_GE(report["stiffness"].get<double>(), report["initial_stiffness"].get<double>());
   EXPECT_DOUBLE_EQ(report["friction"]["coefficient"].get<double>(), 0.3);
@@ -300,7 +307,8 @@ TEST(TorusScene, FrictionAndStiffnessKeysAreChecked) {
   EXPECT_NE(message(R"("friction_velocity": 1e-3, "mode": "dynamic")").find("tori.friction_velocity"),
             std::string::npos);
   EXPECT_NE(message(R"("stiffness": "soft")").find("tori.stiffness"), std::string::npos);
-  EXPECT_NE(message(R"("stiffness": 1e9, "min_stiffness": 1e8)").find("tori.min_stiffness"), std::string::npos);
+  EXPECT_NE(message(R"("stiffness": 1e9, "min_stiffness": 1e8)").find("tori.min_stiffness"),
+            std::string::npos);
   EXPECT_NE(message(R"("min_stiffness": 1e9, "max_stiffness": 1e8)").find("tori.max_stiffness"),
             std::string::npos);
   // Absent or "adaptive": adaptive; a number fixes kappa.

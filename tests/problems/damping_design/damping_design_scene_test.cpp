@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "../../support/temp_folder.hpp"
-#include "problems/scene.hpp"
+#include "problems/fem/scene.hpp"
 
 namespace tailor::damping_design_scene_test {
 namespace {
@@ -49,7 +49,8 @@ TEST(DampingDesignScene, RunWritesReportAndPlots) {
   std::ofstream(scene) << text;
   ASSERT_TRUE(is_damping_design_scene(scene));
   std::ostringstream log;
-  run_damping_design_scene(scene, folder / "out", log);  // too short to judge the rates (see damping_study_test)
+  run_damping_design_scene(scene, folder / "out",
+                           log);  // too short to judge the rates (see damping_study_test)
   EXPECT_NE(log.str().find("mode 2"), std::string::npos) << log.str();
   for (const char* file : {"report.json", "envelope.png", "gamma_curve.png", "cycle_loss.png"})
     EXPECT_TRUE(std::filesystem::exists(folder / ("out/" + std::string(file)))) << file;

@@ -8,10 +8,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "forward/homogenization/engineering_constants.hpp"
-#include "problems/metamaterial/metamaterial_scene.hpp"
-#include "problems/scene.hpp"
 #include "../../support/temp_folder.hpp"
+#include "forward/homogenization/engineering_constants.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
+#include "problems/metamaterial/metamaterial_scene.hpp"
 
 namespace tailor::homogenize_command_test {
 namespace {
@@ -39,8 +40,7 @@ TEST(HomogenizeCommand, LayeredCellReportAndOutputs) {
   const CellScene scene = read_cell_scene(path);
   EXPECT_EQ(scene.name, "layered");
   EXPECT_EQ(scene.plane, PlaneMode::plane_stress);
-  const std::string out =
-      (testing::unique_temp_path("tailor_homogenize_test") / "out").string();
+  const std::string out = (testing::unique_temp_path("tailor_homogenize_test") / "out").string();
   const HomogenizeRun run = homogenize_scene(scene, out, nullptr);
   // Along the layers the plane-stress moduli add (Voigt): E_x = (1 + 10) / 2 for equal nu.
   EXPECT_NEAR(directional_youngs_modulus(run.compliance, Vector{{1.0, 0.0}}), 5.5, 1e-12);
@@ -50,7 +50,7 @@ TEST(HomogenizeCommand, LayeredCellReportAndOutputs) {
   EXPECT_GT(E_y, 1.0 / 0.55);
   EXPECT_LT(E_y, 5.5);
   std::ifstream in(out + "/report.json");
-  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json report = parse_json(in);
   EXPECT_EQ(report["status"], "ok");
   EXPECT_EQ(report["stiffness"].size(), 3u);
   EXPECT_EQ(report["directional"][0]["youngs_modulus"].size(), 9u);
@@ -85,6 +85,44 @@ TEST(HomogenizeCommand, ErrorsNameTheKey) {
                "vertex 2 at");
 }
 
+TEST(HomogenizeCommand, MaterialsKeyedByTheMeshFilesRegionTags) {
+  // A unit square of two triangles tagged 1 and 2 in the file, as Gmsh's physical tags start
+  // at 1: materials name their tag, in any order, and need no entry for a region 0.
+  write_scene("tagged.mesh",
+              "MeshVersionFormatted 1\nDimension 2\nVertices\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+              "Triangles\n2\n1 2 3 1\n1 3 4 2\nEnd\n");
+  const auto scene_with = [](const std::string& materials) {
+    return R"({"type": "periodic_cell", "cell": {"lattice": [[1, 0], [0, 1]], "mesh": "tagged.mesh"},
+               "materials": )" +
+           materials + "}";
+  };
+  const CellScene scene = read_cell_scene(
+      write_scene("tagged.json", scene_with(R"([{"region": 2, "youngs_modulus": 10, "poisson_ratio": 0.3},
+                                   {"region": 1, "youngs_modulus": 1, "poisson_ratio": 0.3}])")));
+  EXPECT_EQ(scene.element_phase, (std::vector<int>{1, 0}));
+  EXPECT_EQ(scene.youngs_modulus(), (Vector{{1.0, 10.0}}));
+  const auto expect_error = [&](const std::string& materials, const std::string& fragment) {
+    try {
+      read_cell_scene(write_scene("tagged_bad.json", scene_with(materials)));
+      ADD_FAILURE() << "accepted: " << materials;
+    } catch (const SceneError& e) {
+      EXPECT_THAT(e.what(), ::testing::HasSubstr(fragment));
+    }
+  };
+  // The index form still works, and says what to do when a tag has no material.
+  expect_error(
+      R"([{"youngs_modulus": 1, "poisson_ratio": 0.3}, {"youngs_modulus": 2, "poisson_ratio": 0.3}])",
+      "element 1 has region 2 but there are 2 materials");
+  expect_error(R"([{"region": 1, "youngs_modulus": 1, "poisson_ratio": 0.3}])",
+               "materials: element 1 has region 2, which no material names");
+  expect_error(
+      R"([{"region": 1, "youngs_modulus": 1, "poisson_ratio": 0.3}, {"youngs_modulus": 2, "poisson_ratio": 0.3}])",
+      "materials[1]: either every material names its \"region\" or none does");
+  expect_error(
+      R"([{"region": 1, "youngs_modulus": 1, "poisson_ratio": 0.3}, {"region": 1, "youngs_modulus": 2, "poisson_ratio": 0.3}])",
+      "materials[1].region: region 1 is already materials[0]");
+}
+
 TEST(HomogenizeCommand, PlateLikeCellReportsTheBendingStiffness) {
   const std::string path = write_scene("plate.json", R"({
     "type": "periodic_cell",
@@ -92,14 +130,13 @@ TEST(HomogenizeCommand, PlateLikeCellReportsTheBendingStiffness) {
     "materials": [{"youngs_modulus": 2, "poisson_ratio": 0.3}],
     "directions": 8
   })");
-  const std::string out =
-      (testing::unique_temp_path("tailor_homogenize_test") / "plate").string();
+  const std::string out = (testing::unique_temp_path("tailor_homogenize_test") / "plate").string();
   const HomogenizeRun run = homogenize_scene(read_cell_scene(path), out, nullptr);
   // Same mesh as the coarsest of PlateBending.HomogeneousPlateConvergesToKirchhoffTheory: the
   // Kirchhoff value 2 * 0.5^3 / (12 * 0.91) times (1 + its relative error there).
   EXPECT_GT(run.result.stiffness(0, 0), 2.0 * 0.125 / (12.0 * 0.91));
   std::ifstream in(out + "/report.json");
-  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json report = parse_json(in);
   EXPECT_EQ(report["mode"], "plate_bending");
   EXPECT_EQ(report["directional_bending"]["bending_stiffness"].size(), 9u);
   EXPECT_TRUE(std::filesystem::exists(out + "/bending_stiffness_polar.png"));
@@ -126,13 +163,12 @@ TEST(MetamaterialScene, SmallDesignRunsAndReportsTheRechecks) {
     }
   })");
   ASSERT_TRUE(is_metamaterial_scene(path));
-  const std::string out =
-      (testing::unique_temp_path("tailor_homogenize_test") / "design").string();
+  const std::string out = (testing::unique_temp_path("tailor_homogenize_test") / "design").string();
   const MetamaterialRun run = run_metamaterial_scene(path, out, nullptr, nullptr);
   EXPECT_EQ(run.stiffness_thresholded.rows(), 3);
   EXPECT_EQ(run.stiffness_refined.rows(), 3);
   std::ifstream in(out + "/report.json");
-  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json report = parse_json(in);
   for (const char* key :
        {"gray", "thresholded", "refined_thresholded", "history", "timings", "filter_radius"})
     EXPECT_TRUE(report.contains(key)) << key;

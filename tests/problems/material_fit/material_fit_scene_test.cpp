@@ -11,7 +11,7 @@
 #include <iterator>
 #include <string>
 
-#include "problems/scene.hpp"
+#include "problems/fem/scene.hpp"
 #include "tests/support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -106,8 +106,9 @@ TEST(MaterialFitCli, RunWritesReportAndPlots) {
     std::ofstream scene(folder / "fit.json");
     scene << scene_with("\"initial\"", "\"name\": \"tiny\", \"initial\"");
   }
-  const std::string command = std::string(::tailor::testing::binary_dir()) + "/bin/tailor run " + (folder / "fit.json") +
-                              " --out " + (folder / "out") + " --quiet > " + (folder / "log") + " 2>&1";
+  const std::string command = std::string(::tailor::testing::binary_dir()) + "/bin/tailor run " +
+                              (folder / "fit.json") + " --out " + (folder / "out") + " --quiet > " +
+                              (folder / "log") + " 2>&1";
   const int status = std::system(command.c_str());
   std::ifstream log(folder / "log");
   const std::string output((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());

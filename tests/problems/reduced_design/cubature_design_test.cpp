@@ -1,4 +1,4 @@
-// The reduced design loop with a cubature rule (problems/reduced_design_cubature.hpp) for a
+// The reduced design loop with a cubature rule (problems/fem/reduced_design_cubature.hpp) for a
 // material without polynomial reduced energy (Neo-Hookean): the Taylor test of its reduced
 // functional (and that it fails a gradient 0.1% off), the every-element rule against the
 // projected model, a StVK rule against the exact polynomial design, the refit after a basis
@@ -11,14 +11,14 @@
 #include <filesystem>
 #include <string>
 
+#include "../../support/temp_folder.hpp"
 #include "adjoint/scaled_gradient.hpp"
 #include "adjoint/taylor_test.hpp"
 #include "forward/reduction/projected_reduced_model.hpp"
 #include "optimizers/optimizer.hpp"
-#include "problems/full_space_design.hpp"
-#include "problems/reduced_design.hpp"
+#include "problems/fem/full_space_design.hpp"
+#include "problems/fem/reduced_design.hpp"
 #include "small_handle_scene.hpp"
-#include "../../support/temp_folder.hpp"
 
 namespace tailor::cubature_design_test {
 namespace {
@@ -42,9 +42,9 @@ TEST(CubatureDesign, TaylorTestOfTheCubatureFunctional) {
   ASSERT_TRUE(design.cubature);
   EXPECT_FALSE(design.cubature->exact);
   EXPECT_EQ(design.functional->model().name(), "cubature");
-  std::printf("cubature: %d of %d elements, training error %.2e over %d poses, %.3f s\n", design.cubature->elements,
-              design.cubature->mesh_elements, design.cubature->training_error, design.cubature->training_poses,
-              design.cubature->seconds);
+  std::printf("cubature: %d of %d elements, training error %.2e over %d poses, %.3f s\n",
+              design.cubature->elements, design.cubature->mesh_elements, design.cubature->training_error,
+              design.cubature->training_poses, design.cubature->seconds);
   std::srand(5);
   const Vector w = 0.2 * Vector::Random(design.num_design());
   const TaylorTestResult r = taylor_test(*design.functional, w);
@@ -76,8 +76,8 @@ TEST(CubatureDesign, StvkRuleMatchesThePolynomialDesign) {
     const Vector u_exact = exact.functional->data().rows * exact.functional->solve(w);
     const Vector u_cub = cubature.functional->data().rows * cubature.functional->solve(w);
     const double error = (u_cub - u_exact).norm() / u_exact.norm();
-    std::printf("  w = %s: handle displacement difference %.2e (relative)\n",
-                std::to_string(w[0]).c_str(), error);
+    std::printf("  w = %s: handle displacement difference %.2e (relative)\n", std::to_string(w[0]).c_str(),
+                error);
     EXPECT_LT(error, 1e-2);
   }
 }
@@ -137,13 +137,14 @@ TEST(CubatureDesign, RefinementRefitsTheRule) {
 // A reachable target: the full-space Neo-Hookean tip displacement of a known design w* (E
 // halved near the root). The reduced design (cubature, basis refinements) checked in full space
 // must reach it within 1%, and within 1% (absolute) of the full-space design of the same
-// objective (problems/full_space_design.hpp, same optimizer).
+// objective (problems/fem/full_space_design.hpp, same optimizer).
 TEST(CubatureDesign, NeoHookeanReducedDesignMatchesTheFullSpaceDesign) {
   // Full space: exact Newton Hessians, relative tolerance 1e-8 and 4 load steps (with the
   // defaults the Neo-Hookean Newton stalls near 2e-7 relative, where its line search meets the
   // energy's round-off).
   const std::string solver = R"({"hessian": "exact", "relative_tolerance": 1e-8, "load_steps": 4})";
-  const ReducedDesign probe = build_reduced_design(small_handle_scene("neo_hookean", "[0, 0, -0.1]", "", solver));
+  const ReducedDesign probe =
+      build_reduced_design(small_handle_scene("neo_hookean", "[0, 0, -0.1]", "", solver));
   Vector w_star = Vector::Zero(probe.num_design());
   w_star[0] = -0.5;
   w_star[1] = 0.1;
@@ -155,7 +156,8 @@ TEST(CubatureDesign, NeoHookeanReducedDesignMatchesTheFullSpaceDesign) {
   ASSERT_TRUE(run.cubature);
   const double reduced = run.full->handle_errors[0];
   FullSpaceDesignFunctional full(design);
-  const OptimizerResult result = minimize(full, Vector::Zero(design.num_design()), Bounds{}, {}, design.optimizer);
+  const OptimizerResult result =
+      minimize(full, Vector::Zero(design.num_design()), Bounds{}, {}, design.optimizer);
   ASSERT_FALSE(result.history.empty()) << result.message;
   full.value(result.z);
   const double reference = full.handle_errors()[0];

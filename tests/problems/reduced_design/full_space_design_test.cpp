@@ -1,7 +1,7 @@
-// The reduced design's objective in full space (problems/full_space_design.hpp): its Taylor
+// The reduced design's objective in full space (problems/fem/full_space_design.hpp): its Taylor
 // test (and that the test sees a gradient 0.1% off), its agreement with the reduced functional
 // where Galerkin projection is exact, and a full-space design that reaches a reachable target.
-#include "problems/full_space_design.hpp"
+#include "problems/fem/full_space_design.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,11 +12,12 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "../../support/temp_folder.hpp"
 #include "adjoint/scaled_gradient.hpp"
 #include "adjoint/taylor_test.hpp"
 #include "optimizers/optimizer.hpp"
+#include "problems/json_text.hpp"
 #include "small_handle_scene.hpp"
-#include "../../support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::full_space_design_test {
@@ -80,8 +81,8 @@ TEST(FullSpaceDesign, ReachesAReachableTarget) {
   std::snprintf(target, sizeof target, "[%.17g, %.17g, %.17g]", u[0], u[1], u[2]);
   const ReducedDesign design = build_reduced_design(scene("stvk", target, "0"));
   FullSpaceDesignFunctional functional(design);
-  const OptimizerResult result = minimize(functional, Vector::Zero(design.num_design()), Bounds{}, {},
-                                          design.optimizer);
+  const OptimizerResult result =
+      minimize(functional, Vector::Zero(design.num_design()), Bounds{}, {}, design.optimizer);
   ASSERT_FALSE(result.history.empty()) << result.message;
   functional.value(result.z);
   EXPECT_LT(functional.handle_errors()[0], 1e-4) << to_string(result.status) << ": " << result.message;
@@ -94,17 +95,21 @@ TEST(FullSpaceDesign, ReachesAReachableTarget) {
 // full-space design gets below 1%.
 TEST(FullSpaceDesign, ShippedHandleScenesReducedMatchTheFullSpaceDesign) {
   for (const char* name : {"cantilever_handle", "block_core_shell", "cantilever_handle_reduced"}) {
-    const std::string path = std::string(::tailor::testing::test_data_dir()) + "/../../scenes/" + name + ".json";
+    const std::string path =
+        std::string(::tailor::testing::test_data_dir()) + "/../../scenes/" + name + ".json";
     std::ifstream file(path);
     ASSERT_TRUE(file) << path;
-    nlohmann::json j = nlohmann::json::parse(file);
-    j["inverse"]["design"] = {{"parameter", "youngs_modulus"}, {"granularity", "modes"}, {"modes", 8},
-                              {"map", "identity"}, {"reduction", nlohmann::json::object()}};
+    nlohmann::json j = parse_json(file);
+    j["inverse"]["design"] = {{"parameter", "youngs_modulus"},
+                              {"granularity", "modes"},
+                              {"modes", 8},
+                              {"map", "identity"},
+                              {"reduction", nlohmann::json::object()}};
     nlohmann::json handles = nlohmann::json::array();
     for (const auto& term : j["inverse"]["objective"])
       if (term["type"] == "handles") handles.push_back(term);
     j["inverse"]["objective"] = handles;
-    const Scene s = parse_scene(j.dump(), std::string(name) + ".json", ".");
+    const Scene s = parse_scene(dump_json(j), std::string(name) + ".json", ".");
     ReducedDesign design = build_reduced_design(s);
     const std::string out = testing::unique_temp_path("full_space_design_test").string();
     const ReducedDesignRun run = run_reduced_design(design, out);
@@ -112,18 +117,19 @@ TEST(FullSpaceDesign, ShippedHandleScenesReducedMatchTheFullSpaceDesign) {
     const double reduced = *std::max_element(run.full->handle_errors.begin(), run.full->handle_errors.end());
 
     FullSpaceDesignFunctional full(design);
-    const OptimizerResult result = minimize(full, Vector::Zero(design.num_design()), Bounds{}, {}, design.optimizer);
+    const OptimizerResult result =
+        minimize(full, Vector::Zero(design.num_design()), Bounds{}, {}, design.optimizer);
     ASSERT_FALSE(result.history.empty()) << name << ": " << result.message;
     full.value(result.z);
     const std::vector<double> errors = full.handle_errors();
     const double reference = *std::max_element(errors.begin(), errors.end());
-    EXPECT_LT(std::abs(reduced - reference), 1e-2) << name << ": reduced design " << reduced
-                                                   << ", full-space design " << reference;
+    EXPECT_LT(std::abs(reduced - reference), 1e-2)
+        << name << ": reduced design " << reduced << ", full-space design " << reference;
     if (reference < 1e-2) {
       EXPECT_LT(reduced, 2e-2) << name;
     }
-    std::printf("%s: full-space handle error of the reduced design %.2e, of the full-space design %.2e\n", name,
-                reduced, reference);
+    std::printf("%s: full-space handle error of the reduced design %.2e, of the full-space design %.2e\n",
+                name, reduced, reference);
   }
 }
 

@@ -1,7 +1,7 @@
-// The reduced design loop (problems/reduced_design.hpp): precomputed reduced forces against the
+// The reduced design loop (problems/fem/reduced_design.hpp): precomputed reduced forces against the
 // projected full-space forces, the Taylor test of the reduced functional, the reduced design
 // of a small handle scene against the full-space solve of the same design, and bad input.
-#include "problems/reduced_design.hpp"
+#include "problems/fem/reduced_design.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,10 +10,10 @@
 #include <filesystem>
 #include <string>
 
+#include "../../support/temp_folder.hpp"
 #include "adjoint/taylor_test.hpp"
 #include "forward/reduction/projected_reduced_model.hpp"
 #include "small_handle_scene.hpp"
-#include "../../support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::reduced_design_test {
@@ -59,7 +59,8 @@ TEST(ReducedDesign, PrecomputedForcesMatchProjectedFullForces) {
 // away from w = 0 and with the smoothness term on.
 TEST(ReducedDesign, TaylorTestOfTheReducedFunctional) {
   for (const char* model : {"stvk", "linear"}) {
-    ReducedDesign design = build_reduced_design(small_handle_scene(model, "[0, 0, -0.1]", R"(, "smoothness": 1e-3)"));
+    ReducedDesign design =
+        build_reduced_design(small_handle_scene(model, "[0, 0, -0.1]", R"(, "smoothness": 1e-3)"));
     std::srand(5);
     const Vector w = 0.2 * Vector::Random(design.num_design());
     const TaylorTestResult r = taylor_test(*design.functional, w);
@@ -85,8 +86,7 @@ TEST(ReducedDesign, ReducedDesignMatchesTheFullSpaceSolve) {
     const std::string target =
         "[" + std::to_string(u[0]) + ", " + std::to_string(u[1]) + ", " + std::to_string(u[2]) + "]";
     ReducedDesign design = build_reduced_design(small_handle_scene(model, target));
-    const std::string out =
-        testing::unique_temp_path(std::string("reduced_design_test_") + model).string();
+    const std::string out = testing::unique_temp_path(std::string("reduced_design_test_") + model).string();
     const ReducedDesignRun run = run_reduced_design(design, out);
     ASSERT_FALSE(run.reduced_errors.empty());
     ASSERT_TRUE(run.full && run.full->converged);
@@ -147,12 +147,13 @@ TEST(ReducedDesign, CubatureKeysAreChecked) {
       small_handle_scene("neo_hookean", "[0, 0, -0.1]", bad);
       FAIL() << "expected SceneError for " << bad;
     } catch (const SceneError& e) {
-      EXPECT_NE(std::string(e.what()).find("inverse.design.reduction.cubature"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("inverse.design.reduction.cubature"), std::string::npos)
+          << e.what();
     }
   }
   // Called directly, a rule of no element is an std::invalid_argument naming the key.
-  const ReducedDesign design = build_reduced_design(small_handle_scene("neo_hookean", "[0, 0, -0.1]",
-                                                                       R"(, "cubature": {"elements": 10})"));
+  const ReducedDesign design = build_reduced_design(
+      small_handle_scene("neo_hookean", "[0, 0, -0.1]", R"(, "cubature": {"elements": 10})"));
   CubatureSpec spec;
   spec.elements = 0;
   ReducedDesignCubature summary;
@@ -172,10 +173,12 @@ TEST(ReducedDesign, SceneKeysAreChecked) {
   text.replace(text.find("\"map\": \"identity\""), 17, "\"map\": \"log\"");
   EXPECT_THROW(parse_scene(text, "s.json", "."), SceneError);
   // Unknown key under reduction.
-  EXPECT_THROW(parse_scene(small_handle_scene_text("stvk", "[0, 0, -0.1]", R"(, "cubatures": true)"), "s.json", "."),
-               SceneError);
+  EXPECT_THROW(
+      parse_scene(small_handle_scene_text("stvk", "[0, 0, -0.1]", R"(, "cubatures": true)"), "s.json", "."),
+      SceneError);
   try {
-    parse_scene(small_handle_scene_text("stvk", "[0, 0, -0.1]", R"(, "min_relative_modulus": 2)"), "s.json", ".");
+    parse_scene(small_handle_scene_text("stvk", "[0, 0, -0.1]", R"(, "min_relative_modulus": 2)"), "s.json",
+                ".");
     FAIL();
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("inverse.design.reduction.min_relative_modulus"), std::string::npos)
@@ -187,8 +190,8 @@ TEST(ReducedDesign, SceneKeysAreChecked) {
 // softer beam, so a design exists; the reduced loop (with its basis refinements) must reach it
 // within 1% in full space.
 TEST(ReducedDesign, ShippedSceneReachesItsTargetInFullSpace) {
-  const Scene s =
-      read_scene(std::string(::tailor::testing::test_data_dir()) + "/../../scenes/cantilever_handle_reduced.json");
+  const Scene s = read_scene(std::string(::tailor::testing::test_data_dir()) +
+                             "/../../scenes/cantilever_handle_reduced.json");
   ASSERT_TRUE(s.inverse && s.inverse->design.reduction);
   EXPECT_EQ(s.inverse->design.reduction->key, "inverse.design.reduction");
   const std::string out = testing::unique_temp_path("reduced_design_test_scene").string();

@@ -5,7 +5,7 @@
 // scene's "solver" object (e.g. R"({"hessian": "exact"})").
 #include <string>
 
-#include "problems/scene.hpp"
+#include "problems/fem/scene.hpp"
 
 namespace tailor {
 

@@ -21,11 +21,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "problems/rods/rod_scene.hpp"
-#include "problems/scene.hpp"
-
-#include "rod_scene_files.hpp"
 #include "../../support/temp_folder.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/rods/rod_scene.hpp"
+#include "rod_scene_files.hpp"
 
 namespace tailor::rod_dynamics_test {
 namespace {
@@ -73,16 +72,17 @@ double period_from_crossings(const std::vector<double>& t, const std::vector<dou
 }
 
 struct Released {
-  double omega = 0.0;          // measured from the zero crossings
-  double energy_drift = 0.0;   // max |E(t) - E(0)| / E(0)
-  double energy_ratio = 0.0;   // E(end) / E(0)
+  double omega = 0.0;         // measured from the zero crossings
+  double energy_drift = 0.0;  // max |E(t) - E(0)| / E(0)
+  double energy_ratio = 0.0;  // E(end) / E(0)
   int steps = 0;
 };
 
 // Releases the n-cell cantilever from its first bending (torsion = false) or torsional mode of
 // small amplitude and integrates `periods` periods of the reference frequency omega_ref with
 // `steps_per_period` steps.
-Released release(int n, bool torsion, TimeScheme scheme, double omega_ref, int steps_per_period, int periods) {
+Released release(int n, bool torsion, TimeScheme scheme, double omega_ref, int steps_per_period,
+                 int periods) {
   const RodSceneSpec spec = staggered_cantilever(n);
   RodSceneModel m = build_rod_model(spec);
   const DiscreteRod& rod = *m.rods[0];
@@ -103,12 +103,13 @@ Released release(int n, bool torsion, TimeScheme scheme, double omega_ref, int s
   d.time_step = 2.0 * M_PI / omega_ref / steps_per_period;
   d.steps = steps_per_period * periods;
   std::vector<double> t, y;
-  const RodDynamicsRun run = integrate_rods(m, d, x0, Vector::Zero(x0.size()), "", nullptr, [&](const DynamicState& s) {
-    t.push_back(s.time);
-    // At the rod's end s = L: the last edge's midpoint, or its twist.
-    y.push_back(torsion ? s.x[rod.twist_dof(n)]
-                        : 0.5 * (s.x[rod.position_dof(n, 1)] + s.x[rod.position_dof(n + 1, 1)]));
-  });
+  const RodDynamicsRun run =
+      integrate_rods(m, d, x0, Vector::Zero(x0.size()), "", nullptr, [&](const DynamicState& s) {
+        t.push_back(s.time);
+        // At the rod's end s = L: the last edge's midpoint, or its twist.
+        y.push_back(torsion ? s.x[rod.twist_dof(n)]
+                            : 0.5 * (s.x[rod.position_dof(n, 1)] + s.x[rod.position_dof(n + 1, 1)]));
+      });
   EXPECT_TRUE(run.completed) << run.message;
   Released r;
   r.omega = 2.0 * M_PI / period_from_crossings(t, y);
@@ -126,9 +127,10 @@ TEST(RodDynamics, ReleasedCantileverOscillatesAtFirstEulerBernoulliFrequency) {
   const Released coarse = release(10, false, TimeScheme::newmark, omega, 100, 3);
   const Released fine = release(20, false, TimeScheme::newmark, omega, 100, 3);
   const double e10 = std::abs(coarse.omega / omega - 1.0), e20 = std::abs(fine.omega / omega - 1.0);
-  std::printf("released cantilever (newmark, T/100): omega_1 errors %.3e (n = 10), %.3e (n = 20); "
-              "energy drift %.2e\n",
-              e10, e20, fine.energy_drift);
+  std::printf(
+      "released cantilever (newmark, T/100): omega_1 errors %.3e (n = 10), %.3e (n = 20); "
+      "energy drift %.2e\n",
+      e10, e20, fine.energy_drift);
   // Spatial error 5.3e-3 / 1.3e-3 (RodVibration) plus the trapezoidal rule's (omega h)^2 / 12 = 3.3e-4.
   EXPECT_LT(e20, 2e-3);
   EXPECT_GT(e10 / e20, 3.0);
@@ -138,10 +140,12 @@ TEST(RodDynamics, ReleasedCantileverOscillatesAtFirstEulerBernoulliFrequency) {
 TEST(RodDynamics, TwistInertiaGivesTheTorsionalFrequency) {
   const RodSceneSpec spec = staggered_cantilever(20);  // kept: r refers into it
   const RodSpec& r = spec.rods[0];
-  const double omega = 0.5 * M_PI * std::sqrt(r.material.shear_modulus / r.density);  // GJ / (rho I_p) = G / rho
+  const double omega =
+      0.5 * M_PI * std::sqrt(r.material.shear_modulus / r.density);  // GJ / (rho I_p) = G / rho
   const Released run = release(20, true, TimeScheme::newmark, omega, 100, 2);
   const double error = std::abs(run.omega / omega - 1.0);
-  std::printf("torsion (n = 20, newmark, T/100): omega_t error %.3e, energy drift %.2e\n", error, run.energy_drift);
+  std::printf("torsion (n = 20, newmark, T/100): omega_t error %.3e, energy drift %.2e\n", error,
+              run.energy_drift);
   EXPECT_LT(error, 1e-3);  // a twist inertia off by a factor 2 would give 29%
   EXPECT_LT(run.energy_drift, 1e-4);
 }
@@ -152,8 +156,8 @@ TEST(RodDynamics, ImplicitEulerLosesEnergyAsDocumented) {
   const Released run = release(20, false, TimeScheme::implicit_euler, omega, per_period, 2);
   const double wh = omega * 2.0 * M_PI / omega / per_period;  // omega h for the EB frequency
   const double predicted = std::pow(1.0 + wh * wh, -run.steps);
-  std::printf("implicit Euler (T/50, 2 periods): E_end / E_0 = %.4f, linear prediction %.4f\n", run.energy_ratio,
-              predicted);
+  std::printf("implicit Euler (T/50, 2 periods): E_end / E_0 = %.4f, linear prediction %.4f\n",
+              run.energy_ratio, predicted);
   EXPECT_NEAR(run.energy_ratio / predicted, 1.0, 2e-2);
 }
 
@@ -168,7 +172,8 @@ TEST(RodDynamics, ShippedSwingingRodSceneWritesFramesAndReport) {
   EXPECT_TRUE(report.contains("threads"));
   const int steps = report["steps"];
   EXPECT_EQ(steps, report["steps_requested"].get<int>());
-  for (const auto& frame : report["frames"]) EXPECT_TRUE(std::filesystem::exists(dir / frame.get<std::string>()));
+  for (const auto& frame : report["frames"])
+    EXPECT_TRUE(std::filesystem::exists(dir / frame.get<std::string>()));
   EXPECT_TRUE(std::filesystem::exists(dir / "rods.pvd"));
   // Newmark on a large swing (nonlinear): the energy is not conserved exactly but stays bounded.
   const double e0 = report["energy_initial"], e1 = report["energy_final"];

@@ -10,12 +10,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "problems/rods/rod_scene.hpp"
-#include "problems/scene.hpp"
-#include "problems/static_scene.hpp"
-
-#include "rod_scene_files.hpp"
 #include "../../support/temp_folder.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/fem/static_scene.hpp"
+#include "problems/json_text.hpp"
+#include "problems/rods/rod_scene.hpp"
+#include "rod_scene_files.hpp"
 
 namespace tailor::rod_fem_scene_test {
 namespace {
@@ -40,7 +40,7 @@ TEST(RodFemScene, EachPartMatchesItsSeparateSolve) {
   // The FEM part alone.
   nlohmann::json fem = document;
   fem.erase("rods");
-  const StaticSetup setup = setup_static_scene(parse_scene(fem.dump(), "fem", "."));
+  const StaticSetup setup = setup_static_scene(parse_scene(dump_json(fem), "fem", "."));
   const StaticSolution alone = solve_static(setup);
   ASSERT_TRUE(alone.converged);
   const int nf = setup.num_dofs();
@@ -61,9 +61,10 @@ TEST(RodFemScene, EachPartMatchesItsSeparateSolve) {
   }();
   const double rod_scale = (rod.state - rod_rest).head(63).lpNorm<Eigen::Infinity>();
   const double rod_error = (both.rods.state.tail(nr) - rod.state).lpNorm<Eigen::Infinity>() / rod_scale;
-  std::printf("rods and beam in one solve: FEM part error %.2e (of its largest displacement %.3e), "
-              "rod part error %.2e (of %.3e)\n",
-              fem_error, fem_scale, rod_error, rod_scale);
+  std::printf(
+      "rods and beam in one solve: FEM part error %.2e (of its largest displacement %.3e), "
+      "rod part error %.2e (of %.3e)\n",
+      fem_error, fem_scale, rod_error, rod_scale);
   EXPECT_GT(fem_scale, 1e-3);
   EXPECT_GT(rod_scale, 1e-3);
   EXPECT_LT(fem_error, 1e-6);

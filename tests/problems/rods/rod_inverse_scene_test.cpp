@@ -10,11 +10,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "problems/rods/rod_inverse.hpp"
-#include "problems/scene.hpp"
-
-#include "rod_scene_files.hpp"
 #include "../../support/temp_folder.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/rods/rod_inverse.hpp"
+#include "rod_scene_files.hpp"
 
 namespace tailor::rod_inverse_scene_test {
 namespace {

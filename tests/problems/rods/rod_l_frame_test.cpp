@@ -23,8 +23,8 @@
 
 #include "../../support/temp_folder.hpp"
 #include "forward/core/symmetric_eigen.hpp"
+#include "problems/fem/scene.hpp"
 #include "problems/rods/rod_scene.hpp"
-#include "problems/scene.hpp"
 #include "rod_scene_files.hpp"
 
 namespace tailor::rod_l_frame_test {

@@ -18,11 +18,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "problems/rods/rod_scene.hpp"
-#include "problems/scene.hpp"
-
-#include "rod_scene_files.hpp"
 #include "../../support/temp_folder.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/rods/rod_scene.hpp"
+#include "rod_scene_files.hpp"
 
 namespace tailor::rod_network_test {
 namespace {
@@ -71,13 +70,15 @@ TEST(RodNetwork, PinnedTwoBarFrameMatchesFrameAnalysis) {
   const Eigen::Vector2d reference = frame_reference(1e-4);
   std::vector<double> errors;
   for (int n : {10, 20, 40}) {
-    const Eigen::Vector2d u = apex_displacement(n == 20 ? read_rod_scene("rod_frame.json") : frame_with(n), n);
+    const Eigen::Vector2d u =
+        apex_displacement(n == 20 ? read_rod_scene("rod_frame.json") : frame_with(n), n);
     EXPECT_LT(std::abs(u.x()), 1e-6 * std::abs(reference.y()));  // symmetric
     errors.push_back(std::abs(u.y() / reference.y() - 1.0));
   }
-  std::printf("pinned two-bar frame: apex deflection %.6e (reference); relative errors at n = 10, 20, 40: "
-              "%.3e %.3e %.3e\n",
-              reference.y(), errors[0], errors[1], errors[2]);
+  std::printf(
+      "pinned two-bar frame: apex deflection %.6e (reference); relative errors at n = 10, 20, 40: "
+      "%.3e %.3e %.3e\n",
+      reference.y(), errors[0], errors[1], errors[2]);
   // First order: the bars end at a vertex (the joint), not at an edge midpoint, and the error is
   // h / (2 L) to two digits (5.26e-2, 2.56e-2, 1.27e-2); a wrong joint (rigid, or none) would
   // converge to another deflection and the errors would stop halving.

@@ -13,11 +13,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "problems/rods/rod_scene.hpp"
-#include "problems/scene.hpp"
-
-#include "rod_scene_files.hpp"
 #include "../../support/temp_folder.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/rods/rod_scene.hpp"
+#include "rod_scene_files.hpp"
 
 namespace tailor::rod_ring_scene_test {
 namespace {

@@ -1,8 +1,6 @@
 // The "rods" scene section: parsing with clear errors, a cantilever solved and written as .vtu
 // polylines. Reference for the small-load deflection: Euler-Bernoulli, P L^3 / (3 EI).
 #include "problems/rods/rod_scene.hpp"
-#include "problems/scene.hpp"
-#include "../../support/temp_folder.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,22 +10,26 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "../../support/temp_folder.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/json_text.hpp"
+
 namespace tailor::rod_scene_test {
 namespace {
 
 nlohmann::json cantilever_scene(double tip_load) {
   const double r = 1e-2, E = 4.0 / (M_PI * std::pow(r, 4));  // EI = 1
-  return nlohmann::json::parse(R"({
+  return parse_json(R"({
     "rods": [{
       "name": "beam",
       "line": {"from": [0, 0, 0], "to": [1, 0, 0], "vertices": 41},
       "cross_section": {"shape": "circle", "radius": )" +
-                               std::to_string(r) + R"(},
+                    std::to_string(r) + R"(},
       "material": {"youngs_modulus": )" +
-                               std::to_string(E) + R"(},
+                    std::to_string(E) + R"(},
       "clamp": ["first"],
       "point_loads": [{"vertex": 40, "force": [0, )" +
-                               std::to_string(-tip_load) + R"(, 0]}]
+                    std::to_string(-tip_load) + R"(, 0]}]
     }],
     "load_steps": 2
   })");

@@ -1,0 +1,32 @@
+#pragma once
+// The work behind the CLI verbs, callable from C++ (the executable only parses arguments and
+// maps outcomes to exit codes).
+#include <iosfwd>
+#include <string>
+
+#include "problems/fem/report.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/fem/static_scene.hpp"
+
+namespace tailor {
+
+struct SimulateRun {
+  StaticSetup setup;
+  StaticSolution solution;
+  RunTimings timings;
+  std::string report_path;  // out_dir/report.json
+  std::string result_path;  // out_dir/result.vtu
+};
+
+// `tailor simulate`: sets the scene up, solves it, and writes out_dir/report.json and
+// out_dir/result.vtu (creating out_dir), also when the solve fails. Newton iterations, a
+// summary and timings go to `log` when set. Throws SceneError / MeshError for bad input and
+// std::runtime_error when the outputs cannot be written; a failed solve is not an exception
+// (see solution.converged).
+SimulateRun simulate_scene(const Scene& scene, const std::string& out_dir, std::ostream* log = nullptr);
+
+// `tailor check`: derivative checks of every energy term of the scene's model (see
+// check_static_scene); prints each table to `log`. Returns true when no check failed.
+bool check_scene(const Scene& scene, unsigned seed, std::ostream& log);
+
+}  // namespace tailor

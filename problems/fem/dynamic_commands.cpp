@@ -1,0 +1,158 @@
+#include "problems/fem/dynamic_commands.hpp"
+
+#include <filesystem>
+#include <iomanip>
+#include <ostream>
+
+#include "adjoint/taylor_test.hpp"
+#include "adjoint/transient_functional.hpp"
+#include "forward/core/timing.hpp"
+#include "problems/fem/scene_selection.hpp"
+#include "problems/output_process.hpp"
+
+namespace tailor {
+namespace {
+
+void create_folder(const std::filesystem::path& folder) {
+  std::error_code error;
+  std::filesystem::create_directories(folder, error);
+  if (error)
+    throw std::runtime_error("cannot create the output folder '" + folder.string() + "': " + error.message());
+}
+
+// The scene's trajectory objective: its targets at the listed steps (default: the last).
+std::shared_ptr<KeyframeTargets> trajectory_objective(const Scene& scene, const DynamicSceneModel& d) {
+  const DynamicsSpec& spec = *scene.dynamics;
+  const TrajectoryTargetSpec& target = *spec.objective;
+  const Mesh& mesh = d.setup.mesh;
+  const int dim = d.setup.dim();
+  check_dimension(scene, mesh, target.target, target.key + ".target");
+  const std::vector<int> vertices = select_vertices(scene, mesh, target.vertices);
+  std::vector<Keyframe> frames;
+  for (int step : target.steps.empty() ? std::vector<int>{spec.steps} : target.steps) {
+    Matrix t(vertices.size(), dim);
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      t.row(i) = target.quantity == TrajectoryQuantity::position
+                     ? Eigen::RowVectorXd(mesh.rest_positions.row(vertices[i]) + target.target.transpose())
+                     : Eigen::RowVectorXd(target.target.transpose());
+    frames.push_back({step, t, 1.0});
+  }
+  return std::make_shared<KeyframeTargets>(dim, vertices, target.quantity, frames);
+}
+
+}  // namespace
+
+DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir, std::ostream* log) {
+  const auto t_start = Clock::now();
+  const DynamicsSpec& spec = *scene.dynamics;
+  DynamicSceneModel d = build_dynamic_scene(scene);
+  const StaticSetup& setup = d.setup;
+  const Vector& p = d.p;
+  TimeIntegrator integrator(*d.model, d.options);
+  DynamicState state = integrator.initial_state(d.initial_positions, d.initial_velocities, p);
+  DynamicRun run;
+  run.timings.setup = seconds_since(t_start);
+  if (log)
+    *log << "dynamic scene '" << scene.name << "': " << setup.mesh.num_elements() << " elements, "
+         << d.model->elimination().num_free() << " free DOFs; " << to_string(spec.scheme)
+         << ", h = " << spec.time_step << ", " << spec.steps << " steps\n";
+
+  run.linear_solver = d.options.newton.linear_solver;
+  // Every MPI rank of a replicated run (docs/petsc.md) steps the same states; rank 0 writes.
+  const bool writes = writes_output();
+  const std::filesystem::path out(out_dir), frames = out / "frames";
+  if (writes) create_folder(frames);
+  auto write_frame = [&](const DynamicState& s) {
+    const auto t0 = Clock::now();
+    run.frames.emplace_back(s.time, writes ? write_dynamic_frame(frames, setup, d.rest, s) : std::string());
+    run.timings.output += seconds_since(t0);
+  };
+  auto record = [&](const DynamicState& s, const NewtonResult* r, double seconds) {
+    run.records.push_back({s.step, s.time, integrator.kinetic_energy(s.v, p),
+                           integrator.potential_energy(s.x, p), seconds, r ? r->final_residual : 0.0,
+                           r ? r->iterations : 0});
+  };
+  record(state, nullptr, 0.0);
+  write_frame(state);
+  run.completed = true;
+  run.message = "all steps converged";
+  for (int n = 0; n < spec.steps; ++n) {
+    const auto t0 = Clock::now();
+    const NewtonResult r = integrator.step(state, p);
+    if (!r.converged()) {
+      run.completed = false;
+      run.message =
+          "step " + std::to_string(n + 1) + " failed: " + to_string(r.status) + " (" + r.message + ")";
+      break;
+    }
+    record(state, &r, seconds_since(t0));
+    if (state.step % spec.output_every == 0 || state.step == spec.steps) write_frame(state);
+    if (log && (state.step % std::max(1, spec.steps / 10) == 0 || state.step == spec.steps))
+      *log << "  step " << state.step << "/" << spec.steps << "  t " << state.time << "  Newton "
+           << r.iterations << "  E " << std::scientific << std::setprecision(4)
+           << run.records.back().kinetic + run.records.back().potential << std::defaultfloat << "\n";
+  }
+  run.steps_done = state.step;
+
+  run.series_path = (out / "result.pvd").string();
+  if (writes) write_dynamic_series(run.series_path, run);
+  run.report_path = (out / "report.json").string();
+  run.timings.total = seconds_since(t_start);
+  if (writes) write_dynamic_report_json(run.report_path, scene, run);
+  if (log)
+    *log << (run.completed ? "completed " : "FAILED: ") << run.message << "; wrote " << run.report_path
+         << " and " << run.series_path << " (" << run.frames.size() << " frames)\n";
+  return run;
+}
+
+GradcheckRun gradcheck_dynamic_scene(const Scene& scene, const std::string& out_dir, unsigned seed,
+                                     std::ostream* log) {
+  const DynamicsSpec& spec = *scene.dynamics;
+  if (!spec.objective)
+    throw SceneError(scene.source + ": dynamics.objective: gradcheck needs a trajectory objective");
+  DynamicSceneModel d = build_dynamic_scene(scene);
+  const int m = d.setup.mesh.num_elements();
+  auto objective = trajectory_objective(scene, d);
+  // Design: log E and log density per element, and alpha, beta with Rayleigh damping.
+  std::vector<ParameterBlock> blocks{{0, exp_map(m)}, {d.terms.density_offset, exp_map(m)}};
+  if (d.rayleigh) blocks.push_back({d.terms.alpha_offset, identity_map(2)});
+  const ParameterizationPtr map = embed_blocks(d.p, blocks);
+  Vector z0(map->num_design());
+  z0.head(m) = d.p.head(m).array().log().matrix();
+  z0.segment(m, m) = d.p.segment(d.terms.density_offset, m).array().log().matrix();
+  if (d.rayleigh) z0.tail(2) << d.p[d.terms.alpha_offset], d.p[d.terms.beta_offset];
+
+  TimeIntegrator integrator(*d.model, d.options);
+  TransientFunctionalOptions options;
+  options.steps = spec.steps;
+  TransientFunctional functional(integrator, map, objective, d.initial_positions, d.initial_velocities,
+                                 options);
+  TaylorTestOptions taylor;
+  taylor.seed = seed;
+  GradcheckRun run;
+  run.scene_name = scene.name;
+  run.scene_source = scene.source;
+  run.design_size = static_cast<int>(z0.size());
+  run.seed = seed;
+  run.gradient = taylor_test(functional, z0, taylor);
+  run.linear_solver = d.options.newton.linear_solver;
+  if (run.linear_solver) {
+    const TransientStatistics& stats = functional.statistics();
+    run.adjoint_linear_solves =
+        AdjointLinearSolves{options.linear_relative_tolerance, stats.linear_solver_solves,
+                            stats.linear_solver_iterations, stats.last_linear_solve.relative_residual};
+  }
+  run.report_path = (std::filesystem::path(out_dir) / "gradcheck.json").string();
+  if (writes_output()) {
+    create_folder(out_dir);
+    write_gradcheck_json(run.report_path, run);
+  }
+  if (log)
+    *log << "Taylor test of the time-dependent adjoint over " << spec.steps << " steps ("
+         << to_string(spec.scheme) << "), " << run.design_size << " design variables (log E, log density"
+         << (d.rayleigh ? ", alpha, beta" : "") << "), seed " << seed << ":\n"
+         << run.gradient.table() << "wrote " << run.report_path << "\n";
+  return run;
+}
+
+}  // namespace tailor

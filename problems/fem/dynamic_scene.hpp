@@ -1,0 +1,64 @@
+#pragma once
+// Dynamic scenes: the optional "dynamics" section of a scene turns `tailor simulate` into a
+// time integration (forward/dynamics) of the scene's static model plus inertia and Rayleigh
+// damping. Loads (gravity included) act from t = 0 as dead loads, prescribed displacements are
+// applied from t = 0, and the body starts at rest positions with the given initial velocity.
+// With an "objective" in the section, `tailor gradcheck` Taylor-tests its gradient.
+//
+// The dynamic path is split like the static one: this header holds the section as typed data
+// (parsed by parse_dynamics_section, dynamic_scene.cpp) and the model built from it
+// (build_dynamic_scene, dynamic_model.cpp); the verbs are in problems/fem/dynamic_commands.hpp and
+// the files they write in problems/fem/dynamic_report.hpp.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "forward/dynamics/setup.hpp"
+#include "forward/dynamics/time_integrator.hpp"
+#include "forward/fem/mass.hpp"
+#include "objectives/trajectory_objective.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/fem/static_scene.hpp"
+
+namespace tailor {
+
+// The trajectory objective of `tailor gradcheck` on a dynamic scene: the selected vertices'
+// positions (rest position + `target`) or velocities (`target`) at the listed steps.
+struct TrajectoryTargetSpec {
+  VertexSelector vertices;
+  TrajectoryQuantity quantity = TrajectoryQuantity::position;
+  std::vector<int> steps;  // empty: the last step
+  Eigen::VectorXd target;
+  std::string key = "dynamics.objective";
+};
+
+struct DynamicsSpec {
+  TimeScheme scheme = TimeScheme::implicit_euler;
+  double time_step = 0.01;  // h [time]
+  int steps = 100;
+  MassLumping lumping = MassLumping::consistent;
+  double rayleigh_alpha = 0.0;                      // [1/time]
+  double rayleigh_beta = 0.0;                       // [time]; K is the rest stiffness
+  int output_every = 1;                             // write a frame every this many steps (and the last)
+  std::optional<Eigen::VectorXd> initial_velocity;  // uniform, one entry per dimension
+  std::optional<TrajectoryTargetSpec> objective;    // for `tailor gradcheck`
+};
+
+// The model of a dynamic scene: the static scene's model plus inertia and Rayleigh damping,
+// its parameters p (Young's moduli, Poisson's ratios, densities, alpha and beta), and the
+// initial state.
+struct DynamicSceneModel {
+  StaticSetup setup;
+  std::unique_ptr<Model> model;
+  DynamicTerms terms;
+  Vector p, rest, initial_positions, initial_velocities;
+  TimeIntegratorOptions options;
+  bool rayleigh = false;
+};
+
+// Throws SceneError for scene problems (a material without a positive density, an initial
+// velocity of the wrong size) and what setup_static_scene throws.
+DynamicSceneModel build_dynamic_scene(const Scene& scene);
+
+}  // namespace tailor

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "optimizers/backend_detail.hpp"
+#include "optimizers/backend_registry.hpp"
 
 namespace tailor::detail {
 
@@ -234,3 +235,22 @@ BackendOutcome run_ceres_least_squares(Tracker& tracker, const Vector& z0) {
 }
 
 }  // namespace tailor::detail
+
+namespace tailor {
+
+// The registry's entries (optimizers/backend_registry.hpp).
+BackendEntry ceres_lbfgs_backend_entry() {
+  return {"ceres_lbfgs",
+          "Ceres GradientProblemSolver, L-BFGS line search; no bounds",
+          {},
+          &detail::run_ceres_lbfgs};
+}
+
+BackendEntry ceres_least_squares_backend_entry() {
+  return {"ceres_least_squares",
+          "Ceres trust-region Levenberg-Marquardt on the residual form, bounds",
+          {.bounds = true},
+          &detail::run_ceres_least_squares};
+}
+
+}  // namespace tailor

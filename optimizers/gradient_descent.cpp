@@ -7,6 +7,7 @@
 #include <string>
 
 #include "optimizers/backend_detail.hpp"
+#include "optimizers/backend_registry.hpp"
 
 namespace tailor::detail {
 
@@ -107,3 +108,15 @@ BackendOutcome run_gradient_descent(Tracker& tracker, const Vector& z0) {
 }
 
 }  // namespace tailor::detail
+
+namespace tailor {
+
+// The registry's entries (optimizers/backend_registry.hpp).
+BackendEntry gradient_descent_backend_entry() {
+  return {"gradient_descent",
+          "projected gradient descent with a halving line search, bounds",
+          {.bounds = true},
+          &detail::run_gradient_descent};
+}
+
+}  // namespace tailor

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "optimizers/backend_detail.hpp"
+#include "optimizers/backend_registry.hpp"
 
 namespace tailor::detail {
 
@@ -297,3 +298,16 @@ BackendOutcome run_ipopt(Tracker& tracker, const Vector& z0) {
 }
 
 }  // namespace tailor::detail
+
+namespace tailor {
+
+// The registry's entries (optimizers/backend_registry.hpp).
+BackendEntry ipopt_backend_entry() {
+  return {
+      "ipopt",
+      "interior point (Ipopt): bounds and general constraints; L-BFGS or the exact Hessian",
+      {.bounds = true, .inequality_constraints = true, .equality_constraints = true, .exact_hessian = true},
+      &detail::run_ipopt};
+}
+
+}  // namespace tailor

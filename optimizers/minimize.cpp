@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "optimizers/backend_detail.hpp"
+#include "optimizers/backend_registry.hpp"
 #include "optimizers/checkpoint.hpp"
 #include "optimizers/interrupt.hpp"
 #include "optimizers/optimizer.hpp"
@@ -25,24 +26,6 @@ std::string invalid_checkpoint(const OptimizerCheckpoint& c, int n, OptimizerBac
   if (c.history.empty() || c.history.back().iteration != c.iteration)
     return "the checkpoint's history does not end at its iteration " + std::to_string(c.iteration);
   return "";
-}
-
-detail::BackendOutcome run_backend(detail::Tracker& tracker, const Vector& start, OptimizerBackend backend) {
-  switch (backend) {
-    case OptimizerBackend::ipopt:
-      return detail::run_ipopt(tracker, start);
-    case OptimizerBackend::nlopt_lbfgs:
-    case OptimizerBackend::nlopt_mma:
-    case OptimizerBackend::nlopt_slsqp:
-      return detail::run_nlopt(tracker, start);
-    case OptimizerBackend::ceres_lbfgs:
-      return detail::run_ceres_lbfgs(tracker, start);
-    case OptimizerBackend::ceres_least_squares:
-      return detail::run_ceres_least_squares(tracker, start);
-    case OptimizerBackend::gradient_descent:
-      return detail::run_gradient_descent(tracker, start);
-  }
-  return {OptimizerStatus::failed, "unknown back-end", std::nullopt};
 }
 
 }  // namespace
@@ -91,7 +74,7 @@ OptimizerResult minimize(ReducedFunctional& functional, const Vector& z0, const 
                      ", max_iterations = " + std::to_string(options.max_iterations),
                  std::nullopt};
     } else {
-      outcome = run_backend(tracker, start, options.backend);
+      outcome = find_backend(options.backend).run(tracker, start);
     }
   } catch (const std::exception& e) {
     outcome = {OptimizerStatus::failed, std::string("exception: ") + e.what(), std::nullopt};

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "optimizers/backend_detail.hpp"
+#include "optimizers/backend_registry.hpp"
 
 namespace tailor::detail {
 
@@ -319,3 +320,27 @@ BackendOutcome run_nlopt(Tracker& tracker, const Vector& z0) {
 }
 
 }  // namespace tailor::detail
+
+namespace tailor {
+
+// The registry's entries (optimizers/backend_registry.hpp).
+BackendEntry nlopt_lbfgs_backend_entry() {
+  return {
+      "nlopt_lbfgs", "NLopt LD_LBFGS: limited-memory BFGS with bounds", {.bounds = true}, &detail::run_nlopt};
+}
+
+BackendEntry nlopt_mma_backend_entry() {
+  return {"nlopt_mma",
+          "NLopt LD_MMA: method of moving asymptotes, bounds and inequality constraints",
+          {.bounds = true, .inequality_constraints = true},
+          &detail::run_nlopt};
+}
+
+BackendEntry nlopt_slsqp_backend_entry() {
+  return {"nlopt_slsqp",
+          "NLopt LD_SLSQP: sequential quadratic programming, bounds and all constraints",
+          {.bounds = true, .inequality_constraints = true, .equality_constraints = true},
+          &detail::run_nlopt};
+}
+
+}  // namespace tailor

@@ -2,46 +2,23 @@
 #include "optimizers/optimizer.hpp"
 
 #include <cstdio>
+#include <ostream>
 #include <sstream>
 #include <stdexcept>
 
 #include "forward/core/format_number.hpp"
+#include "optimizers/backend_registry.hpp"
 
 namespace tailor {
 
-namespace {
-
-struct BackendName {
-  OptimizerBackend backend;
-  const char* name;
-};
-constexpr BackendName kBackendNames[] = {
-    {OptimizerBackend::ipopt, "ipopt"},
-    {OptimizerBackend::nlopt_lbfgs, "nlopt_lbfgs"},
-    {OptimizerBackend::nlopt_mma, "nlopt_mma"},
-    {OptimizerBackend::nlopt_slsqp, "nlopt_slsqp"},
-    {OptimizerBackend::ceres_lbfgs, "ceres_lbfgs"},
-    {OptimizerBackend::ceres_least_squares, "ceres_least_squares"},
-    {OptimizerBackend::gradient_descent, "gradient_descent"},
-};
-
-}  // namespace
-
-std::string to_string(OptimizerBackend backend) {
-  for (const auto& entry : kBackendNames)
-    if (entry.backend == backend) return entry.name;
-  return "unknown";
-}
+std::string to_string(OptimizerBackend backend) { return std::string(backend.name()); }
 
 OptimizerBackend parse_optimizer_backend(const std::string& name) {
-  std::string known;
-  for (const auto& entry : kBackendNames) {
-    if (name == entry.name) return entry.backend;
-    known += known.empty() ? "" : ", ";
-    known += entry.name;
-  }
-  throw std::invalid_argument("unknown optimizer back-end '" + name + "' (known: " + known + ")");
+  // The kind views the registry's copy of the name, which lives as long as the program.
+  return OptimizerBackend(find_backend(OptimizerBackend(name)).name);
 }
+
+std::ostream& operator<<(std::ostream& out, OptimizerBackend backend) { return out << backend.name(); }
 
 std::string to_string(OptimizerStatus status) {
   switch (status) {

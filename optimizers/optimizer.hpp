@@ -7,23 +7,47 @@
 #include <iosfwd>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "adjoint/reduced_functional.hpp"
 
 namespace tailor {
 
-enum class OptimizerBackend {
-  ipopt,                // interior point; bounds + general constraints; L-BFGS or exact Hessian
-  nlopt_lbfgs,          // NLopt LD_LBFGS (bounds)
-  nlopt_mma,            // NLopt LD_MMA (bounds, inequality constraints)
-  nlopt_slsqp,          // NLopt LD_SLSQP (bounds, equality and inequality constraints)
-  ceres_lbfgs,          // Ceres GradientProblemSolver, L-BFGS (no bounds)
-  ceres_least_squares,  // Ceres trust-region Levenberg-Marquardt on the residual form (bounds)
-  gradient_descent,     // projected gradient descent with a halving line search (bounds)
+// An optimizer back-end by its registered name (optimizers/backend_registry.hpp, which also
+// says what each accepts: bounds, constraints, an exact Hessian). The constants name tailor's
+// back-ends; the name is not owned: give a string literal, or a run-time name through
+// parse_optimizer_backend, which checks it and views the registry's copy.
+class OptimizerBackend {
+ public:
+  constexpr OptimizerBackend() = default;  // nlopt_lbfgs
+  constexpr explicit OptimizerBackend(std::string_view name) : name_(name) {}
+  constexpr std::string_view name() const { return name_; }
+  friend constexpr bool operator==(OptimizerBackend a, OptimizerBackend b) { return a.name_ == b.name_; }
+
+  static const OptimizerBackend ipopt;                // interior point; bounds + general constraints
+  static const OptimizerBackend nlopt_lbfgs;          // NLopt LD_LBFGS (bounds)
+  static const OptimizerBackend nlopt_mma;            // NLopt LD_MMA (bounds, inequality constraints)
+  static const OptimizerBackend nlopt_slsqp;          // NLopt LD_SLSQP (bounds, all constraints)
+  static const OptimizerBackend ceres_lbfgs;          // Ceres GradientProblemSolver, L-BFGS (no bounds)
+  static const OptimizerBackend ceres_least_squares;  // Ceres Levenberg-Marquardt, residual form (bounds)
+  static const OptimizerBackend gradient_descent;     // projected descent, halving line search (bounds)
+
+ private:
+  std::string_view name_ = "nlopt_lbfgs";
 };
+inline constexpr OptimizerBackend OptimizerBackend::ipopt{"ipopt"};
+inline constexpr OptimizerBackend OptimizerBackend::nlopt_lbfgs{"nlopt_lbfgs"};
+inline constexpr OptimizerBackend OptimizerBackend::nlopt_mma{"nlopt_mma"};
+inline constexpr OptimizerBackend OptimizerBackend::nlopt_slsqp{"nlopt_slsqp"};
+inline constexpr OptimizerBackend OptimizerBackend::ceres_lbfgs{"ceres_lbfgs"};
+inline constexpr OptimizerBackend OptimizerBackend::ceres_least_squares{"ceres_least_squares"};
+inline constexpr OptimizerBackend OptimizerBackend::gradient_descent{"gradient_descent"};
+
 std::string to_string(OptimizerBackend backend);
-OptimizerBackend parse_optimizer_backend(const std::string& name);  // throws std::invalid_argument
+// A registered back-end's kind; std::invalid_argument naming the registered ones otherwise.
+OptimizerBackend parse_optimizer_backend(const std::string& name);
+std::ostream& operator<<(std::ostream& out, OptimizerBackend backend);
 
 // Box bounds; empty vectors mean unbounded. Use +-infinity for one-sided bounds.
 struct Bounds {

@@ -10,10 +10,10 @@
 namespace tailor {
 
 // The built-in materials' entry functions, one per file under forward/fem/materials/ that
-// defines one (written by cmake/tailorWriteMaterialList.cmake).
-#define TAILOR_MATERIAL(id) MaterialEntry id##_material_entry();
+// defines one (written by cmake/tailorWriteRegistryList.cmake).
+#define TAILOR_ENTRY(id) MaterialEntry id##_material_entry();
 #include "tailor_builtin_materials.inc"
-#undef TAILOR_MATERIAL
+#undef TAILOR_ENTRY
 
 namespace {
 
@@ -41,9 +41,9 @@ Registry& registry() {
   static Registry* const instance = [] {
     auto* r = new Registry;  // never destroyed: materials may be made during static destruction
     for (MaterialEntry (*entry)() : {
-#define TAILOR_MATERIAL(id) &id##_material_entry,
+#define TAILOR_ENTRY(id) &id##_material_entry,
 #include "tailor_builtin_materials.inc"
-#undef TAILOR_MATERIAL
+#undef TAILOR_ENTRY
          }) {
       MaterialEntry e = entry();
       check_new_entry(*r, e);

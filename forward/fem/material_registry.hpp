@@ -5,7 +5,7 @@
 // Adding a built-in material is one file under forward/fem/materials/ (and its test): the class,
 // and at namespace tailor scope a function
 //     MaterialEntry <name>_material_entry() { return make_material_entry<MyMaterial>(...); }
-// The build lists every such function in that folder (cmake/tailorWriteMaterialList.cmake), and
+// The build lists every such function in that folder (cmake/tailorWriteRegistryList.cmake), and
 // the registry adds them before its first use, in file-name order. Scenes then accept the name,
 // and the material tests (tests/forward/fem_materials) check it with every other registered one.
 // A program adds its own with register_material before it reads a scene.

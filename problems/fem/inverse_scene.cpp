@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "forward/core/format_number.hpp"
+#include "optimizers/backend_registry.hpp"
 #include "problems/fem/objective_term_registry.hpp"
 #include "problems/fem/scene_parsing.hpp"
 
@@ -347,8 +348,9 @@ OptimizerOptions parse_optimizer(const SceneNode& node) {
   if (auto v = node.find("checkpoint_every")) o.checkpoint_every = v->integer(0);
   if (auto v = node.find("exact_hessian")) {
     o.exact_hessian = v->boolean();
-    if (o.exact_hessian && o.backend != OptimizerBackend::ipopt)
-      v->fail("only the ipopt back-end uses exact Hessians (the back-end is " + to_string(o.backend) + ")");
+    if (o.exact_hessian && !find_backend(o.backend).capabilities.exact_hessian)
+      v->fail("only the " + backends_with(&BackendCapabilities::exact_hessian) +
+              " back-end uses exact Hessians (the back-end is " + to_string(o.backend) + ")");
   }
   return o;
 }
@@ -405,13 +407,12 @@ InverseSpec parse_inverse_section(const SceneNode& node, const std::string& dire
   // Modal designs keep E inside the bounds by a smooth box, not by optimizer bounds.
   const bool bounded =
       (spec.design.min || spec.design.max) && spec.design.granularity != DesignGranularity::modes;
-  if (bounded && spec.optimizer.backend == OptimizerBackend::ceres_lbfgs)
+  if (bounded && !find_backend(spec.optimizer.backend).capabilities.bounds)
     node.at("optimizer")
         .at("backend")
-        .fail(
-            "ceres_lbfgs does not support bounds, but inverse.design has min/max (remove them or choose "
-            "another "
-            "back-end)");
+        .fail(to_string(spec.optimizer.backend) +
+              " does not support bounds, but inverse.design has min/max (remove them or choose one of " +
+              backends_with(&BackendCapabilities::bounds) + ")");
   if (auto g = node.find("gradcheck")) spec.gradcheck = parse_gradcheck(*g);
   return spec;
 }

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "optimizers/backend_registry.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
 #include "problems/scene_node.hpp"
@@ -137,12 +138,10 @@ MaterialFitSpec parse_material_fit_scene(const std::string& json_text, const std
   } else {
     spec.optimizer.backend = OptimizerBackend::ceres_least_squares;
   }
-  if (!spec.shapes.empty() && (spec.optimizer.backend == OptimizerBackend::ceres_least_squares ||
-                               spec.optimizer.backend == OptimizerBackend::nlopt_lbfgs ||
-                               spec.optimizer.backend == OptimizerBackend::ceres_lbfgs ||
-                               spec.optimizer.backend == OptimizerBackend::gradient_descent))
+  if (!spec.shapes.empty() && !find_backend(spec.optimizer.backend).capabilities.inequality_constraints)
     root.at(root.has("convex") ? "convex" : "shape")
-        .fail("shape constraints need a constrained optimizer (ipopt, nlopt_slsqp or nlopt_mma)");
+        .fail("shape constraints need a constrained optimizer (" +
+              backends_with(&BackendCapabilities::inequality_constraints) + ")");
   return spec;
 }
 

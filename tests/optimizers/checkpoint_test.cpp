@@ -12,21 +12,12 @@
 #include <vector>
 
 #include "tests/optimizers/test_functionals.hpp"
+#include "tests/support/every_backend.hpp"
 
 namespace tailor::test::checkpoint_test {
 namespace {
 
 using ::testing::HasSubstr;
-
-const OptimizerBackend kAllBackends[] = {
-    OptimizerBackend::ipopt,
-    OptimizerBackend::nlopt_lbfgs,
-    OptimizerBackend::nlopt_mma,
-    OptimizerBackend::nlopt_slsqp,
-    OptimizerBackend::ceres_lbfgs,
-    OptimizerBackend::ceres_least_squares,
-    OptimizerBackend::gradient_descent,
-};
 
 Vector start() { return Eigen::Vector2d(-1.2, 1.0); }
 
@@ -140,7 +131,7 @@ TEST_P(CheckpointEveryBackend, ResumedRunReachesTheSameMinimumAndContinuesTheHis
   EXPECT_EQ(resumed.iterations.back(), r.history.back().iteration);
 }
 
-INSTANTIATE_TEST_SUITE_P(Optimizers, CheckpointEveryBackend, ::testing::ValuesIn(kAllBackends),
+INSTANTIATE_TEST_SUITE_P(Optimizers, CheckpointEveryBackend, ::testing::ValuesIn(test::every_backend()),
                          [](const ::testing::TestParamInfo<OptimizerBackend>& param_info) {
                            return to_string(param_info.param);
                          });

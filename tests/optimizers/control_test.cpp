@@ -14,22 +14,14 @@
 #include <string>
 #include <thread>
 
+#include "optimizers/backend_registry.hpp"
 #include "tests/optimizers/test_functionals.hpp"
+#include "tests/support/every_backend.hpp"
 
 namespace tailor::test::control_test {
 namespace {
 
 using ::testing::HasSubstr;
-
-const OptimizerBackend kAllBackends[] = {
-    OptimizerBackend::ipopt,
-    OptimizerBackend::nlopt_lbfgs,
-    OptimizerBackend::nlopt_mma,
-    OptimizerBackend::nlopt_slsqp,
-    OptimizerBackend::ceres_lbfgs,
-    OptimizerBackend::ceres_least_squares,
-    OptimizerBackend::gradient_descent,
-};
 
 OptimizerOptions options_for(OptimizerBackend backend) {
   OptimizerOptions options;
@@ -154,7 +146,7 @@ TEST_P(EveryBackend, OtherExceptionsBecomeFailedWithTheirMessage) {
   EXPECT_TRUE(result.z.allFinite());
 }
 
-INSTANTIATE_TEST_SUITE_P(Optimizers, EveryBackend, ::testing::ValuesIn(kAllBackends),
+INSTANTIATE_TEST_SUITE_P(Optimizers, EveryBackend, ::testing::ValuesIn(test::every_backend()),
                          [](const ::testing::TestParamInfo<OptimizerBackend>& param_info) {
                            return to_string(param_info.param);
                          });
@@ -164,6 +156,67 @@ OptimizerResult run(ReducedFunctional& functional, OptimizerBackend backend, con
   OptimizerOptions options = options_for(backend);
   options.exact_hessian = exact_hessian;
   return minimize(functional, Vector::Zero(functional.size()), bounds, constraints, options);
+}
+
+// The registry's capabilities tell the truth: a back-end that claims bounds, inequality or
+// equality constraints finds the known optimum where they are active; one that does not
+// refuses them (status failed) instead of ignoring them.
+TEST_P(EveryBackend, CapabilitiesMatchWhatTheBackEndAccepts) {
+  const BackendCapabilities& can = find_backend(GetParam()).capabilities;
+  // Rosenbrock with z0 <= 0.5: the minimum moves from (1, 1) to (0.5, 0.25).
+  Rosenbrock rosenbrock(2);
+  const Bounds box{Vector::Constant(2, -2.0), Eigen::Vector2d(0.5, 2.0)};
+  // (1e-6: plain descent's line search stalls near 3e-8 on this valley.)
+  OptimizerOptions loose = options_for(GetParam());
+  loose.gradient_tolerance = 1e-6;
+  const OptimizerResult bounded = minimize(rosenbrock, rosenbrock_start(), box, {}, loose);
+  if (can.bounds) {
+    EXPECT_TRUE(bounded.converged()) << bounded.message;
+    EXPECT_NEAR(bounded.z[0], 0.5, 1e-6);
+    EXPECT_NEAR(bounded.z[1], 0.25, 1e-4);
+  } else {
+    EXPECT_EQ(bounded.status, OptimizerStatus::failed) << bounded.message;
+  }
+  // 1/2 sum w_i (z_i - p_i)^2 with z2 - z0 <= 1 (active; lambda = 3/4): z = (1.75, 2, 2.75).
+  // ceres_least_squares needs a residual form, which this functional lacks: it has neither.
+  WeightedQuadratic quadratic;
+  const OptimizerOptions options = options_for(GetParam());
+  const OptimizerResult gap = minimize(quadratic, Vector::Zero(3), {}, {gap_constraint()}, options);
+  if (can.inequality_constraints) {
+    EXPECT_TRUE(gap.converged()) << gap.message;
+    EXPECT_LT((gap.z - Eigen::Vector3d(1.75, 2.0, 2.75)).norm(), 1e-5) << gap.z.transpose();
+  } else {
+    EXPECT_EQ(gap.status, OptimizerStatus::failed) << gap.message;
+  }
+  // With z0 + z1 + z2 = 3 (multiplier 18/11): z = (-7, 13, 27) / 11.
+  const OptimizerResult sum = minimize(quadratic, Vector::Zero(3), {}, {sum_constraint()}, options);
+  if (can.equality_constraints) {
+    EXPECT_TRUE(sum.converged()) << sum.message;
+    EXPECT_LT((sum.z - Eigen::Vector3d(-7.0, 13.0, 27.0) / 11.0).norm(), 1e-5) << sum.z.transpose();
+  } else {
+    EXPECT_EQ(sum.status, OptimizerStatus::failed) << sum.message;
+  }
+}
+
+TEST(BackendRegistry, ListsTailorsBackEndsAndRefusesUnknownNames) {
+  std::vector<std::string> names;
+  for (const BackendEntry* entry : registered_backends()) {
+    names.push_back(entry->name);
+    EXPECT_FALSE(entry->summary.empty()) << entry->name;
+    EXPECT_EQ(&find_backend(parse_optimizer_backend(entry->name)), entry);
+  }
+  // In the order of their files: ceres_backend, gradient_descent, ipopt_backend, nlopt_backend.
+  EXPECT_EQ(names, (std::vector<std::string>{"ceres_lbfgs", "ceres_least_squares", "gradient_descent",
+                                             "ipopt", "nlopt_lbfgs", "nlopt_mma", "nlopt_slsqp"}));
+  EXPECT_EQ(backends_with(&BackendCapabilities::equality_constraints), "ipopt or nlopt_slsqp");
+  EXPECT_EQ(backends_with(&BackendCapabilities::exact_hessian), "ipopt");
+  try {
+    parse_optimizer_backend("lbfgs");
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(),
+                HasSubstr("unknown optimizer back-end 'lbfgs' (known: ceres_lbfgs, ceres_least_squares"));
+  }
 }
 
 TEST(Unsupported, CombinationsFailWithAClearMessage) {
@@ -250,7 +303,7 @@ TEST(History, CountsSolvesOfThisRunOnly) {
 }
 
 TEST(Names, RoundTrip) {
-  for (auto backend : kAllBackends) EXPECT_EQ(parse_optimizer_backend(to_string(backend)), backend);
+  for (auto backend : test::every_backend()) EXPECT_EQ(parse_optimizer_backend(to_string(backend)), backend);
   EXPECT_EQ(to_string(OptimizerBackend::ceres_least_squares), "ceres_least_squares");
   try {
     parse_optimizer_backend("lbfgs");

@@ -245,7 +245,7 @@ TEST(InverseScene, EveryErrorNamesTheKeyPath) {
        "test.json: inverse.objective[0].youngs_modulus: differs from the true Young's modulus given by "
        "inverse.ground_truth.youngs_modulus"},
       {edited("\"design\"", "\"optimizer\": {\"backend\": \"lbfgs\"}, \"design\""),
-       "test.json: inverse.optimizer.backend: unknown optimizer back-end 'lbfgs' (known: ipopt, nlopt_lbfgs"},
+       "test.json: inverse.optimizer.backend: unknown optimizer back-end 'lbfgs' (known: ceres_lbfgs, ceres_least_squares"},
       {edited("\"design\"", "\"optimizer\": {\"backend\": \"ceres_lbfgs\"}, \"design\""),
        "test.json: inverse.optimizer.backend: ceres_lbfgs does not support bounds"},
       {edited("\"design\"", "\"optimizer\": {\"exact_hessian\": true}, \"design\""),

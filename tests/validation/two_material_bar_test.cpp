@@ -9,7 +9,9 @@
 #include "adjoint/static_functional.hpp"
 #include "forward/fem/loads.hpp"
 #include "objectives/target_positions.hpp"
+#include "optimizers/backend_registry.hpp"
 #include "optimizers/optimizer.hpp"
+#include "tests/support/every_backend.hpp"
 
 namespace tailor::two_material_bar_test {
 namespace {
@@ -36,8 +38,10 @@ struct TwoMaterialBar {
       for (int a = 0; a < 4; ++a) cx += 0.25 * mesh.rest_positions(mesh.elements(e, a), 0);
       region[e] = cx < 2.0 ? 0 : 1;
     }
-    const Eigen::MatrixXi end_facets = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > 4 - 1e-9; });
-    model.add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, end_facets, Eigen::Vector3d(1e4, 0, -5e2))));
+    const Eigen::MatrixXi end_facets =
+        boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > 4 - 1e-9; });
+    model.add(std::make_unique<ExternalForceTerm>(
+        traction_forces(mesh, end_facets, Eigen::Vector3d(1e4, 0, -5e2))));
     rest = rest_state(mesh);
     std::vector<int> fixed;
     for (int v = 0; v < mesh.num_vertices(); ++v) {
@@ -67,7 +71,8 @@ struct TwoMaterialBar {
     EXPECT_TRUE(r.converged()) << r.report();
     const Vector x = model.elimination().expand(y);
     Matrix targets(observed.size(), 3);
-    for (std::size_t k = 0; k < observed.size(); ++k) targets.row(k) = x.segment<3>(3 * observed[k]).transpose();
+    for (std::size_t k = 0; k < observed.size(); ++k)
+      targets.row(k) = x.segment<3>(3 * observed[k]).transpose();
     return std::make_shared<TargetPositions>(3, observed, targets);
   }
 };
@@ -88,21 +93,18 @@ TEST_P(TwoMaterialBarRecovery, RecoversBothModuliFromThreeTimesOff) {
   options.max_iterations = GetParam() == OptimizerBackend::gradient_descent ? 3000 : 500;
   options.gradient_tolerance = 1e-13;
   options.objective_tolerance = 0.0;
-  const bool bounded = GetParam() != OptimizerBackend::ceres_lbfgs;
+  const bool bounded = find_backend(GetParam()).capabilities.bounds;
   const OptimizerResult r = minimize(functional, z0, bounded ? bounds : Bounds{}, {}, options);
   const double e0 = std::exp(r.z[0]), e1 = std::exp(r.z[1]);
   std::printf("%-20s %-14s iterations %3zu  forward solves %3d  E = (%.9g, %.9g)  errors (%.1e, %.1e)\n",
               to_string(GetParam()).c_str(), to_string(r.status).c_str(), r.history.size(),
-              functional.counters().forward_solves, e0, e1, std::abs(e0 / kTrue[0] - 1), std::abs(e1 / kTrue[1] - 1));
+              functional.counters().forward_solves, e0, e1, std::abs(e0 / kTrue[0] - 1),
+              std::abs(e1 / kTrue[1] - 1));
   EXPECT_NEAR(e0 / kTrue[0], 1.0, 1e-6) << r.report();
   EXPECT_NEAR(e1 / kTrue[1], 1.0, 1e-6) << r.report();
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryBackend, TwoMaterialBarRecovery,
-                         ::testing::Values(OptimizerBackend::ipopt, OptimizerBackend::nlopt_lbfgs,
-                                           OptimizerBackend::nlopt_mma, OptimizerBackend::nlopt_slsqp,
-                                           OptimizerBackend::ceres_lbfgs, OptimizerBackend::ceres_least_squares,
-                                           OptimizerBackend::gradient_descent),
+INSTANTIATE_TEST_SUITE_P(EveryBackend, TwoMaterialBarRecovery, ::testing::ValuesIn(test::every_backend()),
                          [](const auto& param_info) { return to_string(param_info.param); });
 
 }  // namespace

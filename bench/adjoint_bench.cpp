@@ -30,7 +30,9 @@ using namespace tailor;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 struct Row {
   std::string material;
@@ -96,15 +98,15 @@ int run(int argc, char** argv) {
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   std::printf("tailor %s: gradient cost / forward cost, per-element Young's moduli as design variables\n",
               version_string);
-  std::printf("%-12s %7s %6s %9s %9s %7s %-20s %4s %11s %10s\n", "material", "tets", "newton", "forward", "gradient",
-              "ratio", "adjoint solve", "cg", "fresh fact.", "rel. diff");
+  std::printf("%-12s %7s %6s %9s %9s %7s %-20s %4s %11s %10s\n", "material", "tets", "newton", "forward",
+              "gradient", "ratio", "adjoint solve", "cg", "fresh fact.", "rel. diff");
   std::vector<Row> rows;
   for (MaterialKind kind : {MaterialKind::neo_hookean, MaterialKind::linear}) {
     const Row r = run(kind, tets);
     rows.push_back(r);
     std::printf("%-12s %7d %6d %9.4f %9.4f %7.4f %-20s %4d %11.4f %10.2e\n", r.material.c_str(), r.tets,
-                r.newton_iterations, r.forward, r.gradient, r.ratio, r.method.c_str(), r.cg_iterations, r.fresh_gradient,
-                r.difference);
+                r.newton_iterations, r.forward, r.gradient, r.ratio, r.method.c_str(), r.cg_iterations,
+                r.fresh_gradient, r.difference);
     std::fflush(stdout);
   }
   std::printf(

@@ -7,17 +7,17 @@
 //  - the report starts with tailor's report header (problems/report_header.hpp: version, report
 //    format, threads) and "benchmark"; it is written by nlohmann::json, so strings are escaped
 //    and non-finite numbers are written as null.
-#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "forward/core/format_number.hpp"
-#include "problems/cli/flag_checks.hpp"
 #include "problems/json_text.hpp"
 #include "problems/report_header.hpp"
 
@@ -25,97 +25,64 @@ namespace tailor::bench {
 
 using Json = nlohmann::ordered_json;
 
+// The flags of one program. CLI11 stays inside bench/bench_cli.cpp: it costs every translation
+// unit that includes it about 7 s of compile time (docs/testing.md, "Build time").
 class Cli {
  public:
-  Cli(const std::string& program, const std::string& description)
-      : program_(program), app_(description, program) {
-    app_.set_help_flag("-h,--help", "print this help and exit");
-    app_.allow_extras();  // reported by parse() as "unknown flag '--x'"
-    app_.get_formatter()->column_width(34);
-  }
+  Cli(const std::string& program, const std::string& description);
+  ~Cli();
+  Cli(const Cli&) = delete;
+  Cli& operator=(const Cli&) = delete;
 
-  CLI::App& app() { return app_; }
-
-  // --out FILE: the JSON report.
-  CLI::Option* out(std::string& path, const std::string& what = "JSON report") {
-    return app_.add_option("--out", path, what)->type_name("FILE")->capture_default_str();
-  }
+  // --out FILE: the JSON report (or another output; `type` is its placeholder in the help).
+  void out(std::string& path, const std::string& what = "JSON report", const std::string& type = "FILE");
   // --tets: the target tet count(s) of the meshes (the mesh closest to each is used).
-  CLI::Option* tets(int& count, int min = 6) {
-    return integer("--tets", count, "target tet count of the mesh", min);
+  void tets(int& count, int min = 6) { integer("--tets", count, "target tet count of the mesh", min); }
+  void tets(std::vector<int>& counts, int min = 6) {
+    integers("--tets", counts, "target tet counts of the meshes", min);
   }
-  CLI::Option* tets(std::vector<int>& counts, int min = 6) {
-    return integers("--tets", counts, "target tet counts of the meshes", min);
-  }
-  CLI::Option* steps(int& count, const std::string& what = "time steps") {
-    return integer("--steps", count, what, 1);
-  }
-  CLI::Option* repeats(int& count) {
-    return integer("--repeats", count, "timed repeats (the median is reported)", 1);
-  }
-  CLI::Option* time_step(double& h) {
-    return app_.add_option("--time-step", h, "time step h")
-        ->type_name("H")
-        ->check(cli::number_above(0.0))
-        ->capture_default_str();
-  }
+  void steps(int& count, const std::string& what = "time steps") { integer("--steps", count, what, 1); }
+  void repeats(int& count) { integer("--repeats", count, "timed repeats (the median is reported)", 1); }
+  void time_step(double& h) { number("--time-step", h, "time step h", 0.0); }
 
   // A whole number >= min.
-  CLI::Option* integer(const std::string& flag, int& value, const std::string& what, int min) {
-    return app_.add_option(flag, value, what + " (>= " + std::to_string(min) + ")")
-        ->type_name("N")
-        ->check(cli::integer_in(min))
-        ->capture_default_str();
-  }
+  void integer(const std::string& flag, int& value, const std::string& what, int min);
   // A comma-separated list of whole numbers >= min ("6000,47000"); replaces the default list.
-  CLI::Option* integers(const std::string& flag, std::vector<int>& values, const std::string& what, int min) {
-    std::string defaults;
-    for (const int v : values) defaults += (defaults.empty() ? "" : ",") + std::to_string(v);
-    return app_.add_option(flag, values, what + " (each >= " + std::to_string(min) + ")")
-        ->type_name("N[,N...]")
-        ->delimiter(',')
-        ->check(cli::integer_in(min))
-        ->default_str(defaults);
-  }
+  void integers(const std::string& flag, std::vector<int>& values, const std::string& what, int min);
   // A finite number > min (>= min when inclusive).
-  CLI::Option* number(const std::string& flag, double& value, const std::string& what, double min,
-                      bool inclusive = false) {
-    return app_.add_option(flag, value, what + (inclusive ? " (>= " : " (> ") + format_number(min) + ")")
-        ->type_name("X")
-        ->check(cli::number_above(min, inclusive))
-        ->capture_default_str();
-  }
-  CLI::Option* flag(const std::string& flag, bool& value, const std::string& what) {
-    return app_.add_flag(flag, value, what);
-  }
+  void number(const std::string& flag, double& value, const std::string& what, double min,
+              bool inclusive = false);
+  // A bare flag.
+  void flag(const std::string& flag, bool& value, const std::string& what);
+  // A bare flag that runs `set` when given.
+  void flag(const std::string& flag, std::function<void()> set, const std::string& what);
+  // Two bare flags that exclude each other, e.g. --reuse-factorization / --no-reuse-factorization.
+  void on_off(const std::string& on, const std::string& off, std::function<void(bool)> set,
+              const std::string& on_what, const std::string& off_what);
+  // Any text (`type` is its placeholder in the help: FILE, DIR).
+  void text(const std::string& flag, std::string& value, const std::string& what, const std::string& type);
+  // One of `words`.
+  void choice(const std::string& flag, std::string& value, const std::string& what,
+              const std::vector<std::string>& words);
+  // A comma-separated list of `words`.
+  void choices(const std::string& flag, std::vector<std::string>& values, const std::string& what,
+               const std::vector<std::string>& words);
+  // A comma-separated list of names, each accepted when `check` returns an empty string (else
+  // the reason); `type` is the placeholder in the help.
+  void names(const std::string& flag, std::vector<std::string>& values, const std::string& what,
+             const std::string& type, std::function<std::string(const std::string&)> check);
 
   // Parses the command line. Returns the exit code when the program should stop: 0 after
   // --help, 2 after a bad flag or value (with the message on stderr); nullopt to go on.
-  std::optional<int> parse(int argc, const char* const* argv) {
-    try {
-      app_.parse(argc, argv);
-    } catch (const CLI::CallForHelp&) {
-      std::cout << app_.help();
-      return 0;
-    } catch (const CLI::ParseError& e) {
-      return usage_error(e.what());
-    }
-    const std::vector<std::string> extra = app_.remaining();
-    if (!extra.empty())
-      return usage_error((extra[0].rfind('-', 0) == 0 ? "unknown flag '" : "unexpected argument '") +
-                         extra[0] + "'");
-    return std::nullopt;
-  }
+  std::optional<int> parse(int argc, const char* const* argv);
 
   // A usage error found after parsing (e.g. flags that contradict each other): exit code 2.
-  int usage_error(const std::string& what) const {
-    std::cerr << program_ << ": " << what << "\nRun '" << program_ << " --help' for its flags.\n";
-    return 2;
-  }
+  int usage_error(const std::string& what) const;
 
  private:
+  struct Parser;  // CLI11's App
   std::string program_;
-  CLI::App app_;
+  std::unique_ptr<Parser> parser_;
 };
 
 // A report's first fields: tailor's report header, then "benchmark".

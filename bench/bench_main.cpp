@@ -7,7 +7,7 @@
 #include <string>
 
 // TAILOR_BENCH(name) for each bench, in bench_programs.inc.
-#define TAILOR_BENCH(name) \
+#define TAILOR_BENCH(name)        \
   namespace tailor::bench::name { \
   int run(int argc, char** argv); \
   }

@@ -17,7 +17,7 @@ int run(int argc, char** argv) {
   using namespace tailor;
   std::string out = "damping_design_bench";
   bench::Cli cli("damping_design_bench", "Example-based damping on a cantilever plate (Xu & Barbic 2017).");
-  cli.out(out, "output folder: report.json and the PNG plots")->type_name("DIR");
+  cli.out(out, "output folder: report.json and the PNG plots", "DIR");
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   DampingStudyOptions o;
   o.plate.controls = {Vector::Constant(1, 0.1), Vector::Constant(1, 3.0)};

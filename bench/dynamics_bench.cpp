@@ -10,7 +10,8 @@
 // alpha and beta (TransientFunctional), as a ratio of the forward run.
 // Writes JSON (--out, default bench_dynamics.json) and prints a table.
 //
-// usage: dynamics_bench [--tets 58000] [--steps 10] [--reuse-factorization | --no-reuse-factorization] [--out FILE]
+// usage: dynamics_bench [--tets 58000] [--steps 10] [--reuse-factorization | --no-reuse-factorization] [--out
+// FILE]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -96,9 +97,10 @@ Row run(TimeScheme scheme, int target_tets, int steps, FactorReuse reuse_factori
                  row.scheme.c_str(), s + 1, times.back(), r.iterations, r.factorizations(), cg_steps);
   }
   const SparseCholesky& factor = integrator.newton().factorization();
-  std::fprintf(stderr, "  factorization %.2f GFlop = %.0f back-solves, %.0f flops per assembled Hessian slot\n",
-               1e-9 * factor.factorization_flops(), factor.factorization_flops() / (4.0 * factor.factor_nonzeros()),
-               factor.factorization_flops() / static_cast<double>(integrator.newton().assembler().num_slots()));
+  std::fprintf(
+      stderr, "  factorization %.2f GFlop = %.0f back-solves, %.0f flops per assembled Hessian slot\n",
+      1e-9 * factor.factorization_flops(), factor.factorization_flops() / (4.0 * factor.factor_nonzeros()),
+      factor.factorization_flops() / static_cast<double>(integrator.newton().assembler().num_slots()));
   row.median_step = median(times);
   row.median_cpu = median(cpu);
   row.min_step = *std::min_element(times.begin(), times.end());
@@ -139,18 +141,16 @@ int run(int argc, char** argv) {
   bench::Cli cli("dynamics_bench", "Time per implicit step of a Neo-Hookean cantilever, and its adjoint.");
   cli.tets(tets, 24);
   cli.steps(steps);
-  CLI::Option* reuse = cli.app().add_flag_callback(
-      "--reuse-factorization", [&reuse_factorization] { reuse_factorization = FactorReuse::on; },
-      "Newton's kept factorization as CG preconditioner whenever it can (default: where it pays)");
-  cli.app()
-      .add_flag_callback(
-          "--no-reuse-factorization", [&reuse_factorization] { reuse_factorization = FactorReuse::off; },
-          "Newton factorizes every iteration")
-      ->excludes(reuse);
+  cli.on_off(
+      "--reuse-factorization", "--no-reuse-factorization",
+      [&reuse_factorization](bool on) { reuse_factorization = on ? FactorReuse::on : FactorReuse::off; },
+      "Newton's kept factorization as CG preconditioner whenever it can (default: where it pays)",
+      "Newton factorizes every iteration");
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
-  std::printf("tailor %s: Neo-Hookean cantilever under gravity, h = 0.01, full space, reuse_factorization %s\n",
-              version_string, to_string(reuse_factorization).c_str());
+  std::printf(
+      "tailor %s: Neo-Hookean cantilever under gravity, h = 0.01, full space, reuse_factorization %s\n",
+      version_string, to_string(reuse_factorization).c_str());
   std::vector<Row> rows;
   for (TimeScheme scheme : {TimeScheme::implicit_euler, TimeScheme::newmark})
     rows.push_back(run(scheme, tets, steps, reuse_factorization));

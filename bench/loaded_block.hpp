@@ -18,9 +18,9 @@ namespace tailor::bench {
 struct LoadedBlock {
   Mesh mesh;
   std::unique_ptr<Model> model;
-  Vector rest;                     // rest positions as a state vector
-  Vector parameters;               // [E..., nu...]
-  std::vector<int> top_vertices;   // vertices of the loaded face
+  Vector rest;                    // rest positions as a state vector
+  Vector parameters;              // [E..., nu...]
+  std::vector<int> top_vertices;  // vertices of the loaded face
   Vector rest_unknowns() const { return model->elimination().restrict_state(rest); }
 };
 
@@ -35,7 +35,8 @@ inline LoadedBlock make_loaded_block(int target_tets, MaterialKind material) {
   b.model->parameter_layout().add("youngs_modulus", m);
   b.model->parameter_layout().add("poisson_ratio", m);
   b.model->add(std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(material), 0, m));
-  const Eigen::MatrixXi top = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[2] > 1 - 1e-9; });
+  const Eigen::MatrixXi top =
+      boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[2] > 1 - 1e-9; });
   b.model->add(std::make_unique<ExternalForceTerm>(
       traction_forces(mesh, top, Eigen::Vector3d(0.05 * kYoung, 0.0, -0.05 * kYoung))));
   b.rest.resize(3 * mesh.num_vertices());

@@ -275,52 +275,32 @@ int run(int argc, char** argv) {
                  "Reduced material design with Laplacian material modes vs the full design.");
   cli.flag("--quick", quick,
            "the small scene, r = 5 and 20, no back-end comparison, full design capped at 20 s");
-  cli.app()
-      .add_option("--scenes", settings.scenes, "scenes to run")
-      ->type_name("small|large[,...]")
-      ->delimiter(',')
-      ->check(cli::one_of({"small", "large"}))
-      ->capture_default_str();
+  cli.choices("--scenes", settings.scenes, "scenes to run", {"small", "large"});
   cli.integers("--modes", settings.modes, "material mode counts r (nlopt_lbfgs)", 1);
-  cli.app()
-      .add_option("--backends", backends,
-                  "back-ends compared at r = --backend-modes (default ipopt,ceres_lbfgs,"
-                  "gradient_descent)")
-      ->type_name("NAME[,...]")
-      ->delimiter(',')
-      ->check(CLI::Validator(
-          [](std::string& name) -> std::string {
-            try {
-              parse_optimizer_backend(name);
-              return {};
-            } catch (const std::invalid_argument& e) {
-              return e.what();
-            }
-          },
-          "optimizer back-end"));
+  cli.names("--backends", backends,
+            "back-ends compared at r = --backend-modes (default ipopt,ceres_lbfgs,gradient_descent)",
+            "NAME[,...]", [](const std::string& name) -> std::string {
+              try {
+                parse_optimizer_backend(name);
+                return {};
+              } catch (const std::invalid_argument& e) {
+                return e.what();
+              }
+            });
   cli.integer("--backend-modes", settings.backend_modes, "r of the back-end comparison", 1);
   cli.integer("--max-iterations", settings.max_iterations, "optimizer iteration cap of every run", 1);
   cli.number("--full-time-limit", settings.full_time_limit, "time cap of the full design [s]", 0.0);
   cli.number("--time-limit", settings.time_limit, "time cap of the reduced runs [s] (0: none)", 0.0,
              /*inclusive=*/true);
-  cli.app()
-      .add_option("--scene-dir", settings.scene_dir, "folder of the inclusion_recovery scenes")
-      ->type_name("DIR")
-      ->capture_default_str();
+  cli.text("--scene-dir", settings.scene_dir, "folder of the inclusion_recovery scenes", "DIR");
   cli.out(settings.out);
-  cli.app()
-      .add_option("--plot", settings.plot, "PNG stem: PLOT_small.png, PLOT_large.png")
-      ->type_name("FILE")
-      ->capture_default_str();
-  CLI::Option* reuse = cli.app().add_flag_callback(
-      "--reuse-factorization", [&settings] { settings.reuse_factorization = true; },
-      "Newton preconditions CG with its kept factorization (default: as in each scene)");
-  cli.app()
-      .add_flag_callback(
-          "--no-reuse-factorization", [&settings] { settings.reuse_factorization = false; },
-          "Newton factorizes every iteration")
-      ->excludes(reuse);
-  cli.app().add_flag_callback(
+  cli.text("--plot", settings.plot, "PNG stem: PLOT_small.png, PLOT_large.png", "FILE");
+  cli.on_off(
+      "--reuse-factorization", "--no-reuse-factorization",
+      [&settings](bool on) { settings.reuse_factorization = on; },
+      "Newton preconditions CG with its kept factorization (default: as in each scene)",
+      "Newton factorizes every iteration");
+  cli.flag(
       "--no-full", [&settings] { settings.full = false; }, "skip the full design");
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   if (!backends.empty()) {

@@ -58,7 +58,8 @@ SizeResult run(int target_tets, int max_iterations) {
     factorization.push_back(it.factorization_seconds);
     solve.push_back(it.solve_seconds);
     line_search.push_back(it.line_search_seconds);
-    const double whole = it.assembly_seconds + it.factorization_seconds + it.solve_seconds + it.line_search_seconds;
+    const double whole =
+        it.assembly_seconds + it.factorization_seconds + it.solve_seconds + it.line_search_seconds;
     iteration.push_back(whole);
     ratio.push_back(whole / (it.factorization_seconds + it.solve_seconds));
   }
@@ -98,19 +99,22 @@ int run(int argc, char** argv) {
   std::printf("tailor %s, Newton on a Neo-Hookean block (clamped base, shear + compression on top)\n",
               version_string);
   std::printf("BLAS: %s, hardware threads: %u\n", blas.c_str(), std::thread::hardware_concurrency());
-  std::printf("%8s %9s %6s %-10s %9s %9s %9s %9s %9s %7s %8s %8s %8s\n", "tets", "free DOFs", "iters", "status",
-              "assembly", "factor", "solve", "l.search", "iter", "ratio", "GFlop", "f/solve", "f/slot");
+  std::printf("%8s %9s %6s %-10s %9s %9s %9s %9s %9s %7s %8s %8s %8s\n", "tets", "free DOFs", "iters",
+              "status", "assembly", "factor", "solve", "l.search", "iter", "ratio", "GFlop", "f/solve",
+              "f/slot");
   std::vector<SizeResult> results;
   for (int size : sizes) {
     const SizeResult s = run(size, max_iterations);
     results.push_back(s);
-    std::printf("%8d %9d %6d %-10s %9.4f %9.4f %9.4f %9.4f %9.4f %7.3f %8.2f %8.0f %8.0f\n", s.tets, s.free_dofs,
-                s.iterations, s.status.c_str(), s.assembly, s.factorization, s.solve, s.line_search, s.iteration,
-                s.ratio, 1e-9 * s.factor_flops, s.factor_over_solve, s.flops_per_slot);
+    std::printf("%8d %9d %6d %-10s %9.4f %9.4f %9.4f %9.4f %9.4f %7.3f %8.2f %8.0f %8.0f\n", s.tets,
+                s.free_dofs, s.iterations, s.status.c_str(), s.assembly, s.factorization, s.solve,
+                s.line_search, s.iteration, s.ratio, 1e-9 * s.factor_flops, s.factor_over_solve,
+                s.flops_per_slot);
     std::fflush(stdout);
   }
   std::printf(
-      "(seconds, medians over Newton iterations; ratio = iteration / (factorization + solve); GFlop, f/solve, "
+      "(seconds, medians over Newton iterations; ratio = iteration / (factorization + solve); GFlop, "
+      "f/solve, "
       "f/slot:\n the factorization's flops, per back-solve (4 nnz(L)) and per assembled Hessian slot)\n");
 
   bench::Json json = bench::report("newton_iteration");

@@ -195,10 +195,8 @@ int run(int argc, char** argv) {
               "targets designed on one precomputation (the last grid point with the most material modes)", 1);
   cli.flag("--quick", quick, "cells 2, one grid point (4 x 4)");
   cli.flag("--no-full", no_full, "skip the full-space design");
-  cli.app()
-      .add_option("--material", g_material, "the beam's material (non-StVK: cubature)")
-      ->check(CLI::IsMember({"stvk", "neo_hookean", "corotated"}))
-      ->capture_default_str();
+  cli.choice("--material", g_material, "the beam's material (non-StVK: cubature)",
+             {"stvk", "neo_hookean", "corotated"});
   cli.integer("--cubature-elements", g_cubature_elements, "cubature rule size at most (0: the default)", 0);
   cli.integer("--cubature-candidates", g_cubature_candidates,
               "elements scored per greedy step of the cubature fit, a random subset (0: every element)", 0);

@@ -367,10 +367,7 @@ int run(int argc, char** argv) {
   cli.number("--duration", duration, "simulated time [s]", 0.0);
   cli.time_step(h);
   cli.out(out);
-  cli.app()
-      .add_option("--plot", plot, "PNG of error against time per step (and its _tip.png)")
-      ->type_name("FILE")
-      ->capture_default_str();
+  cli.text("--plot", plot, "PNG of error against time per step (and its _tip.png)", "FILE");
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   if (quick) {
     tets = {3000};

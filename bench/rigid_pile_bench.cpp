@@ -87,26 +87,15 @@ int run(int argc, char** argv) {
   cli.steps(steps);
   cli.time_step(dt);
   cli.integer("--max-iterations", max_iterations, "Newton iteration cap per step", 1);
-  cli.app()
-      .add_option("--hessian", hessian_name, "Newton's Hessian")
-      ->type_name("adaptive|projected|exact")
-      ->check(cli::one_of({"adaptive", "projected", "exact"}))
-      ->capture_default_str();
+  cli.choice("--hessian", hessian_name, "Newton's Hessian", {"adaptive", "projected", "exact"});
   cli.number("--force-tolerance", force_tolerance,
              "Newton stops at |g| <= F x total weight (0: the default test)", 0.0, /*inclusive=*/true);
-  cli.app()
-      .add_option("--stiffness", stiffness_name, "barrier stiffness kappa: fixed at --kappa, or adaptive")
-      ->type_name("fixed|adaptive")
-      ->check(cli::one_of({"fixed", "adaptive"}))
-      ->capture_default_str();
+  cli.choice("--stiffness", stiffness_name, "barrier stiffness kappa: fixed at --kappa, or adaptive",
+             {"fixed", "adaptive"});
   cli.number("--kappa", kappa, "kappa (fixed), or adaptive's minimum", 0.0);
   cli.number("--velocity-tolerance", velocity_tolerance, "IPC's stop: Newton direction <= V h (0: off)", 0.0,
              /*inclusive=*/true);
-  cli.app()
-      .add_option("--guess", guess_name, "each step's initial guess")
-      ->type_name("previous|predicted")
-      ->check(cli::one_of({"previous", "predicted"}))
-      ->capture_default_str();
+  cli.choice("--guess", guess_name, "each step's initial guess", {"previous", "predicted"});
   cli.number("--friction", friction, "friction coefficient mu (0: frictionless)", 0.0, /*inclusive=*/true);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;

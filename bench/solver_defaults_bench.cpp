@@ -231,10 +231,12 @@ int run(int argc, char** argv) {
                   linear.mesh.num_elements(), config->name, factor, solve, inverse.forward_gradient,
                   inverse.factorizations, dynamics.step, dynamics.factorizations_per_step, dynamics_ratio,
                   newton_ratio);
-      std::printf("%7s   Neo-Hookean Newton: %d iterations, %d factorizations; per iteration %.4f s = assembly %.4f + "
-                  "factorization %.4f + solve %.4f + line search %.4f (+ rest)\n",
-                  "", newton.iterations, newton.factorizations, newton.iteration, newton.assembly,
-                  newton.factorization, newton.solve, newton.line_search);
+      std::printf(
+          "%7s   Neo-Hookean Newton: %d iterations, %d factorizations; per iteration %.4f s = assembly %.4f "
+          "+ "
+          "factorization %.4f + solve %.4f + line search %.4f (+ rest)\n",
+          "", newton.iterations, newton.factorizations, newton.iteration, newton.assembly,
+          newton.factorization, newton.solve, newton.line_search);
       rows.push_back({{"tets", linear.mesh.num_elements()},
                       {"config", config->name},
                       {"factorization_seconds", factor},

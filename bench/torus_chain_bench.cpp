@@ -42,8 +42,8 @@ struct DynamicSummary {
   std::string failure;
 };
 
-DynamicSummary run_dynamic(const ChainSpec& chain, ContactModel model, double h, int steps, int band, int max_iterations,
-                           bench::Json& out) {
+DynamicSummary run_dynamic(const ChainSpec& chain, ContactModel model, double h, int steps, int band,
+                           int max_iterations, bench::Json& out) {
   ChainSimulationOptions o;
   o.newton.max_iterations = max_iterations;
   o.model = model;
@@ -56,9 +56,13 @@ DynamicSummary run_dynamic(const ChainSpec& chain, ContactModel model, double h,
   bench::Json per_step = bench::Json::array();
   for (int n = 0; n < steps; ++n) {
     const ChainStepRecord r = sim.step();
-    per_step.push_back({{"step", n + 1}, {"converged", r.converged}, {"seconds", r.seconds},
-                        {"ccd_seconds", r.ccd_seconds}, {"newton_iterations", r.newton_iterations},
-                        {"active_pairs", r.active_pairs}, {"min_distance", r.min_distance},
+    per_step.push_back({{"step", n + 1},
+                        {"converged", r.converged},
+                        {"seconds", r.seconds},
+                        {"ccd_seconds", r.ccd_seconds},
+                        {"newton_iterations", r.newton_iterations},
+                        {"active_pairs", r.active_pairs},
+                        {"min_distance", r.min_distance},
                         {"intersections", r.intersections}});
     if (!r.converged) {
       s.failure = sim.last_message();
@@ -132,7 +136,8 @@ int run(int argc, char** argv) {
   cli.steps(steps);
   cli.time_step(h);
   cli.number("--tilt", tilt, "release angle from the vertical [rad]", 0.0, true);
-  cli.integer("--mesh-segments", mesh_segments, "major segments of the dynamic run's meshes (minor: a quarter, >= 6)", 8);
+  cli.integer("--mesh-segments", mesh_segments,
+              "major segments of the dynamic run's meshes (minor: a quarter, >= 6)", 8);
   cli.integer("--static-links", static_links, "tori in the static comparison", 2);
   cli.integers("--segments", segments, "major segments of the static comparison's meshes", 8);
   cli.integer("--max-iterations", max_iterations, "Newton iteration cap per step", 1);
@@ -147,10 +152,15 @@ int run(int argc, char** argv) {
   chain.tilt = tilt;
   chain.major_segments = mesh_segments;
   chain.minor_segments = std::max(6, mesh_segments / 4);
-  json["dynamic"] = {{"links", links}, {"steps", steps}, {"time_step", h}, {"tilt", tilt},
-                     {"mesh_segments", {chain.major_segments, chain.minor_segments}}, {"pair_band", band},
+  json["dynamic"] = {{"links", links},
+                     {"steps", steps},
+                     {"time_step", h},
+                     {"tilt", tilt},
+                     {"mesh_segments", {chain.major_segments, chain.minor_segments}},
+                     {"pair_band", band},
                      {"max_iterations", max_iterations}};
-  std::printf("dynamic chain: %d links, %d steps of %g s, released %g rad from the vertical\n", links, steps, h, tilt);
+  std::printf("dynamic chain: %d links, %d steps of %g s, released %g rad from the vertical\n", links, steps,
+              h, tilt);
   std::printf("%-9s %9s %12s %12s %9s %11s %12s %8s\n", "model", "steps", "s/step", "Newton/step", "CCD %",
               "pairs", "min dist", "crossing");
   bench::Json models = bench::Json::array();
@@ -184,13 +194,18 @@ int run(int argc, char** argv) {
     const double dz = mesh.state[6 * (static_links - 1) + 2] - reference.state[6 * (static_links - 1) + 2];
     std::printf("%4d x %-7d %9d %12.4f %16.3e %16.3e%s\n", st.major_segments, st.minor_segments, mesh.steps,
                 mesh.median_seconds, worst, dz, mesh.rested ? "" : "  (a step failed or crossed)");
-    comparison.push_back({{"segments", {st.major_segments, st.minor_segments}}, {"rested", mesh.rested},
-                          {"steps", mesh.steps}, {"median_seconds_per_step", mesh.median_seconds},
-                          {"max_centre_difference", worst}, {"bottom_height_difference", dz}});
+    comparison.push_back({{"segments", {st.major_segments, st.minor_segments}},
+                          {"rested", mesh.rested},
+                          {"steps", mesh.steps},
+                          {"median_seconds_per_step", mesh.median_seconds},
+                          {"max_centre_difference", worst},
+                          {"bottom_height_difference", dz}});
   }
   json["static"] = {{"links", static_links},
-                    {"implicit", {{"rested", reference.rested}, {"steps", reference.steps},
-                                  {"median_seconds_per_step", reference.median_seconds}}},
+                    {"implicit",
+                     {{"rested", reference.rested},
+                      {"steps", reference.steps},
+                      {"median_seconds_per_step", reference.median_seconds}}},
                     {"mesh", comparison}};
   return bench::write_report(out, json, "torus_chain_bench") ? 0 : 1;
 }

@@ -75,10 +75,7 @@ int main(int argc, char** argv) {
           "memory and time per rank of a solve: CHOLMOD, PETSc replicated, PETSc by parts");
   cli.tets(tets);
   cli.repeats(repeats);
-  cli.app()
-      .add_option("--mode", mode, "cholmod, replicated or by-parts")
-      ->check(CLI::IsMember({"cholmod", "replicated", "by-parts"}))
-      ->capture_default_str();
+  cli.choice("--mode", mode, "cholmod, replicated or by-parts", {"cholmod", "replicated", "by-parts"});
   cli.flag("--no-near-null-space", no_modes, "GAMG without the rigid-body modes");
   cli.out(out);
   if (const auto exit = cli.parse(static_cast<int>(ours.size()), ours.data())) return *exit;

@@ -167,19 +167,20 @@ RigidSceneSpec load_rigid_scene(const SceneFile& file) {
 
 int simulate_rigid(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const RigidSceneSpec spec = load_rigid_scene(file);
-  return exit_code(simulate_rigid_scene(spec, args.out_dir_or("out/" + spec.name), &out).completed());
+  return exit_code(simulate_rigid_scene(spec, args.out_dir_or(file.default_out_dir()), &out).completed());
 }
 
 int gradcheck_rigid(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const RigidSceneSpec spec = load_rigid_scene(file);
   return exit_code(
-      gradcheck_rigid_scene(spec, args.out_dir_or("out/" + spec.name), args.seed.value_or(1), &out).passed());
+      gradcheck_rigid_scene(spec, args.out_dir_or(file.default_out_dir()), args.seed.value_or(1), &out)
+          .passed());
 }
 
 int simulate_tori(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   TorusSceneSpec spec = parse_torus_scene(file.text, file.path);
   if (spec.name.empty()) spec.name = file.stem();
-  return exit_code(simulate_torus_scene(spec, args.out_dir_or("out/" + spec.name), &out).completed());
+  return exit_code(simulate_torus_scene(spec, args.out_dir_or(file.default_out_dir()), &out).completed());
 }
 
 int gradcheck_tori(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
@@ -187,30 +188,31 @@ int gradcheck_tori(const SceneFile& file, const VerbArguments& args, std::ostrea
   if (spec.name.empty()) spec.name = file.stem();
   TorusGradcheckOptions options;
   options.seed = args.seed.value_or(1);
-  return exit_code(gradcheck_torus_scene(spec, args.out_dir_or("out/" + spec.name), options, &out).passed());
+  return exit_code(
+      gradcheck_torus_scene(spec, args.out_dir_or(file.default_out_dir()), options, &out).passed());
 }
 
 int simulate_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  return exit_code(simulate_rod_scene_file(file.path, args.out_dir_or("out/rods"), out));
+  return exit_code(simulate_rod_scene_file(file.path, args.out_dir_or(file.default_out_dir()), out));
 }
 
 int gradcheck_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  return exit_code(
-      gradcheck_rod_scene_file(file.path, args.out_dir_or("out/" + file.stem()), args.seed, args.hessian, out)
-          .passed());
+  return exit_code(gradcheck_rod_scene_file(file.path, args.out_dir_or(file.default_out_dir()), args.seed,
+                                            args.hessian, out)
+                       .passed());
 }
 
 int run_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   if (args.resume || args.checkpoint_every)
     throw UsageError("--resume and --checkpoint-every are not implemented for rod scenes");
   return exit_code(
-      run_rod_scene_file(file.path, args.out_dir_or("out/" + file.stem()), out, args.quiet ? nullptr : &out)
+      run_rod_scene_file(file.path, args.out_dir_or(file.default_out_dir()), out, args.quiet ? nullptr : &out)
           .result.converged());
 }
 
 int homogenize_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const CellScene cell = read_cell_scene(file.path);
-  homogenize_scene(cell, args.out_dir_or("out/" + cell.name), &out);
+  homogenize_scene(cell, args.out_dir_or(file.default_out_dir()), &out);
   return kExitSuccess;
 }
 
@@ -222,21 +224,21 @@ void refuse_checkpoint_flags(const VerbArguments& args) {
 
 int design_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   refuse_checkpoint_flags(args);
-  const MetamaterialRun run = run_metamaterial_scene(file.path, args.out_dir_or("out/metamaterial"), &out,
+  const MetamaterialRun run = run_metamaterial_scene(file.path, args.out_dir_or(file.default_out_dir()), &out,
                                                      args.quiet ? nullptr : &out);
   return exit_code(run.result.converged());
 }
 
 int fit_material(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   refuse_checkpoint_flags(args);
-  const MaterialFitRun fit =
-      run_material_fit_scene(file.path, args.out_dir_or(""), &out, args.quiet ? nullptr : &out);
+  const MaterialFitRun fit = run_material_fit_scene(file.path, args.out_dir_or(file.default_out_dir()), &out,
+                                                    args.quiet ? nullptr : &out);
   return exit_code(fit.result.converged());
 }
 
 int design_damping(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   refuse_checkpoint_flags(args);
-  return exit_code(run_damping_design_scene(file.path, args.out_dir_or("out/damping_design"), out));
+  return exit_code(run_damping_design_scene(file.path, args.out_dir_or(file.default_out_dir()), out));
 }
 
 }  // namespace

@@ -87,6 +87,13 @@ std::string SceneFile::directory() const { return std::filesystem::path(path).pa
 
 std::string SceneFile::stem() const { return std::filesystem::path(path).stem().string(); }
 
+std::string SceneFile::default_out_dir() const {
+  if (document.is_object() && document.contains("name") && document["name"].is_string() &&
+      !document["name"].get<std::string>().empty())
+    return "out/" + document["name"].get<std::string>();
+  return "out/" + stem();
+}
+
 const KindVerb* SceneKind::find_verb(const std::string& verb) const {
   for (const KindVerb& entry : verbs)
     if (entry.verb == verb) return &entry;

@@ -58,6 +58,8 @@ struct SceneFile {
 
   std::string directory() const;  // the folder that relative paths in the scene start from
   std::string stem() const;       // the file name without its extension: the default scene name
+  // Every kind's default output folder: out/<the scene's "name">, or out/<stem> without one.
+  std::string default_out_dir() const;
 };
 
 // The CLI's exit codes: success, a solve, check or optimization that failed, bad input.

@@ -175,6 +175,22 @@ TEST_F(CliRegistry, BadFlagValuesExitWithTwoNamingTheFlag) {
   }
 }
 
+// One rule for every kind's default output folder: out/<the scene's "name">, else out/<stem>.
+TEST(SceneFile, DefaultOutputFolderIsTheSceneNameOrTheFileStem) {
+  SceneFile file;
+  file.path = "scenes/rods/rod_cantilever.json";
+  file.document = nlohmann::json::object();
+  EXPECT_EQ(file.default_out_dir(), "out/rod_cantilever");
+  file.document["name"] = "bent";
+  EXPECT_EQ(file.default_out_dir(), "out/bent");
+  file.document["name"] = "";  // no name: the stem
+  EXPECT_EQ(file.default_out_dir(), "out/rod_cantilever");
+  file.document["name"] = 3;  // not a name (the kind's parser reports it): the stem
+  EXPECT_EQ(file.default_out_dir(), "out/rod_cantilever");
+  file.document = nlohmann::json(nlohmann::json::value_t::discarded);  // not JSON
+  EXPECT_EQ(file.default_out_dir(), "out/rod_cantilever");
+}
+
 TEST_F(CliRegistry, HelpAndVersionExitWithZero) {
   for (const std::vector<std::string>& arguments :
        {std::vector<std::string>{"--help"}, {"-h"}, {"simulate", "--help"}, {"run", "-h"}, {"--version"}}) {

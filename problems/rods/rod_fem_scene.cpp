@@ -89,7 +89,7 @@ RodFemSimulation simulate_rods_with_fem(const nlohmann::json& document, const st
   if (setup.solver.load_steps > 1)
     scene_fail(source,
                "solver.load_steps: a scene with rods and a mesh is solved in one step (load_steps 1)");
-  RodSceneSpec spec = parse_rod_scene(document);
+  RodSceneSpec spec = parse_rod_scene(document, source);
   spec.source = source;
   if (spec.load_steps > 1)
     scene_fail(source, "load_steps: a scene with rods and a mesh is solved in one step");

@@ -190,7 +190,7 @@ std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& docum
   RodInverseProblem& P = *problem;
   P.name = name;
   P.source = source;
-  P.scene = parse_rod_scene(document);
+  P.scene = parse_rod_scene(document, source);
   const SceneNode root(document, source, "");
   if (!root.has("inverse")) root.fail("needs an \"inverse\" section for gradcheck and run (docs/rods.md)");
   P.spec = parse_inverse(root, P.scene);

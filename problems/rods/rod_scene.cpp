@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -76,6 +77,20 @@ json object_member(const json& j, const std::string& key, const std::string& whe
   return j[key];
 }
 
+// Refuses any member of the object `j` not in `keys`, so that a misspelled key is an error
+// rather than a silently used default.
+void expect_keys(const json& j, std::initializer_list<const char*> keys, const std::string& where) {
+  for (const auto& [key, value] : j.items()) {
+    bool known = false;
+    std::string list;
+    for (const char* k : keys) {
+      known = known || key == k;
+      list += (list.empty() ? "" : ", ") + std::string(k);
+    }
+    if (!known) fail(where + "." + key, "unknown key (expected one of " + list + ")");
+  }
+}
+
 // More vertices than any rod needs; the points are allocated while parsing.
 constexpr int kMaxRodVertices = 10'000'000;
 
@@ -92,6 +107,7 @@ Eigen::MatrixX3d points_of(const json& r, const std::string& where) {
   if (r.contains("line")) {
     const json& l = r["line"];
     if (!l.is_object()) fail(where + ".line", "expected an object with from, to and vertices");
+    expect_keys(l, {"from", "to", "vertices"}, where + ".line");
     const Eigen::Vector3d a = vec3(l.value("from", json()), where + ".line.from");
     const Eigen::Vector3d b = vec3(l.value("to", json()), where + ".line.to");
     const int n = integer(l, "vertices", where + ".line", {}, 3, kMaxRodVertices);
@@ -103,6 +119,7 @@ Eigen::MatrixX3d points_of(const json& r, const std::string& where) {
     const json& c = r["circle"];
     const std::string w = where + ".circle";
     if (!c.is_object()) fail(w, "expected an object with radius and vertices");
+    expect_keys(c, {"center", "radius", "normal", "vertices", "start_angle"}, w);
     const Eigen::Vector3d center =
         c.contains("center") ? vec3(c["center"], w + ".center") : Eigen::Vector3d::Zero();
     const Eigen::Vector3d normal =
@@ -152,7 +169,9 @@ bool is_rod_scene(const std::string& path) {
   return j.is_object() && j.contains("rods");
 }
 
-RodSceneSpec parse_rod_scene(const json& scene) {
+namespace {
+
+RodSceneSpec parse_rod_scene_body(const json& scene) {
   RodSceneSpec spec;
   if (!scene.contains("rods") || !scene["rods"].is_array() || scene["rods"].empty())
     fail("rods", "expected a non-empty array of rods");
@@ -164,6 +183,10 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     const json& r = scene["rods"][k];
     const std::string where = "rods[" + std::to_string(k) + "]";
     if (!r.is_object()) fail(where, "expected an object");
+    expect_keys(r,
+                {"name", "points", "line", "circle", "closed", "closing_twist", "rest_shape", "clamp_edges",
+                 "cross_section", "material", "clamp", "pin", "point_loads", "twisting_moments"},
+                where);
     RodSpec rod;
     if (r.contains("name") && !r["name"].is_string()) fail(where + ".name", "expected a string");
     rod.name = r.value("name", "rod" + std::to_string(k));
@@ -182,6 +205,7 @@ RodSceneSpec parse_rod_scene(const json& scene) {
         fail(where + ".rest_shape", "expected \"drawn\" or \"straight\"");
     }
     const json cs = object_member(r, "cross_section", where);
+    expect_keys(cs, {"shape", "radius", "aspect"}, where + ".cross_section");
     if (cs.contains("shape") && !cs["shape"].is_string())
       fail(where + ".cross_section.shape", "expected a string");
     try {
@@ -192,6 +216,7 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     rod.material.section.aspect = number(cs, "aspect", where + ".cross_section", 1.0);
     rod.material.radius = number(cs, "radius", where + ".cross_section");
     const json mat = object_member(r, "material", where);
+    expect_keys(mat, {"youngs_modulus", "shear_modulus", "density"}, where + ".material");
     rod.material.youngs_modulus = number(mat, "youngs_modulus", where + ".material");
     rod.material.shear_modulus =
         number(mat, "shear_modulus", where + ".material", rod.material.youngs_modulus / (2.0 * 1.3));
@@ -225,11 +250,13 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     }
     for (const auto& l : r.value("point_loads", json::array())) {
       if (!l.is_object()) fail(where + ".point_loads", "expected objects with vertex and force");
+      expect_keys(l, {"vertex", "force"}, where + ".point_loads");
       const int v = integer(l, "vertex", where + ".point_loads", {}, 0, nv - 1);
       rod.point_loads.push_back({v, vec3(l.value("force", json()), where + ".point_loads.force")});
     }
     for (const auto& m : r.value("twisting_moments", json::array())) {
       if (!m.is_object()) fail(where + ".twisting_moments", "expected objects with edge and moment");
+      expect_keys(m, {"edge", "moment"}, where + ".twisting_moments");
       const int e = integer(m, "edge", where + ".twisting_moments", {}, 0, ne - 1);
       rod.twisting_moments.emplace_back(e, number(m, "moment", where + ".twisting_moments"));
     }
@@ -258,6 +285,7 @@ RodSceneSpec parse_rod_scene(const json& scene) {
         const std::string w = where + ".rods[" + std::to_string(m) + "]";
         if (!member.is_object() || !member.contains("rod") || !member.contains("vertex"))
           fail(w, "expected {\"rod\": name or index, \"vertex\": v}");
+        expect_keys(member, {"rod", "vertex"}, w);
         int rod = -1;
         if (member["rod"].is_string()) {
           for (std::size_t q = 0; q < spec.rods.size(); ++q)
@@ -311,6 +339,20 @@ RodSceneSpec parse_rod_scene(const json& scene) {
     spec.dynamics = d;
   }
   return spec;
+}
+
+}  // namespace
+
+RodSceneSpec parse_rod_scene(const json& scene, const std::string& source) {
+  // fail() names the key path after "rods scene"; the caller knows the file.
+  static const std::string kPrefix = "rods scene: ";
+  try {
+    return parse_rod_scene_body(scene);
+  } catch (const SceneError& e) {
+    const std::string what = e.what();
+    if (what.rfind(kPrefix, 0) != 0) throw;
+    throw SceneError(source + ": " + what.substr(kPrefix.size()));
+  }
 }
 
 namespace {
@@ -725,7 +767,7 @@ bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir
     return simulate_rods_with_fem(document, path, directory.empty() ? "." : directory, out_dir, &log)
         .rods.converged;
   }
-  RodSceneSpec spec = parse_rod_scene(document);
+  RodSceneSpec spec = parse_rod_scene(document, path);
   spec.source = path;
   if (spec.dynamics) return simulate_rod_dynamics(spec, out_dir, &log).completed;
   return simulate_rods(spec, out_dir, &log).converged;

@@ -62,8 +62,8 @@ struct RodSceneSpec {
 
 // True when the JSON file has a top-level "rods" section.
 bool is_rod_scene(const std::string& path);
-// Throws std::invalid_argument naming the offending key on bad input.
-RodSceneSpec parse_rod_scene(const nlohmann::json& scene);
+// Throws SceneError "<source>: <key path>: <what>" on bad input, unknown keys included.
+RodSceneSpec parse_rod_scene(const nlohmann::json& scene, const std::string& source = "rods scene");
 
 // The rods' dead loads (gravity, point loads, twisting moments) scaled by a load factor:
 // E = -factor f . x.

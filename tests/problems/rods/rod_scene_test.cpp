@@ -13,6 +13,7 @@
 #include "../../support/temp_folder.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor::rod_scene_test {
 namespace {
@@ -67,6 +68,50 @@ TEST(RodScene, BadInputNamesTheKey) {
   scene = cantilever_scene(1.0);
   scene["rods"][0]["cross_section"]["shape"] = "hexagon";
   EXPECT_THROW(parse_rod_scene(scene), SceneError);
+}
+
+// A misspelled key is refused at every level, with the scene file and the key path, instead of
+// leaving a default in place (before, "youngs_modulu" or "forse" changed nothing and said nothing).
+TEST(RodScene, UnknownKeysAreRefusedWithFileAndKeyPath) {
+  const auto expect_refused = [](const nlohmann::json& scene, const std::string& fragment) {
+    try {
+      parse_rod_scene(scene, "bent.json");
+      ADD_FAILURE() << "accepted: " << fragment;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("bent.json: " + fragment), std::string::npos) << e.what();
+    }
+  };
+  nlohmann::json scene = cantilever_scene(1.0);
+  scene["rods"][0]["clamps"] = {"first"};
+  expect_refused(scene, "rods[0].clamps: unknown key (expected one of name, points, line");
+  scene = cantilever_scene(1.0);
+  scene["rods"][0]["material"]["youngs_modulu"] = 1.0;
+  expect_refused(scene, "rods[0].material.youngs_modulu: unknown key");
+  scene = cantilever_scene(1.0);
+  scene["rods"][0]["cross_section"]["radiu"] = 1.0;
+  expect_refused(scene, "rods[0].cross_section.radiu: unknown key");
+  scene = cantilever_scene(1.0);
+  scene["rods"][0]["line"]["vertex"] = 3;
+  expect_refused(scene, "rods[0].line.vertex: unknown key");
+  scene = cantilever_scene(1.0);
+  scene["rods"][0]["point_loads"][0]["forse"] = {0, 1, 0};
+  expect_refused(scene, "rods[0].point_loads.forse: unknown key");
+  scene = cantilever_scene(1.0);
+  scene["rods"][0]["twisting_moments"] = {{{"edge", 3}, {"moment", 1.0}, {"axis", 2}}};
+  expect_refused(scene, "rods[0].twisting_moments.axis: unknown key");
+  // Errors that were already refused now name the file too.
+  scene = cantilever_scene(1.0);
+  scene["rods"][0]["clamp"] = {"middle"};
+  expect_refused(scene, "rods[0].clamp: expected");
+  // The shipped scenes use only documented keys.
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::string(::tailor::testing::source_dir()) + "/scenes/rods")) {
+    if (entry.path().extension() != ".json") continue;
+    std::ifstream in(entry.path());
+    const nlohmann::json document = parse_json(in);
+    if (document.contains("mesh")) continue;  // rods with a mesh: checked by their own tests
+    EXPECT_NO_THROW(parse_rod_scene(document, entry.path().string())) << entry.path();
+  }
 }
 
 }  // namespace

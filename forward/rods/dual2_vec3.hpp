@@ -54,16 +54,9 @@ template <int N>
 Dual2<N> dot(const Eigen::Vector3d& a, const Dual2Vec3<N>& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
-template <int N>
-Dual2Vec3<N> cross(const Dual2Vec3<N>& a, const Dual2Vec3<N>& b) {
-  Dual2Vec3<N> r;
-  r[0] = a[1] * b[2] - a[2] * b[1];
-  r[1] = a[2] * b[0] - a[0] * b[2];
-  r[2] = a[0] * b[1] - a[1] * b[0];
-  return r;
-}
-template <int N>
-Dual2Vec3<N> cross(const Eigen::Vector3d& a, const Dual2Vec3<N>& b) {
+// a x b with `a` a Dual2Vec3<N> or a constant Eigen::Vector3d.
+template <class Left, int N>
+Dual2Vec3<N> cross(const Left& a, const Dual2Vec3<N>& b) {
   Dual2Vec3<N> r;
   r[0] = a[1] * b[2] - a[2] * b[1];
   r[1] = a[2] * b[0] - a[0] * b[2];

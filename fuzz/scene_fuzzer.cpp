@@ -46,7 +46,7 @@ void parse_any_scene(const std::string& text) {
   const nlohmann::json document = parse_json_or_discarded(text);
   const bool object = document.is_object();
   if (object && document.contains("rods")) {
-    parse_rod_scene(document);
+    parse_rod_scene(SceneNode(document, source, ""));
   } else if (object && document.contains("rigid_bodies")) {
     parse_rigid_scene(text, source);
   } else if (object && has_type(document, "periodic_cell")) {

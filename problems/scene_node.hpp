@@ -24,6 +24,7 @@ class SceneNode {
       : value_(&value), source_(&source), path_(std::move(path)) {}
 
   const std::string& path() const { return path_; }
+  const std::string& source() const { return *source_; }
   const nlohmann::json& json() const { return *value_; }
   // Throws SceneError "<source>: <path>: <what>".
   [[noreturn]] void fail(const std::string& what) const;

@@ -11,6 +11,7 @@
 #include "problems/fem/static_scene.hpp"
 #include "problems/json_text.hpp"
 #include "problems/rods/rod_scene.hpp"
+#include "problems/scene_node.hpp"
 
 namespace tailor {
 
@@ -77,9 +78,9 @@ class PrefixTerm final : public EnergyTerm {
 RodFemSimulation simulate_rods_with_fem(const nlohmann::json& document, const std::string& source,
                                         const std::string& directory, const std::string& out_dir,
                                         std::ostream* log) {
+  const SceneNode root(document, source, "");
   for (const char* key : {"dynamics", "inverse"})
-    if (document.contains(key))
-      scene_fail(source, std::string(key) + ": not implemented for a scene with both rods and a mesh");
+    if (root.has(key)) root.at(key).fail("not implemented for a scene with both rods and a mesh");
   // The FEM body: the static scene's keys only (the rest belongs to the rods).
   nlohmann::json fem = nlohmann::json::object();
   for (const char* key : {"name", "description", "mesh", "materials", "dirichlet", "loads", "solver"})
@@ -87,12 +88,12 @@ RodFemSimulation simulate_rods_with_fem(const nlohmann::json& document, const st
   const Scene scene = parse_scene(dump_json(fem), source, directory);
   const StaticSetup setup = setup_static_scene(scene);
   if (setup.solver.load_steps > 1)
-    scene_fail(source,
-               "solver.load_steps: a scene with rods and a mesh is solved in one step (load_steps 1)");
-  RodSceneSpec spec = parse_rod_scene(document, source);
+    root.at("solver")
+        .at("load_steps")
+        .fail("a scene with rods and a mesh is solved in one step (load_steps 1)");
+  RodSceneSpec spec = parse_rod_scene(root);
   spec.source = source;
-  if (spec.load_steps > 1)
-    scene_fail(source, "load_steps: a scene with rods and a mesh is solved in one step");
+  if (spec.load_steps > 1) root.at("load_steps").fail("a scene with rods and a mesh is solved in one step");
   const std::shared_ptr<const Model> fem_model = build_static_model(setup, 1.0);
   const Elimination& fe = fem_model->elimination();
   if (!fe.is_selection() || fem_model->has_prescribed_parameters())

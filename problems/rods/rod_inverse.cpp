@@ -190,8 +190,8 @@ std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& docum
   RodInverseProblem& P = *problem;
   P.name = name;
   P.source = source;
-  P.scene = parse_rod_scene(document, source);
   const SceneNode root(document, source, "");
+  P.scene = parse_rod_scene(root);
   if (!root.has("inverse")) root.fail("needs an \"inverse\" section for gradcheck and run (docs/rods.md)");
   P.spec = parse_inverse(root, P.scene);
   P.model = build_rod_model(P.scene);
@@ -273,16 +273,6 @@ std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& docum
 }
 
 namespace {
-
-nlohmann::json read_document(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw SceneError(path + ": cannot open the scene file");
-  try {
-    return parse_json(f);
-  } catch (const nlohmann::json::exception& e) {
-    throw SceneError(path + ": invalid JSON: " + e.what());
-  }
-}
 
 void write_json(const std::filesystem::path& path, const nlohmann::ordered_json& document) {
   std::ofstream out(path);
@@ -398,13 +388,13 @@ std::string rod_scene_stem(const std::string& path) { return std::filesystem::pa
 
 RodGradcheck gradcheck_rod_scene_file(const std::string& path, const std::string& out_dir,
                                       std::optional<unsigned> seed, bool hessian, std::ostream& log) {
-  const auto problem = build_rod_inverse(read_document(path), path, rod_scene_stem(path));
+  const auto problem = build_rod_inverse(read_scene_document(path), path, rod_scene_stem(path));
   return gradcheck_rod_scene(*problem, out_dir, seed, hessian, &log);
 }
 
 RodInverseRun run_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log,
                                  std::ostream* progress) {
-  const auto problem = build_rod_inverse(read_document(path), path, rod_scene_stem(path));
+  const auto problem = build_rod_inverse(read_scene_document(path), path, rod_scene_stem(path));
   return run_rod_inverse(*problem, out_dir, &log, progress);
 }
 

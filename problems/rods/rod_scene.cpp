@@ -3,11 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -31,126 +29,6 @@
 
 namespace tailor {
 
-namespace {
-
-using nlohmann::json;
-
-[[noreturn]] void fail(const std::string& where, const std::string& what) {
-  throw SceneError("rods scene: " + where + ": " + what);
-}
-
-Eigen::Vector3d vec3(const json& j, const std::string& where) {
-  if (!j.is_array() || j.size() != 3) fail(where, "expected an array of 3 numbers");
-  Eigen::Vector3d v;
-  for (int k = 0; k < 3; ++k) {
-    if (!j[static_cast<std::size_t>(k)].is_number()) fail(where, "expected numbers");
-    v[k] = j[static_cast<std::size_t>(k)].get<double>();
-  }
-  return v;
-}
-
-double number(const json& j, const std::string& key, const std::string& where,
-              std::optional<double> fallback = {}) {
-  if (!j.contains(key)) {
-    if (fallback) return *fallback;
-    fail(where, "missing '" + key + "'");
-  }
-  if (!j[key].is_number()) fail(where + "." + key, "expected a number");
-  return j[key].get<double>();
-}
-
-// An integer in [lo, hi]; anything else is refused (casting it to int would be undefined).
-int integer(const json& j, const std::string& key, const std::string& where, std::optional<int> fallback,
-            int lo, int hi) {
-  if (!j.contains(key) && fallback) return *fallback;
-  const double v = number(j, key, where);
-  if (!(v >= lo && v <= hi) || v != std::floor(v))
-    fail(where + "." + key,
-         "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  return static_cast<int>(v);
-}
-
-// The member `key` of `j` when it is an object, an empty object when absent.
-json object_member(const json& j, const std::string& key, const std::string& where) {
-  if (!j.contains(key)) return json::object();
-  if (!j[key].is_object()) fail(where + "." + key, "expected an object");
-  return j[key];
-}
-
-// Refuses any member of the object `j` not in `keys`, so that a misspelled key is an error
-// rather than a silently used default.
-void expect_keys(const json& j, std::initializer_list<const char*> keys, const std::string& where) {
-  for (const auto& [key, value] : j.items()) {
-    bool known = false;
-    std::string list;
-    for (const char* k : keys) {
-      known = known || key == k;
-      list += (list.empty() ? "" : ", ") + std::string(k);
-    }
-    if (!known) fail(where + "." + key, "unknown key (expected one of " + list + ")");
-  }
-}
-
-// More vertices than any rod needs; the points are allocated while parsing.
-constexpr int kMaxRodVertices = 10'000'000;
-
-Eigen::MatrixX3d points_of(const json& r, const std::string& where) {
-  if (r.contains("points")) {
-    const json& pts = r["points"];
-    if (!pts.is_array() || pts.size() < 3) fail(where + ".points", "expected at least 3 points");
-    Eigen::MatrixX3d x(static_cast<Eigen::Index>(pts.size()), 3);
-    for (std::size_t i = 0; i < pts.size(); ++i)
-      x.row(static_cast<Eigen::Index>(i)) =
-          vec3(pts[i], where + ".points[" + std::to_string(i) + "]").transpose();
-    return x;
-  }
-  if (r.contains("line")) {
-    const json& l = r["line"];
-    if (!l.is_object()) fail(where + ".line", "expected an object with from, to and vertices");
-    expect_keys(l, {"from", "to", "vertices"}, where + ".line");
-    const Eigen::Vector3d a = vec3(l.value("from", json()), where + ".line.from");
-    const Eigen::Vector3d b = vec3(l.value("to", json()), where + ".line.to");
-    const int n = integer(l, "vertices", where + ".line", {}, 3, kMaxRodVertices);
-    Eigen::MatrixX3d x(n, 3);
-    for (int i = 0; i < n; ++i) x.row(i) = (a + (b - a) * (i / (n - 1.0))).transpose();
-    return x;
-  }
-  if (r.contains("circle")) {
-    const json& c = r["circle"];
-    const std::string w = where + ".circle";
-    if (!c.is_object()) fail(w, "expected an object with radius and vertices");
-    expect_keys(c, {"center", "radius", "normal", "vertices", "start_angle"}, w);
-    const Eigen::Vector3d center =
-        c.contains("center") ? vec3(c["center"], w + ".center") : Eigen::Vector3d::Zero();
-    const Eigen::Vector3d normal =
-        c.contains("normal") ? vec3(c["normal"], w + ".normal") : Eigen::Vector3d::UnitZ();
-    if (!(normal.norm() > 0.0)) fail(w + ".normal", "must be non-zero");
-    const double R = number(c, "radius", w);
-    if (!(R > 0.0) || !std::isfinite(R)) fail(w + ".radius", "must be positive");
-    const double start = number(c, "start_angle", w, 0.0);
-    const int n = integer(c, "vertices", w, {}, 3, kMaxRodVertices);
-    const Eigen::Vector3d z = normal.normalized();
-    Eigen::Index k = 0;
-    z.cwiseAbs().minCoeff(&k);
-    const Eigen::Vector3d u = (Eigen::Vector3d::Unit(k) - z[k] * z).normalized(), v = z.cross(u);
-    Eigen::MatrixX3d x(n, 3);
-    for (int i = 0; i < n; ++i) {
-      const double phi = start + 2.0 * M_PI * i / n;
-      x.row(i) = (center + R * (std::cos(phi) * u + std::sin(phi) * v)).transpose();
-    }
-    return x;
-  }
-  fail(where, "needs 'points', 'line' or 'circle'");
-}
-
-bool boolean(const json& j, const std::string& key, const std::string& where, bool fallback) {
-  if (!j.contains(key)) return fallback;
-  if (!j[key].is_boolean()) fail(where + "." + key, "expected true or false");
-  return j[key].get<bool>();
-}
-
-}  // namespace
-
 void RodLoadTerm::evaluate(const Vector& x, const Vector&, const EnergyRequest& request) const {
   if (request.value) *request.value -= factor * forces_.dot(x);
   if (request.gradient) *request.gradient -= factor * forces_;
@@ -165,194 +43,276 @@ std::vector<RodOutput> RodSceneModel::outputs() const {
 bool is_rod_scene(const std::string& path) {
   std::ifstream f(path);
   if (!f) return false;
-  const json j = parse_json_or_discarded(f);
+  const nlohmann::json j = parse_json_or_discarded(f);
   return j.is_object() && j.contains("rods");
 }
 
 namespace {
 
-RodSceneSpec parse_rod_scene_body(const json& scene) {
-  RodSceneSpec spec;
-  if (!scene.contains("rods") || !scene["rods"].is_array() || scene["rods"].empty())
-    fail("rods", "expected a non-empty array of rods");
-  if (scene.contains("gravity")) spec.gravity = vec3(scene["gravity"], "gravity");
-  constexpr int kMaxInt = std::numeric_limits<int>::max();
-  spec.load_steps = integer(scene, "load_steps", "scene", 1, 1, kMaxInt);
-  spec.max_newton_iterations = integer(scene, "max_newton_iterations", "scene", 200, 1, kMaxInt);
-  for (std::size_t k = 0; k < scene["rods"].size(); ++k) {
-    const json& r = scene["rods"][k];
-    const std::string where = "rods[" + std::to_string(k) + "]";
-    if (!r.is_object()) fail(where, "expected an object");
-    expect_keys(r,
-                {"name", "points", "line", "circle", "closed", "closing_twist", "rest_shape", "clamp_edges",
-                 "cross_section", "material", "clamp", "pin", "point_loads", "twisting_moments"},
-                where);
-    RodSpec rod;
-    if (r.contains("name") && !r["name"].is_string()) fail(where + ".name", "expected a string");
-    rod.name = r.value("name", "rod" + std::to_string(k));
-    rod.points = points_of(r, where);
-    rod.closed = boolean(r, "closed", where, r.contains("circle"));
-    if (rod.closed && r.contains("line")) fail(where + ".closed", "a 'line' cannot be closed");
-    rod.closing_twist = number(r, "closing_twist", where, 0.0);
-    if (rod.closing_twist != 0.0 && !rod.closed) fail(where + ".closing_twist", "only for closed rods");
-    if (!std::isfinite(rod.closing_twist)) fail(where + ".closing_twist", "must be finite");
-    if (r.contains("rest_shape")) {
-      if (r["rest_shape"] == "drawn")
-        rod.straight_rest = false;
-      else if (r["rest_shape"] == "straight")
-        rod.straight_rest = true;
-      else
-        fail(where + ".rest_shape", "expected \"drawn\" or \"straight\"");
-    }
-    const json cs = object_member(r, "cross_section", where);
-    expect_keys(cs, {"shape", "radius", "aspect"}, where + ".cross_section");
-    if (cs.contains("shape") && !cs["shape"].is_string())
-      fail(where + ".cross_section.shape", "expected a string");
-    try {
-      rod.material.section.shape = cross_section_shape_from_string(cs.value("shape", std::string("circle")));
-    } catch (const std::invalid_argument& e) {
-      fail(where + ".cross_section.shape", e.what());
-    }
-    rod.material.section.aspect = number(cs, "aspect", where + ".cross_section", 1.0);
-    rod.material.radius = number(cs, "radius", where + ".cross_section");
-    const json mat = object_member(r, "material", where);
-    expect_keys(mat, {"youngs_modulus", "shear_modulus", "density"}, where + ".material");
-    rod.material.youngs_modulus = number(mat, "youngs_modulus", where + ".material");
-    rod.material.shear_modulus =
-        number(mat, "shear_modulus", where + ".material", rod.material.youngs_modulus / (2.0 * 1.3));
-    rod.density = number(mat, "density", where + ".material", 0.0);
-    try {
-      rod.material.validate();
-    } catch (const std::invalid_argument& e) {
-      fail(where, e.what());
-    }
-    for (const auto& c : r.value("clamp", json::array())) {
-      if (c == "first")
-        rod.clamped.push_back(RodEnd::first);
-      else if (c == "last")
-        rod.clamped.push_back(RodEnd::last);
-      else
-        fail(where + ".clamp", "expected \"first\" or \"last\"");
-    }
-    if (rod.closed && !rod.clamped.empty())
-      fail(where + ".clamp", "a closed rod has no ends (use clamp_edges)");
-    const int nv = static_cast<int>(rod.points.rows());
-    const int ne = rod.closed ? nv : nv - 1;
-    for (const auto& e : r.value("clamp_edges", json::array())) {
-      if (!e.is_number_integer() || e.get<std::int64_t>() < 0 || e.get<std::int64_t>() >= ne)
-        fail(where + ".clamp_edges", "edge out of range");
-      rod.clamped_edges.push_back(e.get<int>());
-    }
-    for (const auto& v : r.value("pin", json::array())) {
-      if (!v.is_number_integer() || v.get<std::int64_t>() < 0 || v.get<std::int64_t>() >= nv)
-        fail(where + ".pin", "vertex out of range");
-      rod.pinned.push_back(v.get<int>());
-    }
-    for (const auto& l : r.value("point_loads", json::array())) {
-      if (!l.is_object()) fail(where + ".point_loads", "expected objects with vertex and force");
-      expect_keys(l, {"vertex", "force"}, where + ".point_loads");
-      const int v = integer(l, "vertex", where + ".point_loads", {}, 0, nv - 1);
-      rod.point_loads.push_back({v, vec3(l.value("force", json()), where + ".point_loads.force")});
-    }
-    for (const auto& m : r.value("twisting_moments", json::array())) {
-      if (!m.is_object()) fail(where + ".twisting_moments", "expected objects with edge and moment");
-      expect_keys(m, {"edge", "moment"}, where + ".twisting_moments");
-      const int e = integer(m, "edge", where + ".twisting_moments", {}, 0, ne - 1);
-      rod.twisting_moments.emplace_back(e, number(m, "moment", where + ".twisting_moments"));
-    }
-    spec.rods.push_back(std::move(rod));
+// More vertices than any rod needs; the points are allocated while parsing.
+constexpr int kMaxRodVertices = 10'000'000;
+
+// An integer in [lo, hi]; anything else is refused (casting it to int would be undefined).
+int integer_between(const SceneNode& node, int lo, int hi) {
+  const double v = node.number();
+  if (!(v >= lo && v <= hi) || v != std::floor(v))
+    node.fail("expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+              describe_json(node.json()));
+  return static_cast<int>(v);
+}
+
+double number_or(const SceneNode& node, const char* key, double fallback) {
+  const auto member = node.find(key);
+  return member ? member->number() : fallback;
+}
+
+Eigen::Vector3d vec3(const SceneNode& node) { return Eigen::Vector3d(node.vector(3)); }
+
+// Fails at member `key` of `node` also when it is absent: a key the rest of the scene requires.
+[[noreturn]] void fail_at_member(const SceneNode& node, const char* key, const std::string& what) {
+  if (const auto member = node.find(key)) member->fail(what);
+  SceneNode(node.json(), node.source(), node.path() + "." + key).fail(what);
+}
+
+Eigen::MatrixX3d listed_points(const SceneNode& node) {
+  const std::vector<SceneNode> points = node.items();
+  if (points.size() < 3) node.fail("expected at least 3 points, got " + std::to_string(points.size()));
+  Eigen::MatrixX3d x(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    x.row(static_cast<Eigen::Index>(i)) = vec3(points[i]).transpose();
+  return x;
+}
+
+Eigen::MatrixX3d line_points(const SceneNode& node) {
+  node.expect_keys({"from", "to", "vertices"});
+  const Eigen::Vector3d a = vec3(node.at("from")), b = vec3(node.at("to"));
+  const int n = integer_between(node.at("vertices"), 3, kMaxRodVertices);
+  Eigen::MatrixX3d x(n, 3);
+  for (int i = 0; i < n; ++i) x.row(i) = (a + (b - a) * (i / (n - 1.0))).transpose();
+  return x;
+}
+
+Eigen::MatrixX3d circle_points(const SceneNode& node) {
+  node.expect_keys({"center", "radius", "normal", "vertices", "start_angle"});
+  const auto center = node.find("center");
+  const Eigen::Vector3d c = center ? vec3(*center) : Eigen::Vector3d::Zero();
+  const auto normal = node.find("normal");
+  const Eigen::Vector3d z = normal ? vec3(*normal) : Eigen::Vector3d::UnitZ();
+  if (!(z.norm() > 0.0)) normal->fail("must be non-zero");
+  const double R = node.at("radius").positive();
+  const double start = number_or(node, "start_angle", 0.0);
+  const int n = integer_between(node.at("vertices"), 3, kMaxRodVertices);
+  // (u, v): an orthonormal basis of the circle's plane.
+  const Eigen::Vector3d w = z.normalized();
+  Eigen::Index k = 0;
+  w.cwiseAbs().minCoeff(&k);
+  const Eigen::Vector3d u = (Eigen::Vector3d::Unit(k) - w[k] * w).normalized(), v = w.cross(u);
+  Eigen::MatrixX3d x(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double phi = start + 2.0 * M_PI * i / n;
+    x.row(i) = (c + R * (std::cos(phi) * u + std::sin(phi) * v)).transpose();
   }
-  if (scene.contains("joints")) {
-    const json& joints = scene["joints"];
-    if (!joints.is_array()) fail("joints", "expected an array of joints");
-    double extent = 0.0;
-    for (const auto& r : spec.rods)
-      extent = std::max(extent, (r.points.colwise().maxCoeff() - r.points.colwise().minCoeff()).norm());
-    for (std::size_t k = 0; k < joints.size(); ++k) {
-      const json& j = joints[k];
-      const std::string where = "joints[" + std::to_string(k) + "]";
-      if (!j.is_object()) fail(where, "expected an object with type and rods");
-      for (const auto& [key, value] : j.items())
-        if (key != "type" && key != "rods") fail(where + "." + key, "unknown key (expected type, rods)");
-      if (j.contains("type") && j["type"] != "pinned" && j["type"] != "rigid")
-        fail(where + ".type", "expected \"pinned\" or \"rigid\"");
-      if (!j.contains("rods") || !j["rods"].is_array() || j["rods"].size() < 2)
-        fail(where + ".rods", "expected at least 2 members {\"rod\": name or index, \"vertex\": v}");
-      RodJointSpec joint;
-      joint.rigid = j.contains("type") && j["type"] == "rigid";
-      for (std::size_t m = 0; m < j["rods"].size(); ++m) {
-        const json& member = j["rods"][m];
-        const std::string w = where + ".rods[" + std::to_string(m) + "]";
-        if (!member.is_object() || !member.contains("rod") || !member.contains("vertex"))
-          fail(w, "expected {\"rod\": name or index, \"vertex\": v}");
-        expect_keys(member, {"rod", "vertex"}, w);
-        int rod = -1;
-        if (member["rod"].is_string()) {
-          for (std::size_t q = 0; q < spec.rods.size(); ++q)
-            if (spec.rods[q].name == member["rod"].get<std::string>()) rod = static_cast<int>(q);
-          if (rod < 0) fail(w + ".rod", "no rod named '" + member["rod"].get<std::string>() + "'");
-        } else {
-          rod = integer(member, "rod", w, {}, 0, static_cast<int>(spec.rods.size()) - 1);
-        }
-        const int nv = static_cast<int>(spec.rods[static_cast<std::size_t>(rod)].points.rows());
-        int vertex = 0;
-        if (member["vertex"] == "first")
-          vertex = 0;
-        else if (member["vertex"] == "last")
-          vertex = nv - 1;
-        else
-          vertex = integer(member, "vertex", w, {}, 0, nv - 1);
-        for (const auto& [r0, v0] : joint.members) {
-          if (r0 == rod) fail(w, "a joint joins different rods (rod " + std::to_string(rod) + " twice)");
-          const double gap = (spec.rods[static_cast<std::size_t>(r0)].points.row(v0) -
-                              spec.rods[static_cast<std::size_t>(rod)].points.row(vertex))
-                                 .norm();
-          if (gap > 1e-9 * extent)
-            fail(w, "the vertex is " + std::to_string(gap) + " away from the joint's first vertex");
-        }
-        joint.members.emplace_back(rod, vertex);
-      }
-      spec.joints.push_back(std::move(joint));
+  return x;
+}
+
+Eigen::MatrixX3d points_of(const SceneNode& rod) {
+  const int given = int{rod.has("points")} + int{rod.has("line")} + int{rod.has("circle")};
+  if (given == 0) rod.fail("needs 'points', 'line' or 'circle'");
+  if (given > 1) rod.fail("give only one of 'points', 'line' and 'circle'");
+  if (const auto points = rod.find("points")) return listed_points(*points);
+  if (const auto line = rod.find("line")) return line_points(*line);
+  return circle_points(rod.at("circle"));
+}
+
+// closed, closing_twist and rest_shape: how the drawn points are joined and what is at rest.
+void parse_rod_shape(const SceneNode& node, RodSpec& rod) {
+  const auto closed = node.find("closed");
+  rod.closed = closed ? closed->boolean() : node.has("circle");
+  if (rod.closed && node.has("line")) closed->fail("a 'line' cannot be closed");
+  rod.closing_twist = number_or(node, "closing_twist", 0.0);
+  if (rod.closing_twist != 0.0 && !rod.closed) node.at("closing_twist").fail("only for closed rods");
+  if (const auto rest = node.find("rest_shape"))
+    rod.straight_rest = rest->choice({"drawn", "straight"}) == "straight";
+}
+
+void parse_cross_section(const SceneNode& node, RodMaterial& material) {
+  node.expect_keys({"shape", "radius", "aspect"});
+  const auto shape = node.find("shape");
+  try {
+    material.section.shape = cross_section_shape_from_string(shape ? shape->string() : "circle");
+  } catch (const std::invalid_argument& e) {
+    shape->fail(e.what());
+  }
+  if (const auto aspect = node.find("aspect")) material.section.aspect = aspect->positive();
+  material.radius = node.at("radius").positive();
+  try {
+    material.section.validate();  // a circle's aspect is 1
+  } catch (const std::invalid_argument& e) {
+    node.fail(e.what());
+  }
+}
+
+void parse_rod_material(const SceneNode& node, RodSpec& rod) {
+  node.expect_keys({"youngs_modulus", "shear_modulus", "density"});
+  rod.material.youngs_modulus = node.at("youngs_modulus").positive();
+  const auto shear = node.find("shear_modulus");
+  rod.material.shear_modulus = shear ? shear->positive() : rod.material.youngs_modulus / (2.0 * 1.3);
+  rod.density = number_or(node, "density", 0.0);
+}
+
+void parse_rod_supports(const SceneNode& node, RodSpec& rod) {
+  const int nv = static_cast<int>(rod.points.rows()), ne = rod.closed ? nv : nv - 1;
+  if (const auto clamp = node.find("clamp")) {
+    for (const SceneNode& end : clamp->items())
+      rod.clamped.push_back(end.choice({"first", "last"}) == "first" ? RodEnd::first : RodEnd::last);
+    if (rod.closed && !rod.clamped.empty()) clamp->fail("a closed rod has no ends (use clamp_edges)");
+  }
+  if (const auto edges = node.find("clamp_edges"))
+    for (const SceneNode& edge : edges->items())
+      rod.clamped_edges.push_back(integer_between(edge, 0, ne - 1));
+  if (const auto pins = node.find("pin"))
+    for (const SceneNode& vertex : pins->items()) rod.pinned.push_back(integer_between(vertex, 0, nv - 1));
+}
+
+void parse_rod_loads(const SceneNode& node, RodSpec& rod) {
+  const int nv = static_cast<int>(rod.points.rows()), ne = rod.closed ? nv : nv - 1;
+  if (const auto loads = node.find("point_loads"))
+    for (const SceneNode& load : loads->items()) {
+      load.expect_keys({"vertex", "force"});
+      rod.point_loads.push_back({integer_between(load.at("vertex"), 0, nv - 1), vec3(load.at("force"))});
     }
+  if (const auto moments = node.find("twisting_moments"))
+    for (const SceneNode& moment : moments->items()) {
+      moment.expect_keys({"edge", "moment"});
+      rod.twisting_moments.emplace_back(integer_between(moment.at("edge"), 0, ne - 1),
+                                        moment.at("moment").number());
+    }
+}
+
+RodSpec parse_rod(const SceneNode& node, std::size_t k) {
+  node.expect_keys({"name", "points", "line", "circle", "closed", "closing_twist", "rest_shape",
+                    "clamp_edges", "cross_section", "material", "clamp", "pin", "point_loads",
+                    "twisting_moments"});
+  RodSpec rod;
+  const auto name = node.find("name");
+  rod.name = name ? name->string() : "rod" + std::to_string(k);
+  rod.points = points_of(node);
+  parse_rod_shape(node, rod);
+  parse_cross_section(node.at("cross_section"), rod.material);
+  parse_rod_material(node.at("material"), rod);
+  parse_rod_supports(node, rod);
+  parse_rod_loads(node, rod);
+  return rod;
+}
+
+// A joint member {"rod": name or index, "vertex": v, "first" or "last"}: (rod index, vertex).
+std::pair<int, int> parse_joint_member(const SceneNode& node, const std::vector<RodSpec>& rods) {
+  node.expect_keys({"rod", "vertex"});
+  const SceneNode rod_node = node.at("rod");
+  int rod = -1;
+  if (rod_node.is_string()) {
+    const std::string name = rod_node.string();
+    for (std::size_t q = 0; q < rods.size(); ++q)
+      if (rods[q].name == name) rod = static_cast<int>(q);
+    if (rod < 0) rod_node.fail("no rod named '" + name + "'");
+  } else {
+    rod = integer_between(rod_node, 0, static_cast<int>(rods.size()) - 1);
   }
-  if (scene.contains("dynamics")) {
-    static const std::string kSource = "rods scene";
-    const json& dyn = scene["dynamics"];
-    DynamicsSpec d = parse_dynamics_section(SceneNode(dyn, kSource, "dynamics"), ".");
-    if (d.rayleigh_alpha > 0.0 || d.rayleigh_beta > 0.0)
-      fail("dynamics.rayleigh", "Rayleigh damping is not implemented for rod scenes");
-    if (d.objective) fail("dynamics.objective", "trajectory objectives are not implemented for rod scenes");
-    if (dyn.contains("mass") && dyn["mass"] != "lumped")
-      fail("dynamics.mass", "rods have a lumped mass only (\"lumped\")");
-    if (d.initial_velocity && d.initial_velocity->size() != 3)
-      fail("dynamics.initial_velocity", "expected 3 components");
-    if (scene.contains("load_steps"))
-      fail("load_steps", "not used with a dynamics section (loads act from t = 0)");
-    for (std::size_t k = 0; k < spec.rods.size(); ++k)
-      if (!(spec.rods[k].density > 0.0))
-        fail("rods[" + std::to_string(k) + "].material.density", "a dynamic scene needs a positive density");
-    d.lumping = MassLumping::lumped;
-    for (std::size_t k = 0; k < spec.joints.size(); ++k)
-      if (spec.joints[k].rigid)
-        fail("joints[" + std::to_string(k) + "].type",
-             "rigid joints are not implemented with a dynamics section (the joint has no rotary inertia)");
-    spec.dynamics = d;
+  const int nv = static_cast<int>(rods[static_cast<std::size_t>(rod)].points.rows());
+  const SceneNode vertex = node.at("vertex");
+  if (vertex.is_string()) return {rod, vertex.choice({"first", "last"}) == "first" ? 0 : nv - 1};
+  return {rod, integer_between(vertex, 0, nv - 1)};
+}
+
+// The members must be different rods meeting at one drawn point (within 1e-9 of `extent`).
+RodJointSpec parse_joint(const SceneNode& node, const std::vector<RodSpec>& rods, double extent) {
+  node.expect_keys({"type", "rods"});
+  RodJointSpec joint;
+  if (const auto type = node.find("type")) joint.rigid = type->choice({"pinned", "rigid"}) == "rigid";
+  const SceneNode members = node.at("rods");
+  const std::vector<SceneNode> items = members.items();
+  if (items.size() < 2) members.fail("expected at least 2 members {\"rod\": name or index, \"vertex\": v}");
+  for (const SceneNode& item : items) {
+    const auto [rod, vertex] = parse_joint_member(item, rods);
+    for (const auto& [r0, v0] : joint.members) {
+      if (r0 == rod) item.fail("a joint joins different rods (rod " + std::to_string(rod) + " twice)");
+      const double gap = (rods[static_cast<std::size_t>(r0)].points.row(v0) -
+                          rods[static_cast<std::size_t>(rod)].points.row(vertex))
+                             .norm();
+      if (gap > 1e-9 * extent)
+        item.fail("the vertex is " + std::to_string(gap) + " away from the joint's first vertex");
+    }
+    joint.members.emplace_back(rod, vertex);
   }
-  return spec;
+  return joint;
+}
+
+std::vector<RodJointSpec> parse_joints(const SceneNode& node, const std::vector<RodSpec>& rods) {
+  double extent = 0.0;
+  for (const auto& r : rods)
+    extent = std::max(extent, (r.points.colwise().maxCoeff() - r.points.colwise().minCoeff()).norm());
+  std::vector<RodJointSpec> joints;
+  for (const SceneNode& item : node.items()) joints.push_back(parse_joint(item, rods, extent));
+  return joints;
+}
+
+// The "dynamics" section of docs/dynamics.md, less what rods lack: damping, trajectory
+// objectives, a consistent mass, rotary inertia of rigid joints.
+DynamicsSpec parse_rod_dynamics(const SceneNode& root, const RodSceneSpec& spec) {
+  const SceneNode node = root.at("dynamics");
+  // Refused before the shared parser reads them: an objective's vertex selectors are a mesh's.
+  if (node.has("rayleigh")) node.at("rayleigh").fail("Rayleigh damping is not implemented for rod scenes");
+  if (node.has("objective"))
+    node.at("objective").fail("trajectory objectives are not implemented for rod scenes");
+  DynamicsSpec d = parse_dynamics_section(node, ".");
+  if (node.has("mass") && node.at("mass").string() != "lumped")
+    node.at("mass").fail("rods have a lumped mass only (\"lumped\")");
+  if (d.initial_velocity && d.initial_velocity->size() != 3)
+    node.at("initial_velocity").fail("expected 3 components");
+  if (root.has("load_steps"))
+    root.at("load_steps").fail("not used with a dynamics section (loads act from t = 0)");
+  const std::vector<SceneNode> rods = root.at("rods").items();
+  for (std::size_t k = 0; k < spec.rods.size(); ++k)
+    if (!(spec.rods[k].density > 0.0))
+      fail_at_member(rods[k].at("material"), "density", "a dynamic scene needs a positive density");
+  d.lumping = MassLumping::lumped;
+  for (std::size_t k = 0; k < spec.joints.size(); ++k)
+    if (spec.joints[k].rigid)
+      root.at("joints").items()[k].at("type").fail(
+          "rigid joints are not implemented with a dynamics section (the joint has no rotary inertia)");
+  return d;
 }
 
 }  // namespace
 
-RodSceneSpec parse_rod_scene(const json& scene, const std::string& source) {
-  // fail() names the key path after "rods scene"; the caller knows the file.
-  static const std::string kPrefix = "rods scene: ";
-  try {
-    return parse_rod_scene_body(scene);
-  } catch (const SceneError& e) {
-    const std::string what = e.what();
-    if (what.rfind(kPrefix, 0) != 0) throw;
-    throw SceneError(source + ": " + what.substr(kPrefix.size()));
-  }
+RodSceneSpec parse_rod_scene(const SceneNode& root) {
+  // Next to a mesh the static scene's keys are the FEM body's (simulate_rods_with_fem).
+  if (root.has("mesh"))
+    root.expect_keys({"name", "description", "rods", "joints", "gravity", "load_steps",
+                      "max_newton_iterations", "dynamics", "inverse", "mesh", "materials", "dirichlet",
+                      "loads", "solver"});
+  else
+    root.expect_keys({"name", "description", "rods", "joints", "gravity", "load_steps",
+                      "max_newton_iterations", "dynamics", "inverse"});
+  if (const auto name = root.find("name")) name->string();
+  if (const auto description = root.find("description")) description->string();
+  RodSceneSpec spec;
+  const SceneNode rods = root.at("rods");
+  const std::vector<SceneNode> items = rods.items();
+  if (items.empty()) rods.fail("expected a non-empty array of rods");
+  for (std::size_t k = 0; k < items.size(); ++k) spec.rods.push_back(parse_rod(items[k], k));
+  if (const auto gravity = root.find("gravity")) spec.gravity = vec3(*gravity);
+  constexpr int kMaxInt = std::numeric_limits<int>::max();
+  if (const auto steps = root.find("load_steps")) spec.load_steps = integer_between(*steps, 1, kMaxInt);
+  if (const auto newton = root.find("max_newton_iterations"))
+    spec.max_newton_iterations = integer_between(*newton, 1, kMaxInt);
+  if (const auto joints = root.find("joints")) spec.joints = parse_joints(*joints, spec.rods);
+  if (root.has("dynamics")) spec.dynamics = parse_rod_dynamics(root, spec);
+  return spec;
+}
+
+RodSceneSpec parse_rod_scene(const nlohmann::json& scene, const std::string& source) {
+  return parse_rod_scene(SceneNode(scene, source, ""));
 }
 
 namespace {
@@ -754,20 +714,13 @@ RodDynamicsRun simulate_rod_dynamics(const RodSceneSpec& spec, const std::string
 }
 
 bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log) {
-  std::ifstream f(path);
-  if (!f) throw SceneError(path + ": cannot open the scene file");
-  json document;
-  try {
-    document = parse_json(f);
-  } catch (const json::exception& e) {
-    throw SceneError(path + ": invalid JSON: " + e.what());
-  }
+  const nlohmann::json document = read_scene_document(path);
   if (document.is_object() && document.contains("mesh")) {
     const std::string directory = std::filesystem::path(path).parent_path().string();
     return simulate_rods_with_fem(document, path, directory.empty() ? "." : directory, out_dir, &log)
         .rods.converged;
   }
-  RodSceneSpec spec = parse_rod_scene(document, path);
+  RodSceneSpec spec = parse_rod_scene(SceneNode(document, path, ""));
   spec.source = path;
   if (spec.dynamics) return simulate_rod_dynamics(spec, out_dir, &log).completed;
   return simulate_rods(spec, out_dir, &log).converged;

@@ -16,6 +16,7 @@
 #include "forward/rods/rod_supports.hpp"
 #include "problems/fem/dynamic_scene.hpp"
 #include "problems/rods/rod_vtu.hpp"
+#include "problems/scene_node.hpp"
 
 namespace tailor {
 
@@ -62,7 +63,10 @@ struct RodSceneSpec {
 
 // True when the JSON file has a top-level "rods" section.
 bool is_rod_scene(const std::string& path);
-// Throws SceneError "<source>: <key path>: <what>" on bad input, unknown keys included.
+// The scene's document (the "rods" section and the top-level keys of docs/rods.md). Throws
+// SceneError "<source>: <key path>: <what>" on bad input, unknown keys included.
+RodSceneSpec parse_rod_scene(const SceneNode& root);
+// The same for a document without a file (tests, programs that build scenes in memory).
 RodSceneSpec parse_rod_scene(const nlohmann::json& scene, const std::string& source = "rods scene");
 
 // The rods' dead loads (gravity, point loads, twisting moments) scaled by a load factor:

@@ -113,7 +113,7 @@ TEST(ParserRegression, PeriodicCellGridsTooLargeToMesh) {
   EXPECT_EQ(cell_error(R"({"lattice": [[1, 0], [0, 1]], "grid": [4, 4]})"), "");  // small grids still work
 }
 
-// The rods parser reads nlohmann::json directly: members of the wrong JSON type threw
+// When the rods parser read nlohmann::json directly, members of the wrong JSON type threw
 // nlohmann's type_error (not a SceneError), and numbers beyond int were cast to int
 // (undefined behaviour; UndefinedBehaviorSanitizer: float-cast-overflow).
 TEST(ParserRegression, RodScenesWithValuesOfTheWrongKind) {
@@ -138,14 +138,14 @@ TEST(ParserRegression, RodScenesWithValuesOfTheWrongKind) {
   expect_error(R"({"rods": [{"line": {"from": [0, 0, 0], "to": [1, 0, 0], "vertices": 1e300}}]})",
                "rods[0].line.vertices: expected an integer in [3, 10000000]");
   expect_error(R"({"load_steps": 1e300, "rods": [)" + rod + "]}",
-               "scene.load_steps: expected an integer in [1, ");
+               "rods scene: load_steps: expected an integer in [1, ");
   expect_error(R"({"rods": [{"name": 7, "points": [[0, 0, 0], [1, 0, 0], [2, 0, 0]]}]})",
                "rods[0].name: expected a string");
   const std::string loaded = rod.substr(0, rod.size() - 1);
   expect_error(R"({"rods": [)" + loaded + R"(, "point_loads": [3]}]})",
-               "rods[0].point_loads: expected objects with vertex and force");
+               "rods[0].point_loads[0]: expected an object, got 3");
   expect_error(R"({"rods": [)" + loaded + R"(, "point_loads": [{"vertex": -1e300, "force": [0, 0, 1]}]}]})",
-               "rods[0].point_loads.vertex: expected an integer in [0, 4]");
+               "rods[0].point_loads[0].vertex: expected an integer in [0, 4]");
   expect_error(R"({"rods": [)" + loaded + R"(, "cross_section": 1}]})",
                "rods[0].cross_section: expected an object");
 }

@@ -6,11 +6,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
+#include <sstream>
 #include <stdexcept>
 
 #include "forward/core/elimination.hpp"
@@ -18,6 +20,7 @@
 #include "forward/dynamics/mass_operator.hpp"
 #include "forward/rods/bending_term.hpp"
 #include "forward/rods/stretching_term.hpp"
+#include "forward/rods/twisting_moment_term.hpp"
 #include "forward/rods/twisting_term.hpp"
 #include "forward/solve/newton.hpp"
 #include "problems/fem/scene.hpp"
@@ -408,7 +411,8 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& pr
                                               m.p.segment(blocks.rest_length, rod->num_edges())),
                          spec.gravity, forces);
     for (const auto& l : r.point_loads) add_point_load(*rod, l.vertex, l.force, forces);
-    for (const auto& [edge, moment] : r.twisting_moments) add_twisting_moment(*rod, edge, moment, forces);
+    if (!r.twisting_moments.empty())  // a potential of the state, not a force on theta (see the term)
+      m.twisting_moments.push_back(&model.add(std::make_unique<RodTwistingMomentTerm>(rod, r.twisting_moments)));
     for (RodEnd end : r.clamped)
       for (int d : clamped_end_dofs(*rod, end)) fixed.push_back(d);
     for (int e : r.clamped_edges) {
@@ -543,14 +547,18 @@ RodSimulation solve_rod_model(RodSceneModel& m, const RodSceneSpec& spec, const 
   result.converged = true;
   nlohmann::ordered_json steps = nlohmann::ordered_json::array();
   std::string message;
+  NewtonResult last;
   // Load steps; the reference frames move to each converged state (time-parallel transport).
   for (int step = 1; step <= spec.load_steps && result.converged; ++step) {
     load.factor = static_cast<double>(step) / spec.load_steps;
+    for (RodTwistingMomentTerm* moments : m.twisting_moments) moments->factor = load.factor;
     const NewtonResult r = newton.solve(p, y);
+    last = r;
     result.converged = r.converged();
     result.newton_iterations += r.iterations;
     result.state = model.state(y, p);
     for (auto& rod : rods) rod->update_reference_frames(result.state);
+    for (RodTwistingMomentTerm* moments : m.twisting_moments) moments->update_branches(result.state);
     steps.push_back({{"step", step},
                      {"load_factor", load.factor},
                      {"iterations", r.iterations},
@@ -566,13 +574,31 @@ RodSimulation solve_rod_model(RodSceneModel& m, const RodSceneSpec& spec, const 
   if (log) *log << "wrote " << result.vtu_path << "\n";
   nlohmann::ordered_json report;
   add_report_header(report);
+  // The residual at the result, after the frames' update, must be what the last load step
+  // converged to: the energy is one function of the state, whatever frames are stored. A
+  // larger one means the solve converged on another function than the result's (as a
+  // twisting moment written as a force on theta did): not converged, said so.
+  const double residual = free_residual(model, result.state, p);
+  if (result.converged) {
+    const double scale = std::max(last.initial_residual, options.absolute_tolerance / options.relative_tolerance);
+    const double allowed = std::max(10.0 * last.final_residual, std::sqrt(options.relative_tolerance) * scale);
+    if (!(residual <= allowed)) {
+      result.converged = false;
+      std::ostringstream why;
+      why << std::scientific << std::setprecision(3) << "the residual at the result (" << residual
+          << ") is above what the last load step converged to (" << last.final_residual << ", at most "
+          << allowed << " allowed): the equilibrium Newton found is not one of the energy at the result";
+      message = why.str();
+      if (log) *log << message << "\n";
+    }
+  }
   report["status"] = result.converged ? "converged" : "not_converged";
   report["message"] = message;
   report["scene"] = scene_summary(spec, m);
   double total = 0.0;
   report["energies"] = energies(model, result.state, p, &total);
   report["energy"] = total;
-  report["residual"] = free_residual(model, result.state, p);
+  report["residual"] = residual;
   report["load_steps"] = spec.load_steps;
   report["newton_iterations"] = result.newton_iterations;
   report["steps"] = steps;
@@ -608,7 +634,9 @@ RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, co
   Model& model = *m.model;
   const Vector& p = m.p;
   m.load->factor = 1.0;
+  for (RodTwistingMomentTerm* moments : m.twisting_moments) moments->factor = 1.0;
   for (auto& rod : m.rods) rod->update_reference_frames(x0);
+  for (RodTwistingMomentTerm* moments : m.twisting_moments) moments->update_branches(x0);
   TimeIntegratorOptions options;
   options.scheme = dynamics.scheme;
   options.time_step = dynamics.time_step;
@@ -646,6 +674,7 @@ RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, co
     }
     // Time-parallel transport of the reference frames to the new state.
     for (auto& rod : m.rods) rod->update_reference_frames(run.state.x);
+    for (RodTwistingMomentTerm* moments : m.twisting_moments) moments->update_branches(run.state.x);
     run.steps = step;
     record(run.state);
   }

@@ -20,6 +20,8 @@
 
 namespace tailor {
 
+class RodTwistingMomentTerm;
+
 struct RodPointLoad {
   int vertex;
   Eigen::Vector3d force;
@@ -94,6 +96,9 @@ struct RodSceneModel {
   std::vector<int> first_vertex;
   Vector p, rest;
   RodLoadTerm* load = nullptr;
+  // One per rod with twisting moments (forward/rods/twisting_moment_term.hpp): their load
+  // factor follows load->factor, their branches the frame updates.
+  std::vector<RodTwistingMomentTerm*> twisting_moments;
   std::vector<RodRigidJointTerm*> rigid_joints;  // in the order of the rigid joints of the spec
   std::vector<RodOutput> outputs() const;
 };

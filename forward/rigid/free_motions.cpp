@@ -6,6 +6,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "forward/rigid/rigid_body_system.hpp"
+
 namespace tailor::rigid {
 
 std::vector<FreeMotion> free_motions(const Matrix& motions, const std::vector<int>& held, double length) {

@@ -14,9 +14,10 @@
 #include <vector>
 
 #include "forward/core/types.hpp"
-#include "forward/rigid/rigid_body_system.hpp"
 
 namespace tailor::rigid {
+
+class RigidBodySystem;
 
 // One free common motion: points move at translation + rotation x (p - centre).
 struct FreeMotion {

@@ -1,5 +1,6 @@
 #include "forward/rods/rod_supports.hpp"
 
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -79,6 +80,31 @@ void add_twisting_moment(const DiscreteRod& rod, int edge, double moment, Vector
   if (edge < 0 || edge >= rod.num_edges())
     throw std::out_of_range("rod edge " + std::to_string(edge) + " out of range");
   forces[rod.twist_dof(edge)] += moment;
+}
+
+std::vector<rigid::FreeMotion> free_rod_motions(const std::vector<const DiscreteRod*>& rods, const Vector& x,
+                                                const std::vector<int>& held, Eigen::Vector3d& centre) {
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), high = -low;
+  for (const DiscreteRod* rod : rods)
+    for (int v = 0; v < rod->num_vertices(); ++v) {
+      low = low.cwiseMin(rod->position(x, v));
+      high = high.cwiseMax(rod->position(x, v));
+    }
+  centre = 0.5 * (low + high);
+  Matrix motions = Matrix::Zero(x.size(), 6);
+  for (const DiscreteRod* rod : rods) {
+    for (int v = 0; v < rod->num_vertices(); ++v)
+      for (int k = 0; k < 3; ++k) {
+        motions.block<3, 1>(rod->position_dof(v, 0), k) = Eigen::Vector3d::Unit(k);
+        motions.block<3, 1>(rod->position_dof(v, 0), 3 + k) =
+            Eigen::Vector3d::Unit(k).cross(rod->position(x, v) - centre);
+      }
+    // Turning with the body, the material frame spins about t^j by a . t^j relative to the
+    // time-parallel reference frame (which does not spin about the tangent).
+    for (int j = 0; j < rod->num_edges(); ++j)
+      motions.block<1, 3>(rod->twist_dof(j), 3) = rod->edge_vector(x, j).normalized().transpose();
+  }
+  return rigid::free_motions(motions, held, (high - low).norm());
 }
 
 }  // namespace tailor

@@ -5,6 +5,7 @@
 // ExternalForceTerm (forward/fem/loads.hpp), whose potential is -f . x.
 #include <vector>
 
+#include "forward/rigid/free_motions.hpp"
 #include "forward/rods/cross_section.hpp"
 #include "forward/rods/discrete_rod.hpp"
 
@@ -41,6 +42,17 @@ void add_gravity_forces(const DiscreteRod& rod, const Eigen::VectorXd& vertex_ma
 // forces += F on one vertex [force].
 void add_point_load(const DiscreteRod& rod, int vertex, const Eigen::Vector3d& force, Vector& forces);
 // forces += M on one edge's twist DOF: a twisting moment about the tangent [force length].
+// The potential -M theta^j is a function of the state only while the reference frames stay
+// where they were (theta is measured from the stored frame): a driver that updates them
+// between solves needs RodTwistingMomentTerm (twisting_moment_term.hpp) instead.
 void add_twisting_moment(const DiscreteRod& rod, int edge, double moment, Vector& forces);
+
+// The rigid motions of a group of rods moving as one body (positions u + a x (x - centre),
+// each edge's twist by a . t^j, its material frame turning with the body) that the `held` DOFs
+// leave free, at state x (rigid::free_motions; a pinned joint inside the group ties positions
+// that move alike anyway). Empty when the supports hold the group. `centre`: the group's
+// bounding-box centre, for rigid::describe_free_motions.
+std::vector<rigid::FreeMotion> free_rod_motions(const std::vector<const DiscreteRod*>& rods, const Vector& x,
+                                                const std::vector<int>& held, Eigen::Vector3d& centre);
 
 }  // namespace tailor

@@ -87,6 +87,7 @@ RodFemSimulation simulate_rods_with_fem(const nlohmann::json& document, const st
     if (document.contains(key)) fem[key] = document[key];
   const Scene scene = parse_scene(dump_json(fem), source, directory);
   const StaticSetup setup = setup_static_scene(scene);
+  require_supported(scene, setup);  // a body free to move rigidly has no equilibrium (nor do free rods)
   if (setup.solver.load_steps > 1)
     root.at("solver")
         .at("load_steps")

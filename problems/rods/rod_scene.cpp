@@ -523,6 +523,51 @@ double free_residual(const Model& model, const Vector& x, const Vector& p) {
   return (model.elimination().basis().transpose() * g).norm();
 }
 
+// A static solve needs every rod, or group of rods joined by joints, held against every rigid
+// motion (a clamp, pins, clamped edges): the rods' energy resists only deformation, so a free
+// group has no equilibrium (a free rod under gravity ran 200 Newton iterations with a growing
+// residual). Throws SceneError naming the file, the rods and the free motions.
+void require_held_rods(const RodSceneSpec& spec, const RodSceneModel& m) {
+  const Elimination& elimination = m.model->elimination();
+  std::vector<int> held;
+  for (int i = 0; i < elimination.num_dofs(); ++i)
+    if (elimination.row_begin()[static_cast<std::size_t>(i) + 1] == elimination.row_begin()[static_cast<std::size_t>(i)])
+      held.push_back(i);
+  const std::size_t n = m.rods.size();
+  std::vector<std::size_t> group(n);
+  for (std::size_t k = 0; k < n; ++k) group[k] = k;
+  auto root = [&](std::size_t k) {
+    while (group[k] != k) k = group[k];
+    return k;
+  };
+  for (const RodJointSpec& joint : spec.joints)
+    for (const auto& member : joint.members) {
+      const std::size_t a = root(static_cast<std::size_t>(joint.members.front().first));
+      const std::size_t b = root(static_cast<std::size_t>(member.first));
+      group[std::max(a, b)] = std::min(a, b);
+    }
+  for (std::size_t first = 0; first < n; ++first) {
+    if (root(first) != first) continue;
+    std::vector<const DiscreteRod*> rods;
+    std::string names;
+    for (std::size_t k = first; k < n; ++k)
+      if (root(k) == first) {
+        rods.push_back(m.rods[k].get());
+        names += std::string(names.empty() ? "" : " and ") + "rods[" + std::to_string(k) + "] (\"" +
+                 spec.rods[k].name + "\")";
+      }
+    Eigen::Vector3d centre;
+    const std::vector<rigid::FreeMotion> free = free_rod_motions(rods, m.rest, held, centre);
+    if (free.empty()) continue;
+    const bool one = rods.size() == 1;
+    throw SceneError(spec.source + ": " + names + (one ? "" : ", joined") + ": the supports leave " +
+                     (one ? "the rod" : "them") + " free to move rigidly (" +
+                     rigid::describe_free_motions(free, centre) +
+                     "), so a static solve has no equilibrium; clamp an end (\"clamp\"), pin vertices (\"pin\"), "
+                     "clamp edges (\"clamp_edges\") or simulate it with a \"dynamics\" section");
+  }
+}
+
 }  // namespace
 
 RodSimulation simulate_rods(const RodSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
@@ -540,6 +585,7 @@ RodSimulation solve_rod_model(RodSceneModel& m, const RodSceneSpec& spec, const 
   const Vector& rest = m.rest;
   const std::vector<RodOutput> outputs = m.outputs();
   RodSimulation result;
+  require_held_rods(spec, m);
   NewtonOptions options;
   options.max_iterations = spec.max_newton_iterations;
   NewtonSolver newton(model, options);

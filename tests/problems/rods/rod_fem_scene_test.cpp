@@ -84,6 +84,26 @@ TEST(RodFemScene, SimulateEntryPointAndRefusedSections) {
   s = read_json_file(kScene);
   s["dynamics"] = {{"time_step", 0.1}, {"steps", 1}};
   EXPECT_THROW(simulate_rods_with_fem(s, "scene", ".", dir.string()), SceneError);
+  // Free parts have no equilibrium: refused before solving, each with the static scenes'
+  // diagnosis (the body's supports; the rods' clamps and pins).
+  s = read_json_file(kScene);
+  s.erase("dirichlet");
+  try {
+    simulate_rods_with_fem(s, "free_beam.json", ".", dir.string());
+    ADD_FAILURE() << "a free body was solved";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("free to move rigidly"), std::string::npos) << e.what();
+  }
+  s = read_json_file(kScene);
+  s["rods"][0].erase("clamp");
+  try {
+    simulate_rods_with_fem(s, "free_rod.json", ".", dir.string());
+    ADD_FAILURE() << "a free rod was solved";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("free_rod.json: rods[0] (\"rod\"): the supports leave the rod free"),
+              std::string::npos)
+        << e.what();
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -1,8 +1,9 @@
 // Static rod scenes (problems/rods/rod_scene.cpp, solve_rod_model): twisting moments as one
-// potential of the state, and the report's own check that a converged run's residual is what
-// its load steps converged to.
+// potential of the state, the report's own check that a converged run's residual is what its
+// load steps converged to, and free rods refused before solving.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -133,6 +134,53 @@ TEST(RodSceneStatics, ConvergedRunWhoseResidualDisagreesIsReportedNotConverged) 
   EXPECT_NE(message.find("the residual at the result"), std::string::npos) << message;
   EXPECT_GT(report["residual"].get<double>(), 0.1);
   std::filesystem::remove_all(dir);
+}
+
+std::string error_of(const nlohmann::json& scene, const std::string& source) {
+  RodSceneSpec spec = parse_rod_scene(scene);
+  spec.source = source;
+  const auto dir = testing::unique_temp_path("tailor_rod_free");
+  try {
+    simulate_rods(spec, dir.string());
+  } catch (const SceneError& e) {
+    std::filesystem::remove_all(dir);
+    return e.what();
+  }
+  std::filesystem::remove_all(dir);
+  return "no error";
+}
+
+// A rod without supports has no static equilibrium: before, Newton ran its 200 iterations
+// with a growing residual (the rod falling under gravity); now the scene is refused before
+// solving, naming the file, the rod and the free motions. A rod pinned at one vertex keeps
+// its three rotations about the pin; two rods joined by a pinned joint are held when one of
+// them is clamped (the shipped frame) and free together when neither is.
+TEST(RodSceneStatics, FreeRodsAreRefusedNamingTheFreeMotions) {
+  nlohmann::json scene = testing::read_rod_scene("rod_cantilever.json");
+  scene["rods"][0].erase("clamp");
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string free = error_of(scene, "free_rod.json");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);
+  EXPECT_NE(free.find("free_rod.json: rods[0] (\"beam\"): the supports leave the rod free to move rigidly "
+                      "(translation along (1, 0, 0); translation along (0, 1, 0); translation along (0, 0, 1); "
+                      "rotation about"),
+            std::string::npos)
+      << free;
+  EXPECT_NE(free.find("no equilibrium"), std::string::npos) << free;
+  scene["rods"][0]["pin"] = {20};
+  const std::string pinned = error_of(scene, "pinned_rod.json");
+  EXPECT_NE(pinned.find("rotation about (1, 0, 0) through (0.5, 0, 0)"), std::string::npos) << pinned;
+  EXPECT_EQ(pinned.find("translation"), std::string::npos) << pinned;
+
+  nlohmann::json frame = testing::read_rod_scene("rod_frame.json");
+  EXPECT_EQ(error_of(frame, "rod_frame.json"), "no error");
+  frame["rods"][0].erase("clamp");
+  frame["rods"][1].erase("clamp");
+  const std::string joined = error_of(frame, "loose_frame.json");
+  EXPECT_NE(joined.find("loose_frame.json: rods[0] (\"left\") and rods[1] (\"right\"), joined: the supports leave "
+                        "them free to move rigidly"),
+            std::string::npos)
+      << joined;
 }
 
 }  // namespace

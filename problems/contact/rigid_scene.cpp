@@ -357,7 +357,8 @@ RigidSimulateRun simulate_dynamics(const RigidSceneSpec& spec, RigidSceneModel& 
 }
 
 // Newton from q0 with the stiffness balanced there when adaptive; with torques, re-solved with
-// their reference moved to the solution until the solution stays (at most 20 times).
+// their reference moved to the solution until the solution stays (at most 20 times; a solution
+// still moving then is reported as max_iterations, not as converged).
 void solve_static(const RigidSceneSpec& spec, RigidSceneModel& scene, std::ostream* log,
                   RigidSimulateRun& run) {
   Model& model = *scene.model;
@@ -396,8 +397,12 @@ void solve_static(const RigidSceneSpec& spec, RigidSceneModel& scene, std::ostre
     if (lag == 0) newton.options().reference_residual = run.newton.initial_residual;
     if (!run.newton.converged() || !scene.loads || !scene.loads->has_torques()) break;
     scene.loads->set_reference(model.state(y, p).head(scene.system.num_dofs()));
-    if ((y - before).lpNorm<Eigen::Infinity>() <= 1e-14 * (1.0 + y.lpNorm<Eigen::Infinity>()) || lag == 20)
+    if ((y - before).lpNorm<Eigen::Infinity>() <= 1e-14 * (1.0 + y.lpNorm<Eigen::Infinity>())) break;
+    if (lag == 20) {  // the torques' reference still moves: not the equilibrium of the torques
+      run.newton.status = NewtonStatus::max_iterations;
+      run.newton.message = "the solution still moved after 21 solves with the torques' reference moved to it";
       break;
+    }
   }
   run.state = model.state(y, p);
 }

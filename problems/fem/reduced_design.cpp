@@ -249,7 +249,7 @@ ReducedDesign build_reduced_design(const Scene& scene) {
   // Objective: exactly one handles term; every handle with force and displacement.
   const HandlesTerm* term = nullptr;
   for (const ObjectiveTermSpec& t : spec.objective) {
-    if (const auto* h = std::get_if<HandlesTerm>(&t.term)) {
+    if (const auto* h = t.settings_as<HandlesTerm>()) {
       term = h;
       continue;
     }

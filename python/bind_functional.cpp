@@ -96,6 +96,9 @@ class Functional {
       return hessian ? taylor_test_hessian(*problem_->functional, at, options)
                      : tailor::taylor_test(*problem_->functional, at, options);
     }();
+    // A design the functional cannot evaluate is the caller's error, as in value(z); a failure at
+    // a step of the test is the test's result.
+    if (r.status == TaylorStatus::evaluation_failed && r.rows.empty()) throw EvaluationError(r.message);
     py::list rows;
     for (const TaylorRow& row : r.rows) {
       py::dict d;

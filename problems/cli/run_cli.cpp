@@ -11,9 +11,9 @@
 
 #include "forward/mesh/mesh.hpp"
 #include "problems/cli/flag_checks.hpp"
-#include "problems/json_text.hpp"
 #include "problems/scene_error.hpp"
 #include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
 #include "tailor_version.hpp"
 
 namespace tailor {
@@ -93,12 +93,8 @@ SceneFile read_scene_file(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   file.text = text.str();
-  file.document = parse_json_or_discarded(file.text);
-  if (file.document.is_discarded()) {
-    // The scene parser says where the JSON breaks (and which key holds a number out of range).
-    parse_scene(file.text, path, file.directory());
-    throw SceneError(path + ": invalid JSON");
-  }
+  // SceneError for invalid JSON (with its position), a number out of range or a repeated key.
+  file.document = parse_scene_document(file.text, path);
   return file;
 }
 

@@ -15,6 +15,7 @@
 #include "problems/fem/linear_solver_choice.hpp"
 #include "problems/fem/scene_parsing.hpp"
 #include "problems/fem/spline_curves_json.hpp"
+#include "problems/json_duplicate_keys.hpp"
 
 namespace tailor {
 namespace {
@@ -395,7 +396,13 @@ nlohmann::json parse_scene_document(const std::string& json_text, const std::str
     return true;
   };
   try {
-    return nlohmann::json::parse(json_text, track_keys);
+    nlohmann::json document = nlohmann::json::parse(json_text, track_keys);
+    if (const auto duplicate = find_duplicate_key(json_text))
+      throw SceneError(source + ": " + duplicate->path + ": the key appears twice (line " +
+                       std::to_string(duplicate->first_line) + ", column " + std::to_string(duplicate->first_column) +
+                       " and line " + std::to_string(duplicate->line) + ", column " +
+                       std::to_string(duplicate->column) + "); JSON would keep only the last value");
+    return document;
   } catch (const nlohmann::json::parse_error& e) {
     // e.what() reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
     std::string what = e.what();

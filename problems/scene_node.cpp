@@ -68,14 +68,17 @@ SceneNode SceneNode::child(const nlohmann::json& value, const std::string& suffi
 }
 
 void SceneNode::expect_keys(std::initializer_list<const char*> allowed) const {
+  expect_keys(std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+void SceneNode::expect_keys(const std::vector<std::string>& allowed) const {
   if (!value_->is_object()) fail("expected an object, got " + describe_json(*value_));
-  for (const auto& item : value_->items()) {
-    const bool known =
-        std::any_of(allowed.begin(), allowed.end(), [&](const char* k) { return item.key() == k; });
-    if (!known)
-      child(item.value(), member_suffix(item.key()))
-          .fail("unknown key (allowed here: " + join(allowed) + ")");
-  }
+  for (const auto& item : value_->items())
+    if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end()) {
+      std::string list;
+      for (const std::string& key : allowed) list += (list.empty() ? "" : ", ") + key;
+      child(item.value(), member_suffix(item.key())).fail("unknown key (allowed here: " + list + ")");
+    }
 }
 
 bool SceneNode::has(const char* key) const { return value_->is_object() && value_->contains(key); }

@@ -1,11 +1,20 @@
-// The "optimizer" section (problems/optimizer_section.hpp): one parser with one set of rules.
+// The "optimizer" section (problems/optimizer_section.hpp): one parser with one set of rules,
+// and the same section gives the same options in every kind that optimizes.
 #include "problems/optimizer_section.hpp"
 
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
+#include "../support/temp_folder.hpp"
+#include "problems/fem/inverse_scene.hpp"
+#include "problems/fem/scene.hpp"
+#include "problems/homogenization/cell_scene.hpp"
 #include "problems/json_text.hpp"
+#include "problems/material_fit/material_fit_scene.hpp"
+#include "problems/metamaterial/metamaterial_scene.hpp"
+#include "problems/rods/rod_inverse.hpp"
 #include "problems/scene_error.hpp"
 #include "problems/scene_node.hpp"
 
@@ -133,6 +142,42 @@ TEST(OptimizerSection, ABackendWithoutWhatTheKindNeedsIsRefused) {
             kSource + ": optimizer.backend: " + unbounded->name +
                 " does not support bounds, which a cell design needs (choose one of " +
                 backends_with(&BackendCapabilities::bounds) + ")");
+}
+
+// One section in the FEM inverse problem, a rod design, a material fit and a cell design: the
+// same options in each.
+TEST(OptimizerSection, TheSameSectionGivesTheSameOptionsInEveryKind) {
+  const BackendEntry* backend = nullptr;  // one that every kind takes: bounds and constraints
+  for (const BackendEntry* entry : registered_backends())
+    if (entry->capabilities.bounds && entry->capabilities.inequality_constraints) backend = entry;
+  ASSERT_NE(backend, nullptr);
+  const nlohmann::json section = {{"backend", backend->name},   {"max_iterations", 17},
+                                  {"gradient_tolerance", 1e-7}, {"objective_tolerance", 1e-6},
+                                  {"step_tolerance", 1e-5},     {"time_limit", 30}};
+  const auto with_section = [&](const std::string& scene, const std::string& pointer) {
+    nlohmann::json document = read_scene_document(testing::kScenesDir + "/" + scene);
+    document[nlohmann::json::json_pointer(pointer)] = section;
+    return document;
+  };
+  std::vector<OptimizerOptions> parsed;
+  const nlohmann::json fem = with_section("two_material_bar_inverse.json", "/inverse/optimizer");
+  parsed.push_back(parse_scene(SceneNode(fem, kSource, ""), testing::kScenesDir).inverse->optimizer);
+  const nlohmann::json rods = with_section("rods/rod_stiffness_design.json", "/inverse/optimizer");
+  parsed.push_back(build_rod_inverse(rods, kSource, "rods")->spec.optimizer);
+  const nlohmann::json fit = with_section("material_fit/spline_fit_neo_hookean.json", "/optimizer");
+  parsed.push_back(parse_material_fit_scene(SceneNode(fit, kSource, "")).optimizer);
+  const nlohmann::json cell = with_section("homogenization/auxetic_2d.json", "/design/optimizer");
+  const SceneNode root(cell, kSource, "");
+  parsed.push_back(parse_metamaterial_design(root, parse_cell_scene(root, testing::kScenesDir)).optimizer);
+  for (const OptimizerOptions& o : parsed) {
+    EXPECT_EQ(o.backend, parse_optimizer_backend(backend->name));
+    EXPECT_EQ(o.max_iterations, 17);
+    EXPECT_EQ(o.gradient_tolerance, 1e-7);
+    EXPECT_EQ(o.objective_tolerance, 1e-6);
+    EXPECT_EQ(o.step_tolerance, 1e-5);
+    EXPECT_EQ(o.time_limit_seconds, 30.0);
+    EXPECT_FALSE(o.exact_hessian);
+  }
 }
 
 }  // namespace

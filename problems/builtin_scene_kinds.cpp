@@ -86,7 +86,7 @@ int simulate_dynamic(const SceneFile& file, const VerbArguments& args, std::ostr
 }
 
 int check_model(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  return exit_code(check_scene(load_scene(file, args, out), args.seed.value_or(1), out));
+  return exit_code(check_scene(load_scene(file, args, out), args.seed.value_or(1), &out));
 }
 
 int report_gradcheck(const GradcheckRun& run, std::ostream& out) {

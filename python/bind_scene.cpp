@@ -206,7 +206,7 @@ int check(const SceneDocument& doc, unsigned seed, py::object log) {
       args.seed = seed;
       return dispatch(doc, "check", args, out);
     }
-    return check_scene(parse(doc), seed, out) ? kSuccess : kFailure;
+    return check_scene(parse(doc), seed, &out) ? kSuccess : kFailure;
   });
   out.flush();
   return code;

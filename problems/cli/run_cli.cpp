@@ -1,8 +1,6 @@
 #include "problems/cli/run_cli.hpp"
 
 #include <CLI/CLI.hpp>
-#include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -80,22 +78,6 @@ std::string verb_usage(const Verb& verb, const CLI::App& command, const CLI::App
     }
   s << "\nflags:\n" << option_lines(command) << option_lines(app);
   return s.str();
-}
-
-// The scene file read and parsed once. Errors are SceneErrors naming the file.
-SceneFile read_scene_file(const std::string& path) {
-  SceneFile file;
-  file.path = path;
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) throw SceneError(path + ": is a folder, not a scene file");
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  file.text = text.str();
-  // SceneError for invalid JSON (with its position), a number out of range or a repeated key.
-  file.document = parse_scene_document(file.text, path);
-  return file;
 }
 
 class Cli {

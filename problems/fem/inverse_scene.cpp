@@ -9,6 +9,7 @@
 #include "problems/fem/objective_term_registry.hpp"
 #include "problems/fem/objective_terms/builtin_terms.hpp"
 #include "problems/fem/scene_parsing.hpp"
+#include "problems/optimizer_section.hpp"
 
 namespace tailor {
 
@@ -221,29 +222,7 @@ std::string data_term_types() {
 }
 
 OptimizerOptions parse_optimizer(const SceneNode& node) {
-  node.expect_keys({"backend", "max_iterations", "gradient_tolerance", "objective_tolerance",
-                    "step_tolerance", "time_limit", "exact_hessian", "checkpoint_every"});
-  OptimizerOptions o;
-  if (auto b = node.find("backend")) {
-    try {
-      o.backend = parse_optimizer_backend(b->string());
-    } catch (const std::invalid_argument& e) {
-      b->fail(e.what());
-    }
-  }
-  if (auto v = node.find("max_iterations")) o.max_iterations = v->integer(1);
-  if (auto v = node.find("gradient_tolerance")) o.gradient_tolerance = v->non_negative();
-  if (auto v = node.find("objective_tolerance")) o.objective_tolerance = v->non_negative();
-  if (auto v = node.find("step_tolerance")) o.step_tolerance = v->non_negative();
-  if (auto v = node.find("time_limit")) o.time_limit_seconds = v->non_negative();
-  if (auto v = node.find("checkpoint_every")) o.checkpoint_every = v->integer(0);
-  if (auto v = node.find("exact_hessian")) {
-    o.exact_hessian = v->boolean();
-    if (o.exact_hessian && !find_backend(o.backend).capabilities.exact_hessian)
-      v->fail("only the " + backends_with(&BackendCapabilities::exact_hessian) +
-              " back-end uses exact Hessians (the back-end is " + to_string(o.backend) + ")");
-  }
-  return o;
+  return parse_optimizer_section(node, OptimizerOptions{}, {"an inverse FEM scene", true, true, {}});
 }
 
 TaylorTestOptions parse_gradcheck(const SceneNode& node) {

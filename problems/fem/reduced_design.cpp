@@ -646,9 +646,7 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
         report["max_full_error"] =
             *std::max_element(run.full->handle_errors.begin(), run.full->handle_errors.end());
     }
-    std::ofstream out(run.report_path);
-    if (!out) throw std::runtime_error("cannot write " + run.report_path);
-    out << dump_json(report, 2) << "\n";
+    write_report_file(run.report_path, report);
   }
   if (log) {
     *log << run.result.report();

@@ -437,10 +437,13 @@ nlohmann::json read_scene_document(const std::string& path) {
 
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& directory) {
   const nlohmann::json document = parse_scene_document(json_text, source);
+  return parse_scene(SceneNode(document, source, ""), directory);
+}
+
+Scene parse_scene(const SceneNode& root, const std::string& directory) {
   Scene scene;
-  scene.source = source;
+  scene.source = root.source();
   scene.directory = directory;
-  const SceneNode root(document, scene.source, "");
   root.expect_keys(
       {"name", "description", "mesh", "materials", "dirichlet", "loads", "solver", "inverse", "dynamics"});
   if (auto n = root.find("name")) {

@@ -11,9 +11,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../../support/report_checks.hpp"
 #include "../../support/temp_folder.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
+#include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::rigid_scene_test {
@@ -25,6 +28,14 @@ std::string temporary_directory(const std::string& name) {
   const auto dir = testing::unique_temp_path("tailor_contact_" + name);
   std::filesystem::remove_all(dir);
   return dir.string();
+}
+
+// The scene file as `tailor simulate` reads it (named after its file without a "name").
+RigidSceneSpec read_rigid_scene(const std::string& path) {
+  const SceneFile file = read_scene_file(path);
+  RigidSceneSpec spec = parse_rigid_scene(file.node(), file.directory());
+  spec.name = file.name();
+  return spec;
 }
 
 TEST(RigidScene, SphereOnBoxCarriesTheWeightsDownToTheGround) {
@@ -40,6 +51,7 @@ TEST(RigidScene, SphereOnBoxCarriesTheWeightsDownToTheGround) {
   EXPECT_GT(run.min_distance, 0.0);
   std::ifstream in(out + "/report.json");
   const nlohmann::json report = parse_json(in);
+  testing::expect_report_header(out + "/report.json");
   EXPECT_EQ(report["status"], "converged");
   EXPECT_EQ(report["bodies"].size(), 3u);
   for (const char* body : {"ground", "box", "sphere"})
@@ -120,7 +132,7 @@ TEST(RigidScene, KinematicPlateAndTorqueScene) {
 
 void expect_scene_error(const std::string& json, const std::string& fragment) {
   try {
-    const RigidSceneSpec spec = parse_rigid_scene(json, "bad.json");
+    const RigidSceneSpec spec = parse_rigid_scene(scene_from_text(json, "bad.json").node(), "");
     simulate_rigid_scene(spec, temporary_directory("bad"), nullptr);
     ADD_FAILURE() << "no error for " << json;
   } catch (const SceneError& e) {

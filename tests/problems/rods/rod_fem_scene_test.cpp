@@ -10,11 +10,14 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../../support/report_checks.hpp"
 #include "../../support/temp_folder.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/fem/static_scene.hpp"
 #include "problems/json_text.hpp"
 #include "problems/rods/rod_scene.hpp"
+#include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
 #include "rod_scene_files.hpp"
 
 namespace tailor::rod_fem_scene_test {
@@ -29,7 +32,7 @@ TEST(RodFemScene, EachPartMatchesItsSeparateSolve) {
   const nlohmann::json document = read_json_file(kScene);
   const auto dir = testing::unique_temp_path("tailor_rods_and_beam");
   std::filesystem::remove_all(dir);
-  const RodFemSimulation both = simulate_rods_with_fem(document, kScene, ".", dir.string());
+  const RodFemSimulation both = simulate_rods_with_fem(SceneNode(document, kScene, ""), ".", dir.string());
   ASSERT_TRUE(both.rods.converged);
   EXPECT_TRUE(std::filesystem::exists(both.fem_vtu_path));
   EXPECT_TRUE(std::filesystem::exists(both.rods.vtu_path));
@@ -75,15 +78,18 @@ TEST(RodFemScene, EachPartMatchesItsSeparateSolve) {
 TEST(RodFemScene, SimulateEntryPointAndRefusedSections) {
   const auto dir = testing::unique_temp_path("tailor_rods_and_beam_cli");
   std::ostringstream log;
-  EXPECT_TRUE(simulate_rod_scene_file(kScene, dir.string(), log)) << log.str();
+  const SceneFile file = read_scene_file(kScene);
+  EXPECT_TRUE(simulate_rod_scene(file.node(), file.directory(), dir.string(), &log)) << log.str();
+  testing::expect_report_header((dir / "report.json").string());
   EXPECT_TRUE(std::filesystem::exists(dir / "result.vtu"));
   std::filesystem::remove_all(dir);
   nlohmann::json s = read_json_file(kScene);
   s["load_steps"] = 2;
-  EXPECT_THROW(simulate_rods_with_fem(s, "scene", ".", dir.string()), SceneError);
+  const std::string source = "scene";
+  EXPECT_THROW(simulate_rods_with_fem(SceneNode(s, source, ""), ".", dir.string()), SceneError);
   s = read_json_file(kScene);
   s["dynamics"] = {{"time_step", 0.1}, {"steps", 1}};
-  EXPECT_THROW(simulate_rods_with_fem(s, "scene", ".", dir.string()), SceneError);
+  EXPECT_THROW(simulate_rods_with_fem(SceneNode(s, source, ""), ".", dir.string()), SceneError);
   std::filesystem::remove_all(dir);
 }
 

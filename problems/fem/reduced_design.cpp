@@ -26,8 +26,8 @@
 #include "problems/fem/inverse_scene.hpp"
 #include "problems/fem/scene_parsing.hpp"
 #include "problems/fem/scene_selection.hpp"
-#include "problems/json_text.hpp"
 #include "problems/output_process.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 
 namespace tailor {

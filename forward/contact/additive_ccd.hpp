@@ -22,7 +22,29 @@ namespace tailor::contact {
 struct CcdOptions {
   double separation_fraction = 0.1;  // s: the returned step keeps gap >= s * initial gap
   double min_separation = 0.0;       // xi [length]: a thickness the pair must keep
-  long max_iterations = 1000000;     // an exhausted budget returns the (safe) step reached
+  long max_iterations = 1000000;     // per query: an exhausted budget returns the (safe) step reached
+  // Per max_step call over all its queries (ContactPotential::max_step,
+  // rigid::ContactBodies::max_step): distance evaluations. Once spent, each remaining pair gets
+  // only its first advance (1 - s) g0 / L, which needs no further check (one evaluation), so a
+  // direction far longer than the gaps (e.g. from a nearly singular Newton step) costs at most
+  // this much instead of max_iterations per pair.
+  long max_total_iterations = 200000;
+};
+
+// How a query ended.
+enum class CcdStatus {
+  free,              // t_max reached: no contact possible on [0, t_max]
+  separated,         // stopped where the gap would fall below s g0 (the step is < t_max)
+  touching,          // the pair starts in contact (gap <= 0): step 0
+  budget_exhausted,  // the iteration budget ended the query: the step reached, verified safe
+  non_finite         // a NaN or infinite rate bound, t_max or position: refused, step 0
+};
+const char* to_string(CcdStatus status);
+
+struct CcdResult {
+  double step = 0.0;
+  CcdStatus status = CcdStatus::free;
+  long iterations = 0;  // distance evaluations after the first
 };
 
 // Stencil positions at time t.
@@ -33,10 +55,17 @@ using StencilPath = std::function<void(double t, std::array<Point, 4>& points)>;
 // starts in contact (gap <= 0).
 double additive_ccd(PairKind kind, const StencilPath& path, double rate_bound, double t_max,
                     const CcdOptions& options = {});
+// The same with how it ended; at most `max_iterations` evaluations after the first (default:
+// options.max_iterations).
+CcdResult additive_ccd_query(PairKind kind, const StencilPath& path, double rate_bound, double t_max,
+                             const CcdOptions& options = {}, long max_iterations = -1);
 
 // Straight motion from `start` to `end` (t in [0, 1] maps to start + t (end - start)).
 double additive_ccd_linear(PairKind kind, const std::array<Point, 4>& start, const std::array<Point, 4>& end,
                            double t_max = 1.0, const CcdOptions& options = {});
+CcdResult additive_ccd_linear_query(PairKind kind, const std::array<Point, 4>& start,
+                                    const std::array<Point, 4>& end, double t_max = 1.0,
+                                    const CcdOptions& options = {});
 
 // Unsigned distance of a pair [length].
 double pair_distance(PairKind kind, const std::array<Point, 4>& points);

@@ -77,12 +77,18 @@ double ContactPotential::energy(const Positions& x) const {
 }
 
 double ContactPotential::max_step(const Positions& x, const Positions& dx) const {
+  if (!dx.allFinite() || !x.allFinite()) return 0.0;  // a NaN or infinite direction: no safe step
   const Positions end = x + dx;
   const CandidatePairs candidates = find_candidates(surface_, x, 0.0, &end);
   double step = 1.0;
+  long budget = options_.ccd.max_total_iterations;  // evaluations left for this call
   auto run = [&](PairKind kind, const std::array<int, 2>& pair) {
     const std::array<int, 4> v = stencil(kind, pair);
-    step = std::min(step, additive_ccd_linear(kind, points_of(x, v), points_of(end, v), step, options_.ccd));
+    CcdOptions ccd = options_.ccd;
+    ccd.max_iterations = std::min(ccd.max_iterations, budget);
+    const CcdResult r = additive_ccd_linear_query(kind, points_of(x, v), points_of(end, v), step, ccd);
+    budget -= r.iterations;
+    step = std::min(step, r.step);
   };
   for (const auto& pair : candidates.point_triangle) run(PairKind::point_triangle, pair);
   for (const auto& pair : candidates.edge_edge) run(PairKind::edge_edge, pair);

@@ -205,6 +205,7 @@ void ContactBodies::add_stencil(const std::array<int, 4>& vertices, const Eigen:
 
 double ContactBodies::max_step(const Vector& q, const Vector& dq,
                                const contact::ContactPotential& potential) const {
+  if (!dq.allFinite() || !q.allFinite()) return 0.0;  // a NaN or infinite direction: no safe step
   const contact::Positions x = positions(q);
   const int n = surface_.num_vertices;
   Eigen::VectorXd bound(n);  // path length bound of each vertex over t in [0, 1]
@@ -215,27 +216,54 @@ double ContactBodies::max_step(const Vector& q, const Vector& dq,
   }
   if (!(bound.maxCoeff() > 0.0)) return 1.0;
   const contact::CandidatePairs candidates = contact::find_candidates(surface_, x, 0.0, nullptr, &bound);
+  const contact::CcdOptions& ccd = potential.options().ccd;
   double step = 1.0;
+  long budget = ccd.max_total_iterations;  // evaluations left for this call
   auto run = [&](contact::PairKind kind, const std::array<int, 2>& candidate) {
     const std::array<int, 4> v = potential.stencil(kind, candidate);
-    auto L = [&](int k) { return bound[v[static_cast<std::size_t>(k)]]; };
-    const double rate = kind == contact::PairKind::point_triangle
-                            ? L(0) + std::max({L(1), L(2), L(3)})
-                            : std::max(L(0), L(1)) + std::max(L(2), L(3));
+    // Each point moves by a translation u_k (dT of its body, or its own dx) plus, on a rigid
+    // body, a rotation whose path is at most |dw| |V| long. A common translation c of the four
+    // points leaves their distance unchanged: subtract the one (0 or one of the u_k) that gives
+    // the smallest rate bound, e.g. the translation of one body when two bodies move together.
+    std::array<Eigen::Vector3d, 4> u;
+    std::array<double, 4> spin;
+    for (int k = 0; k < 4; ++k) {
+      const int vk = v[static_cast<std::size_t>(k)], b = body_of(vk);
+      u[static_cast<std::size_t>(k)] = b >= 0 ? dq.segment<3>(6 * b) : dq.segment<3>(dof_of(vk));
+      spin[static_cast<std::size_t>(k)] =
+          b >= 0 ? dq.segment<3>(6 * b + 3).norm() * body_frame(vk).norm() : 0.0;
+    }
+    auto rate_with = [&](const Eigen::Vector3d& c) {
+      std::array<double, 4> L;
+      for (std::size_t k = 0; k < 4; ++k) L[k] = (u[k] - c).norm() + spin[k];
+      return kind == contact::PairKind::point_triangle ? L[0] + std::max({L[1], L[2], L[3]})
+                                                       : std::max(L[0], L[1]) + std::max(L[2], L[3]);
+    };
+    Eigen::Vector3d common = Eigen::Vector3d::Zero();
+    double rate = rate_with(common);
+    for (const Eigen::Vector3d& c : u)
+      if (const double r = rate_with(c); r < rate) {
+        rate = r;
+        common = c;
+      }
     if (!(rate > 0.0)) return;
     const contact::StencilPath path = [&](double t, std::array<contact::Point, 4>& points) {
       for (int k = 0; k < 4; ++k) {
         const int vk = v[static_cast<std::size_t>(k)], b = body_of(vk);
         if (b < 0) {
-          points[static_cast<std::size_t>(k)] = q.segment<3>(dof_of(vk)) + t * dq.segment<3>(dof_of(vk));
+          points[static_cast<std::size_t>(k)] =
+              q.segment<3>(dof_of(vk)) + t * (dq.segment<3>(dof_of(vk)) - common);
           continue;
         }
-        const Eigen::Vector3d T = q.segment<3>(6 * b) + t * dq.segment<3>(6 * b);
+        const Eigen::Vector3d T = q.segment<3>(6 * b) + t * (dq.segment<3>(6 * b) - common);
         const Eigen::Vector3d w = q.segment<3>(6 * b + 3) + t * dq.segment<3>(6 * b + 3);
         points[static_cast<std::size_t>(k)] = T + rotation_matrix(w) * body_frame(vk);
       }
     };
-    step = std::min(step, contact::additive_ccd(kind, path, rate, step, potential.options().ccd));
+    const contact::CcdResult r =
+        contact::additive_ccd_query(kind, path, rate, step, ccd, std::min(ccd.max_iterations, budget));
+    budget -= r.iterations;
+    step = std::min(step, r.step);
   };
   for (const auto& c : candidates.point_triangle) run(contact::PairKind::point_triangle, c);
   for (const auto& c : candidates.edge_edge) run(contact::PairKind::edge_edge, c);

@@ -114,6 +114,12 @@ NewtonResult RigidTimeStepper::step() {
   if (step_options_.initial_guess == InitialGuess::predicted) {
     const Vector dq = elimination.expand_direction(elimination.restrict_state(predicted_state()) -
                                                    elimination.restrict_state(q_));
+    if (!dq.allFinite()) {
+      NewtonResult refused;
+      refused.status = NewtonStatus::non_finite;
+      refused.message = "the predicted initial guess is not finite (a NaN or infinite velocity)";
+      return refused;
+    }
     const double alpha = std::min(1.0, model_.max_step(q_, dq));
     report_.initial_step = alpha;
     q = q_ + alpha * dq;
@@ -153,6 +159,12 @@ NewtonResult RigidTimeStepper::step() {
     Vector move = remaining;
     if (response_length > 0.0) move += (length / response_length) * response;
     double alpha = 1.0;
+    if (!move.allFinite()) {
+      elimination.set_offset(offset);
+      result.status = NewtonStatus::non_finite;
+      result.message = "a kinematic body's move is not finite (stage " + std::to_string(stage) + ")";
+      return result;
+    }
     if (length > 0.0) alpha = std::min(1.0, model_.max_step(q, move));
     if (!(alpha > 0.0)) {
       elimination.set_offset(offset);

@@ -13,6 +13,7 @@
 #include "forward/contact/intersection.hpp"
 #include "forward/core/model.hpp"
 #include "forward/mesh/mesh_io.hpp"
+#include "forward/rigid/free_motions.hpp"
 #include "forward/rigid/friction_term.hpp"
 #include "forward/rigid/rigid_contact_term.hpp"
 #include "forward/rigid/rigid_gravity_term.hpp"
@@ -98,6 +99,7 @@ struct RigidSceneModel {
     if (spec.friction.coefficient > 0.0)
       friction = &model->add(std::make_unique<rigid::FrictionTerm>(*contact, spec.friction));
     model->set_elimination(Elimination::dirichlet(fixed, fixed_values));
+    if (!(spec.time_step > 0.0)) require_held(spec, *bodies, fixed);
     const double start_distance = contact->min_distance(rest_state, 1e30);
     const int crossings =
         contact::count_edge_face_intersections(bodies->surface(), bodies->positions(rest_state));
@@ -105,6 +107,33 @@ struct RigidSceneModel {
       throw SceneError(spec.source + ": bodies touch or intersect in the initial state (distance " +
                        std::to_string(start_distance) + ", " + std::to_string(crossings) +
                        " edge-face crossings)");
+  }
+
+  // A static scene needs every motion of all bodies together to be stopped by a fixed body, a
+  // held DOF or an FEM body's support: contact resists only relative motion (docs/contact.md).
+  void require_held(const RigidSceneSpec& spec, const rigid::ContactBodies& bodies,
+                    const std::vector<int>& held) const {
+    std::vector<std::pair<int, Eigen::Vector3d>> points;
+    for (const FemBodyPart& part : fem)
+      for (int v = 0; v < part.setup.mesh.num_vertices(); ++v)
+        points.emplace_back(part.dof_offset + 3 * v, rest_state.segment<3>(part.dof_offset + 3 * v));
+    const contact::Positions x = bodies.positions(rest_state);
+    const Eigen::Vector3d low = x.colwise().minCoeff(), high = x.colwise().maxCoeff();
+    const Eigen::Vector3d centre = 0.5 * (low + high);
+    const Matrix motions = rigid::rigid_system_motions(system, rest_state, model->num_dofs(), points, centre);
+    const std::vector<rigid::FreeMotion> free = rigid::free_motions(motions, held, (high - low).norm());
+    if (free.empty()) return;
+    std::vector<std::string> movable;
+    for (int b = 0; b < system.num_bodies(); ++b)
+      if (!system.body(b).fixed && !system.body(b).kinematic) movable.push_back(system.body(b).name);
+    const std::string what = movable.size() == 1 && fem.empty()
+                                 ? "body \"" + movable[0] + "\" is free to move rigidly"
+                                 : "bodies are free to move together as one rigid body";
+    throw SceneError(spec.source + ": the " + what + " (" +
+                     rigid::describe_free_motions(free, centre) +
+                     "): no fixed body, held DOF (\"fixed_dofs\") or FEM support stops it, and contact only "
+                     "resists relative motion, so the static problem has no equilibrium; fix a body "
+                     "(\"fixed\": true), hold DOFs, or simulate it with a \"dynamics\" section");
   }
 };
 
@@ -271,6 +300,8 @@ RigidSimulateRun simulate_dynamics(const RigidSceneSpec& spec, RigidSceneModel& 
   for (int n = 1; n <= spec.steps; ++n) {
     run.newton = stepper.step();
     if (!run.newton.converged()) {
+      // The failed step's iterations ran too (the report counts every Newton iteration).
+      run.newton_iterations += stepper.last_report().newton_iterations;
       if (log) *log << "step " << n << " failed:\n" << run.newton.report() << "\n";
       break;
     }

@@ -184,10 +184,22 @@ std::string frame_suffix(int frame) {
 
 double finite_or(double v, double fallback) { return std::isfinite(v) ? v : fallback; }
 
+// A static relaxation needs a fixed link: links in contact resist only relative motion, so a
+// chain without one moves as one rigid body under any load and never comes to rest.
+void require_fixed_link(const TorusSceneSpec& spec) {
+  if (spec.dynamic || spec.chain.fix_first) return;
+  throw SceneError(spec.source +
+                   ": tori.fix_first: no link is fixed, so the chain is free to move as one rigid body (3 "
+                   "translations and 3 rotations; contact resists only relative motion) and a static "
+                   "relaxation has no equilibrium to come to; fix the first link (\"fix_first\": true) or "
+                   "use \"mode\": \"dynamic\"");
+}
+
 }  // namespace
 
 TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::string& out_dir,
                                       std::ostream* log) {
+  require_fixed_link(spec);
   std::filesystem::create_directories(out_dir);
   tori::ChainSimulation sim(spec.chain, spec.options);
   TorusSimulateRun run;
@@ -296,6 +308,7 @@ TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::s
     throw SceneError(spec.source +
                      ": tori.contact_model: gradcheck needs the implicit model (the mesh "
                      "model has no radius parameters)");
+  require_fixed_link(spec);
   // The equilibrium by relaxation, as in `simulate`.
   tori::ChainSimulationOptions sim_options = spec.options;
   sim_options.time_step = spec.static_time_step;

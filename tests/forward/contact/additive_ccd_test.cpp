@@ -5,7 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <limits>
+
+#include "forward/contact/contact_potential.hpp"
 
 namespace tailor::contact::additive_ccd_test {
 namespace {
@@ -145,6 +150,82 @@ TEST(AdditiveCcd, StepKeepsAFractionOfTheGapAndExactAnswersWhereNoMotion) {
   // A pair that starts in contact admits no step.
   const std::array<Point, 4> touching{Point(.2, .2, 0), t0, t1, t2};
   EXPECT_EQ(additive_ccd_linear(PairKind::point_triangle, touching, rest), 0.0);
+}
+
+
+// A NaN or infinite motion is refused at once (step 0, status non_finite) instead of iterating:
+// a NaN compares false everywhere, so no loop test would end it.
+TEST(AdditiveCcd, NonFiniteMotionIsRefusedAtOnce) {
+  const Point t0(0, 0, 0), t1(1, 0, 0), t2(0, 1, 0);
+  const std::array<Point, 4> start{Point(.2, .2, 1), t0, t1, t2};
+  for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    const std::array<Point, 4> end{Point(.2, .2, bad), t0, t1, t2};
+    const CcdResult r = additive_ccd_linear_query(PairKind::point_triangle, start, end);
+    EXPECT_EQ(r.status, CcdStatus::non_finite) << to_string(r.status);
+    EXPECT_EQ(r.step, 0.0);
+    EXPECT_EQ(r.iterations, 0);
+  }
+  const StencilPath path = [&](double, std::array<Point, 4>& points) { points = start; };
+  EXPECT_EQ(additive_ccd_query(PairKind::point_triangle, path, std::nan(""), 1.0).status, CcdStatus::non_finite);
+  EXPECT_EQ(additive_ccd_query(PairKind::point_triangle, path, 1.0, std::nan("")).status, CcdStatus::non_finite);
+}
+
+// The iteration budget ends a query whose motion is far longer than its gap (a vertex sliding
+// 1e-8 above a face needs ~3e7 advances to cross it) with a step that is still safe, after
+// exactly the budget; with no budget left the step is the first advance (1 - s) g0 / L, which
+// the rate bound alone makes safe. Reference: the gap of the constructed motion is 1e-8 at all t.
+TEST(AdditiveCcd, BudgetEndsLongQueriesWithASafeStep) {
+  const Point t0(0, 0, 0), t1(1, 0, 0), t2(0, 1, 0);
+  const double g = 1e-8;
+  const std::array<Point, 4> start{Point(.1, .2, g), t0, t1, t2}, end{Point(.4, .3, g), t0, t1, t2};
+  CcdOptions o;
+  o.max_iterations = 1000;
+  const CcdResult r = additive_ccd_linear_query(PairKind::point_triangle, start, end, 1.0, o);
+  EXPECT_EQ(r.status, CcdStatus::budget_exhausted);
+  EXPECT_EQ(r.iterations, 1000);
+  EXPECT_GT(r.step, 0.0);
+  EXPECT_LT(r.step, 1.0);
+  o.max_iterations = 0;
+  const CcdResult first = additive_ccd_linear_query(PairKind::point_triangle, start, end, 1.0, o);
+  EXPECT_EQ(first.status, CcdStatus::budget_exhausted);
+  EXPECT_EQ(first.iterations, 0);
+  const double rate = (end[0] - start[0]).norm();  // |u_p - mean| + max |u_t - mean|, mean = u_p / 4
+  EXPECT_NEAR(first.step, 0.9 * g / rate, 1e-12 * first.step);
+}
+
+// ContactPotential::max_step spends at most CcdOptions::max_total_iterations distance
+// evaluations over all its queries: a direction 1e12 times the gaps (as from a nearly singular
+// Newton step) ends quickly, with a step at which nothing touches.
+TEST(AdditiveCcd, MaxStepOfAHugeDirectionIsBounded) {
+  // Two parallel unit squares (2 triangles each) 1e-3 apart, the upper one sliding by 1e9.
+  Eigen::MatrixX3i faces(4, 3);
+  faces << 0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6;
+  const ContactSurface surface = ContactSurface::from_faces(8, faces, {0, 0, 0, 0, 1, 1, 1, 1});
+  Positions x(8, 3);
+  x << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1e-3, 1, 0, 1e-3, 1, 1, 1e-3, 0, 1, 1e-3;
+  ContactOptions options;
+  options.activation_distance = 1e-4;
+  const ContactPotential potential(surface, x, options);
+  Positions dx = Positions::Zero(8, 3);
+  dx.bottomRows(4).col(0).setConstant(1e9);
+  const auto t0 = std::chrono::steady_clock::now();
+  const double step = potential.max_step(x, dx);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("max_step of a 1e9 slide over a 1e-3 gap: %.3g in %.3f s\n", step, seconds);
+  EXPECT_GT(step, 0.0);
+  EXPECT_LE(step, 1.0);
+  EXPECT_LT(seconds, 2.0);
+  EXPECT_GT(potential.min_distance(x + step * dx, 1.0), 0.0);
+  // With a budget of 10 evaluations for the whole call: a shorter step, still safe.
+  options.ccd.max_total_iterations = 10;
+  const ContactPotential tight(surface, x, options);
+  const double short_step = tight.max_step(x, dx);
+  EXPECT_GT(short_step, 0.0);
+  EXPECT_LE(short_step, step);
+  EXPECT_GT(potential.min_distance(x + short_step * dx, 1.0), 0.0);
+  Positions bad = dx;
+  bad(5, 2) = std::nan("");
+  EXPECT_EQ(potential.max_step(x, bad), 0.0);
 }
 
 }  // namespace

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "adjoint/derivative_check.hpp"
 #include "forward/core/symmetric_eigen.hpp"
@@ -122,6 +125,45 @@ TEST(RigidContactTerm, CcdOnSpinningBodyNeverMissesContact) {
   Vector up = Vector::Zero(12);
   up[8] = 1.0;
   EXPECT_EQ(term.max_step(q, up), 1.0);
+}
+
+
+// CCD of a rigid step with a direction far longer than any gap (a nearly singular Newton step:
+// the box spinning by 1e6 rad on the ground) spends a bounded number of distance evaluations
+// (CcdOptions::max_total_iterations over the call) and returns a step at which nothing
+// touches; a NaN direction is refused with step 0; two bodies translating together by 1e9 are
+// not slowed by it (their common translation does not change their distance, and is taken out
+// of the rate bound).
+TEST(RigidContactTerm, CcdOfHugeOrNonFiniteDirectionsIsBounded) {
+  const RigidBodySystem system = testing::box_on_ground(Eigen::Vector3d(4, 4, 1), Eigen::Vector3d(1, 1, 1), 1e-3,
+                                                        Eigen::Vector2d(0, 0), Eigen::Vector3d(0.01, 0, 0));
+  const RigidContactTerm term(system, contact_options(0.01, 1.0));
+  const Vector q = system.initial_state();
+  Vector spin = Vector::Zero(12);
+  spin.segment<3>(9) << 2e5, 3e5, 1e6;
+  const auto t0 = std::chrono::steady_clock::now();
+  const double step = term.max_step(q, spin);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("max_step of a 1e6 rad spin 1 mm above the ground: %.3g in %.3f s\n", step, seconds);
+  EXPECT_GT(step, 0.0);
+  EXPECT_LT(step, 1e-6);
+  EXPECT_LT(seconds, 2.0);
+  EXPECT_GT(term.min_distance(q + step * spin, 10.0), 0.0);
+  Vector bad = spin;
+  bad[11] = std::nan("");
+  EXPECT_EQ(term.max_step(q, bad), 0.0);
+  bad[11] = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(term.max_step(q, bad), 0.0);
+
+  // Two free boxes 1 mm apart moving together by 1e9: nothing changes between them.
+  RigidBody lower = system.body(1), upper = system.body(1);
+  upper.name = "upper";
+  upper.position.z() += 1.0 + 1e-3;
+  const RigidBodySystem pair({lower, upper});
+  const RigidContactTerm together(pair, contact_options(0.01, 1.0));
+  Vector fall = Vector::Zero(12);
+  fall[2] = fall[8] = -1e9;
+  EXPECT_EQ(together.max_step(pair.initial_state(), fall), 1.0);
 }
 
 }  // namespace

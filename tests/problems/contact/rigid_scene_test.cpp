@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -36,6 +37,17 @@ RigidSceneSpec read_rigid_scene(const std::string& path) {
   RigidSceneSpec spec = parse_rigid_scene(file.node(), file.directory());
   spec.name = file.name();
   return spec;
+}
+
+// A scene given as text, as read from a file named `source`.
+RigidSceneSpec parse_rigid_text(const std::string& text, const std::string& source) {
+  const SceneFile file = scene_from_text(text, source);
+  return parse_rigid_scene(file.node(), "");
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 TEST(RigidScene, SphereOnBoxCarriesTheWeightsDownToTheGround) {
@@ -128,6 +140,89 @@ TEST(RigidScene, KinematicPlateAndTorqueScene) {
   EXPECT_NEAR(run.state[12], -0.32 + 0.5 * 1.0, 1e-12);  // the plate at x0 + v t
   EXPECT_GT(run.state[6], 0.1);                          // the box went along
   EXPECT_GT(std::abs(run.state[23]), 0.3);               // the turned box turned about z
+}
+
+// A static scene without any support: the shipped sphere-on-box scene less its fixed ground
+// (a free sphere resting on a free box). Contact resists only relative motion, so both fall
+// together: no equilibrium. Before, Newton's first (singular, ~1e18 long) direction made CCD
+// iterate for minutes in the first line search; now the scene is refused before solving, at
+// once, naming the file and the free motion, for simulate and gradcheck alike.
+TEST(RigidScene, SceneWithoutSupportIsRefusedAtOnceNamingTheFreeMotion) {
+  nlohmann::json scene = parse_json(read_text(kScenes + "sphere_on_box.json"));
+  nlohmann::json bodies = nlohmann::json::array();
+  for (const auto& body : scene["rigid_bodies"])
+    if (body["name"] != "ground") bodies.push_back(body);
+  scene["rigid_bodies"] = bodies;
+  const RigidSceneSpec spec = parse_rigid_text(dump_json(scene), "free_sphere_on_box.json");
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int verb = 0; verb < 2; ++verb) {
+    try {
+      if (verb == 0)
+        simulate_rigid_scene(spec, temporary_directory("free"), nullptr);
+      else
+        gradcheck_rigid_scene(spec, temporary_directory("free_gc"), 1, nullptr);
+      ADD_FAILURE() << "a scene without support was solved";
+    } catch (const SceneError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("free_sphere_on_box.json: the bodies are free to move together as one rigid body "
+                          "(translation along (0, 0, 1))"),
+                std::string::npos)
+          << what;
+      EXPECT_NE(what.find("no equilibrium"), std::string::npos) << what;
+    }
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(seconds, 2.0);
+  // A single free box: free in z and in the two tilts (it may not turn about z: held).
+  scene["rigid_bodies"] = nlohmann::json::array({bodies[0]});
+  try {
+    simulate_rigid_scene(parse_rigid_text(dump_json(scene), "free_box.json"), temporary_directory("box1"),
+                         nullptr);
+    ADD_FAILURE() << "a free box was solved";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("free_box.json: the body \"box\" is free to move rigidly (translation "
+                                         "along (0, 0, 1); rotation about"),
+              std::string::npos)
+        << e.what();
+  }
+  // The same bodies in dynamics are fine (they fall): no refusal there.
+  scene["rigid_bodies"] = bodies;
+  scene["dynamics"] = {{"time_step", 0.01}, {"steps", 2}};
+  const RigidSimulateRun run =
+      simulate_rigid_scene(parse_rigid_text(dump_json(scene), "falling.json"), temporary_directory("fall"), nullptr);
+  EXPECT_TRUE(run.completed()) << run.newton.report();
+}
+
+// A rigid box dropped with a time step of 1000 s (inertia ~1e-6 of the statics: lateral
+// motion and spin nearly free). Newton fails after its 100 iterations; before, the line
+// searches of a ~1e18 long direction spent 25 s in CCD (one 55 s on a loaded machine) and the
+// report said 0 Newton iterations (a failed step's iterations were not counted). Now CCD's
+// work per line search is bounded and the report counts every iteration that ran.
+TEST(RigidScene, HugeTimeStepFailsQuicklyAndCountsItsIterations) {
+  nlohmann::json scene = parse_json(read_text(kScenes + "box_drop.json"));
+  scene["dynamics"]["time_step"] = 1000.0;
+  scene["dynamics"]["steps"] = 2;
+  const RigidSceneSpec spec = parse_rigid_text(dump_json(scene), "box_h1000.json");
+  const std::string out = temporary_directory("h1000");
+  const auto t0 = std::chrono::steady_clock::now();
+  const RigidSimulateRun run = simulate_rigid_scene(spec, out, nullptr);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  double line_search = 0.0, slowest = 0.0;
+  for (const NewtonIteration& it : run.newton.history) {
+    line_search += it.line_search_seconds;
+    slowest = std::max(slowest, it.line_search_seconds);
+  }
+  std::printf("h = 1000: %s after %d iterations, %.3f s (line searches %.3f s, slowest %.4f s)\n",
+              to_string(run.newton.status).c_str(), run.newton.iterations, seconds, line_search, slowest);
+  EXPECT_FALSE(run.completed());
+  EXPECT_LT(slowest, 1.0);
+  EXPECT_LT(seconds, 10.0);
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = parse_json(in);
+  EXPECT_EQ(report["status"], "failed");
+  EXPECT_EQ(report["steps_completed"], 0);
+  EXPECT_EQ(report["newton_iterations"].get<int>(), run.newton.iterations);
+  EXPECT_GT(report["newton_iterations"].get<int>(), 0);
 }
 
 void expect_scene_error(const std::string& json, const std::string& fragment) {

@@ -333,5 +333,34 @@ TEST(TorusScene, FrictionAndStiffnessKeysAreChecked) {
   EXPECT_DOUBLE_EQ(spec(R"(, "stiffness": 1e9)").options.stiffness, 1e9);
 }
 
+// A static chain without a fixed link is free as a whole: refused before relaxing (before, it
+// fell for 6 relaxation steps of 1 s until Newton's iteration limit, then reported that it did
+// not come to rest), for simulate and gradcheck, naming the file and the key. Dynamic chains
+// without a fixed link stay allowed (they fall).
+TEST(TorusScene, StaticChainWithoutAFixedLinkIsRefused) {
+  nlohmann::json scene = parse_json(read_text(kScenes + "torus_gradcheck.json"));
+  scene["tori"]["fix_first"] = false;
+  const TorusSceneSpec spec = parse_torus_scene(dump_json(scene), "free_chain.json");
+  for (int verb = 0; verb < 2; ++verb) {
+    try {
+      if (verb == 0)
+        simulate_torus_scene(spec, temporary_directory("free_chain"), nullptr);
+      else
+        gradcheck_torus_scene(spec, temporary_directory("free_chain_gc"), {}, nullptr);
+      ADD_FAILURE() << "a free static chain was relaxed";
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("free_chain.json: tori.fix_first: no link is fixed, so the chain is "
+                                           "free to move as one rigid body"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  scene["tori"]["mode"] = "dynamic";
+  scene["tori"]["steps"] = 1;
+  const TorusSimulateRun run = simulate_torus_scene(parse_torus_scene(dump_json(scene), "falling_chain.json"),
+                                                    temporary_directory("falling_chain"), nullptr);
+  EXPECT_EQ(run.steps, 1);
+}
+
 }  // namespace
 }  // namespace tailor::torus_scene_test

@@ -340,7 +340,7 @@ TEST(TorusScene, FrictionAndStiffnessKeysAreChecked) {
 TEST(TorusScene, StaticChainWithoutAFixedLinkIsRefused) {
   nlohmann::json scene = parse_json(read_text(kScenes + "torus_gradcheck.json"));
   scene["tori"]["fix_first"] = false;
-  const TorusSceneSpec spec = parse_torus_scene(dump_json(scene), "free_chain.json");
+  const TorusSceneSpec spec = parse_torus(dump_json(scene), "free_chain.json");
   for (int verb = 0; verb < 2; ++verb) {
     try {
       if (verb == 0)
@@ -357,7 +357,7 @@ TEST(TorusScene, StaticChainWithoutAFixedLinkIsRefused) {
   }
   scene["tori"]["mode"] = "dynamic";
   scene["tori"]["steps"] = 1;
-  const TorusSimulateRun run = simulate_torus_scene(parse_torus_scene(dump_json(scene), "falling_chain.json"),
+  const TorusSimulateRun run = simulate_torus_scene(parse_torus(dump_json(scene), "falling_chain.json"),
                                                     temporary_directory("falling_chain"), nullptr);
   EXPECT_EQ(run.steps, 1);
 }

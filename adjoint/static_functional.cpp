@@ -7,6 +7,7 @@
 
 #include "forward/core/format_number.hpp"
 #include "forward/core/timing.hpp"
+#include "forward/fem/parameter_refused.hpp"
 #include "forward/solve/preconditioned_cg.hpp"
 
 namespace tailor {
@@ -62,7 +63,7 @@ void check_parameters(const Vector& p) {
 NewtonResult StaticFunctional::solve_refusing(const Vector& p, Vector& y) {
   try {
     return newton_.solve(p, y);
-  } catch (const std::invalid_argument& e) {
+  } catch (const ParameterRefused& e) {
     throw EvaluationError(std::string("the model refuses the parameters at this design: ") + e.what());
   }
 }

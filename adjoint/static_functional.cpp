@@ -2,8 +2,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
+#include "forward/core/format_number.hpp"
 #include "forward/core/timing.hpp"
+#include "forward/fem/parameter_refused.hpp"
 #include "forward/solve/preconditioned_cg.hpp"
 
 namespace tailor {
@@ -34,13 +38,45 @@ StaticFunctional::StaticFunctional(const Model& model, ParameterizationPtr param
     throw std::invalid_argument("StaticFunctional: the initial state has the wrong number of unknowns");
 }
 
+namespace {
+
+// An optimizer's trial point, or a caller's design, may be NaN or overflow its map (z = log E
+// above 709): an EvaluationError, which back-ends answer by shortening the step, never a
+// solve with non-finite numbers.
+void check_design(const Vector& z) {
+  for (Eigen::Index k = 0; k < z.size(); ++k)
+    if (!std::isfinite(z[k]))
+      throw EvaluationError("the design is not finite: z[" + std::to_string(k) + "] = " + format_number(z[k]));
+}
+
+void check_parameters(const Vector& p) {
+  for (Eigen::Index k = 0; k < p.size(); ++k)
+    if (!std::isfinite(p[k]))
+      throw EvaluationError("the model parameters at this design are not finite: p[" + std::to_string(k) +
+                            "] = " + format_number(p[k]) + " (the design overflows its map)");
+}
+
+}  // namespace
+
+// A model that refuses the parameters (a material with E <= 0 or nu >= 1/2 at this design) is a
+// failed evaluation too.
+NewtonResult StaticFunctional::solve_refusing(const Vector& p, Vector& y) {
+  try {
+    return newton_.solve(p, y);
+  } catch (const ParameterRefused& e) {
+    throw EvaluationError(std::string("the model refuses the parameters at this design: ") + e.what());
+  }
+}
+
 void StaticFunctional::forward(const Vector& z) {
   if (z.size() != size())
     throw std::invalid_argument("StaticFunctional: z has " + std::to_string(z.size()) + " entries, expected " +
                                 std::to_string(size()));
   if (have_state_ && z == z_) return;
   const auto t0 = Clock::now();
+  check_design(z);
   p_ = parameterization_->apply(z);
+  check_parameters(p_);
   const bool warm = options_.warm_start && have_state_;
   Vector y = warm ? y_ : rest_y_;
   have_state_ = false;
@@ -52,12 +88,12 @@ void StaticFunctional::forward(const Vector& z) {
     newton_.options().reference_residual = g_rest.norm();
   }
   adjoint_solver_ready_ = false;  // Newton's steps set the linear solver up with other matrices
-  newton_result_ = newton_.solve(p_, y);
+  newton_result_ = solve_refusing(p_, y);
   ++counters_.forward_solves;
   if (!newton_result_.converged() && warm) {
     y = rest_y_;  // a warm start can sit in another basin; retry from rest once
     newton_.options().reference_residual = 0.0;
-    newton_result_ = newton_.solve(p_, y);
+    newton_result_ = solve_refusing(p_, y);
     ++counters_.forward_solves;
   }
   counters_.forward_seconds += seconds_since(t0);

@@ -89,6 +89,8 @@ class StaticFunctional final : public ReducedFunctional {
   void forward(const Vector& z);             // solves unless z is the cached point
   Vector solve_hessian(const Vector& rhs);   // H v = rhs at the current equilibrium
 
+  NewtonResult solve_refusing(const Vector& p, Vector& y);  // Newton; a refused p is an EvaluationError
+
   const Model& model_;
   ParameterizationPtr parameterization_;
   ObjectivePtr objective_;

@@ -45,19 +45,19 @@ void parse_any_scene(const std::string& text) {
   const std::string source = "fuzz.json";
   const nlohmann::json document = parse_json_or_discarded(text);
   const bool object = document.is_object();
+  const SceneNode root(document, source, "");
   if (object && document.contains("rods")) {
-    parse_rod_scene(SceneNode(document, source, ""));
+    parse_rod_scene(root);
   } else if (object && document.contains("rigid_bodies")) {
-    parse_rigid_scene(text, source);
+    parse_rigid_scene(root, fuzz::kScenesDir);
   } else if (object && has_type(document, "periodic_cell")) {
     if (large_grid(document)) return;
-    const SceneNode root(document, source, "");
     const CellScene cell = parse_cell_scene(root, fuzz::kScenesDir);
     if (cell.has_design) parse_metamaterial_design(root, cell);
   } else if (object && has_type(document, "material_fit")) {
-    parse_material_fit_scene(text, source);
+    parse_material_fit_scene(root);
   } else if (object && document.contains("damping_design")) {
-    parse_damping_design(text, source);
+    parse_damping_design(root);
   } else {
     parse_scene(text, source, fuzz::kScenesDir);
   }

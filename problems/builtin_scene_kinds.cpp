@@ -24,6 +24,7 @@
 #include "problems/rods/rod_inverse.hpp"
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
 
 namespace tailor {
 namespace {
@@ -58,13 +59,13 @@ void add_seed(CLI::App& command, VerbArguments& args, const char* what) {
 // command line's thread flags.
 Scene load_scene(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   Scene scene;
-  if (file.path.empty()) {
+  if (!file.given()) {
     out << "no scene given: using the built-in cantilever (10 x 1 x 1 Neo-Hookean beam, clamped at x = 0, "
            "end traction downwards)\n";
     scene = builtin_cantilever();
   } else {
-    scene = parse_scene(file.text, file.path, file.directory());
-    if (scene.name.empty()) scene.name = file.stem();
+    scene = parse_scene(file.node(), file.directory());
+    scene.name = file.name();
   }
   apply_thread_flags(args, scene.solver.threads);
   return scene;
@@ -85,7 +86,7 @@ int simulate_dynamic(const SceneFile& file, const VerbArguments& args, std::ostr
 }
 
 int check_model(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  return exit_code(check_scene(load_scene(file, args, out), args.seed.value_or(1), out));
+  return exit_code(check_scene(load_scene(file, args, out), args.seed.value_or(1), &out));
 }
 
 int report_gradcheck(const GradcheckRun& run, std::ostream& out) {
@@ -157,63 +158,12 @@ int compute_modes(const SceneFile& file, const VerbArguments& args, std::ostream
   return kExitSuccess;
 }
 
-// ---- the other kinds
+// ---- the other kinds: each parses file.node() (errors name the source and the key path), with
+// relative paths from file.directory(), names the scene file.name() and writes into
+// args.out_dir_or(file.default_out_dir()).
 
-RigidSceneSpec load_rigid_scene(const SceneFile& file) {
-  RigidSceneSpec spec = parse_rigid_scene(file.text, file.path);
-  if (spec.name.empty()) spec.name = file.stem();
-  return spec;
-}
-
-int simulate_rigid(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  const RigidSceneSpec spec = load_rigid_scene(file);
-  return exit_code(simulate_rigid_scene(spec, args.out_dir_or(file.default_out_dir()), &out).completed());
-}
-
-int gradcheck_rigid(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  const RigidSceneSpec spec = load_rigid_scene(file);
-  return exit_code(
-      gradcheck_rigid_scene(spec, args.out_dir_or(file.default_out_dir()), args.seed.value_or(1), &out)
-          .passed());
-}
-
-int simulate_tori(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  TorusSceneSpec spec = parse_torus_scene(file.text, file.path);
-  if (spec.name.empty()) spec.name = file.stem();
-  return exit_code(simulate_torus_scene(spec, args.out_dir_or(file.default_out_dir()), &out).completed());
-}
-
-int gradcheck_tori(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  TorusSceneSpec spec = parse_torus_scene(file.text, file.path);
-  if (spec.name.empty()) spec.name = file.stem();
-  TorusGradcheckOptions options;
-  options.seed = args.seed.value_or(1);
-  return exit_code(
-      gradcheck_torus_scene(spec, args.out_dir_or(file.default_out_dir()), options, &out).passed());
-}
-
-int simulate_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  return exit_code(simulate_rod_scene_file(file.path, args.out_dir_or(file.default_out_dir()), out));
-}
-
-int gradcheck_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  return exit_code(gradcheck_rod_scene_file(file.path, args.out_dir_or(file.default_out_dir()), args.seed,
-                                            args.hessian, out)
-                       .passed());
-}
-
-int run_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  if (args.resume || args.checkpoint_every)
-    throw UsageError("--resume and --checkpoint-every are not implemented for rod scenes");
-  return exit_code(
-      run_rod_scene_file(file.path, args.out_dir_or(file.default_out_dir()), out, args.quiet ? nullptr : &out)
-          .result.converged());
-}
-
-int homogenize_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  const CellScene cell = read_cell_scene(file.path);
-  homogenize_scene(cell, args.out_dir_or(file.default_out_dir()), &out);
-  return kExitSuccess;
+std::string out_dir(const VerbArguments& args, const SceneFile& file) {
+  return args.out_dir_or(file.default_out_dir());
 }
 
 // The runs that are not an inverse problem's optimizer keep no checkpoints.
@@ -222,23 +172,93 @@ void refuse_checkpoint_flags(const VerbArguments& args) {
     throw UsageError("--resume and --checkpoint-every need a scene with an \"inverse\" section");
 }
 
+RigidSceneSpec load_rigid_scene(const SceneFile& file) {
+  RigidSceneSpec spec = parse_rigid_scene(file.node(), file.directory());
+  spec.name = file.name();
+  return spec;
+}
+
+int simulate_rigid(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  return exit_code(simulate_rigid_scene(load_rigid_scene(file), out_dir(args, file), &out).completed());
+}
+
+int gradcheck_rigid(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  return exit_code(
+      gradcheck_rigid_scene(load_rigid_scene(file), out_dir(args, file), args.seed.value_or(1), &out)
+          .passed());
+}
+
+TorusSceneSpec load_torus_scene(const SceneFile& file) {
+  TorusSceneSpec spec = parse_torus_scene(file.node());
+  spec.name = file.name();
+  return spec;
+}
+
+int simulate_tori(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  return exit_code(simulate_torus_scene(load_torus_scene(file), out_dir(args, file), &out).completed());
+}
+
+int gradcheck_tori(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  TorusGradcheckOptions options;
+  options.seed = args.seed.value_or(1);
+  return exit_code(
+      gradcheck_torus_scene(load_torus_scene(file), out_dir(args, file), options, &out).passed());
+}
+
+int simulate_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const SceneNode root = file.node();
+  // The design section is checked as well, as FEM scenes' are (a rod scene with a mesh refuses it).
+  if (root.has("inverse") && !root.has("mesh")) parse_rod_inverse(root, parse_rod_scene(root));
+  return exit_code(simulate_rod_scene(root, file.directory(), out_dir(args, file), &out));
+}
+
+int gradcheck_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const auto problem = build_rod_inverse(file.node(), file.name());
+  return exit_code(
+      gradcheck_rod_scene(*problem, out_dir(args, file), args.seed, args.hessian, &out).passed());
+}
+
+int run_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  if (args.resume || args.checkpoint_every)
+    throw UsageError("--resume and --checkpoint-every are not implemented for rod scenes");
+  const auto problem = build_rod_inverse(file.node(), file.name());
+  return exit_code(
+      run_rod_inverse(*problem, out_dir(args, file), &out, args.quiet ? nullptr : &out).result.converged());
+}
+
+CellScene load_cell_scene(const SceneFile& file) {
+  CellScene cell = parse_cell_scene(file.node(), file.directory());
+  cell.name = file.name();
+  return cell;
+}
+
+int homogenize_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const CellScene cell = load_cell_scene(file);
+  if (cell.has_design) parse_metamaterial_design(file.node(), cell);  // checked, as `run` reads it
+  homogenize_scene(cell, out_dir(args, file), &out);
+  return kExitSuccess;
+}
+
 int design_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   refuse_checkpoint_flags(args);
-  const MetamaterialRun run = run_metamaterial_scene(file.path, args.out_dir_or(file.default_out_dir()), &out,
-                                                     args.quiet ? nullptr : &out);
+  const CellScene cell = load_cell_scene(file);
+  const MetamaterialDesignSpec spec = parse_metamaterial_design(file.node(), cell);
+  const MetamaterialRun run =
+      run_metamaterial_design(cell, spec, out_dir(args, file), &out, args.quiet ? nullptr : &out);
   return exit_code(run.result.converged());
 }
 
 int fit_material(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   refuse_checkpoint_flags(args);
-  const MaterialFitRun fit = run_material_fit_scene(file.path, args.out_dir_or(file.default_out_dir()), &out,
-                                                    args.quiet ? nullptr : &out);
+  MaterialFitSpec spec = parse_material_fit_scene(file.node());
+  spec.name = file.name();
+  const MaterialFitRun fit = run_material_fit(spec, out_dir(args, file), &out, args.quiet ? nullptr : &out);
   return exit_code(fit.result.converged());
 }
 
 int design_damping(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   refuse_checkpoint_flags(args);
-  return exit_code(run_damping_design_scene(file.path, args.out_dir_or(file.default_out_dir()), out));
+  return exit_code(run_damping_design_scene(file.node(), out_dir(args, file), &out));
 }
 
 }  // namespace
@@ -308,7 +328,7 @@ std::vector<SceneKind> builtin_scene_kinds() {
       {"damping_design",
        "a \"damping_design\" section (docs/dynamics.md)",
        [](const nlohmann::json& d) { return has_section(d, "damping_design"); },
-       {{"run", design_damping, "the example-based damping study; DIR defaults to out/damping_design"}}},
+       {{"run", design_damping, "the example-based damping study"}}},
       {"rigid_bodies",
        "a \"rigid_bodies\" section (docs/contact.md)",
        [](const nlohmann::json& d) { return has_section(d, "rigid_bodies"); },
@@ -325,14 +345,14 @@ std::vector<SceneKind> builtin_scene_kinds() {
       {"rods",
        "a \"rods\" section (docs/rods.md)",
        [](const nlohmann::json& d) { return has_section(d, "rods"); },
-       {{"simulate", simulate_elastic_rods, "equilibrium of discrete elastic rods; DIR defaults to out/rods"},
+       {{"simulate", simulate_elastic_rods, "equilibrium or dynamics of discrete elastic rods"},
         {"gradcheck", gradcheck_elastic_rods,
          "needs an \"inverse\" section: Taylor test of the rod design's gradient"},
         {"run", run_elastic_rods, "needs an \"inverse\" section: rest-shape or stiffness design of a rod"}}},
       {"cell_design",
        "\"type\": \"periodic_cell\" with a \"design\" section (docs/homogenization.md)",
        [](const nlohmann::json& d) { return has_type(d, "periodic_cell") && has_section(d, "design"); },
-       {{"run", design_cell, "design the cell's material layout; DIR defaults to out/metamaterial"},
+       {{"run", design_cell, "design the cell's material layout"},
         {"homogenize", homogenize_cell, "the effective elasticity of the cell as given"}}},
       {"periodic_cell",
        "\"type\": \"periodic_cell\" (docs/homogenization.md)",

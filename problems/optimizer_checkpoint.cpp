@@ -1,11 +1,6 @@
 #include "problems/optimizer_checkpoint.hpp"
 
-#include <unistd.h>  // fsync
-
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -15,6 +10,7 @@
 
 #include "problems/json_text.hpp"
 #include "problems/optimizer_report.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 #include "problems/scene_error.hpp"
 #include "problems/scene_node.hpp"
@@ -49,24 +45,6 @@ OptimizerIteration read_row(const SceneNode& node) {
   return row;
 }
 
-// path.tmp, flushed to the disk, then renamed over path: readers see the old or the new file.
-void write_atomically(const std::string& path, const std::string& text) {
-  const std::string temporary = path + ".tmp";
-  std::FILE* file = std::fopen(temporary.c_str(), "wb");
-  if (!file) throw std::runtime_error("cannot write '" + temporary + "': " + std::strerror(errno));
-  bool ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
-  ok = std::fflush(file) == 0 && ok;
-  ok = ::fsync(fileno(file)) == 0 && ok;
-  const int error = errno;
-  ok = std::fclose(file) == 0 && ok;
-  if (!ok) {
-    std::remove(temporary.c_str());
-    throw std::runtime_error("error while writing '" + temporary + "': " + std::strerror(error));
-  }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0)
-    throw std::runtime_error("cannot rename '" + temporary + "' to '" + path + "': " + std::strerror(errno));
-}
-
 }  // namespace
 
 void write_checkpoint_json(const std::string& path, const CheckpointOwner& owner,
@@ -99,7 +77,7 @@ void write_checkpoint_json(const std::string& path, const CheckpointOwner& owner
   OptimizerResult rows;
   rows.history = c.history;
   document["history"] = optimizer_history_json(rows);
-  write_atomically(path, dump_json(document, 1) + "\n");
+  write_text_file_atomically(path, dump_json(document, 1) + "\n");
 }
 
 CheckpointFile read_checkpoint_json(const std::string& folder) {

@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "problems/scene_node.hpp"
+
 namespace tailor {
 namespace {
 
@@ -83,15 +85,45 @@ Registry& registry() {
 
 }  // namespace
 
-std::string SceneFile::directory() const { return std::filesystem::path(path).parent_path().string(); }
+SceneNode SceneFile::node() const { return SceneNode(document, source, ""); }
 
-std::string SceneFile::stem() const { return std::filesystem::path(path).stem().string(); }
+std::string SceneFile::directory() const {
+  return path.empty() ? base_directory : std::filesystem::path(path).parent_path().string();
+}
 
-std::string SceneFile::default_out_dir() const {
+std::string SceneFile::stem() const {
+  return path.empty() ? std::string("scene") : std::filesystem::path(path).stem().string();
+}
+
+std::string SceneFile::name() const {
   if (document.is_object() && document.contains("name") && document["name"].is_string() &&
       !document["name"].get<std::string>().empty())
-    return "out/" + document["name"].get<std::string>();
-  return "out/" + stem();
+    return document["name"].get<std::string>();
+  return stem();
+}
+
+std::string SceneFile::default_out_dir() const { return "out/" + name(); }
+
+SceneFile read_scene_file(const std::string& path) {
+  SceneFile file;
+  file.path = file.source = path;
+  file.document = read_scene_document(path);
+  return file;
+}
+
+SceneFile scene_from_text(const std::string& json_text, const std::string& source,
+                          const std::string& directory) {
+  const std::string name = source.empty() ? std::string("(scene)") : source;
+  return scene_from_document(parse_scene_document(json_text, name), name, directory);
+}
+
+SceneFile scene_from_document(nlohmann::json document, const std::string& source,
+                              const std::string& directory) {
+  SceneFile file;
+  file.source = source.empty() ? std::string("(scene)") : source;
+  file.document = std::move(document);
+  file.base_directory = directory;
+  return file;
 }
 
 const KindVerb* SceneKind::find_verb(const std::string& verb) const {

@@ -25,6 +25,8 @@ class App;  // CLI11 (include <CLI/CLI.hpp> to define a verb's options)
 
 namespace tailor {
 
+class SceneNode;  // problems/scene_node.hpp
+
 // What the command line gave the verb. Per-verb flags: add a field here and bind it to its
 // flag in the verb's `options` (problems/builtin_scene_kinds.cpp).
 struct VerbArguments {
@@ -49,18 +51,35 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The scene file, read once. Without a scene file on the command line `path` is empty (the
-// default kind then runs its built-in scene).
+// The scene a verb acts on, read and parsed once: a file (`path`; `source` is the path), or a
+// document given in memory (no path; `source` names it in messages, `base_directory` is where
+// its relative paths start). Without a scene (the command line given no scene file) `source` is
+// empty, and the default kind runs its built-in scene.
 struct SceneFile {
-  std::string path;
-  std::string text;
-  nlohmann::json document;  // the parsed top-level value; discarded when `text` is not JSON
+  std::string path;            // the file; empty for a document given in memory
+  std::string source;          // the scene's name in messages: the path for a file; empty: no scene
+  nlohmann::json document;     // the parsed top-level value
+  std::string base_directory;  // a document in memory: the folder of its relative paths ("": the current one)
 
+  bool given() const { return !source.empty(); }
+  // The document with its source: every kind's parser takes this (errors name source and key path).
+  SceneNode node() const;
   std::string directory() const;  // the folder that relative paths in the scene start from
-  std::string stem() const;       // the file name without its extension: the default scene name
-  // Every kind's default output folder: out/<the scene's "name">, or out/<stem> without one.
+  std::string stem() const;       // the file name without its extension ("scene" in memory)
+  std::string name() const;       // the scene's "name" when a non-empty string, else stem()
+  // Every kind's default output folder: out/<name()>.
   std::string default_out_dir() const;
 };
+
+// A scene file, read and parsed. SceneError naming the file when it is a folder, cannot be read,
+// or is not JSON (with the position; problems/scene_node.hpp, read_scene_document).
+SceneFile read_scene_file(const std::string& path);
+// A document in memory (its text, or the parsed value): `source` names it in messages ("(scene)"
+// when empty), `directory` is where its relative paths start.
+SceneFile scene_from_text(const std::string& json_text, const std::string& source,
+                          const std::string& directory = "");
+SceneFile scene_from_document(nlohmann::json document, const std::string& source,
+                              const std::string& directory = "");
 
 // The CLI's exit codes: success, a solve, check or optimization that failed, bad input.
 inline constexpr int kExitSuccess = 0;

@@ -12,9 +12,10 @@
 namespace tailor {
 namespace {
 
-std::string join(std::initializer_list<const char*> words) {
+template <class Words>
+std::string join(const Words& words) {
   std::string out;
-  for (const char* w : words) out += (out.empty() ? "" : ", ") + std::string(w);
+  for (const auto& w : words) out += (out.empty() ? "" : ", ") + std::string(w);
   return out;
 }
 
@@ -68,10 +69,13 @@ SceneNode SceneNode::child(const nlohmann::json& value, const std::string& suffi
 }
 
 void SceneNode::expect_keys(std::initializer_list<const char*> allowed) const {
+  expect_keys(std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+void SceneNode::expect_keys(const std::vector<std::string>& allowed) const {
   if (!value_->is_object()) fail("expected an object, got " + describe_json(*value_));
   for (const auto& item : value_->items()) {
-    const bool known =
-        std::any_of(allowed.begin(), allowed.end(), [&](const char* k) { return item.key() == k; });
+    const bool known = std::find(allowed.begin(), allowed.end(), item.key()) != allowed.end();
     if (!known)
       child(item.value(), member_suffix(item.key()))
           .fail("unknown key (allowed here: " + join(allowed) + ")");

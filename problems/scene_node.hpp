@@ -31,6 +31,7 @@ class SceneNode {
 
   // Objects. `expect_keys` rejects any member not listed (naming the unknown key's path).
   void expect_keys(std::initializer_list<const char*> allowed) const;
+  void expect_keys(const std::vector<std::string>& allowed) const;
   bool has(const char* key) const;
   SceneNode at(const char* key) const;  // required member
   std::optional<SceneNode> find(const char* key) const;

@@ -4,7 +4,6 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
-#include <filesystem>
 #include <memory>
 #include <mutex>
 
@@ -21,13 +20,13 @@ namespace {
 class Functional {
  public:
   explicit Functional(const SceneDocument& doc) {
-    if (!doc.document.is_object() || !doc.document.contains("inverse"))
-      throw SceneError(doc.source +
+    const SceneFile& file = doc.file;
+    if (!file.document.is_object() || !file.document.contains("inverse"))
+      throw SceneError(file.source +
                        ": (top level): the scene has no \"inverse\" section (a reduced functional needs one; "
                        "see docs/scenes.md)");
-    Study made = Study::from_json(doc.document, doc.source, doc.directory);
-    if (!doc.path.empty() && !made.scene().contains("name"))
-      made.scene()["name"] = std::filesystem::path(doc.path).stem().string();
+    Study made = Study::from_json(file.document, file.source, file.directory());
+    if (!file.path.empty() && !made.scene().contains("name")) made.scene()["name"] = file.stem();
     study_ = std::make_unique<Study>(std::move(made));
     py::gil_scoped_release release;
     problem_ = &study_->problem();
@@ -96,6 +95,9 @@ class Functional {
       return hessian ? taylor_test_hessian(*problem_->functional, at, options)
                      : tailor::taylor_test(*problem_->functional, at, options);
     }();
+    // A design the functional cannot evaluate is the caller's error, as in value(z); a failure at
+    // a step of the test is the test's result.
+    if (r.status == TaylorStatus::evaluation_failed && r.rows.empty()) throw EvaluationError(r.message);
     py::list rows;
     for (const TaylorRow& row : r.rows) {
       py::dict d;

@@ -1,12 +1,8 @@
 // Scenes and the command line's verbs: tailor._tailor.Scene. Each verb does what `tailor <verb>`
-// does with the same scene (the same functions, or the command line's own handler for the kinds
-// of scene that are read from their file) and returns the exit code and the result fields as
-// NumPy views; the Python layer adds the report.json it wrote.
+// does with the same scene, given as a file or as JSON (the same functions for static and
+// dynamic scenes, the command line's own handler for the other kinds) and returns the exit code
+// and the result fields as NumPy views; the Python layer adds the report.json it wrote.
 #include <pybind11/stl.h>
-
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "arrays.hpp"
 #include "bindings.hpp"
@@ -24,40 +20,25 @@ namespace py = pybind11;
 
 namespace tailor::python {
 
-std::string SceneDocument::kind() const { return recognise_scene_kind(document).name; }
-
-SceneDocument scene_from_file(const std::string& path) {
-  SceneDocument scene;
-  scene.document = read_scene_document(path);  // SceneError with the position for bad JSON
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  scene.text = text.str();
-  scene.source = scene.path = path;
-  scene.directory = std::filesystem::path(path).parent_path().string();
-  return scene;
-}
-
-SceneDocument scene_from_json(const std::string& text, const std::string& source,
-                              const std::string& directory) {
-  SceneDocument scene;
-  scene.document = parse_scene_document(text, source);
-  scene.text = text;
-  scene.source = source;
-  scene.directory = directory;
-  return scene;
-}
+std::string SceneDocument::kind() const { return recognise_scene_kind(file.document).name; }
 
 namespace {
 
 constexpr int kSuccess = 0, kFailure = 1;
 
-// The static or dynamic scene (docs/scenes.md), named after its file when it has no name, with
-// its solver.threads applied as the command line does.
+SceneDocument from_file(const std::string& path) { return {read_scene_file(path)}; }
+
+// A document given as JSON text: `directory` is where its relative paths start ("": the current
+// folder).
+SceneDocument from_json(const std::string& text, const std::string& source, const std::string& directory) {
+  return {scene_from_text(text, source, directory)};
+}
+
+// The static or dynamic scene (docs/scenes.md), named as the command line names it, with its
+// solver.threads applied as the command line does.
 Scene parse(const SceneDocument& doc) {
-  Scene scene = parse_scene(doc.text, doc.source, doc.directory);
-  if (scene.name.empty())
-    scene.name = doc.path.empty() ? std::string("scene") : std::filesystem::path(doc.path).stem().string();
+  Scene scene = parse_scene(doc.file.node(), doc.file.directory());
+  scene.name = doc.file.name();
   apply_thread_flags(VerbArguments{}, scene.solver.threads);
   return scene;
 }
@@ -65,30 +46,23 @@ Scene parse(const SceneDocument& doc) {
 bool is_mesh_scene(const std::string& kind) { return kind == "static" || kind == "dynamic"; }
 
 // The command line's handler for `verb` on a scene of another kind (rods, rigid bodies, cells,
-// ...): those are read from their file.
+// ...), on the document as given (a file or JSON).
 int dispatch(const SceneDocument& doc, const std::string& verb, VerbArguments args, std::ostream& out) {
-  const SceneKind& kind = recognise_scene_kind(doc.document);
+  const SceneKind& kind = recognise_scene_kind(doc.file.document);
   const KindVerb* entry = kind.find_verb(verb);
   if (!entry)
-    throw SceneError(doc.source + ": '" + verb + "' does not apply to a " + kind.name +
+    throw SceneError(doc.file.source + ": '" + verb + "' does not apply to a " + kind.name +
                      " scene; its verbs: " + kind.verb_list());
-  if (doc.path.empty())
-    throw SceneError(doc.source + ": a " + kind.name +
-                     " scene is read from its file: load it with tailor.load(path)");
-  SceneFile file;
-  file.path = doc.path;
-  file.text = doc.text;
-  file.document = doc.document;
   args.verb = verb;
-  args.scene = doc.path;
+  if (!doc.file.path.empty()) args.scene = doc.file.path;
   apply_thread_flags(args, std::nullopt);
-  return entry->handler(file, args, out);
+  return entry->handler(doc.file, args, out);
 }
 
 void require_verb(const SceneDocument& doc, const std::string& verb) {
-  const SceneKind& kind = recognise_scene_kind(doc.document);
+  const SceneKind& kind = recognise_scene_kind(doc.file.document);
   if (!kind.find_verb(verb))
-    throw SceneError(doc.source + ": '" + verb + "' does not apply to a " + kind.name +
+    throw SceneError(doc.file.source + ": '" + verb + "' does not apply to a " + kind.name +
                      " scene; its verbs: " + kind.verb_list());
 }
 
@@ -211,6 +185,18 @@ py::tuple run(const SceneDocument& doc, const std::string& out_dir, py::object l
   return py::make_tuple(code, fields);
 }
 
+// `tailor homogenize` on a periodic cell: the command line's handler.
+py::tuple homogenize(const SceneDocument& doc, const std::string& out_dir, py::object log) {
+  PythonStream out(std::move(log), /*check_signals=*/true);
+  const int code = without_gil([&] {
+    VerbArguments args;
+    args.out_dir = out_dir;
+    return dispatch(doc, "homogenize", args, out);
+  });
+  out.flush();
+  return py::make_tuple(code, py::dict());
+}
+
 int check(const SceneDocument& doc, unsigned seed, py::object log) {
   const std::string kind = doc.kind();
   PythonStream out(std::move(log), /*check_signals=*/true);
@@ -220,7 +206,7 @@ int check(const SceneDocument& doc, unsigned seed, py::object log) {
       args.seed = seed;
       return dispatch(doc, "check", args, out);
     }
-    return check_scene(parse(doc), seed, out) ? kSuccess : kFailure;
+    return check_scene(parse(doc), seed, &out) ? kSuccess : kFailure;
   });
   out.flush();
   return code;
@@ -230,27 +216,22 @@ int check(const SceneDocument& doc, unsigned seed, py::object log) {
 
 void bind_scene(py::module_& m) {
   py::class_<SceneDocument>(m, "Scene", "A scene document (docs/scenes.md), as the command line reads it.")
-      .def_static("from_file", &scene_from_file, py::arg("path"))
-      .def_static("from_json", &scene_from_json, py::arg("text"), py::arg("source") = "(scene)",
+      .def_static("from_file", &from_file, py::arg("path"))
+      .def_static("from_json", &from_json, py::arg("text"), py::arg("source") = "(scene)",
                   py::arg("directory") = "")
       .def_property_readonly("kind", &SceneDocument::kind)
-      .def_readonly("source", &SceneDocument::source)
-      .def_readonly("directory", &SceneDocument::directory)
-      .def_readonly("path", &SceneDocument::path)
-      .def_property_readonly("text", [](const SceneDocument& s) { return dump_json(s.document); })
-      .def(
-          "name",
-          [](const SceneDocument& doc) {
-            if (doc.document.is_object() && doc.document.contains("name") && doc.document["name"].is_string())
-              return doc.document["name"].get<std::string>();
-            return doc.path.empty() ? std::string("scene") : std::filesystem::path(doc.path).stem().string();
-          })
+      .def_property_readonly("source", [](const SceneDocument& s) { return s.file.source; })
+      .def_property_readonly("directory", [](const SceneDocument& s) { return s.file.directory(); })
+      .def_property_readonly("path", [](const SceneDocument& s) { return s.file.path; })
+      .def_property_readonly("text", [](const SceneDocument& s) { return dump_json(s.file.document); })
+      .def("name", [](const SceneDocument& doc) { return doc.file.name(); })
       .def("simulate", &simulate, py::arg("out_dir"), py::arg("log") = py::none())
       .def("modes", &modes, py::arg("out_dir"), py::arg("count") = 10, py::arg("log") = py::none())
       .def("gradcheck", &gradcheck, py::arg("out_dir"), py::arg("seed") = py::none(),
            py::arg("hessian") = false, py::arg("log") = py::none())
       .def("run", &run, py::arg("out_dir"), py::arg("log") = py::none(), py::arg("progress") = true,
            py::arg("checkpoint_every") = py::none(), py::arg("resume") = py::none())
+      .def("homogenize", &homogenize, py::arg("out_dir"), py::arg("log") = py::none())
       .def("check", &check, py::arg("seed") = 1, py::arg("log") = py::none());
 }
 

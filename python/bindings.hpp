@@ -5,23 +5,18 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "problems/scene_kinds.hpp"
 #include "python_stream.hpp"
 
 namespace tailor::python {
 
-// A scene document as the command line reads it: the JSON, the name it goes by in messages
-// (the file's path, or what the caller gave), the folder its relative paths start from, and the
-// file it came from (empty for a document given as JSON).
+// A scene document as the command line reads it (problems/scene_kinds.hpp): the JSON, the name
+// it goes by in messages (the file's path, or what the caller gave), the folder its relative
+// paths start from, and the file it came from (empty for a document given as JSON).
 struct SceneDocument {
-  nlohmann::json document;
-  std::string text;  // the document as JSON text, parsed by the scene readers (positions in errors)
-  std::string source, directory, path;
+  SceneFile file;
   std::string kind() const;  // the registered scene kind that recognises it ("static", "dynamic", ...)
 };
-
-SceneDocument scene_from_file(const std::string& path);
-SceneDocument scene_from_json(const std::string& text, const std::string& source,
-                              const std::string& directory);
 
 void bind_scene(pybind11::module_& m);
 void bind_functional(pybind11::module_& m);

@@ -121,8 +121,9 @@ void ElasticTerm<Dim>::add_mixed_transpose_times(const Vector& x, const Vector& 
   // Each element writes only its own two parameters, so the loop is race-free as long as no
   // element is covered twice (the constructor's element list has no duplicates by contract).
   const auto num = static_cast<std::ptrdiff_t>(simplices_.elements.size());
+  FirstError errors;
 #pragma omp parallel for schedule(static) if (num > 256)
-  for (std::ptrdiff_t k = 0; k < num; ++k) {
+  for (std::ptrdiff_t k = 0; k < num; ++k) try {
     const int e = simplices_.elements[k];
     MaterialLameDerivatives<Dim> d;
     material_->lame_derivatives(deformation_gradient(x, static_cast<int>(k)), lame(p, e), d);
@@ -134,7 +135,10 @@ void ElasticTerm<Dim>::add_mixed_transpose_times(const Vector& x, const Vector& 
         dlame * lame_jacobian(p[youngs_offset_ + e], p[poisson_offset_ + e]);
     gradient_p[youngs_offset_ + e] += dyoung_poisson[0];
     gradient_p[poisson_offset_ + e] += dyoung_poisson[1];
+  } catch (...) {
+    errors.capture(k);
   }
+  errors.rethrow();
 }
 
 template <int Dim>

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "forward/core/energy_term.hpp"
+#include "forward/core/parallel_errors.hpp"
 #include "forward/fem/linear_simplices.hpp"
 
 namespace tailor {
@@ -39,7 +40,8 @@ struct ElementOutput {
 };
 
 // kernel(k, out): the energy (and, as out asks, gradient and Hessian) of covered element k.
-// Up to 256 elements run on the calling thread.
+// Up to 256 elements run on the calling thread. An exception from the kernel (a material
+// refusing its parameters) reaches the caller: that of the lowest chunk that threw.
 template <int Dim, class Kernel>
 void evaluate_elements(const LinearSimplices<Dim>& simplices, const EnergyRequest& request, const Kernel& kernel) {
   constexpr int kLocal = LinearSimplices<Dim>::kLocal;
@@ -51,8 +53,9 @@ void evaluate_elements(const LinearSimplices<Dim>& simplices, const EnergyReques
   Vector* const gradient = request.gradient;
   // The element gradients of this call (not initialized: every element writes its own).
   const std::unique_ptr<double[]> local(gradient ? new double[static_cast<std::size_t>(n) * kLocal] : nullptr);
+  FirstError errors;
 #pragma omp parallel for schedule(static) if (n > 256)
-  for (int j = 0; j < chunks; ++j) {
+  for (int j = 0; j < chunks; ++j) try {
     ElementOutput<Dim> out;
     out.want_gradient = gradient != nullptr;
     out.want_hessian = request.hessian_values != nullptr;
@@ -66,7 +69,10 @@ void evaluate_elements(const LinearSimplices<Dim>& simplices, const EnergyReques
       energy += out.energy;
     }
     chunk_energy[static_cast<std::size_t>(j)] = energy;
+  } catch (...) {
+    errors.capture(j);
   }
+  errors.rethrow();
   if (request.value) {
     double energy = 0.0;
     for (double e : chunk_energy) energy += e;

@@ -8,6 +8,7 @@
 
 #include "forward/core/format_number.hpp"
 #include "forward/fem/material.hpp"
+#include "forward/fem/parameter_refused.hpp"
 
 namespace tailor {
 namespace {
@@ -15,10 +16,10 @@ namespace {
 void check_young_poisson(double youngs_modulus, double poisson_ratio) {
   // Written so that NaN fails both checks.
   if (!(youngs_modulus > 0.0) || !std::isfinite(youngs_modulus))
-    throw std::invalid_argument("Young's modulus must be finite and > 0, got E = " +
+    throw ParameterRefused("Young's modulus must be finite and > 0, got E = " +
                                 format_number(youngs_modulus, "%.17g"));
   if (!(poisson_ratio > -1.0 && poisson_ratio < 0.5))
-    throw std::invalid_argument("Poisson's ratio must lie in (-1, 0.5), got nu = " +
+    throw ParameterRefused("Poisson's ratio must lie in (-1, 0.5), got nu = " +
                                 format_number(poisson_ratio, "%.17g"));
 }
 

@@ -10,6 +10,7 @@
 #include <omp.h>
 #endif
 
+#include "forward/core/parallel_errors.hpp"
 #include "forward/fem/elastic_term.hpp"
 
 namespace tailor {
@@ -39,6 +40,7 @@ void accumulate(const ElasticTerm<Dim>& term, const Vector& p, const Matrix& bas
 
   const int sets = static_cast<int>(grams.size());
   const bool weighted = weights.size() > 0;
+  FirstError errors;  // element_lame refuses parameters out of range
 #pragma omp parallel
   {
     std::vector<Matrix> local(static_cast<std::size_t>(sets), Matrix::Zero(width, width));
@@ -47,7 +49,7 @@ void accumulate(const ElasticTerm<Dim>& term, const Vector& p, const Matrix& bas
     Matrix g(Dim * Dim, r);  // row i + Dim * b: d(grad u)_ib / dq
     Matrix outer(r, r);
 #pragma omp for schedule(dynamic)
-    for (int start = 0; start < num; start += kChunk) {
+    for (int start = 0; start < num; start += kChunk) try {
       const int count = std::min(kChunk, num - start);
       for (int e = 0; e < count; ++e) {
         const int k = start + e;
@@ -100,11 +102,14 @@ void accumulate(const ElasticTerm<Dim>& term, const Vector& p, const Matrix& bas
         // Only the lower triangle is read later: the triangular product computes half the GEMM.
         local[static_cast<std::size_t>(j)].triangularView<Eigen::Lower>() += scaled * block.transpose();
       }
+    } catch (...) {
+      errors.capture(start);
     }
 #pragma omp critical
     for (int j = 0; j < sets; ++j)
       grams[static_cast<std::size_t>(j)].triangularView<Eigen::Lower>() += local[static_cast<std::size_t>(j)];
   }
+  errors.rethrow();
 }
 
 // Accumulates the lower triangles of grams from every elastic term; returns the number of

@@ -1,8 +1,6 @@
 #include "problems/cli/run_cli.hpp"
 
 #include <CLI/CLI.hpp>
-#include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -11,9 +9,9 @@
 
 #include "forward/mesh/mesh.hpp"
 #include "problems/cli/flag_checks.hpp"
-#include "problems/json_text.hpp"
 #include "problems/scene_error.hpp"
 #include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
 #include "tailor_version.hpp"
 
 namespace tailor {
@@ -80,26 +78,6 @@ std::string verb_usage(const Verb& verb, const CLI::App& command, const CLI::App
     }
   s << "\nflags:\n" << option_lines(command) << option_lines(app);
   return s.str();
-}
-
-// The scene file read and parsed once. Errors are SceneErrors naming the file.
-SceneFile read_scene_file(const std::string& path) {
-  SceneFile file;
-  file.path = path;
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) throw SceneError(path + ": is a folder, not a scene file");
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  file.text = text.str();
-  file.document = parse_json_or_discarded(file.text);
-  if (file.document.is_discarded()) {
-    // The scene parser says where the JSON breaks (and which key holds a number out of range).
-    parse_scene(file.text, path, file.directory());
-    throw SceneError(path + ": invalid JSON");
-  }
-  return file;
 }
 
 class Cli {

@@ -4,7 +4,6 @@
 #include <nlohmann/json.hpp>
 
 #include "problems/fem/scene.hpp"
-#include "problems/json_text.hpp"
 
 namespace tailor {
 
@@ -40,7 +39,8 @@ FemBodySpec parse_fem_body(const SceneNode& node, const Eigen::Vector3d& gravity
   if (has_density && gravity.squaredNorm() > 0.0 &&
       !(sub.contains("loads") && sub["loads"].contains("gravity")))
     sub["loads"]["gravity"] = {gravity.x(), gravity.y(), gravity.z()};
-  auto scene = std::make_shared<Scene>(parse_scene(dump_json(sub), source + ": " + node.path(), directory));
+  const std::string body_source = source + ": " + node.path();
+  auto scene = std::make_shared<Scene>(parse_scene(SceneNode(sub, body_source, ""), directory));
   scene->name = spec.name;
   spec.scene = std::move(scene);
   return spec;

@@ -4,7 +4,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -26,6 +25,7 @@
 #include "problems/contact/surface_vtu.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 #include "problems/taylor_report.hpp"
 
@@ -352,7 +352,7 @@ RigidSimulateRun simulate_dynamics(const RigidSceneSpec& spec, RigidSceneModel& 
   report["velocity_tolerance"] = step_options.velocity_tolerance;
   report["per_step"] = steps;
   report["bodies"] = body_states(scene, run);
-  std::ofstream(std::filesystem::path(out_dir) / "report.json") << dump_json(report, 2) << "\n";
+  write_report(out_dir, report);
   return run;
 }
 
@@ -438,7 +438,7 @@ RigidSimulateRun simulate_rigid_scene(const RigidSceneSpec& spec, const std::str
   report["bodies"] = body_states(scene, run);
   if (!scene.fem.empty()) report["fem_bodies"] = fem_states(scene, run);
   write_frames(scene, run.state, out_dir, "");
-  std::ofstream(std::filesystem::path(out_dir) / "report.json") << dump_json(report, 2) << "\n";
+  write_report(out_dir, report);
   return run;
 }
 
@@ -480,7 +480,7 @@ TaylorTestResult gradcheck_rigid_scene(const RigidSceneSpec& spec, const std::st
   nlohmann::ordered_json document = taylor_json(result);
   add_report_header(document);
   document["scene"] = {{"name", spec.name}, {"source", spec.source}};
-  std::ofstream(std::filesystem::path(out_dir) / "gradcheck.json") << dump_json(document, 2) << "\n";
+  write_report_file((std::filesystem::path(out_dir) / "gradcheck.json").string(), document);
   return result;
 }
 

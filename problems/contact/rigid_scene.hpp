@@ -19,7 +19,8 @@
 
 namespace tailor {
 
-struct Scene;  // problems/fem/scene.hpp
+struct Scene;     // problems/fem/scene.hpp
+class SceneNode;  // problems/scene_node.hpp
 
 // An FEM body of a contact scene: the FEM scene's keys (mesh, materials, dirichlet, loads) as a
 // parsed Scene. Its boundary triangles take part in contact; it does not touch itself.
@@ -52,13 +53,9 @@ struct RigidSceneSpec {
   bool has_torques() const;
 };
 
-// True when the file is a JSON object with a "rigid_bodies" member.
-bool is_rigid_scene(const std::string& path);
-// Throws SceneError naming the file and the JSON path of a bad value. `directory` resolves the
-// paths of FEM bodies' files (default: the folder of `source`).
-RigidSceneSpec parse_rigid_scene(const std::string& json_text, const std::string& source,
-                                 const std::string& directory = "");
-RigidSceneSpec read_rigid_scene(const std::string& path);
+// The scene's document; `directory` resolves the paths of mesh files. Throws SceneError naming
+// the source and the key path of a bad value (unknown keys included).
+RigidSceneSpec parse_rigid_scene(const SceneNode& root, const std::string& directory);
 
 struct RigidSimulateRun {
   NewtonResult newton;

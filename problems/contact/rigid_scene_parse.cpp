@@ -1,14 +1,10 @@
 // Parsing contact scenes into RigidSceneSpec (see rigid_scene.hpp; keys in docs/contact.md).
 #include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/contact/fem_bodies.hpp"
 #include "problems/contact/rigid_scene.hpp"
 #include "problems/fem/scene.hpp"
-#include "problems/json_text.hpp"
 #include "problems/scene_node.hpp"
 
 namespace tailor {
@@ -108,24 +104,11 @@ bool RigidSceneSpec::has_torques() const {
   return false;
 }
 
-bool is_rigid_scene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return false;
-  const nlohmann::json document = parse_json_or_discarded(in);
-  return document.is_object() && document.contains("rigid_bodies");
-}
-
-RigidSceneSpec parse_rigid_scene(const std::string& json_text, const std::string& source,
-                                 const std::string& directory_in) {
-  const std::string directory =
-      directory_in.empty() ? std::filesystem::path(source).parent_path().string() : directory_in;
-  const nlohmann::json document = parse_json_or_discarded(json_text);
-  if (document.is_discarded()) throw SceneError(source + ": invalid JSON");
-  const SceneNode root(document, source, "");
+RigidSceneSpec parse_rigid_scene(const SceneNode& root, const std::string& directory) {
   root.expect_keys(
       {"name", "description", "rigid_bodies", "fem_bodies", "gravity", "contact", "newton", "dynamics"});
   RigidSceneSpec spec;
-  spec.source = source;
+  spec.source = root.source();
   if (root.has("name")) spec.name = root.at("name").string();
   if (root.has("description")) spec.description = root.at("description").string();
   const std::vector<SceneNode> bodies = root.at("rigid_bodies").items();
@@ -146,7 +129,7 @@ RigidSceneSpec parse_rigid_scene(const std::string& json_text, const std::string
   if (root.has("gravity")) spec.gravity = root.at("gravity").vector(3);
   if (auto list = root.find("fem_bodies"))
     for (const SceneNode& item : list->items())
-      spec.fem_bodies.push_back(parse_fem_body(item, spec.gravity, source, directory));
+      spec.fem_bodies.push_back(parse_fem_body(item, spec.gravity, spec.source, directory));
   if (root.has("dynamics")) {
     const SceneNode d = root.at("dynamics");
     d.expect_keys({"time_step", "steps", "output_every", "velocity_tolerance", "initial_guess"});
@@ -195,16 +178,6 @@ RigidSceneSpec parse_rigid_scene(const std::string& json_text, const std::string
     if (n.has("relative_tolerance"))
       spec.newton.relative_tolerance = n.at("relative_tolerance").open_interval(0, 1);
   }
-  return spec;
-}
-
-RigidSceneSpec read_rigid_scene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::stringstream text;
-  text << in.rdbuf();
-  RigidSceneSpec spec = parse_rigid_scene(text.str(), path);
-  if (spec.name.empty()) spec.name = std::filesystem::path(path).stem().string();
   return spec;
 }
 

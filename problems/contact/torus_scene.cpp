@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -21,18 +20,17 @@
 #include "problems/contact/surface_vtu.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 #include "problems/scene_node.hpp"
 #include "problems/taylor_report.hpp"
 
 namespace tailor {
 
-TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string& source) {
-  const nlohmann::json document = parse_scene_document(json_text, source);
-  const SceneNode root(document, source, "");
+TorusSceneSpec parse_torus_scene(const SceneNode& root) {
   root.expect_keys({"name", "description", "tori"});
   TorusSceneSpec spec;
-  spec.source = source;
+  spec.source = root.source();
   if (root.has("name")) spec.name = root.at("name").string();
   if (root.has("description")) spec.description = root.at("description").string();
   const SceneNode t = root.at("tori");
@@ -293,7 +291,7 @@ TorusSimulateRun simulate_torus_scene(const TorusSceneSpec& spec, const std::str
                            {"per_step", steps},
                            {"bodies", links},
                            {"pairs", pairs}};
-  std::ofstream(std::filesystem::path(out_dir) / "report.json") << dump_json(report, 2) << "\n";
+  write_report(out_dir, report);
   if (log)
     *log << (run.completed() ? "completed" : "NOT completed") << ": " << run.steps << " steps, "
          << run.intersections << " intersections, min distance " << run.min_distance << "\n";
@@ -426,7 +424,7 @@ TorusGradcheckRun gradcheck_torus_scene(const TorusSceneSpec& spec, const std::s
   document["active_pairs"] = run.active_pairs;
   document["min_distance"] = run.min_distance;
   document["intersections"] = run.intersections;
-  std::ofstream(std::filesystem::path(out_dir) / "gradcheck.json") << dump_json(document, 2) << "\n";
+  write_report_file((std::filesystem::path(out_dir) / "gradcheck.json").string(), document);
   return run;
 }
 

@@ -28,8 +28,11 @@ struct TorusSceneSpec {
   bool gradcheck_masses = true, gradcheck_radii = true, gradcheck_placements = false;
 };
 
-// Throws SceneError naming the file and the key path of a bad value.
-TorusSceneSpec parse_torus_scene(const std::string& json_text, const std::string& source);
+class SceneNode;  // problems/scene_node.hpp
+
+// The scene's document. Throws SceneError naming the source and the key path of a bad value
+// (unknown keys included).
+TorusSceneSpec parse_torus_scene(const SceneNode& root);
 
 struct TorusSimulateRun {
   bool converged = false;  // every step converged (static: and the chain came to rest)

@@ -1,40 +1,17 @@
 #include "problems/damping_design/damping_design_scene.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <ostream>
-#include <sstream>
 
 #include "problems/fem/scene.hpp"
-#include "problems/json_text.hpp"
 #include "problems/scene_node.hpp"
 
 namespace tailor {
-namespace {
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw SceneError("cannot read scene file '" + path + "'");
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-}  // namespace
-
-bool is_damping_design_scene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return false;
-  const nlohmann::json j = parse_json_or_discarded(in);
-  return j.is_object() && j.contains("damping_design");
-}
-
-DampingStudyOptions parse_damping_design(const std::string& json_text, const std::string& source) {
-  const nlohmann::json root = parse_json_or_discarded(json_text);
-  if (root.is_discarded()) throw SceneError(source + ": not valid JSON");
-  const SceneNode top(root, source, "");
+DampingStudyOptions parse_damping_design(const SceneNode& top) {
   top.expect_keys({"name", "damping_design"});
+  if (const auto name = top.find("name")) name->string();
   const SceneNode d = top.at("damping_design");
   d.expect_keys(
       {"plate", "rayleigh", "examples", "measured_modes", "time_step", "steps", "tip_amplitude", "curve"});
@@ -89,25 +66,28 @@ DampingStudyOptions parse_damping_design(const std::string& json_text, const std
   return o;
 }
 
-bool run_damping_design_scene(const std::string& path, const std::string& out_dir, std::ostream& log) {
-  const DampingStudyOptions options = parse_damping_design(read_text(path), path);
-  log << "damping design study '" << path << "': " << options.plate.example_modes.size() << " example(s), "
-      << options.vibration.steps << " steps of h = " << options.vibration.time_step << " per mode"
-      << std::endl;
-  const DampingStudy s = run_damping_study(options, &log);
-  write_damping_study(s, out_dir);
+bool run_damping_design_scene(const SceneNode& root, const std::string& out_dir, std::ostream* log) {
+  const DampingStudyOptions options = parse_damping_design(root);
+  if (log)
+    *log << "damping design study '" << root.source() << "': " << options.plate.example_modes.size()
+         << " example(s), " << options.vibration.steps << " steps of h = " << options.vibration.time_step
+         << " per mode" << std::endl;
+  const DampingStudy s = run_damping_study(options, log);
+  const std::string report_path = write_damping_study(s, out_dir);
   bool ok = true;
-  log << std::setprecision(4);
+  if (log) *log << std::setprecision(4);
   for (const ModeDecay& d : s.modes) {
     const bool example = d.gamma != 1.0;
     const double ratio = example ? d.designed_rate / d.target_rate : d.designed_rate / d.plain_rate;
     const bool pass = std::abs(ratio - 1.0) <= 0.05 && std::abs(d.numerical_rate) <= 0.05 * d.target_rate;
     ok = ok && pass;
-    log << "mode " << d.mode << (example ? " (example)" : "") << ": decay rate " << d.designed_rate
-        << (example ? " / target " : " / plain Rayleigh ") << ratio << ", numerical damping "
-        << d.numerical_rate / d.target_rate << " of the target" << (pass ? "" : "  OUT OF TOLERANCE") << "\n";
+    if (log)
+      *log << "mode " << d.mode << (example ? " (example)" : "") << ": decay rate " << d.designed_rate
+           << (example ? " / target " : " / plain Rayleigh ") << ratio << ", numerical damping "
+           << d.numerical_rate / d.target_rate << " of the target" << (pass ? "" : "  OUT OF TOLERANCE")
+           << "\n";
   }
-  log << "wrote " << out_dir << "/report.json and plots\n";
+  if (log) *log << "wrote " << report_path << " and plots\n";
   return ok;
 }
 

@@ -9,16 +9,15 @@
 
 namespace tailor {
 
-// True when the file is a JSON object with a top-level "damping_design" member (false for
-// unreadable or other files: the ordinary scene reader reports those).
-bool is_damping_design_scene(const std::string& path);
+class SceneNode;  // problems/scene_node.hpp
 
-// Parses the section; throws SceneError naming the file and key path for bad input.
-DampingStudyOptions parse_damping_design(const std::string& json_text, const std::string& source);
+// The scene's document ("name" and the "damping_design" section); throws SceneError naming the
+// source and key path for bad input (unknown keys included).
+DampingStudyOptions parse_damping_design(const SceneNode& root);
 
-// Runs the study, prints a table to `log`, writes the outputs into out_dir. Returns true when
-// every example mode's measured decay rate is within 5% of its target, every other mode's within
-// 5% of plain Rayleigh, and the scheme's own damping below 5% of every target.
-bool run_damping_design_scene(const std::string& path, const std::string& out_dir, std::ostream& log);
+// Parses and runs the study, prints a table to `log` when set, writes the outputs into out_dir.
+// Returns true when every example mode's measured decay rate is within 5% of its target, every
+// other mode's within 5% of plain Rayleigh, and the scheme's own damping below 5% of every target.
+bool run_damping_design_scene(const SceneNode& root, const std::string& out_dir, std::ostream* log);
 
 }  // namespace tailor

@@ -66,8 +66,8 @@ struct DampingStudy {
 
 DampingStudy run_damping_study(const DampingStudyOptions& options, std::ostream* progress = nullptr);
 
-// DIR/report.json-style JSON of the study and the plots envelope.png, gamma_curve.png and
-// cycle_loss.png into `folder`; returns the JSON text.
+// `folder`/report.json (problems/report_file.hpp) and the plots envelope.png, gamma_curve.png
+// and cycle_loss.png; returns the report's path.
 std::string write_damping_study(const DampingStudy& study, const std::string& folder);
 
 }  // namespace tailor

@@ -1,12 +1,11 @@
 // JSON and plots of a damping study (see damping_study.hpp).
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "problems/damping_design/damping_study.hpp"
-#include "problems/json_text.hpp"
 #include "problems/plot/line_plot.hpp"
+#include "problems/report_file.hpp"
 
 namespace tailor {
 namespace {
@@ -66,9 +65,7 @@ std::string write_damping_study(const DampingStudy& study, const std::string& fo
                                      {"designed_loss", c.designed_loss},
                                      {"achieved_gamma", c.achieved_gamma},
                                      {"designed_gamma", c.designed_gamma}});
-  const std::string text = dump_json(j, 2);
-  std::ofstream out(folder + "/report.json");
-  if (!(out << text << "\n")) throw std::runtime_error("cannot write " + folder + "/report.json");
+  const std::string report_path = write_report(folder, j);
 
   LinePlot envelope;
   envelope.title =
@@ -120,7 +117,7 @@ std::string write_damping_study(const DampingStudy& study, const std::string& fo
     cycle.series = {designed, loss};
     write_line_plot_png(folder + "/cycle_loss.png", cycle);
   }
-  return text;
+  return report_path;
 }
 
 }  // namespace tailor

@@ -26,7 +26,7 @@ struct SimulateRun {
 SimulateRun simulate_scene(const Scene& scene, const std::string& out_dir, std::ostream* log = nullptr);
 
 // `tailor check`: derivative checks of every energy term of the scene's model (see
-// check_static_scene); prints each table to `log`. Returns true when no check failed.
-bool check_scene(const Scene& scene, unsigned seed, std::ostream& log);
+// check_static_scene); prints each table to `log` when set. Returns true when no check failed.
+bool check_scene(const Scene& scene, unsigned seed, std::ostream* log);
 
 }  // namespace tailor

@@ -1,12 +1,12 @@
 #include "problems/fem/dynamic_report.hpp"
 
-#include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/json_text.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 
 namespace tailor {
@@ -35,12 +35,12 @@ std::string write_dynamic_frame(const std::filesystem::path& frames_dir, const S
 }
 
 void write_dynamic_series(const std::string& path, const DynamicRun& run) {
-  std::ofstream pvd(path);
+  std::ostringstream pvd;
   pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
   for (const auto& [time, file] : run.frames)
     pvd << "    <DataSet timestep=\"" << std::setprecision(17) << time << "\" file=\"" << file << "\"/>\n";
   pvd << "  </Collection>\n</VTKFile>\n";
-  if (!pvd) throw std::runtime_error("cannot write '" + path + "'");
+  write_text_file_atomically(path, pvd.str());
 }
 
 void write_dynamic_report_json(const std::string& path, const Scene& scene, const DynamicRun& run) {
@@ -78,9 +78,7 @@ void write_dynamic_report_json(const std::string& path, const Scene& scene, cons
                        {"output", run.timings.output}};
   report["series"] = "result.pvd";
   report["linear_solver"] = linear_solver_json(run.linear_solver.get());
-  std::ofstream file(path);
-  file << dump_json(report, 2) << "\n";
-  if (!file) throw std::runtime_error("cannot write '" + path + "'");
+  write_report_file(path, report);
 }
 
 }  // namespace tailor

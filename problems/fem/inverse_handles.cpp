@@ -14,7 +14,6 @@
 namespace tailor {
 
 HandlesTerm parse_handles_term(const SceneNode& node, const std::string& directory) {
-  node.expect_keys({"type", "weight", "alpha", "beta", "handles"});
   HandlesTerm term;
   if (auto a = node.find("alpha")) term.alpha = a->non_negative();
   if (auto b = node.find("beta")) term.beta = b->non_negative();
@@ -53,7 +52,7 @@ void HandleDesign::prescribe(const Vector& z_u, StaticSetup& setup) const {
 
 const HandlesTerm* find_handles_term(const InverseSpec& spec, std::string* key) {
   for (const ObjectiveTermSpec& t : spec.objective)
-    if (const auto* handles = std::get_if<HandlesTerm>(&t.term)) {
+    if (const auto* handles = t.settings_as<HandlesTerm>()) {
       if (key) *key = t.key;
       return handles;
     }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "problems/fem/objective_term_registry.hpp"
 #include "problems/fem/scene.hpp"
 
 namespace tailor {
@@ -23,9 +24,7 @@ struct HandleSpec {
 };
 
 // alpha/2 sum_h W_h |f_h - fbar_h|^2 + alpha beta/2 sum_h |u~_h - ubar_h|^2.
-struct HandlesTerm {
-  static constexpr const char* kType = "handles";
-  static constexpr bool kIsData = true;
+struct HandlesTerm : ObjectiveTermSettings {
   std::vector<HandleSpec> handles;
   double alpha = 1.0;
   double beta = 1.0;

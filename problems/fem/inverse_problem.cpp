@@ -4,17 +4,12 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <random>
 #include <sstream>
 
 #include "forward/core/format_number.hpp"
-#include "objectives/material_smoothness.hpp"
-#include "objectives/target_positions.hpp"
-#include "objectives/tikhonov.hpp"
 #include "objectives/weighted_sum.hpp"
 #include "problems/fem/inverse_handles.hpp"
 #include "problems/fem/linear_solver_choice.hpp"
-#include "problems/fem/objective_term_registry.hpp"
 #include "problems/fem/scene_selection.hpp"
 
 namespace tailor {
@@ -45,8 +40,9 @@ Eigen::VectorXd expression_field(const Scene& scene, const Mesh& mesh, const Mod
   return out;
 }
 
-// The per-element values of a field given in the scene.
-Eigen::VectorXd expand_field(const Scene& scene, const StaticSetup& setup, const ModulusField& field) {
+}  // namespace
+
+Eigen::VectorXd modulus_field_values(const Scene& scene, const StaticSetup& setup, const ModulusField& field) {
   const int ne = setup.mesh.num_elements();
   if (!field.per_material.empty()) {
     if (field.per_material.size() != scene.materials.size())
@@ -68,7 +64,6 @@ Eigen::VectorXd expand_field(const Scene& scene, const StaticSetup& setup, const
   return Eigen::Map<const Eigen::VectorXd>(field.values.data(), ne);
 }
 
-// Records `truth` as the problem's ground truth; a second source must agree with the first.
 void set_truth(const Scene& scene, InverseProblem& problem, const Eigen::VectorXd& truth,
                const std::string& key) {
   if (problem.truth.size() == 0) {
@@ -78,6 +73,8 @@ void set_truth(const Scene& scene, InverseProblem& problem, const Eigen::VectorX
     throw_scene_error(scene, key, "differs from the true Young's modulus given by " + problem.truth_key);
   }
 }
+
+namespace {
 
 // Which design variable each element belongs to, and the variables' names.
 void assign_design_groups(const Scene& scene, InverseProblem& problem) {
@@ -194,116 +191,18 @@ ParameterizationPtr design_map(const InverseProblem& problem) {
   return embed_blocks(std::move(base), std::move(blocks));
 }
 
-// Relative misfit of displacements: coefficient weight / |u*|^2 (see the header).
-ObjectiveTermInfo data_term(const InverseProblem& problem, const ObjectiveTermSpec& spec,
-                            std::vector<int> vertices, const Eigen::MatrixXd& displacements) {
-  const Mesh& mesh = problem.setup.mesh;
-  double norm2 = displacements.squaredNorm();
-  if (!(norm2 > 0.0)) {
-    const double diagonal =
-        (mesh.rest_positions.colwise().maxCoeff() - mesh.rest_positions.colwise().minCoeff()).norm();
-    norm2 = static_cast<double>(vertices.size()) * diagonal * diagonal;
-  }
-  auto term = std::make_shared<TargetPositions>(
-      TargetPositions::displacements(mesh, std::move(vertices), displacements));
-  return {spec.key, spec.type(), spec.weight, spec.weight / norm2, term};
-}
-
-// Observations of the selected vertices at the equilibrium with the true field, with noise.
-ObjectiveTermInfo synthetic_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
-                                 const SyntheticObservationsTerm& t) {
-  const Mesh& mesh = problem.setup.mesh;
-  const std::vector<int> vertices = select_vertices(scene, mesh, t.vertices);
-  const Eigen::VectorXd truth = expand_field(scene, problem.setup, t.youngs_modulus);
-  set_truth(scene, problem, truth, t.youngs_modulus.key);
-  StaticSetup true_setup = problem.setup;
-  true_setup.youngs_modulus = truth;
-  const StaticSolution solution = solve_static(true_setup);
-  if (!solution.converged)
-    throw_scene_error(scene, t.youngs_modulus.key,
-                      "the forward solve with this Young's modulus failed (" + solution.status + ": " +
-                          solution.message + ")");
-  Eigen::MatrixXd observed(static_cast<Eigen::Index>(vertices.size()), mesh.dim());
-  for (std::size_t i = 0; i < vertices.size(); ++i)
-    observed.row(static_cast<Eigen::Index>(i)) = solution.displacement.row(vertices[i]);
-  if (t.noise > 0.0) {
-    const double sigma = t.noise * observed.rowwise().norm().maxCoeff();
-    std::mt19937 rng(t.seed);
-    std::normal_distribution<double> normal(0.0, sigma);
-    for (Eigen::Index k = 0; k < observed.size(); ++k) observed.data()[k] += normal(rng);
-  }
-  return data_term(problem, spec, vertices, observed);
-}
-
-// One build_term overload per objective term type (ObjectiveTerm): the objective and its info.
-ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
-                             const TargetDisplacementsTerm& t) {
-  const Mesh& mesh = problem.setup.mesh;
-  check_dimension(scene, mesh, t.displacement, spec.key + ".displacement");
-  const std::vector<int> vertices = select_vertices(scene, mesh, t.vertices);
-  const Eigen::MatrixXd targets =
-      t.displacement.transpose().replicate(static_cast<Eigen::Index>(vertices.size()), 1);
-  return data_term(problem, spec, vertices, targets);
-}
-
-ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
-                             const ObservationsTerm& t) {
-  const Mesh& mesh = problem.setup.mesh;
-  const std::string key = spec.key + ".file";
-  if (t.displacements.cols() != mesh.dim())
-    throw_scene_error(scene, key,
-                      "'" + t.file + "': expected " + std::to_string(mesh.dim()) +
-                          " displacement components per line (the mesh is " + std::to_string(mesh.dim()) +
-                          "D), got " + std::to_string(t.displacements.cols()));
-  for (int v : t.vertices)
-    if (v >= mesh.num_vertices())
-      throw_scene_error(scene, key,
-                        "'" + t.file + "': vertex " + std::to_string(v) + " does not exist (the mesh has " +
-                            std::to_string(mesh.num_vertices()) + " vertices)");
-  return data_term(problem, spec, t.vertices, t.displacements);
-}
-
-ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
-                             const SyntheticObservationsTerm& t) {
-  return synthetic_term(scene, problem, spec, t);
-}
-
-ObjectiveTermInfo build_term(const Scene&, InverseProblem& problem, const ObjectiveTermSpec& spec,
-                             const HandlesTerm&) {
-  return {spec.key, spec.type(), spec.weight, spec.weight, problem.handles->objective};  // by attach_handles
-}
-
-ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
-                             const SmoothnessTerm& t) {
-  try {
-    auto term = std::make_shared<MaterialSmoothness>(problem.setup.mesh, problem.youngs_offset, 1.0,
-                                                     MaterialSmoothnessOptions{t.weighting, t.logarithmic});
-    return {spec.key, spec.type(), spec.weight, spec.weight, term};
-  } catch (const std::invalid_argument& e) {
-    throw_scene_error(scene, spec.key, e.what());
-  }
-}
-
-ObjectiveTermInfo build_term(const Scene&, InverseProblem& problem, const ObjectiveTermSpec& spec,
-                             const TikhonovTerm& t) {
-  // Relative to the prior: weights 1 / prior make each entry's misfit a ratio.
-  const int ne = problem.setup.mesh.num_elements();
-  auto term = std::make_shared<Tikhonov>(problem.youngs_offset, ne, 1.0, Vector::Constant(ne, t.prior),
-                                         Vector::Constant(ne, 1.0 / t.prior));
-  return {spec.key, spec.type(), spec.weight, spec.weight, term};
-}
-
-ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec,
-                             const RegisteredTerm& t) {
-  const ObjectiveTermContext context{scene, problem, SceneNode(t.value, scene.source, spec.key)};
-  ObjectivePtr term = t.kind->build(context);
-  if (!term)
-    throw_scene_error(scene, spec.key, "the \"" + t.kind->type + "\" term's build returned no objective");
-  return {spec.key, spec.type(), spec.weight, spec.weight, std::move(term)};
-}
-
+// The term's objective from its type's build, with the coefficient weight / scale.
 ObjectiveTermInfo build_term(const Scene& scene, InverseProblem& problem, const ObjectiveTermSpec& spec) {
-  return std::visit([&](const auto& term) { return build_term(scene, problem, spec, term); }, spec.term);
+  const ObjectiveTermContext context(scene, problem, SceneNode(spec.value, scene.source, spec.key),
+                                     spec.settings.get());
+  const BuiltObjectiveTerm built = spec.kind->build(context);
+  if (!built.objective)
+    throw_scene_error(scene, spec.key, "the \"" + spec.type() + "\" term's build returned no objective");
+  if (!(built.scale > 0.0) || !std::isfinite(built.scale))
+    throw_scene_error(scene, spec.key,
+                      "the \"" + spec.type() + "\" term's build returned the scale " +
+                          format_number(built.scale) + " (expected a finite number > 0)");
+  return {spec.key, spec.type(), spec.weight, spec.weight / built.scale, built.objective};
 }
 
 // The reduced functional. Its first Newton solve starts from rest, unless the scene ramps its
@@ -422,7 +321,7 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene,
                       "Young's modulus to design");
 
   if (problem->spec.ground_truth)
-    set_truth(scene, *problem, expand_field(scene, problem->setup, *problem->spec.ground_truth),
+    set_truth(scene, *problem, modulus_field_values(scene, problem->setup, *problem->spec.ground_truth),
               problem->spec.ground_truth->key);
   if (extensions.element_map) {
     element_map_design(extensions, *problem);

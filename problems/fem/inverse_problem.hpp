@@ -30,7 +30,7 @@ struct ObjectiveTermInfo {
   std::string key;   // "inverse.objective[i]"
   std::string type;  // its "type"
   double weight = 1.0;
-  double coefficient = 1.0;  // weight, divided by |u*|^2 for data terms
+  double coefficient = 1.0;  // weight / the scale its build returned (|u*|^2 for data terms)
   ObjectivePtr term;
 };
 
@@ -99,6 +99,13 @@ std::unique_ptr<InverseProblem> build_inverse_problem(const Scene& scene,
 // with the Newton settings the problem's own functional uses (its objective is problem.objective).
 std::unique_ptr<StaticFunctional> make_static_functional(const InverseProblem& problem,
                                                          ObjectivePtr objective);
+
+// The per-element values of a Young's modulus field given in the scene (SceneError naming
+// field.key when it does not fit the mesh or is not > 0 somewhere).
+Eigen::VectorXd modulus_field_values(const Scene& scene, const StaticSetup& setup, const ModulusField& field);
+// Records `truth` (per element) as the problem's true Young's modulus; a second source must agree
+// with the first (SceneError naming `key` otherwise).
+void set_truth(const Scene& scene, InverseProblem& problem, const Eigen::VectorXd& truth, const std::string& key);
 
 // Errors of a per-element field against the truth: the volume-weighted relative L2 error
 // sqrt(sum_e V_e (E_e - T_e)^2 / sum_e V_e T_e^2) and the largest |E_e - T_e| / T_e.

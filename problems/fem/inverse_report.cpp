@@ -2,28 +2,20 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "problems/fem/report.hpp"
 #include "problems/json_text.hpp"
 #include "problems/optimizer_report.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 #include "problems/taylor_report.hpp"
-#include "tailor_version.hpp"
 
 namespace tailor {
 namespace {
 
 using Json = nlohmann::ordered_json;  // keeps the documented key order in the file
-
-void write_json(const std::string& path, const Json& document) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
-  out << dump_json(document, 2) << "\n";
-  if (!out) throw std::runtime_error("error while writing '" + path + "'");
-}
 
 // min / max / volume-weighted mean of a per-element field.
 Json summary(const Mesh& mesh, const Eigen::VectorXd& field) {
@@ -80,8 +72,7 @@ void write_gradcheck_json(const std::string& path, const GradcheckRun& run) {
                                          {"solves", a->solves},
                                          {"iterations", a->iterations},
                                          {"last_relative_residual", a->last_relative_residual}};
-  document["tailor_version"] = version_string;
-  write_json(path, document);
+  write_report_file(path, document);
 }
 
 void write_inverse_report_json(const std::string& path, const InverseRun& run) {
@@ -169,7 +160,7 @@ void write_inverse_report_json(const std::string& path, const InverseRun& run) {
                                         {"adjoint", t.adjoint / iterations}};
   report["mesh"] = {
       {"dim", mesh.dim()}, {"vertices", mesh.num_vertices()}, {"elements", mesh.num_elements()}};
-  write_json(path, report);
+  write_report_file(path, report);
 }
 
 void write_inverse_result_vtu(const std::string& path, const InverseRun& run) {

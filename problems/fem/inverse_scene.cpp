@@ -1,6 +1,5 @@
 #include "problems/fem/inverse_scene.hpp"
 
-#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -8,7 +7,9 @@
 #include "forward/core/format_number.hpp"
 #include "optimizers/backend_registry.hpp"
 #include "problems/fem/objective_term_registry.hpp"
+#include "problems/fem/objective_terms/builtin_terms.hpp"
 #include "problems/fem/scene_parsing.hpp"
+#include "problems/optimizer_section.hpp"
 
 namespace tailor {
 
@@ -28,16 +29,6 @@ std::string to_string(DesignGranularity granularity) {
 
 std::string to_string(DesignMap map) { return map == DesignMap::log ? "log" : "identity"; }
 
-std::string ObjectiveTermSpec::type() const {
-  if (const auto* registered = std::get_if<RegisteredTerm>(&term)) return registered->kind->type;
-  return std::visit([](const auto& t) { return std::string(std::decay_t<decltype(t)>::kType); }, term);
-}
-
-bool ObjectiveTermSpec::is_data() const {
-  if (const auto* registered = std::get_if<RegisteredTerm>(&term)) return registered->kind->is_data;
-  return std::visit([](const auto& t) { return std::decay_t<decltype(t)>::kIsData; }, term);
-}
-
 namespace {
 
 // {"value": E0, "gradient": [g...], "inclusions": [{"center": [...], "radius": r, "factor": f}]}:
@@ -54,6 +45,8 @@ void parse_modulus_expression(const SceneNode& node, ModulusField& field) {
           {item.at("center").vector(), item.at("radius").positive(), item.at("factor").positive()});
     }
 }
+
+}  // namespace
 
 // A number > 0, {"materials": [...]} with one value > 0 per materials[] entry, or
 // {"file": path} with one value > 0 per mesh element.
@@ -80,6 +73,8 @@ ModulusField parse_modulus_field(const SceneNode& node, const std::string& direc
   }
   return field;
 }
+
+namespace {
 
 // "modes": r (integer >= 1) or "full"; "mode_weighting"; "output_modes": k in [0, r]. Only
 // with granularity "modes". Bounds must come in pairs there: the smooth box of
@@ -203,156 +198,31 @@ DesignSpec parse_design(const SceneNode& node) {
   return d;
 }
 
-ObservationsTerm parse_observation_file(const SceneNode& node, const std::string& directory) {
-  ObservationsTerm t;
-  t.file = resolve_scene_path(directory, node.string());
-  const std::vector<DataLine> lines = read_data_file(node, t.file);
-  if (lines.empty()) node.fail("'" + t.file + "' holds no observations");
-  const std::size_t columns = lines.front().tokens.size();
-  // Sized only by a valid column count (the loop refuses any other on line 1): a long first line
-  // must not make this lines x columns.
-  const bool valid_columns = columns == 3 || columns == 4;
-  t.displacements.resize(static_cast<Eigen::Index>(lines.size()),
-                         valid_columns ? static_cast<Eigen::Index>(columns) - 1 : 0);
-  std::map<int, int> first_line;  // vertex id -> the line it was first observed on
-  for (std::size_t r = 0; r < lines.size(); ++r) {
-    const DataLine& line = lines[r];
-    const std::string where = "'" + t.file + "' line " + std::to_string(line.line) + ": ";
-    if ((columns != 3 && columns != 4) || line.tokens.size() != columns)
-      node.fail(where + "expected 'vertex ux uy' or 'vertex ux uy uz' on every line, got " +
-                std::to_string(line.tokens.size()) + " values");
-    const auto id = parse_vertex_id(line.tokens[0]);
-    if (!id) node.fail(where + "expected a vertex id (integer >= 0), got '" + line.tokens[0] + "'");
-    if (const auto [it, fresh] = first_line.emplace(*id, line.line); !fresh)
-      node.fail(where + "vertex " + std::to_string(*id) + " is observed twice (also on line " +
-                std::to_string(it->second) + ")");
-    t.vertices.push_back(*id);
-    for (std::size_t k = 1; k < columns; ++k) {
-      const auto v = parse_number(line.tokens[k]);
-      if (!v) node.fail(where + "expected a number, got '" + line.tokens[k] + "'");
-      t.displacements(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k) - 1) = *v;
-    }
-  }
-  return t;
-}
-
-// The keys of one objective term after "type" and "weight", by term type.
-void parse_term_body(const SceneNode& node, const std::string& directory, TargetDisplacementsTerm& t) {
-  node.expect_keys({"type", "weight", "vertices", "displacement"});
-  t.vertices = parse_vertex_selector(node.at("vertices"), directory);
-  t.displacement = node.at("displacement").vector();
-}
-
-void parse_term_body(const SceneNode& node, const std::string& directory, ObservationsTerm& t) {
-  node.expect_keys({"type", "weight", "file"});
-  t = parse_observation_file(node.at("file"), directory);
-}
-
-void parse_term_body(const SceneNode& node, const std::string& directory, SyntheticObservationsTerm& t) {
-  node.expect_keys({"type", "weight", "vertices", "youngs_modulus", "noise", "seed"});
-  t.vertices = parse_vertex_selector(node.at("vertices"), directory);
-  t.youngs_modulus = parse_modulus_field(node.at("youngs_modulus"), directory);
-  if (auto n = node.find("noise")) t.noise = n->non_negative();
-  if (auto s = node.find("seed")) t.seed = static_cast<unsigned>(s->integer(0));
-}
-
-void parse_term_body(const SceneNode& node, const std::string&, SmoothnessTerm& t) {
-  node.expect_keys({"type", "weight", "on", "weighting"});
-  if (auto on = node.find("on")) t.logarithmic = on->choice({"log", "value"}) == "log";
-  if (auto w = node.find("weighting"))
-    t.weighting = w->choice({"unit", "facet"}) == "unit" ? AdjacencyWeighting::unit
-                                                         : AdjacencyWeighting::facet_over_distance;
-}
-
-void parse_term_body(const SceneNode& node, const std::string&, TikhonovTerm& t) {
-  node.expect_keys({"type", "weight", "prior"});
-  t.prior = node.at("prior").positive();
-}
-
-void parse_term_body(const SceneNode& node, const std::string& directory, HandlesTerm& t) {
-  t = parse_handles_term(node, directory);
-}
-
-// A registered type's keys: only those it lists (and type, weight), the required ones present.
-void parse_term_body(const SceneNode& node, const std::string&, RegisteredTerm& t) {
-  for (const auto& item : node.json().items()) {
-    const std::string& key = item.key();
-    if (key == "type" || key == "weight") continue;
-    bool known = false;
-    for (const std::string& k : t.kind->keys) known = known || k == key;
-    if (!known) {
-      std::string expected = "type, weight";
-      for (const std::string& k : t.kind->keys) expected += ", " + k;
-      node.at(key.c_str())
-          .fail("unknown key for a \"" + t.kind->type + "\" term (expected one of " + expected + ")");
-    }
-  }
-  for (const std::string& key : t.kind->required) node.at(key.c_str());
-  t.value = node.json();
-}
-
-// tailor's own types (RegisteredTerm is none), then the program's.
-template <std::size_t... I>
-std::vector<std::string> term_types(std::index_sequence<I...>) {
-  std::vector<std::string> types;
-  for (const char* type : {std::variant_alternative_t<I, ObjectiveTerm>::kType...})
-    if (std::string(type) != RegisteredTerm::kType) types.push_back(type);
-  for (const std::string& type : registered_objective_term_types()) types.push_back(type);
-  return types;
-}
-
-// Parses the alternative whose kType is `type` (one exists: `type` is one of term_types).
-template <std::size_t I = 0>
-void parse_alternative(const std::string& type, const SceneNode& node, const std::string& directory,
-                       ObjectiveTerm& term) {
-  if constexpr (I < std::variant_size_v<ObjectiveTerm>) {
-    using Term = std::variant_alternative_t<I, ObjectiveTerm>;
-    Term parsed;
-    if constexpr (std::is_same_v<Term, RegisteredTerm>) {
-      parsed.kind = find_objective_term_type(type);
-      if (!parsed.kind) return;
-    } else if (type != Term::kType) {
-      return parse_alternative<I + 1>(type, node, directory, term);
-    }
-    parse_term_body(node, directory, parsed);
-    term = std::move(parsed);
-  }
-}
-
+// The term's type from the registry; its keys checked, then parsed by the type's parse.
 ObjectiveTermSpec parse_term(const SceneNode& node, const std::string& directory) {
   ObjectiveTermSpec spec;
   spec.key = node.path();
-  const std::vector<std::string> types =
-      term_types(std::make_index_sequence<std::variant_size_v<ObjectiveTerm>>());
-  parse_alternative(node.at("type").choice(types), node, directory, spec.term);
+  spec.kind = find_objective_term_type(node.at("type").choice(objective_term_types()));
+  std::vector<std::string> keys = {"type", "weight"};
+  keys.insert(keys.end(), spec.kind->keys.begin(), spec.kind->keys.end());
+  node.expect_keys(keys);
+  for (const std::string& key : spec.kind->required) node.at(key.c_str());
+  if (spec.kind->parse) spec.settings = spec.kind->parse(node, directory);
+  spec.value = node.json();
   if (auto w = node.find("weight")) spec.weight = w->non_negative();
   return spec;
 }
 
+// The data term types, for the message of a list without one.
+std::string data_term_types() {
+  std::string out;
+  for (const std::string& type : objective_term_types())
+    if (find_objective_term_type(type)->is_data) out += (out.empty() ? "" : ", ") + type;
+  return out;
+}
+
 OptimizerOptions parse_optimizer(const SceneNode& node) {
-  node.expect_keys({"backend", "max_iterations", "gradient_tolerance", "objective_tolerance",
-                    "step_tolerance", "time_limit", "exact_hessian", "checkpoint_every"});
-  OptimizerOptions o;
-  if (auto b = node.find("backend")) {
-    try {
-      o.backend = parse_optimizer_backend(b->string());
-    } catch (const std::invalid_argument& e) {
-      b->fail(e.what());
-    }
-  }
-  if (auto v = node.find("max_iterations")) o.max_iterations = v->integer(1);
-  if (auto v = node.find("gradient_tolerance")) o.gradient_tolerance = v->non_negative();
-  if (auto v = node.find("objective_tolerance")) o.objective_tolerance = v->non_negative();
-  if (auto v = node.find("step_tolerance")) o.step_tolerance = v->non_negative();
-  if (auto v = node.find("time_limit")) o.time_limit_seconds = v->non_negative();
-  if (auto v = node.find("checkpoint_every")) o.checkpoint_every = v->integer(0);
-  if (auto v = node.find("exact_hessian")) {
-    o.exact_hessian = v->boolean();
-    if (o.exact_hessian && !find_backend(o.backend).capabilities.exact_hessian)
-      v->fail("only the " + backends_with(&BackendCapabilities::exact_hessian) +
-              " back-end uses exact Hessians (the back-end is " + to_string(o.backend) + ")");
-  }
-  return o;
+  return parse_optimizer_section(node, OptimizerOptions{}, {"an inverse FEM scene", true, true, {}});
 }
 
 TaylorTestOptions parse_gradcheck(const SceneNode& node) {
@@ -382,14 +252,12 @@ InverseSpec parse_inverse_section(const SceneNode& node, const std::string& dire
     has_data = has_data || spec.objective.back().is_data();
   }
   if (!has_data && !other_data_terms)
-    objective.fail(
-        "needs at least one data term (target_displacements, observations, synthetic_observations or "
-        "handles); "
-        "regularization alone has nothing to fit");
+    objective.fail("needs at least one data term (" + data_term_types() +
+                   "); regularization alone has nothing to fit");
   // log E needs E > 0, which only the log map or a positive lower bound guarantees.
   const bool positive = spec.design.map == DesignMap::log || (spec.design.min && *spec.design.min > 0.0);
   for (std::size_t k = 0; k < spec.objective.size(); ++k) {
-    const auto* smoothness = std::get_if<SmoothnessTerm>(&spec.objective[k].term);
+    const auto* smoothness = spec.objective[k].settings_as<SmoothnessTerm>();
     if (smoothness && smoothness->logarithmic && !positive)
       objective.items()[k].fail(
           "smoothness on log E needs E > 0: with the identity map give inverse.design.min > 0, use \"on\": "
@@ -397,7 +265,7 @@ InverseSpec parse_inverse_section(const SceneNode& node, const std::string& dire
   }
   int handle_terms = 0;
   for (std::size_t k = 0; k < spec.objective.size(); ++k)
-    if (std::holds_alternative<HandlesTerm>(spec.objective[k].term) && ++handle_terms > 1)
+    if (spec.objective[k].settings_as<HandlesTerm>() && ++handle_terms > 1)
       objective.items()[k].fail("at most one \"handles\" term; list every handle in the first one");
   if (auto truth = node.find("ground_truth")) {
     truth->expect_keys({"youngs_modulus"});

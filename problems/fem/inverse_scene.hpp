@@ -9,13 +9,13 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-#include <variant>
 #include <vector>
 
 #include "adjoint/taylor_test.hpp"
 #include "objectives/material_smoothness.hpp"
 #include "optimizers/optimizer.hpp"
 #include "problems/fem/inverse_handles_spec.hpp"
+#include "problems/fem/objective_term_registry.hpp"
 #include "problems/fem/scene.hpp"
 
 namespace tailor {
@@ -99,67 +99,21 @@ struct DesignSpec {
   }
 };
 
-// Data terms compare displacements u of some vertices with wanted ones u*; the term is the
-// relative misfit 1/2 |u - u*|^2 / |u*|^2 (see inverse_problem.hpp).
-//
-// Adding a term type: a struct here with its JSON "type" (kType) and whether it compares data
-// (kIsData), an alternative in ObjectiveTerm, a parse_term_body overload (inverse_scene.cpp)
-// and a build_term overload (inverse_problem.cpp). A missing overload fails to compile. A program
-// adds its own types without touching these files: register_objective_term
-// (problems/fem/objective_term_registry.hpp), parsed into a RegisteredTerm below.
-struct TargetDisplacementsTerm {
-  static constexpr const char* kType = "target_displacements";
-  static constexpr bool kIsData = true;
-  VertexSelector vertices;
-  Eigen::VectorXd displacement;  // the same target for every selected vertex
-};
-struct ObservationsTerm {
-  static constexpr const char* kType = "observations";
-  static constexpr bool kIsData = true;
-  std::string file;               // resolved path, for messages
-  std::vector<int> vertices;      // one per line, distinct
-  Eigen::MatrixXd displacements;  // one row per line, 2 or 3 columns
-};
-struct SyntheticObservationsTerm {
-  static constexpr const char* kType = "synthetic_observations";
-  static constexpr bool kIsData = true;
-  VertexSelector vertices;
-  ModulusField youngs_modulus;  // the truth the observations are simulated from
-  double noise = 0.0;           // relative: std. deviation = noise * largest observed |u|
-  unsigned seed = 1;
-};
-// Regularization of the designed per-element field E.
-struct SmoothnessTerm {
-  static constexpr const char* kType = "smoothness";
-  static constexpr bool kIsData = false;
-  bool logarithmic = true;  // penalize jumps of log E (ratios) rather than of E
-  AdjacencyWeighting weighting = AdjacencyWeighting::unit;
-};
-struct TikhonovTerm {
-  static constexpr const char* kType = "tikhonov";
-  static constexpr bool kIsData = false;
-  double prior = 1.0;  // J = 1/2 sum_e ((E_e - prior) / prior)^2
-};
-
-// A term of a type the program registered (problems/fem/objective_term_registry.hpp): its JSON,
-// built into an Objective with the problem. (kType is no scene "type": the registered one is.)
-struct ObjectiveTermType;
-struct RegisteredTerm {
-  static constexpr const char* kType = "(registered)";
-  static constexpr bool kIsData = false;
-  std::shared_ptr<const ObjectiveTermType> kind;
-  nlohmann::json value;  // the whole term object
-};
-
-using ObjectiveTerm = std::variant<TargetDisplacementsTerm, ObservationsTerm, SyntheticObservationsTerm,
-                                   SmoothnessTerm, TikhonovTerm, HandlesTerm, RegisteredTerm>;
-
+// One entry of the "objective" list: its type (problems/fem/objective_term_registry.hpp), the
+// settings the type parsed (copies of the spec share them), its JSON and its weight.
 struct ObjectiveTermSpec {
-  ObjectiveTerm term;
+  std::shared_ptr<const ObjectiveTermType> kind;
+  std::shared_ptr<ObjectiveTermSettings> settings;  // null for a type without parse
+  nlohmann::json value;                             // the whole term object
   double weight = 1.0;
-  std::string key;           // "inverse.objective[i]"
-  std::string type() const;  // the JSON "type"
-  bool is_data() const;      // compares displacements or forces (not a regularization)
+  std::string key;  // "inverse.objective[i]"
+  const std::string& type() const { return kind->type; }
+  bool is_data() const { return kind->is_data; }  // compares displacements or forces
+  // The settings as the type's own struct (builtin_terms.hpp, HandlesTerm), or null.
+  template <class Settings>
+  Settings* settings_as() const {
+    return dynamic_cast<Settings*>(settings.get());
+  }
 };
 
 struct InverseSpec {

@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -12,6 +11,7 @@
 #include "problems/fem/report.hpp"
 #include "problems/fem/static_scene.hpp"
 #include "problems/json_text.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 
 namespace tailor {
@@ -87,10 +87,7 @@ ModesRun modes_scene(const Scene& scene, int count, const std::string& out_dir, 
                       {"operator_applications", m.solve.operator_applications},
                       {"shift", m.solve.shift}};
   report["seconds"] = run.seconds;
-  std::ofstream out(run.report_path);
-  if (!out) throw std::runtime_error("cannot write '" + run.report_path + "'");
-  out << dump_json(report, 2) << "\n";
-  if (!out) throw std::runtime_error("cannot write '" + run.report_path + "'");
+  write_report_file(run.report_path, report);
 
   if (log) {
     *log << std::setprecision(6);

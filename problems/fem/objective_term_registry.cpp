@@ -2,28 +2,63 @@
 
 #include <mutex>
 #include <stdexcept>
-#include <variant>
 
 #include "problems/fem/inverse_problem.hpp"
 #include "problems/fem/scene_parsing.hpp"
 #include "problems/fem/scene_selection.hpp"
 
 namespace tailor {
+
+// The built-in types' entry functions, listed from problems/fem/objective_terms/ by
+// cmake/tailorWriteRegistryList.cmake.
+#define TAILOR_ENTRY(id) ObjectiveTermType id##_objective_term();
+#include "tailor_builtin_objective_terms.inc"
+#undef TAILOR_ENTRY
+
 namespace {
+
+void check_entry(const ObjectiveTermType& type) {
+  if (type.type.empty()) throw std::logic_error("register_objective_term: the type needs a name");
+  if (!type.build)
+    throw std::logic_error("register_objective_term: \"" + type.type + "\" has no build function");
+  for (const std::string& key : type.required) {
+    bool listed = false;
+    for (const std::string& k : type.keys) listed = listed || k == key;
+    if (!listed)
+      throw std::logic_error("register_objective_term: \"" + type.type + "\" requires \"" + key +
+                             "\", which is not among its keys");
+  }
+}
 
 struct Registry {
   std::mutex mutex;
   std::vector<std::shared_ptr<const ObjectiveTermType>> types;
+  // The first `builtin` types are tailor's own (all of them while the constructor runs).
+  std::size_t builtin = static_cast<std::size_t>(-1);
+
+  Registry() {
+    for (ObjectiveTermType (*entry)() : {
+#define TAILOR_ENTRY(id) &id##_objective_term,
+#include "tailor_builtin_objective_terms.inc"
+#undef TAILOR_ENTRY
+         })
+      add(entry());
+    builtin = types.size();
+  }
+  // Under the lock, or from the constructor.
+  void add(ObjectiveTermType type) {
+    check_entry(type);
+    for (std::size_t k = 0; k < types.size(); ++k)
+      if (types[k]->type == type.type)
+        throw std::logic_error("register_objective_term: \"" + type.type + "\" is " +
+                               (k < builtin ? "one of tailor's own term types" : "registered already"));
+    types.push_back(std::make_shared<const ObjectiveTermType>(std::move(type)));
+  }
 };
 
 Registry& registry() {
   static Registry instance;
   return instance;
-}
-
-template <std::size_t... I>
-bool is_builtin_type(const std::string& type, std::index_sequence<I...>) {
-  return ((type == std::variant_alternative_t<I, ObjectiveTerm>::kType) || ...);
 }
 
 }  // namespace
@@ -37,29 +72,17 @@ Eigen::MatrixXi ObjectiveTermContext::facets(const char* key) const {
                                 parse_vertex_selector(node.at(key), scene.directory));
 }
 
-void register_objective_term(ObjectiveTermType type) {
-  if (type.type.empty()) throw std::logic_error("register_objective_term: the type needs a name");
-  if (!type.build)
-    throw std::logic_error("register_objective_term: \"" + type.type + "\" has no build function");
-  if (is_builtin_type(type.type, std::make_index_sequence<std::variant_size_v<ObjectiveTerm>>()))
-    throw std::logic_error("register_objective_term: \"" + type.type +
-                           "\" is one of tailor's own term types");
-  for (const std::string& key : type.required) {
-    bool listed = false;
-    for (const std::string& k : type.keys) listed = listed || k == key;
-    if (!listed)
-      throw std::logic_error("register_objective_term: \"" + type.type + "\" requires \"" + key +
-                             "\", which is not among its keys");
-  }
-  Registry& r = registry();
-  const std::lock_guard<std::mutex> lock(r.mutex);
-  for (const auto& existing : r.types)
-    if (existing->type == type.type)
-      throw std::logic_error("register_objective_term: \"" + type.type + "\" is registered already");
-  r.types.push_back(std::make_shared<const ObjectiveTermType>(std::move(type)));
+void ObjectiveTermContext::record_truth(const Eigen::VectorXd& youngs_modulus, const std::string& key) const {
+  set_truth(scene, *building_, youngs_modulus, key);
 }
 
-std::vector<std::string> registered_objective_term_types() {
+void register_objective_term(ObjectiveTermType type) {
+  Registry& r = registry();
+  const std::lock_guard<std::mutex> lock(r.mutex);
+  r.add(std::move(type));
+}
+
+std::vector<std::string> objective_term_types() {
   Registry& r = registry();
   const std::lock_guard<std::mutex> lock(r.mutex);
   std::vector<std::string> out;

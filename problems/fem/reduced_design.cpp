@@ -26,8 +26,8 @@
 #include "problems/fem/inverse_scene.hpp"
 #include "problems/fem/scene_parsing.hpp"
 #include "problems/fem/scene_selection.hpp"
-#include "problems/json_text.hpp"
 #include "problems/output_process.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 
 namespace tailor {
@@ -249,7 +249,7 @@ ReducedDesign build_reduced_design(const Scene& scene) {
   // Objective: exactly one handles term; every handle with force and displacement.
   const HandlesTerm* term = nullptr;
   for (const ObjectiveTermSpec& t : spec.objective) {
-    if (const auto* h = std::get_if<HandlesTerm>(&t.term)) {
+    if (const auto* h = t.settings_as<HandlesTerm>()) {
       term = h;
       continue;
     }
@@ -646,9 +646,7 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
         report["max_full_error"] =
             *std::max_element(run.full->handle_errors.begin(), run.full->handle_errors.end());
     }
-    std::ofstream out(run.report_path);
-    if (!out) throw std::runtime_error("cannot write " + run.report_path);
-    out << dump_json(report, 2) << "\n";
+    write_report_file(run.report_path, report);
   }
   if (log) {
     *log << run.result.report();

@@ -1,12 +1,12 @@
 #include "problems/fem/report.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/json_text.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 
 namespace tailor {
@@ -83,10 +83,7 @@ void write_report_json(const std::string& path, const Scene& scene, const Static
                        {"reaction_force_total", to_json(solution.reaction_force_total)},
                        {"applied_force_total", to_json(applied)}};
 
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
-  out << dump_json(report, 2) << "\n";
-  if (!out) throw std::runtime_error("error while writing '" + path + "'");
+  write_report_file(path, report);
 }
 
 void write_result_vtu(const std::string& path, const StaticSetup& setup, const StaticSolution& solution,

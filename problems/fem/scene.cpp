@@ -15,6 +15,7 @@
 #include "problems/fem/linear_solver_choice.hpp"
 #include "problems/fem/scene_parsing.hpp"
 #include "problems/fem/spline_curves_json.hpp"
+#include "problems/json_duplicate_keys.hpp"
 
 namespace tailor {
 namespace {
@@ -395,7 +396,13 @@ nlohmann::json parse_scene_document(const std::string& json_text, const std::str
     return true;
   };
   try {
-    return nlohmann::json::parse(json_text, track_keys);
+    nlohmann::json document = nlohmann::json::parse(json_text, track_keys);
+    if (const auto duplicate = find_duplicate_key(json_text))
+      throw SceneError(source + ": " + duplicate->path + ": the key appears twice (line " +
+                       std::to_string(duplicate->first_line) + ", column " + std::to_string(duplicate->first_column) +
+                       " and line " + std::to_string(duplicate->line) + ", column " +
+                       std::to_string(duplicate->column) + "); JSON would keep only the last value");
+    return document;
   } catch (const nlohmann::json::parse_error& e) {
     // e.what() reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
     std::string what = e.what();
@@ -430,10 +437,13 @@ nlohmann::json read_scene_document(const std::string& path) {
 
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& directory) {
   const nlohmann::json document = parse_scene_document(json_text, source);
+  return parse_scene(SceneNode(document, source, ""), directory);
+}
+
+Scene parse_scene(const SceneNode& root, const std::string& directory) {
   Scene scene;
-  scene.source = source;
+  scene.source = root.source();
   scene.directory = directory;
-  const SceneNode root(document, scene.source, "");
   root.expect_keys(
       {"name", "description", "mesh", "materials", "dirichlet", "loads", "solver", "inverse", "dynamics"});
   if (auto n = root.find("name")) {

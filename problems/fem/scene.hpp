@@ -110,6 +110,7 @@ struct SolverSpec {
   std::optional<ThreadSettings> threads;  // solver.threads: applied by the CLI before the run
 };
 
+class SceneNode;      // problems/scene_node.hpp
 struct InverseSpec;   // problems/fem/inverse_scene.hpp
 struct DynamicsSpec;  // problems/fem/dynamic_scene.hpp
 
@@ -132,6 +133,8 @@ struct Scene {
 // Parses scene JSON text. `source` names the scene in messages, `directory` resolves relative
 // paths (mesh and data files are read here, except the mesh itself). Throws SceneError.
 Scene parse_scene(const std::string& json_text, const std::string& source, const std::string& directory);
+// The same on a parsed document (SceneFile::node(), problems/scene_kinds.hpp).
+Scene parse_scene(const SceneNode& root, const std::string& directory);
 // Reads and parses a scene file; the default name is the file's stem. Throws SceneError.
 Scene read_scene(const std::string& path);
 

@@ -36,6 +36,10 @@ VertexSelector parse_vertex_selector(const SceneNode& node, const std::string& d
 // Called before the mesh is allocated.
 void check_mesh_fits(const SceneNode& node, double elements, int dim);
 
+// A Young's modulus field (ModulusField): a number > 0, {"materials": [...]}, {"file": path} or
+// an expression {"value", "gradient", "inclusions"} (inverse_scene.cpp; docs/scenes.md).
+ModulusField parse_modulus_field(const SceneNode& node, const std::string& directory);
+
 // A "handles" objective term (inverse_handles.cpp).
 HandlesTerm parse_handles_term(const SceneNode& node, const std::string& directory);
 

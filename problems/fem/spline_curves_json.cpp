@@ -8,6 +8,7 @@
 #include "problems/fem/scene.hpp"
 #include "problems/fem/scene_parsing.hpp"
 #include "problems/json_text.hpp"
+#include "problems/report_file.hpp"
 #include "tailor_version.hpp"
 
 namespace tailor {
@@ -76,10 +77,7 @@ void write_spline_material_file(const std::string& path, const PrincipalStretchC
   const nlohmann::ordered_json file = {{"tailor_version", version_string},
                                        {"source", source},
                                        {"curves", principal_stretch_curves_json(curves)}};
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
-  out << dump_json(file, 2) << "\n";
-  if (!out) throw std::runtime_error("error while writing '" + path + "'");
+  write_text_file_atomically(path, dump_json(file, 2) + "\n");
 }
 
 LameParameters small_strain_lame(const PrincipalStretchCurves& curves) {

@@ -23,7 +23,8 @@ PrincipalStretchCurves parse_curves_or_file(const SceneNode& node, const std::st
 
 nlohmann::json principal_stretch_curves_json(const PrincipalStretchCurves& curves);
 
-// Writes {"tailor_version", "source", "curves"} to path (throws std::runtime_error on failure).
+// Writes {"tailor_version", "source", "curves"} to path atomically (report_file.hpp; throws
+// std::runtime_error on failure).
 void write_spline_material_file(const std::string& path, const PrincipalStretchCurves& curves,
                                 const std::string& source);
 

@@ -173,7 +173,7 @@ const Scene& Study::parsed_scene() {
   nlohmann::json document = document_;
   nlohmann::json section = document.contains("inverse") ? document["inverse"] : nlohmann::json::object();
   document.erase("inverse");
-  Scene scene = parse_scene(dump_json(document), source_, directory_);
+  Scene scene = parse_scene(SceneNode(document, source_, ""), directory_);
   if (scene.name.empty()) scene.name = "study";
   if (!section.is_object())
     throw SceneError(source_ + ": inverse: expected an object, got " + describe_json(section));

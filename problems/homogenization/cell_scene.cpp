@@ -3,16 +3,12 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "forward/homogenization/cell_mesh.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/fem/scene_parsing.hpp"
-#include "problems/json_text.hpp"
 #include "problems/scene_node.hpp"
 
 namespace tailor {
@@ -94,18 +90,12 @@ Vector CellScene::poisson_ratio() const {
   return nu;
 }
 
-bool is_periodic_cell_scene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return false;
-  const nlohmann::json document = parse_json_or_discarded(in);
-  return document.is_object() && document.contains("type") && document["type"] == "periodic_cell";
-}
-
 CellScene parse_cell_scene(const SceneNode& root, const std::string& directory) {
   root.expect_keys({"type", "name", "description", "cell", "plane", "materials", "phases", "directions",
                     "design", "stress_strain"});
   if (root.at("type").string() != "periodic_cell") root.at("type").fail("expected \"periodic_cell\"");
   CellScene scene;
+  scene.source = root.source();
   if (const auto name = root.find("name")) scene.name = name->string();
   const SceneNode cell = root.at("cell");
   cell.expect_keys({"lattice", "origin", "grid", "split", "mesh", "tolerance", "periodic"});
@@ -219,15 +209,6 @@ CellScene parse_cell_scene(const SceneNode& root, const std::string& directory) 
     if (scene.plane == PlaneMode::plane_stress) curves->fail("nonlinear curves are plane strain only in 2D");
     scene.stress_strain = spec;
   }
-  return scene;
-}
-
-CellScene read_cell_scene(const std::string& path) {
-  const nlohmann::json document = read_scene_document(path);
-  const SceneNode root(document, path, "");
-  CellScene scene = parse_cell_scene(root, std::filesystem::path(path).parent_path().string());
-  scene.source = path;
-  if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();
   return scene;
 }
 

@@ -21,7 +21,6 @@
 // then moves the elements whose centroid it contains (later rules win). Discs (spheres in
 // 3D) use the distance to the nearest periodic image of the centre (Cartesian); slabs use the
 // fractional coordinate along lattice vector `axis` of the centroid.
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -49,7 +48,7 @@ struct StressStrainSpec {
 
 struct CellScene {
   std::string name;
-  std::string source;  // the file
+  std::string source;  // the scene in messages (its file)
   PeriodicCell cell;
   PlaneMode plane = PlaneMode::plane_strain;
   std::vector<CellPhase> materials;
@@ -61,12 +60,10 @@ struct CellScene {
   Vector poisson_ratio() const;
 };
 
-// True when the file is a JSON object with "type": "periodic_cell".
-bool is_periodic_cell_scene(const std::string& path);
-// Reads the file; throws SceneError naming file and key, MeshError for mesh files, and
-// SceneError carrying the PeriodicityError message for a non-periodic mesh.
-CellScene read_cell_scene(const std::string& path);
-// The parts of read_cell_scene on an already-parsed root (the design section reuses it).
+// The scene's document; `directory` resolves the mesh file's path. The name is left empty when
+// the scene gives none. Throws SceneError naming the source and key path (unknown keys
+// included), MeshError for mesh files, and SceneError carrying the PeriodicityError message for
+// a non-periodic mesh. The design section is parse_metamaterial_design's.
 CellScene parse_cell_scene(const SceneNode& root, const std::string& directory);
 
 }  // namespace tailor

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -15,6 +14,7 @@
 #include "problems/homogenization/plate_command.hpp"
 #include "problems/json_text.hpp"
 #include "problems/plot/line_plot.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 
 namespace tailor {
@@ -187,11 +187,7 @@ HomogenizeRun homogenize_scene(const CellScene& scene, const std::string& out_di
                                {"curves", curves}};
     write_line_plot_png(out_dir + "/stress_strain.png", plot);
   }
-  const std::string report_path = out_dir + "/report.json";
-  std::ofstream out(report_path);
-  if (!out) throw std::runtime_error("cannot write " + report_path);
-  out << dump_json(report, 2) << "\n";
-  if (!out) throw std::runtime_error("cannot write " + report_path);
+  const std::string report_path = write_report(out_dir, report);
 
   write_directional_plots(out_dir, scene.name, samples);
   write_cell_fields(out_dir, "load_case_", cell, run.result, E, scene.element_phase);

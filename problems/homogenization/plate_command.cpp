@@ -3,15 +3,13 @@
 #include <Eigen/LU>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <ostream>
 
 #include "forward/homogenization/plate_bending.hpp"
-#include "problems/json_text.hpp"
 #include "problems/plot/line_plot.hpp"
-#include "tailor_version.hpp"
+#include "problems/report_file.hpp"
 
 namespace tailor {
 
@@ -67,11 +65,7 @@ HomogenizeRun homogenize_plate(const CellScene& scene, const std::string& out_di
                     {"elements", scene.cell.mesh.num_elements()},
                     {"periodic_nodes", scene.cell.num_periodic_nodes()}};
   report["timings"] = {{"factorization_seconds", plate.factorization_seconds}};
-  report["tailor_version"] = version_string;
-  const std::string path = out_dir + "/report.json";
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path);
-  out << dump_json(report, 2) << "\n";
+  const std::string path = write_report(out_dir, report);
   if (log)
     *log << "plate bending of " << scene.name << ": D (Voigt 11, 22, 12, engineering twist) =\n"
          << std::setprecision(6) << plate.stiffness << "\nwrote " << path

@@ -1,14 +1,13 @@
 #include "problems/material_fit/material_fit_report.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "problems/fem/report.hpp"
 #include "problems/fem/spline_curves_json.hpp"
-#include "problems/json_text.hpp"
 #include "problems/optimizer_report.hpp"
+#include "problems/report_file.hpp"
 
 namespace tailor {
 
@@ -71,10 +70,7 @@ void write_material_fit_report(const std::string& path, const MaterialFitSpec& s
   report["mesh"] = {
       {"dim", specimen.dim()}, {"vertices", specimen.num_vertices()}, {"elements", specimen.num_elements()}};
 
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
-  out << dump_json(report, 2) << "\n";
-  if (!out) throw std::runtime_error("error while writing '" + path + "'");
+  write_report_file(path, report);
 }
 
 }  // namespace tailor

@@ -1,12 +1,8 @@
 #include "problems/material_fit/material_fit_scene.hpp"
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-
 #include "optimizers/backend_registry.hpp"
 #include "problems/fem/scene.hpp"
-#include "problems/json_text.hpp"
+#include "problems/optimizer_section.hpp"
 #include "problems/scene_node.hpp"
 
 namespace tailor {
@@ -48,21 +44,12 @@ ShapeConstraint parse_shape(const SceneNode& node) {
 
 }  // namespace
 
-bool is_material_fit_scene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return false;
-  const nlohmann::json document = parse_json_or_discarded(in);
-  return document.is_object() && document.contains("type") && document["type"] == "material_fit";
-}
-
-MaterialFitSpec parse_material_fit_scene(const std::string& json_text, const std::string& source) {
-  const nlohmann::json document = parse_json_or_discarded(json_text);
-  if (document.is_discarded()) throw SceneError(source + ": invalid JSON");
-  const SceneNode root(document, source, "");
+MaterialFitSpec parse_material_fit_scene(const SceneNode& root) {
   root.expect_keys({"name", "type", "description", "specimen", "curves", "load_cases", "reference", "initial",
                     "smoothness", "convex", "shape", "optimizer"});
   if (root.at("type").string() != "material_fit") root.at("type").fail("expected \"material_fit\"");
   MaterialFitSpec spec;
+  spec.source = root.source();
   if (auto n = root.find("name")) spec.name = n->string();
   if (auto d = root.find("description")) d->string();
   if (auto s = root.find("specimen")) {
@@ -124,46 +111,14 @@ MaterialFitSpec parse_material_fit_scene(const std::string& json_text, const std
       spec.shapes.push_back({item.choice({"uniaxial", "biaxial", "volumetric"}), CurveShape::convex});
   if (auto list = root.find("shape"))
     for (const SceneNode& item : list->items()) spec.shapes.push_back(parse_shape(item));
-  if (auto o = root.find("optimizer")) {
-    o->expect_keys({"backend", "max_iterations", "gradient_tolerance"});
-    if (auto b = o->find("backend")) {
-      try {
-        spec.optimizer.backend = parse_optimizer_backend(b->string());
-      } catch (const std::invalid_argument& e) {
-        b->fail(e.what());
-      }
-    }
-    if (auto m = o->find("max_iterations")) spec.optimizer.max_iterations = m->integer(1);
-    if (auto g = o->find("gradient_tolerance")) spec.optimizer.gradient_tolerance = g->positive();
-  } else {
-    spec.optimizer.backend = OptimizerBackend::ceres_least_squares;
-  }
+  spec.optimizer.backend = OptimizerBackend::ceres_least_squares;
+  if (auto o = root.find("optimizer"))
+    spec.optimizer = parse_optimizer_section(*o, spec.optimizer, {"a material fit", false, false, {}});
   if (!spec.shapes.empty() && !find_backend(spec.optimizer.backend).capabilities.inequality_constraints)
     root.at(root.has("convex") ? "convex" : "shape")
         .fail("shape constraints need a constrained optimizer (" +
               backends_with(&BackendCapabilities::inequality_constraints) + ")");
   return spec;
-}
-
-MaterialFitSpec read_material_fit_scene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  MaterialFitSpec spec = parse_material_fit_scene(text.str(), path);
-  spec.source = path;
-  if (spec.name.empty()) spec.name = std::filesystem::path(path).stem().string();
-  return spec;
-}
-
-}  // namespace tailor
-
-namespace tailor {
-
-MaterialFitRun run_material_fit_scene(const std::string& path, const std::string& out_dir, std::ostream* log,
-                                      std::ostream* progress) {
-  const MaterialFitSpec spec = read_material_fit_scene(path);
-  return run_material_fit(spec, out_dir.empty() ? "out/" + spec.name : out_dir, log, progress);
 }
 
 }  // namespace tailor

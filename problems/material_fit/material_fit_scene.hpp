@@ -7,14 +7,10 @@
 
 namespace tailor {
 
-// True when the file is a JSON object with "type": "material_fit" (false for other scenes;
-// unreadable or invalid files are left to the regular scene reader to report).
-bool is_material_fit_scene(const std::string& path);
-// Throws SceneError naming the file and key path.
-MaterialFitSpec parse_material_fit_scene(const std::string& json_text, const std::string& source);
-MaterialFitSpec read_material_fit_scene(const std::string& path);
-// `tailor run` on a material-fit scene: reads, fits, writes into out_dir (out/<name> when empty).
-MaterialFitRun run_material_fit_scene(const std::string& path, const std::string& out_dir, std::ostream* log,
-                                      std::ostream* progress);
+class SceneNode;  // problems/scene_node.hpp
+
+// The scene's document; the name is left empty when the scene gives none. Throws SceneError
+// naming the source and key path (unknown keys included).
+MaterialFitSpec parse_material_fit_scene(const SceneNode& root);
 
 }  // namespace tailor

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -18,7 +17,9 @@
 #include "problems/homogenization/directional_plots.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
 #include "problems/json_text.hpp"
+#include "problems/optimizer_section.hpp"
 #include "problems/plot/field_image.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 #include "problems/scene_node.hpp"
 
@@ -90,23 +91,17 @@ MetamaterialDesignSpec parse_metamaterial_design(const SceneNode& root, const Ce
       spec.objective.poisson_pairs.empty())
     objective.fail("no objective given");
 
-  spec.optimizer.backend = OptimizerBackend::nlopt_mma;
-  spec.optimizer.max_iterations = 100;
-  spec.optimizer.gradient_tolerance = 0.0;
-  spec.optimizer.objective_tolerance = 1e-9;
+  OptimizerOptions defaults;
+  defaults.backend = OptimizerBackend::nlopt_mma;
+  defaults.max_iterations = 100;
+  defaults.gradient_tolerance = 0.0;
+  defaults.objective_tolerance = 1e-9;
+  spec.optimizer = defaults;
   if (const auto optimizer = design.find("optimizer")) {
-    optimizer->expect_keys({"backend", "max_iterations", "objective_tolerance"});
-    if (optimizer->has("backend")) {
-      try {
-        spec.optimizer.backend = parse_optimizer_backend(optimizer->at("backend").string());
-      } catch (const std::invalid_argument& e) {
-        optimizer->at("backend").fail(e.what());
-      }
-    }
-    if (optimizer->has("max_iterations"))
-      spec.optimizer.max_iterations = optimizer->at("max_iterations").integer(1);
-    if (optimizer->has("objective_tolerance"))
-      spec.optimizer.objective_tolerance = optimizer->at("objective_tolerance").non_negative();
+    OptimizerSectionSupport support;
+    support.kind = "a cell design";
+    support.needs.bounds = support.needs.inequality_constraints = true;  // densities in [0, 1], volume
+    spec.optimizer = parse_optimizer_section(*optimizer, defaults, support);
   }
   const SceneNode cell = root.at("cell");
   if (cell.has("grid")) spec.grid = cell.at("grid").integers(1);
@@ -182,20 +177,9 @@ nlohmann::json summary_json(const CellObjective& objective, const Matrix& C) {
 
 }  // namespace
 
-bool is_metamaterial_scene(const std::string& path) {
-  if (!is_periodic_cell_scene(path)) return false;
-  std::ifstream in(path);
-  const nlohmann::json document = parse_json_or_discarded(in);
-  return document.is_object() && document.contains("design");
-}
-
-MetamaterialRun run_metamaterial_scene(const std::string& path, const std::string& out_dir, std::ostream* log,
-                                       std::ostream* progress) {
-  const nlohmann::json document = read_scene_document(path);
-  const SceneNode root(document, path, "");
-  CellScene scene = parse_cell_scene(root, std::filesystem::path(path).parent_path().string());
-  if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();
-  const MetamaterialDesignSpec spec = parse_metamaterial_design(root, scene);
+MetamaterialRun run_metamaterial_design(const CellScene& scene, const MetamaterialDesignSpec& spec,
+                                        const std::string& out_dir, std::ostream* log,
+                                        std::ostream* progress) {
   auto cell = std::make_shared<LinearCell>(scene.cell, scene.plane);
   CellDesignFunctional functional(cell, spec.material, spec.filter_radius, spec.objective);
 
@@ -223,6 +207,11 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
   double seconds = 0.0;
   for (const double beta : spec.projection_betas) {
     functional.set_projection(beta);
+    // A time limit is the whole continuation's: each stage gets what the earlier ones left.
+    if (spec.optimizer.time_limit_seconds > 0.0) {
+      options.time_limit_seconds = spec.optimizer.time_limit_seconds - seconds;
+      if (options.time_limit_seconds <= 0.0) break;  // not the first stage: the limit is positive
+    }
     run.result = minimize(functional, z, bounds, {volume}, options);
     for (auto it : run.result.history) {
       it.iteration = static_cast<int>(stages.size());
@@ -301,9 +290,7 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
                        {"adjoint_seconds", counters.adjoint_seconds},
                        {"seconds_per_evaluation", (counters.forward_seconds + counters.adjoint_seconds) /
                                                       std::max(1, counters.evaluations)}};
-  std::ofstream out(out_dir + "/report.json");
-  if (!out) throw std::runtime_error("cannot write " + out_dir + "/report.json");
-  out << dump_json(report, 2) << "\n";
+  const std::string report_path = write_report(out_dir, report);
 
   VtkFields fields;
   fields.cell["design"] = run.result.z;
@@ -324,7 +311,7 @@ MetamaterialRun run_metamaterial_scene(const std::string& path, const std::strin
          << "gray design:        " << dump_json(report["gray"]) << "\n"
          << "thresholded (1/2):  " << dump_json(report["thresholded"]) << "\n"
          << "refined x" << spec.refine << ":        " << dump_json(refined_json) << "\n"
-         << "wrote " << out_dir << "/report.json, design.vtu, design.png and the thresholded design's "
+         << "wrote " << report_path << ", design.vtu, design.png and the thresholded design's "
          << "youngs_modulus_polar.png and poisson_ratio.png\n";
   return run;
 }

@@ -33,13 +33,13 @@ struct MetamaterialRun {
   Matrix stiffness_gray, stiffness_thresholded, stiffness_refined;
 };
 
-bool is_metamaterial_scene(const std::string& path);  // a periodic_cell scene with "design"
-// The "design" section of `root`, a periodic-cell scene already parsed into `scene`. Throws
-// SceneError naming the key path.
+// The "design" section of `root`, a periodic-cell scene already parsed into `scene`
+// (parse_cell_scene). Throws SceneError naming the key path (unknown keys included).
 MetamaterialDesignSpec parse_metamaterial_design(const SceneNode& root, const CellScene& scene);
-// Reads, optimizes, re-checks and writes DIR/report.json, DIR/design.vtu; progress to `log`,
-// one line per iteration to `progress` when set. Throws SceneError on bad input.
-MetamaterialRun run_metamaterial_scene(const std::string& path, const std::string& out_dir, std::ostream* log,
-                                       std::ostream* progress);
+// Optimizes, re-checks and writes DIR/report.json, DIR/design.vtu and the plots; progress to
+// `log` when set, one line per iteration to `progress` when set.
+MetamaterialRun run_metamaterial_design(const CellScene& scene, const MetamaterialDesignSpec& spec,
+                                        const std::string& out_dir, std::ostream* log,
+                                        std::ostream* progress);
 
 }  // namespace tailor

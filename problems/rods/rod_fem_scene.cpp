@@ -9,7 +9,6 @@
 
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/fem/static_scene.hpp"
-#include "problems/json_text.hpp"
 #include "problems/rods/rod_scene.hpp"
 #include "problems/scene_node.hpp"
 
@@ -75,17 +74,16 @@ class PrefixTerm final : public EnergyTerm {
 
 }  // namespace
 
-RodFemSimulation simulate_rods_with_fem(const nlohmann::json& document, const std::string& source,
-                                        const std::string& directory, const std::string& out_dir,
-                                        std::ostream* log) {
-  const SceneNode root(document, source, "");
+RodFemSimulation simulate_rods_with_fem(const SceneNode& root, const std::string& directory,
+                                        const std::string& out_dir, std::ostream* log) {
+  const std::string& source = root.source();
   for (const char* key : {"dynamics", "inverse"})
     if (root.has(key)) root.at(key).fail("not implemented for a scene with both rods and a mesh");
   // The FEM body: the static scene's keys only (the rest belongs to the rods).
   nlohmann::json fem = nlohmann::json::object();
   for (const char* key : {"name", "description", "mesh", "materials", "dirichlet", "loads", "solver"})
-    if (document.contains(key)) fem[key] = document[key];
-  const Scene scene = parse_scene(dump_json(fem), source, directory);
+    if (root.has(key)) fem[key] = root.at(key).json();
+  const Scene scene = parse_scene(SceneNode(fem, source, ""), directory);
   const StaticSetup setup = setup_static_scene(scene);
   require_supported(scene, setup);  // a body free to move rigidly has no equilibrium (nor do free rods)
   if (setup.solver.load_steps > 1)

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <ostream>
 
@@ -15,6 +14,8 @@
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
 #include "problems/optimizer_report.hpp"
+#include "problems/optimizer_section.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 #include "problems/scene_node.hpp"
 #include "problems/taylor_report.hpp"
@@ -73,7 +74,9 @@ std::pair<int, int> block_range(const RodSceneModel& m, int k, RodDesignBlock b)
   return {0, 0};
 }
 
-RodInverseSpec parse_inverse(const SceneNode& root, const RodSceneSpec& scene) {
+}  // namespace
+
+RodInverseSpec parse_rod_inverse(const SceneNode& root, const RodSceneSpec& scene) {
   const SceneNode inv = root.at("inverse");
   inv.expect_keys({"rod", "design", "per", "target", "regularization", "optimizer", "gradcheck"});
   RodInverseSpec spec;
@@ -145,31 +148,14 @@ RodInverseSpec parse_inverse(const SceneNode& root, const RodSceneSpec& scene) {
   spec.optimizer.max_iterations = 100;
   spec.optimizer.gradient_tolerance = 1e-14;
   spec.optimizer.objective_tolerance = 0.0;
-  if (const auto opt = inv.find("optimizer")) {
-    opt->expect_keys(
-        {"backend", "max_iterations", "gradient_tolerance", "objective_tolerance", "time_limit"});
-    if (opt->has("backend")) {
-      try {
-        spec.optimizer.backend = parse_optimizer_backend(opt->at("backend").string());
-      } catch (const std::invalid_argument& e) {
-        opt->at("backend").fail(e.what());
-      }
-    }
-    if (opt->has("max_iterations")) spec.optimizer.max_iterations = opt->at("max_iterations").integer(1);
-    if (opt->has("gradient_tolerance"))
-      spec.optimizer.gradient_tolerance = opt->at("gradient_tolerance").non_negative();
-    if (opt->has("objective_tolerance"))
-      spec.optimizer.objective_tolerance = opt->at("objective_tolerance").non_negative();
-    if (opt->has("time_limit")) spec.optimizer.time_limit_seconds = opt->at("time_limit").non_negative();
-  }
+  if (const auto opt = inv.find("optimizer"))
+    spec.optimizer = parse_optimizer_section(*opt, spec.optimizer, {"a rod scene", true, false, {}});
   if (const auto g = inv.find("gradcheck")) {
     g->expect_keys({"seed"});
     if (g->has("seed")) spec.seed = static_cast<unsigned>(g->at("seed").integer(0));
   }
   return spec;
 }
-
-}  // namespace
 
 double RodInverseProblem::shape_error(const Vector& x) const {
   const int first = model.first_vertex[static_cast<std::size_t>(spec.rod)];
@@ -186,14 +172,17 @@ double RodInverseProblem::shape_error(const Vector& x) const {
 
 std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& document,
                                                      const std::string& source, const std::string& name) {
+  return build_rod_inverse(SceneNode(document, source, ""), name);
+}
+
+std::unique_ptr<RodInverseProblem> build_rod_inverse(const SceneNode& root, const std::string& name) {
   auto problem = std::make_unique<RodInverseProblem>();
   RodInverseProblem& P = *problem;
   P.name = name;
-  P.source = source;
-  const SceneNode root(document, source, "");
+  P.source = root.source();
   P.scene = parse_rod_scene(root);
   if (!root.has("inverse")) root.fail("needs an \"inverse\" section for gradcheck and run (docs/rods.md)");
-  P.spec = parse_inverse(root, P.scene);
+  P.spec = parse_rod_inverse(root, P.scene);
   P.model = build_rod_model(P.scene);
   const int k = P.spec.rod;
   const DiscreteRod& rod = *P.model.rods[static_cast<std::size_t>(k)];
@@ -274,12 +263,6 @@ std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& docum
 
 namespace {
 
-void write_json(const std::filesystem::path& path, const nlohmann::ordered_json& document) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path.string());
-  out << dump_json(document, 2) << "\n";
-}
-
 nlohmann::ordered_json scene_json(const RodInverseProblem& P) {
   nlohmann::ordered_json design = nlohmann::ordered_json::array();
   for (RodDesignBlock b : P.spec.design) design.push_back(to_string(b));
@@ -314,7 +297,7 @@ RodGradcheck gradcheck_rod_scene(const RodInverseProblem& problem, const std::st
   document["scene"] = scene_json(problem);
   document["seed"] = options.seed;
   if (check.hessian) document["hessian"] = taylor_json(*check.hessian);
-  write_json(std::filesystem::path(out_dir) / "gradcheck.json", document);
+  write_report_file((std::filesystem::path(out_dir) / "gradcheck.json").string(), document);
   return check;
 }
 
@@ -374,28 +357,13 @@ RodInverseRun run_rod_inverse(RodInverseProblem& P, const std::string& out_dir, 
                        {"forward_seconds", c.forward_seconds},
                        {"adjoint_seconds", c.adjoint_seconds}};
   report["history"] = optimizer_history_json(run.result);
-  run.report_path = (dir / "report.json").string();
-  write_json(run.report_path, report);
+  run.report_path = write_report(out_dir, report);
   if (log)
     *log << "status " << to_string(run.result.status) << " after " << run.result.history.size()
          << " iterations (" << run.result.seconds << " s): shape error " << run.initial_shape_error << " -> "
          << run.shape_error << " of the rod's length, J " << initial_objective << " -> " << final_objective
          << "\nwrote " << run.report_path << ", " << (dir / "rods.vtu").string() << " and rods_initial.vtu\n";
   return run;
-}
-
-std::string rod_scene_stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
-
-RodGradcheck gradcheck_rod_scene_file(const std::string& path, const std::string& out_dir,
-                                      std::optional<unsigned> seed, bool hessian, std::ostream& log) {
-  const auto problem = build_rod_inverse(read_scene_document(path), path, rod_scene_stem(path));
-  return gradcheck_rod_scene(*problem, out_dir, seed, hessian, &log);
-}
-
-RodInverseRun run_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log,
-                                 std::ostream* progress) {
-  const auto problem = build_rod_inverse(read_scene_document(path), path, rod_scene_stem(path));
-  return run_rod_inverse(*problem, out_dir, &log, progress);
 }
 
 }  // namespace tailor

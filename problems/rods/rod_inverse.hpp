@@ -53,7 +53,14 @@ struct RodInverseProblem {
   double shape_error(const Vector& x) const;
 };
 
-// The scene document's "inverse" section; throws SceneError naming the key path.
+// The "inverse" section of a rod scene's document, `scene` its parsed rods. Throws SceneError
+// naming the source and key path (unknown keys included).
+RodInverseSpec parse_rod_inverse(const SceneNode& root, const RodSceneSpec& scene);
+
+// The scene's document with its "inverse" section; `name` is the scene's name in the outputs.
+// Throws SceneError naming the source and key path (unknown keys included).
+std::unique_ptr<RodInverseProblem> build_rod_inverse(const SceneNode& root, const std::string& name);
+// The same for a document without a file (tests, programs that build scenes in memory).
 std::unique_ptr<RodInverseProblem> build_rod_inverse(const nlohmann::json& document,
                                                      const std::string& source, const std::string& name);
 
@@ -77,13 +84,5 @@ struct RodInverseRun {
 };
 RodInverseRun run_rod_inverse(RodInverseProblem& problem, const std::string& out_dir, std::ostream* log,
                               std::ostream* progress);
-
-// File front ends for the CLI: read the scene, build the problem, run.
-RodGradcheck gradcheck_rod_scene_file(const std::string& path, const std::string& out_dir,
-                                      std::optional<unsigned> seed, bool hessian, std::ostream& log);
-RodInverseRun run_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log,
-                                 std::ostream* progress);
-// The scene's default output folder: out/<file stem>.
-std::string rod_scene_stem(const std::string& path);
 
 }  // namespace tailor

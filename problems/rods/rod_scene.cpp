@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <memory>
@@ -26,6 +25,7 @@
 #include "problems/fem/scene.hpp"
 #include "problems/fem/scene_parsing.hpp"
 #include "problems/json_text.hpp"
+#include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 #include "problems/rods/rod_vtu.hpp"
 #include "problems/scene_node.hpp"
@@ -41,13 +41,6 @@ std::vector<RodOutput> RodSceneModel::outputs() const {
   std::vector<RodOutput> out;
   for (std::size_t k = 0; k < rods.size(); ++k) out.push_back({rods[k].get(), blocks[k]});
   return out;
-}
-
-bool is_rod_scene(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) return false;
-  const nlohmann::json j = parse_json_or_discarded(f);
-  return j.is_object() && j.contains("rods");
 }
 
 namespace {
@@ -483,13 +476,6 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& pr
 
 namespace {
 
-void write_report(const std::filesystem::path& path, const nlohmann::ordered_json& report) {
-  std::ofstream f(path);
-  if (!f) throw std::runtime_error("cannot write " + path.string());
-  f << dump_json(report, 2) << "\n";
-  if (!f) throw std::runtime_error("cannot write " + path.string());
-}
-
 nlohmann::ordered_json scene_summary(const RodSceneSpec& spec, const RodSceneModel& m) {
   nlohmann::ordered_json rods = nlohmann::ordered_json::array();
   for (std::size_t k = 0; k < m.rods.size(); ++k)
@@ -650,8 +636,7 @@ RodSimulation solve_rod_model(RodSceneModel& m, const RodSceneSpec& spec, const 
   report["steps"] = steps;
   report["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report["vtu"] = "rods.vtu";
-  result.report_path = (std::filesystem::path(out_dir) / "report.json").string();
-  write_report(result.report_path, report);
+  result.report_path = write_report(out_dir, report);
   if (log) *log << "wrote " << result.report_path << "\n";
   return result;
 }
@@ -733,12 +718,12 @@ RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, co
   std::filesystem::create_directories(dir);
   run.pvd_path = (dir / "rods.pvd").string();
   {
-    std::ofstream f(run.pvd_path);
+    std::ostringstream f;
     f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
     for (std::size_t k = 0; k < run.frames.size(); ++k)
       f << "    <DataSet timestep=\"" << frame_times[k] << "\" file=\"" << run.frames[k] << "\"/>\n";
     f << "  </Collection>\n</VTKFile>\n";
-    if (!f) throw std::runtime_error("cannot write " + run.pvd_path);
+    write_text_file_atomically(run.pvd_path, f.str());
   }
   nlohmann::ordered_json report;
   add_report_header(report);
@@ -760,8 +745,7 @@ RodDynamicsRun integrate_rods(RodSceneModel& m, const DynamicsSpec& dynamics, co
       {"time", run.time}, {"kinetic_energy", run.kinetic_energy}, {"potential_energy", run.potential_energy}};
   report["frames"] = run.frames;
   report["pvd"] = "rods.pvd";
-  run.report_path = (dir / "report.json").string();
-  write_report(run.report_path, report);
+  run.report_path = write_report(out_dir, report);
   if (log)
     *log << "wrote " << run.pvd_path << ", " << run.frames.size() << " frames and " << run.report_path
          << "\n";
@@ -788,17 +772,13 @@ RodDynamicsRun simulate_rod_dynamics(const RodSceneSpec& spec, const std::string
   return integrate_rods(m, *spec.dynamics, x0, v0, out_dir, log);
 }
 
-bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log) {
-  const nlohmann::json document = read_scene_document(path);
-  if (document.is_object() && document.contains("mesh")) {
-    const std::string directory = std::filesystem::path(path).parent_path().string();
-    return simulate_rods_with_fem(document, path, directory.empty() ? "." : directory, out_dir, &log)
-        .rods.converged;
-  }
-  RodSceneSpec spec = parse_rod_scene(SceneNode(document, path, ""));
-  spec.source = path;
-  if (spec.dynamics) return simulate_rod_dynamics(spec, out_dir, &log).completed;
-  return simulate_rods(spec, out_dir, &log).converged;
+bool simulate_rod_scene(const SceneNode& root, const std::string& directory, const std::string& out_dir,
+                        std::ostream* log) {
+  if (root.has("mesh")) return simulate_rods_with_fem(root, directory, out_dir, log).rods.converged;
+  RodSceneSpec spec = parse_rod_scene(root);
+  spec.source = root.source();
+  if (spec.dynamics) return simulate_rod_dynamics(spec, out_dir, log).completed;
+  return simulate_rods(spec, out_dir, log).converged;
 }
 
 }  // namespace tailor

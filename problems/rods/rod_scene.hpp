@@ -63,8 +63,6 @@ struct RodSceneSpec {
   std::string source;  // the scene file, for reports (empty when parsed from memory)
 };
 
-// True when the JSON file has a top-level "rods" section.
-bool is_rod_scene(const std::string& path);
 // The scene's document (the "rods" section and the top-level keys of docs/rods.md). Throws
 // SceneError "<source>: <key path>: <what>" on bad input, unknown keys included.
 RodSceneSpec parse_rod_scene(const SceneNode& root);
@@ -171,11 +169,12 @@ struct RodFemSimulation {
   int fem_dofs = 0;
   std::string fem_vtu_path;
 };
-RodFemSimulation simulate_rods_with_fem(const nlohmann::json& document, const std::string& source,
-                                        const std::string& directory, const std::string& out_dir,
-                                        std::ostream* log = nullptr);
+RodFemSimulation simulate_rods_with_fem(const SceneNode& root, const std::string& directory,
+                                        const std::string& out_dir, std::ostream* log = nullptr);
 
-// `tailor simulate` for a rod scene file; returns true when Newton converged at every step.
-bool simulate_rod_scene_file(const std::string& path, const std::string& out_dir, std::ostream& log);
+// `tailor simulate` on a rod scene's document (`directory`: where a mesh file's path starts): the
+// equilibrium, the dynamics, or the rods next to a mesh. True when every solve converged.
+bool simulate_rod_scene(const SceneNode& root, const std::string& directory, const std::string& out_dir,
+                        std::ostream* log);
 
 }  // namespace tailor

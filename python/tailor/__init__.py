@@ -24,7 +24,7 @@ from .optimize import scipy_minimize
 
 __all__ = [
     "EvaluationError", "Functional", "MeshError", "Report", "Scene", "SceneError", "__version__",
-    "gradcheck", "load", "modes", "run", "scipy_minimize", "simulate",
+    "gradcheck", "homogenize", "load", "modes", "run", "scipy_minimize", "simulate",
 ]
 
 
@@ -171,6 +171,12 @@ class Scene:
             return d.report(self._doc.run(d.path, log=log, progress=progress,
                                           checkpoint_every=checkpoint_every, resume=resume))
 
+    def homogenize(self, out_dir=None, log=None):
+        """`tailor homogenize`: the effective elasticity of a periodic cell (docs/homogenization.md);
+        the report as a Report, without fields."""
+        with _OutDir(out_dir) as d:
+            return d.report(self._doc.homogenize(d.path, log=log))
+
     def check(self, seed=1, log=None):
         """`tailor check`: derivative checks of every energy term; True when none failed."""
         return self._doc.check(seed=seed, log=log) == 0
@@ -219,3 +225,8 @@ def gradcheck(scene, **kwargs):
 def run(scene, **kwargs):
     """tailor.load(scene).run(**kwargs)"""
     return load(scene).run(**kwargs)
+
+
+def homogenize(scene, **kwargs):
+    """tailor.load(scene).homogenize(**kwargs)"""
+    return load(scene).homogenize(**kwargs)

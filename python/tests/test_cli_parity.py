@@ -145,3 +145,46 @@ def test_option_a_kind_cannot_honour_is_a_value_error():
     rods = tailor.load(str(scene_path("rods/rod_stiffness_design.json")))
     with pytest.raises(ValueError, match="--resume and --checkpoint-every are not implemented for rod scenes"):
         rods.run(checkpoint_every=5)
+
+
+def test_dict_rods_scene_matches_cli(cli, tmp_path):
+    # Every kind takes a dict: a rods scene runs the command line's handler on the document.
+    path = scene_path("rods/rod_cantilever.json")
+    code, output = cli("simulate", path, tmp_path / "cli")
+    assert code == 0, output
+    loaded = tailor.load(read_json(path), name="rod_cantilever")
+    assert loaded.kind == "rods"
+    report = loaded.simulate(out_dir=tmp_path / "py")
+    assert report.ok and report["status"] == "converged" and report.fields == {}
+    assert_same_report(read_json(tmp_path / "cli" / "report.json"), report)
+
+
+def test_dict_cell_scene_homogenizes_like_cli(cli, tmp_path):
+    document = read_json(scene_path("homogenization/layered_square.json"))
+    del document["stress_strain"]  # the linear part only: quicker
+    path = tmp_path / "layered.json"
+    path.write_text(json.dumps(document))
+    code, output = cli("homogenize", path, tmp_path / "cli")
+    assert code == 0, output
+    loaded = tailor.load(document)
+    assert loaded.kind == "periodic_cell"
+    report = loaded.homogenize(out_dir=tmp_path / "py")
+    assert report.ok and report["status"] == "ok" and report["scene"] == "layered_square"
+    assert_same_report(read_json(tmp_path / "cli" / "report.json"), report)
+    # A mesh file's path starts from `directory`: a unit square of 3 x 3 squares, two triangles each.
+    n = 3
+    vertices = [f"{i / n} {j / n} 0" for j in range(n + 1) for i in range(n + 1)]
+    triangles = []
+    for j in range(n):
+        for i in range(n):
+            a = j * (n + 1) + i + 1
+            triangles += [f"{a} {a + 1} {a + n + 2} 0", f"{a} {a + n + 2} {a + n + 1} 0"]
+    (tmp_path / "square.mesh").write_text("\n".join(
+        ["MeshVersionFormatted 1", "Dimension 2", "Vertices", str(len(vertices)), *vertices,
+         "Triangles", str(len(triangles)), *triangles, "End", ""]))
+    square = {"type": "periodic_cell", "cell": {"lattice": [[1, 0], [0, 1]], "mesh": "square.mesh"},
+              "plane": "stress", "materials": [{"youngs_modulus": 2, "poisson_ratio": 0.25}], "directions": 8}
+    report = tailor.load(square, directory=tmp_path).homogenize(out_dir=tmp_path / "square")
+    assert report.ok and report["scene"] == "scene"  # a dict without a name
+    assert report["engineering_constants"]["E1"] == pytest.approx(2.0, rel=1e-10)  # homogeneous
+    assert report["engineering_constants"]["G12"] == pytest.approx(0.8, rel=1e-10)

@@ -80,9 +80,15 @@ def test_unwritable_output_is_a_runtime_error(tmp_path):
         tailor.simulate(str(scene_path("cantilever.json")), out_dir=blocker / "out")
 
 
-def test_file_kinds_need_their_file():
-    with pytest.raises(ValueError, match="a rods scene is read from its file"):
-        tailor.load({"rods": {}}).simulate()
+def test_dict_scenes_of_every_kind_name_the_key():
+    # A dict scene of a kind other than static or dynamic is parsed by that kind: the error names
+    # the scene's name and the key path.
+    with pytest.raises(tailor.SceneError, match=r"my rods: rods: expected an array, got an object"):
+        tailor.load({"rods": {}}, name="my rods").simulate()
+    cell = {"type": "periodic_cell", "cell": {"lattice": [[1, 0], [0, 1]], "grid": [2, 2], "gird": 1},
+            "materials": [{"youngs_modulus": 1, "poisson_ratio": 0.3}]}
+    with pytest.raises(tailor.SceneError, match=r"\(scene\): cell\.gird: unknown key"):
+        tailor.load(cell).homogenize()
 
 
 def test_bad_mesh_file_is_a_mesh_error_with_file_and_line(tmp_path):

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../support/report_checks.hpp"
 #include "../support/temp_folder.hpp"
 #include "problems/fem/dynamic_commands.hpp"
 #include "problems/json_text.hpp"
@@ -94,6 +95,7 @@ TEST(DynamicScene, WritesASeriesAndAReportWithDecayingEnergy) {
   }
   std::ifstream in(run.report_path);
   const nlohmann::json report = parse_json(in);
+  testing::expect_report_header(run.report_path);
   EXPECT_EQ(report["kind"], "dynamics");
   EXPECT_EQ(report["status"], "completed");
   ASSERT_EQ(report["steps"].size(), 21u);

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "../support/report_checks.hpp"
 #include "../support/temp_folder.hpp"
 #include "problems/json_text.hpp"
 #include "scene_text.hpp"
@@ -71,6 +72,7 @@ TEST(InverseGradcheck, HessianCheckAndSeedOverride) {
   EXPECT_TRUE(run.passed()) << run.gradient.table() << run.hessian->table();
   EXPECT_GE(run.hessian->rate1, 1.9) << run.hessian->table();
   const auto json = parse_json(read_file(folder / "out/gradcheck.json"));
+  testing::expect_report_header(folder / "out/gradcheck.json");
   EXPECT_EQ(json["seed"], 7);
   EXPECT_EQ(json["hessian"]["status"], "passed");
 }
@@ -139,6 +141,7 @@ TEST(InverseRun, TwoMaterialBarRecoversBothModuli) {
   EXPECT_LT(run.error->relative_l2, 1e-6);
   EXPECT_GT(run.initial_error->relative_l2, 0.5);  // the start was 3x off
 
+  testing::expect_report_header(folder / "out/report.json");
   const auto report = parse_json(read_file(folder / "out/report.json"));
   for (const char* key : {"tailor_version", "report_format", "kind", "scene", "status", "message",
                           "converged", "backend", "iterations", "evaluations", "history", "objective",

@@ -8,6 +8,7 @@
 
 #include "../support/temp_folder.hpp"
 #include "problems/fem/inverse_problem.hpp"
+#include "problems/fem/objective_terms/builtin_terms.hpp"
 
 namespace tailor::inverse_identifiability_test {
 namespace {
@@ -17,7 +18,7 @@ double recovery_error(bool all_vertices) {
   auto spec = std::make_shared<InverseSpec>(*scene.inverse);
   spec->design.modes = 10;
   spec->optimizer.max_iterations = 20;
-  auto& observations = std::get<SyntheticObservationsTerm>(spec->objective.at(0).term);
+  auto& observations = *spec->objective.at(0).settings_as<SyntheticObservationsTerm>();
   observations.noise = 0.0;
   if (all_vertices) {
     observations.vertices.kind = VertexSelector::Kind::box;

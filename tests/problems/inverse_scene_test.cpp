@@ -12,6 +12,7 @@
 
 #include "../support/temp_folder.hpp"
 #include "problems/fem/inverse_problem.hpp"
+#include "problems/fem/objective_terms/builtin_terms.hpp"
 #include "scene_text.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -63,10 +64,10 @@ TEST(InverseScene, ParsesTypedValuesAndDefaults) {
   EXPECT_EQ(spec.objective[0].type(), "synthetic_observations");
   EXPECT_EQ(spec.objective[0].key, "inverse.objective[0]");
   EXPECT_EQ(spec.objective[0].weight, 1.0);  // default
-  const auto& synthetic = std::get<SyntheticObservationsTerm>(spec.objective[0].term);
+  const auto& synthetic = *spec.objective[0].settings_as<SyntheticObservationsTerm>();
   EXPECT_EQ(synthetic.youngs_modulus.value, 1200.0);
   EXPECT_EQ(synthetic.noise, 0.0);
-  const auto& smoothness = std::get<SmoothnessTerm>(spec.objective[1].term);
+  const auto& smoothness = *spec.objective[1].settings_as<SmoothnessTerm>();
   EXPECT_TRUE(smoothness.logarithmic);
   EXPECT_EQ(smoothness.weighting, AdjacencyWeighting::unit);
   EXPECT_EQ(spec.objective[1].weight, 0.01);
@@ -101,17 +102,17 @@ TEST(InverseScene, ParsesOptimizerGradcheckAndEveryTermType) {
   EXPECT_EQ(spec.design.map, DesignMap::identity);
   EXPECT_EQ(spec.design.initial, 500.0);
   EXPECT_FALSE(spec.design.max);
-  const auto& target = std::get<TargetDisplacementsTerm>(spec.objective[0].term);
+  const auto& target = *spec.objective[0].settings_as<TargetDisplacementsTerm>();
   EXPECT_EQ(target.displacement, Eigen::Vector3d(0.1, 0, 0));
   EXPECT_EQ(spec.objective[0].weight, 2.0);
-  const auto& synthetic = std::get<SyntheticObservationsTerm>(spec.objective[1].term);
+  const auto& synthetic = *spec.objective[1].settings_as<SyntheticObservationsTerm>();
   EXPECT_EQ(synthetic.youngs_modulus.per_material, std::vector<double>{900});
   EXPECT_EQ(synthetic.noise, 0.01);
   EXPECT_EQ(synthetic.seed, 4u);
-  const auto& smoothness = std::get<SmoothnessTerm>(spec.objective[2].term);
+  const auto& smoothness = *spec.objective[2].settings_as<SmoothnessTerm>();
   EXPECT_FALSE(smoothness.logarithmic);
   EXPECT_EQ(smoothness.weighting, AdjacencyWeighting::facet_over_distance);
-  EXPECT_EQ(std::get<TikhonovTerm>(spec.objective[3].term).prior, 800.0);
+  EXPECT_EQ(spec.objective[3].settings_as<TikhonovTerm>()->prior, 800.0);
   ASSERT_TRUE(spec.ground_truth);
   EXPECT_EQ(spec.ground_truth->value, 900.0);
   EXPECT_EQ(spec.optimizer.backend, OptimizerBackend::ipopt);
@@ -214,8 +215,8 @@ TEST(InverseScene, EveryErrorNamesTheKeyPath) {
       {edited("\"weight\": 0.01", "\"weight\": -1"),
        "test.json: inverse.objective[1].weight: expected a number >= 0, got -1"},
       {edited("\"type\": \"smoothness\"", "\"type\": \"smooth\""),
-       "test.json: inverse.objective[1].type: expected one of target_displacements, observations, "
-       "synthetic_observations, smoothness, tikhonov, handles, got \"smooth\""},
+       "test.json: inverse.objective[1].type: expected one of handles, observations, smoothness, "
+       "synthetic_observations, target_displacements, tikhonov, got \"smooth\""},
       {edited("\"youngs_modulus\": 1200", "\"youngs_modulus\": 1200, \"nosie\": 0.1"),
        "test.json: inverse.objective[0].nosie: unknown key (allowed here: type, weight, vertices, "
        "youngs_modulus, "
@@ -234,8 +235,8 @@ TEST(InverseScene, EveryErrorNamesTheKeyPath) {
       {edited("\"value\": 2}}", "\"value\": 5}}"),
        "test.json: inverse.objective[0].vertices: selects no vertices"},
       {edited(synthetic, R"({"type": "tikhonov", "prior": 1000})"),
-       "test.json: inverse.objective: needs at least one data term (target_displacements, observations, "
-       "synthetic_observations or handles)"},
+       "test.json: inverse.objective: needs at least one data term (handles, observations, "
+       "synthetic_observations, target_displacements)"},
       {edited(synthetic,
               R"({"type": "target_displacements", "vertices": {"list": [1]}, "displacement": [0, 1]})"),
        "test.json: inverse.objective[0].displacement: expected 3 components (the mesh is 3D), got 2"},

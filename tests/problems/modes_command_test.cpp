@@ -6,6 +6,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../support/report_checks.hpp"
 #include "../support/temp_folder.hpp"
 #include "problems/json_text.hpp"
 #include "scene_text.hpp"
@@ -27,6 +28,7 @@ TEST(ModesCommand, WritesFrequenciesAndModeShapes) {
   // The box's statically determinate supports remove the rigid motions and nothing more.
   const Scene scene = parse_scene(with(R"("poisson_ratio": 0.3)", kDensity), "box.json", ".");
   const ModesRun run = modes_scene(scene, 4, folder.str());
+  testing::expect_report_header(run.report_path);
   const nlohmann::json report = read_json(run.report_path);
   EXPECT_EQ(report["kind"], "modes");
   EXPECT_EQ(report["count"], 4);

@@ -13,6 +13,7 @@
 #include "problems/homogenization/cell_scene.hpp"
 #include "problems/json_text.hpp"
 #include "problems/rods/rod_scene.hpp"
+#include "problems/scene_kinds.hpp"
 #include "scene_text.hpp"
 
 namespace tailor::parser_regression_test {
@@ -96,7 +97,8 @@ TEST(ParserRegression, PeriodicCellGridsTooLargeToMesh) {
     std::ofstream(path) << R"({"type": "periodic_cell", "cell": )" << cell
                         << R"(, "materials": [{"youngs_modulus": 1, "poisson_ratio": 0.3}]})";
     try {
-      read_cell_scene(path);
+      const SceneFile file = read_scene_file(path);
+      parse_cell_scene(file.node(), file.directory());
       return std::string();
     } catch (const SceneError& e) {
       return std::string(e.what());

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "../support/report_checks.hpp"
 #include "../support/temp_folder.hpp"
 #include "problems/fem/commands.hpp"
 #include "problems/json_text.hpp"
@@ -41,6 +42,7 @@ TEST(Report, HasEveryDocumentedKey) {
   ASSERT_TRUE(run.solution.converged);
   ASSERT_TRUE(fs::exists(folder / "out/result.vtu"));
   const auto report = parse_json(read_file(folder / "out/report.json"));
+  testing::expect_report_header(folder / "out/report.json");
 
   for (const char* key : {"tailor_version", "report_format", "scene", "status", "message", "converged",
                           "iterations", "linear_solver", "load_steps", "residual_history", "energy_history",

@@ -10,6 +10,8 @@
 #include <omp.h>
 
 #include <functional>
+#include <limits>
+#include <stdexcept>
 #include <memory>
 #include <random>
 #include <thread>
@@ -125,6 +127,33 @@ TEST(ElementLoop, SplineElasticTermIsDeterministicAndReentrant) {
   check_loop(mesh, perturbed_rest(mesh, 0.03), p, [&](std::vector<int> elements) -> std::unique_ptr<EnergyTerm> {
     return std::make_unique<SplineElasticTerm<3>>(mesh, curves, 0, std::move(elements));
   });
+}
+
+// A material that refuses its parameters inside the parallel loop is an exception at the caller
+// -- that of the lowest chunk, for every thread count -- not a std::terminate from inside the
+// OpenMP region (which would end this test binary, or a Python interpreter).
+TEST(ElementLoop, AnExceptionInTheParallelLoopReachesTheCaller) {
+  const Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(3, 1, 1), 9, 3, 3);
+  ASSERT_GT(mesh.num_elements(), 300);  // two chunks of 256
+  Vector p = testing::heterogeneous_parameters(mesh, 1e3, 0.3);
+  p[300] = std::numeric_limits<double>::quiet_NaN();  // chunk 1
+  p[40] = -1.0;                                       // chunk 0: its error is the one reported
+  const ElasticTerm<3> term(mesh, make_material<3>(MaterialKind::neo_hookean), 0, mesh.num_elements());
+  const Vector x = perturbed_rest(mesh, 0.03);
+  const int saved_threads = omp_get_max_threads();
+  for (int threads : {1, 2, 3}) {
+    omp_set_num_threads(threads);
+    try {
+      evaluate(term, x, p);
+      ADD_FAILURE() << threads << " threads: E = -1 was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("got E = -1"), std::string::npos) << threads << ": " << e.what();
+    }
+    Vector gradient_p = Vector::Zero(p.size());
+    EXPECT_THROW(term.add_mixed_transpose_times(x, p, Vector::Ones(x.size()), gradient_p), std::invalid_argument)
+        << threads << " threads";
+  }
+  omp_set_num_threads(saved_threads);
 }
 
 }  // namespace

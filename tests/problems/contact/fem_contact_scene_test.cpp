@@ -25,6 +25,8 @@
 #include "problems/contact/rigid_scene.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
+#include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::fem_contact_scene_test {
@@ -37,6 +39,14 @@ std::string temporary_directory(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();
+}
+
+// The scene file as `tailor simulate` reads it (named after its file without a "name").
+RigidSceneSpec read_rigid_scene(const std::string& path) {
+  const SceneFile file = read_scene_file(path);
+  RigidSceneSpec spec = parse_rigid_scene(file.node(), file.directory());
+  spec.name = file.name();
+  return spec;
 }
 
 TEST(EmbeddedTerm, ElasticityAfterOtherDofsPassesDerivativeChecks) {
@@ -185,7 +195,8 @@ TEST(FemContactScene, ShippedSoftBlockSceneCarriesItsLoad) {
 
 void expect_scene_error(const std::string& json, const std::string& fragment) {
   try {
-    const RigidSceneSpec spec = parse_rigid_scene(json, "bad.json", temporary_directory("bad"));
+    const RigidSceneSpec spec =
+        parse_rigid_scene(scene_from_text(json, "bad.json").node(), temporary_directory("bad"));
     simulate_rigid_scene(spec, temporary_directory("bad_out"), nullptr);
     FAIL() << "expected a SceneError containing '" << fragment << "'";
   } catch (const SceneError& e) {

@@ -12,9 +12,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../../support/report_checks.hpp"
 #include "../../support/temp_folder.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
+#include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::rigid_scene_test {
@@ -26,6 +29,20 @@ std::string temporary_directory(const std::string& name) {
   const auto dir = testing::unique_temp_path("tailor_contact_" + name);
   std::filesystem::remove_all(dir);
   return dir.string();
+}
+
+// The scene file as `tailor simulate` reads it (named after its file without a "name").
+RigidSceneSpec read_rigid_scene(const std::string& path) {
+  const SceneFile file = read_scene_file(path);
+  RigidSceneSpec spec = parse_rigid_scene(file.node(), file.directory());
+  spec.name = file.name();
+  return spec;
+}
+
+// A scene given as text, as read from a file named `source`.
+RigidSceneSpec parse_rigid_text(const std::string& text, const std::string& source) {
+  const SceneFile file = scene_from_text(text, source);
+  return parse_rigid_scene(file.node(), "");
 }
 
 std::string read_text(const std::string& path) {
@@ -46,6 +63,7 @@ TEST(RigidScene, SphereOnBoxCarriesTheWeightsDownToTheGround) {
   EXPECT_GT(run.min_distance, 0.0);
   std::ifstream in(out + "/report.json");
   const nlohmann::json report = parse_json(in);
+  testing::expect_report_header(out + "/report.json");
   EXPECT_EQ(report["status"], "converged");
   EXPECT_EQ(report["bodies"].size(), 3u);
   for (const char* body : {"ground", "box", "sphere"})
@@ -135,7 +153,7 @@ TEST(RigidScene, SceneWithoutSupportIsRefusedAtOnceNamingTheFreeMotion) {
   for (const auto& body : scene["rigid_bodies"])
     if (body["name"] != "ground") bodies.push_back(body);
   scene["rigid_bodies"] = bodies;
-  const RigidSceneSpec spec = parse_rigid_scene(dump_json(scene), "free_sphere_on_box.json");
+  const RigidSceneSpec spec = parse_rigid_text(dump_json(scene), "free_sphere_on_box.json");
   const auto t0 = std::chrono::steady_clock::now();
   for (int verb = 0; verb < 2; ++verb) {
     try {
@@ -158,7 +176,7 @@ TEST(RigidScene, SceneWithoutSupportIsRefusedAtOnceNamingTheFreeMotion) {
   // A single free box: free in z and in the two tilts (it may not turn about z: held).
   scene["rigid_bodies"] = nlohmann::json::array({bodies[0]});
   try {
-    simulate_rigid_scene(parse_rigid_scene(dump_json(scene), "free_box.json"), temporary_directory("box1"),
+    simulate_rigid_scene(parse_rigid_text(dump_json(scene), "free_box.json"), temporary_directory("box1"),
                          nullptr);
     ADD_FAILURE() << "a free box was solved";
   } catch (const SceneError& e) {
@@ -171,7 +189,7 @@ TEST(RigidScene, SceneWithoutSupportIsRefusedAtOnceNamingTheFreeMotion) {
   scene["rigid_bodies"] = bodies;
   scene["dynamics"] = {{"time_step", 0.01}, {"steps", 2}};
   const RigidSimulateRun run =
-      simulate_rigid_scene(parse_rigid_scene(dump_json(scene), "falling.json"), temporary_directory("fall"), nullptr);
+      simulate_rigid_scene(parse_rigid_text(dump_json(scene), "falling.json"), temporary_directory("fall"), nullptr);
   EXPECT_TRUE(run.completed()) << run.newton.report();
 }
 
@@ -184,7 +202,7 @@ TEST(RigidScene, HugeTimeStepFailsQuicklyAndCountsItsIterations) {
   nlohmann::json scene = parse_json(read_text(kScenes + "box_drop.json"));
   scene["dynamics"]["time_step"] = 1000.0;
   scene["dynamics"]["steps"] = 2;
-  const RigidSceneSpec spec = parse_rigid_scene(dump_json(scene), "box_h1000.json");
+  const RigidSceneSpec spec = parse_rigid_text(dump_json(scene), "box_h1000.json");
   const std::string out = temporary_directory("h1000");
   const auto t0 = std::chrono::steady_clock::now();
   const RigidSimulateRun run = simulate_rigid_scene(spec, out, nullptr);
@@ -209,7 +227,7 @@ TEST(RigidScene, HugeTimeStepFailsQuicklyAndCountsItsIterations) {
 
 void expect_scene_error(const std::string& json, const std::string& fragment) {
   try {
-    const RigidSceneSpec spec = parse_rigid_scene(json, "bad.json");
+    const RigidSceneSpec spec = parse_rigid_scene(scene_from_text(json, "bad.json").node(), "");
     simulate_rigid_scene(spec, temporary_directory("bad"), nullptr);
     ADD_FAILURE() << "no error for " << json;
   } catch (const SceneError& e) {

@@ -11,9 +11,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../../support/report_checks.hpp"
 #include "../../support/temp_folder.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
+#include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
 #include "tests/support/test_paths.hpp"
 
 namespace tailor::torus_scene_test {
@@ -32,8 +35,13 @@ std::string read_text(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+// The scene's text as `tailor` parses it.
+TorusSceneSpec parse_torus(const std::string& text, const std::string& source) {
+  return parse_torus_scene(scene_from_text(text, source).node());
+}
+
 TEST(TorusScene, ShippedChainSwingsWithoutIntersectionsAndWritesEveryTorusPerFrame) {
-  const TorusSceneSpec spec = parse_torus_scene(read_text(kScenes + "torus_chain.json"), "torus_chain.json");
+  const TorusSceneSpec spec = parse_torus(read_text(kScenes + "torus_chain.json"), "torus_chain.json");
   ASSERT_TRUE(spec.dynamic);
   const std::string out = temporary_directory("shipped");
   const TorusSimulateRun run = simulate_torus_scene(spec, out, nullptr);
@@ -49,6 +57,7 @@ TEST(TorusScene, ShippedChainSwingsWithoutIntersectionsAndWritesEveryTorusPerFra
       EXPECT_TRUE(std::filesystem::exists(out + name)) << name;
     }
   const nlohmann::json report = parse_json(std::ifstream(out + "/report.json"));
+  testing::expect_report_header(out + "/report.json");
   EXPECT_EQ(report["per_step"].size(), static_cast<std::size_t>(spec.steps));
   EXPECT_EQ(report["intersections"], 0);
 }
@@ -65,7 +74,7 @@ std::string static_scene(const std::string& model) {
 }
 
 TEST(TorusScene, StaticChainReportsTheWeightBelowEachPair) {
-  const TorusSceneSpec spec = parse_torus_scene(static_scene("implicit"), "static.json");
+  const TorusSceneSpec spec = parse_torus(static_scene("implicit"), "static.json");
   const std::string out = temporary_directory("static");
   const TorusSimulateRun run = simulate_torus_scene(spec, out, nullptr);
   ASSERT_TRUE(run.completed());
@@ -83,9 +92,9 @@ TEST(TorusScene, MeshModelHangsTheSameChainWithoutIntersections) {
   // implicit ones by their chord sag, so the link heights agree to a fraction of the tube radius.
   const std::string out_mesh = temporary_directory("mesh"), out_implicit = temporary_directory("implicit");
   const TorusSimulateRun mesh =
-      simulate_torus_scene(parse_torus_scene(static_scene("mesh"), "m.json"), out_mesh, nullptr);
+      simulate_torus_scene(parse_torus(static_scene("mesh"), "m.json"), out_mesh, nullptr);
   const TorusSimulateRun implicit =
-      simulate_torus_scene(parse_torus_scene(static_scene("implicit"), "i.json"), out_implicit, nullptr);
+      simulate_torus_scene(parse_torus(static_scene("implicit"), "i.json"), out_implicit, nullptr);
   ASSERT_TRUE(mesh.completed());
   ASSERT_TRUE(implicit.completed());
   const nlohmann::json a = parse_json(std::ifstream(out_mesh + "/report.json"));
@@ -101,7 +110,7 @@ TEST(TorusScene, MeshModelHangsTheSameChainWithoutIntersections) {
 TEST(TorusScene, EllipticTubesAreReadAndHangWithTheWeightBelowEachPair) {
   std::string text = static_scene("implicit");
   text.replace(text.find("\"minor_radius\": 0.2"), 19, "\"minor_radius\": 0.2, \"minor_radius_1\": 0.3");
-  const TorusSceneSpec spec = parse_torus_scene(text, "elliptic.json");
+  const TorusSceneSpec spec = parse_torus(text, "elliptic.json");
   EXPECT_EQ(spec.chain.shape.minor_radius_1, 0.3);
   const std::string out = temporary_directory("elliptic");
   const TorusSimulateRun run = simulate_torus_scene(spec, out, nullptr);
@@ -118,13 +127,13 @@ TEST(TorusScene, EllipticTubesAreReadAndHangWithTheWeightBelowEachPair) {
   // Equal to minor_radius: the circular tube (r1 follows r).
   text = static_scene("implicit");
   text.replace(text.find("\"minor_radius\": 0.2"), 19, "\"minor_radius\": 0.2, \"minor_radius_1\": 0.2");
-  EXPECT_EQ(parse_torus_scene(text, "circular.json").chain.shape.minor_radius_1, 0.0);
+  EXPECT_EQ(parse_torus(text, "circular.json").chain.shape.minor_radius_1, 0.0);
 }
 
 TEST(TorusScene, BadInputNamesTheKey) {
   auto message = [](const std::string& text) {
     try {
-      parse_torus_scene(text, "bad.json");
+      parse_torus(text, "bad.json");
     } catch (const SceneError& e) {
       return std::string(e.what());
     }
@@ -153,7 +162,7 @@ TEST(TorusScene, BadInputNamesTheKey) {
 // rate >= 1.9 after a first-order regime); with the gradient scaled by 1.001 the same test fails.
 TEST(TorusScene, GradcheckOfTheShippedSceneThroughActiveContact) {
   const TorusSceneSpec spec =
-      parse_torus_scene(read_text(kScenes + "torus_gradcheck.json"), "torus_gradcheck.json");
+      parse_torus(read_text(kScenes + "torus_gradcheck.json"), "torus_gradcheck.json");
   const TorusGradcheckRun run = gradcheck_torus_scene(spec, temporary_directory("gradcheck"), {}, nullptr);
   std::printf("%s", run.taylor.table().c_str());
   EXPECT_EQ(run.active_pairs, 2);
@@ -172,10 +181,10 @@ TEST(TorusScene, GradcheckOfTheShippedSceneThroughActiveContact) {
 }
 
 TEST(TorusScene, GradcheckRefusesDynamicAndMeshScenes) {
-  TorusSceneSpec spec = parse_torus_scene(read_text(kScenes + "torus_chain.json"), "torus_chain.json");
+  TorusSceneSpec spec = parse_torus(read_text(kScenes + "torus_chain.json"), "torus_chain.json");
   EXPECT_THROW(gradcheck_torus_scene(spec, temporary_directory("gradcheck_dynamic"), {}, nullptr),
                SceneError);
-  spec = parse_torus_scene(read_text(kScenes + "torus_gradcheck.json"), "torus_gradcheck.json");
+  spec = parse_torus(read_text(kScenes + "torus_gradcheck.json"), "torus_gradcheck.json");
   spec.options.model = tori::ContactModel::mesh;
   EXPECT_THROW(gradcheck_torus_scene(spec, temporary_directory("gradcheck_mesh"), {}, nullptr), SceneError);
 }
@@ -185,7 +194,7 @@ TEST(TorusScene, GradcheckRefusesDynamicAndMeshScenes) {
 TEST(TorusScene, GradcheckOfAnEllipticChainThroughActiveContact) {
   nlohmann::json scene = parse_json(read_text(kScenes + "torus_gradcheck.json"));
   scene["tori"]["minor_radius_1"] = 0.3;
-  const TorusSceneSpec spec = parse_torus_scene(dump_json(scene), "elliptic_gradcheck.json");
+  const TorusSceneSpec spec = parse_torus(dump_json(scene), "elliptic_gradcheck.json");
   const TorusGradcheckRun run =
       gradcheck_torus_scene(spec, temporary_directory("gradcheck_elliptic"), {}, nullptr);
   std::printf("%s", run.taylor.table().c_str());
@@ -207,7 +216,7 @@ TEST(TorusScene, GradcheckOfAnEllipticChainThroughActiveContact) {
 // same with every parameter selected (masses, radii and the placement in one direction).
 TEST(TorusScene, GradcheckOfTheAnchorPlacementThroughActiveContact) {
   const TorusSceneSpec spec =
-      parse_torus_scene(read_text(kScenes + "torus_placement_gradcheck.json"), "placement_gradcheck.json");
+      parse_torus(read_text(kScenes + "torus_placement_gradcheck.json"), "placement_gradcheck.json");
   EXPECT_FALSE(spec.gradcheck_masses);
   EXPECT_FALSE(spec.gradcheck_radii);
   EXPECT_TRUE(spec.gradcheck_placements);
@@ -221,6 +230,7 @@ TEST(TorusScene, GradcheckOfTheAnchorPlacementThroughActiveContact) {
   EXPECT_GE(run.taylor.rate1, 1.9);
   EXPECT_TRUE(run.passed());
   const nlohmann::json report = parse_json(std::ifstream(out + "/gradcheck.json"));
+  testing::expect_report_header(out + "/gradcheck.json");
   EXPECT_EQ(report["parameters"], "the placement (T, w) of each fixed link");
 
   TorusGradcheckOptions wrong;
@@ -231,7 +241,7 @@ TEST(TorusScene, GradcheckOfTheAnchorPlacementThroughActiveContact) {
 
   nlohmann::json scene = parse_json(read_text(kScenes + "torus_placement_gradcheck.json"));
   scene["tori"]["gradcheck"]["parameters"] = {"placements", "radii", "masses"};
-  const TorusSceneSpec all = parse_torus_scene(dump_json(scene), "all_gradcheck.json");
+  const TorusSceneSpec all = parse_torus(dump_json(scene), "all_gradcheck.json");
   const TorusGradcheckRun every =
       gradcheck_torus_scene(all, temporary_directory("gradcheck_all"), {}, nullptr);
   std::printf("%s", every.taylor.table().c_str());
@@ -245,7 +255,7 @@ TEST(TorusScene, GradcheckParametersAreCheckedWithTheirKey) {
     scene["tori"]["gradcheck"] = parse_json(gradcheck);
     scene["tori"]["fix_first"] = fix_first;
     try {
-      parse_torus_scene(dump_json(scene), "bad.json");
+      parse_torus(dump_json(scene), "bad.json");
     } catch (const SceneError& e) {
       return std::string(e.what());
     }
@@ -265,7 +275,7 @@ TEST(TorusScene, GradcheckParametersAreCheckedWithTheirKey) {
 // no crossing, the report carrying kappa (raised from its start, never lowered) and friction.
 TEST(TorusScene, ShippedFrictionChainSwingsWithAdaptiveStiffness) {
   const TorusSceneSpec spec =
-      parse_torus_scene(read_text(kScenes + "torus_chain_friction.json"), "torus_chain_friction.json");
+      parse_torus(read_text(kScenes + "torus_chain_friction.json"), "torus_chain_friction.json");
   ASSERT_TRUE(spec.dynamic);
   EXPECT_DOUBLE_EQ(spec.options.friction.coefficient, 0.3);
   EXPECT_DOUBLE_EQ(spec.options.friction.velocity_threshold, 1e-3);
@@ -292,8 +302,8 @@ TEST(TorusScene, ShippedFrictionChainSwingsWithAdaptiveStiffness) {
 TEST(TorusScene, FrictionAndStiffnessKeysAreChecked) {
   auto message = [](const std::string& keys) {
     try {
-      parse_torus_scene(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, )" + keys + "}}",
-                        "bad.json");
+      parse_torus(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2, )" + keys + "}}",
+                  "bad.json");
     } catch (const SceneError& e) {
       return std::string(e.what());
     }
@@ -313,8 +323,8 @@ TEST(TorusScene, FrictionAndStiffnessKeysAreChecked) {
             std::string::npos);
   // Absent or "adaptive": adaptive; a number fixes kappa.
   const auto spec = [](const std::string& keys) {
-    return parse_torus_scene(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2)" + keys + "}}",
-                             "ok.json");
+    return parse_torus(R"({"tori": {"count": 3, "major_radius": 1, "minor_radius": 0.2)" + keys + "}}",
+                       "ok.json");
   };
   EXPECT_TRUE(spec("").options.stiffness_control.adaptive);
   EXPECT_TRUE(spec(R"(, "stiffness": "adaptive", "min_stiffness": 1e8)").options.stiffness_control.adaptive);
@@ -330,7 +340,7 @@ TEST(TorusScene, FrictionAndStiffnessKeysAreChecked) {
 TEST(TorusScene, StaticChainWithoutAFixedLinkIsRefused) {
   nlohmann::json scene = parse_json(read_text(kScenes + "torus_gradcheck.json"));
   scene["tori"]["fix_first"] = false;
-  const TorusSceneSpec spec = parse_torus_scene(dump_json(scene), "free_chain.json");
+  const TorusSceneSpec spec = parse_torus(dump_json(scene), "free_chain.json");
   for (int verb = 0; verb < 2; ++verb) {
     try {
       if (verb == 0)
@@ -347,7 +357,7 @@ TEST(TorusScene, StaticChainWithoutAFixedLinkIsRefused) {
   }
   scene["tori"]["mode"] = "dynamic";
   scene["tori"]["steps"] = 1;
-  const TorusSimulateRun run = simulate_torus_scene(parse_torus_scene(dump_json(scene), "falling_chain.json"),
+  const TorusSimulateRun run = simulate_torus_scene(parse_torus(dump_json(scene), "falling_chain.json"),
                                                     temporary_directory("falling_chain"), nullptr);
   EXPECT_EQ(run.steps, 1);
 }

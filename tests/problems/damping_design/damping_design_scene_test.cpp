@@ -8,8 +8,11 @@
 #include <fstream>
 #include <sstream>
 
+#include "../../support/report_checks.hpp"
 #include "../../support/temp_folder.hpp"
 #include "problems/fem/scene.hpp"
+#include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
 
 namespace tailor::damping_design_scene_test {
 namespace {
@@ -19,6 +22,11 @@ const char* kCoarse = R"({"name": "coarse", "damping_design": {
   "examples": [{"mode": 0, "scale": 0.1}, {"mode": 1, "scale": 3.0}],
   "time_step": 0.004, "steps": 300,
   "curve": {"knots": [0.0, 0.01, 0.02, 0.04], "values": [0.3, 1.0, 3.0, 5.0], "steps": 200}}})";
+
+// The scene's text as `tailor` parses it.
+DampingStudyOptions parse_damping_design(const std::string& text, const std::string& source) {
+  return tailor::parse_damping_design(scene_from_text(text, source).node());
+}
 
 TEST(DampingDesignScene, ParsesAndReportsBadKeys) {
   const DampingStudyOptions o = parse_damping_design(kCoarse, "coarse.json");
@@ -37,7 +45,13 @@ TEST(DampingDesignScene, ParsesAndReportsBadKeys) {
   }
   const std::string unknown =
       std::string(kCoarse).replace(std::string(kCoarse).find("\"steps\": 300"), 12, "\"stepz\": 300");
-  EXPECT_THROW(parse_damping_design(unknown, "bad.json"), SceneError);
+  try {
+    parse_damping_design(unknown, "bad.json");
+    FAIL() << "a misspelled key was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.json: damping_design.stepz: unknown key"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(DampingDesignScene, RunWritesReportAndPlots) {
@@ -47,13 +61,15 @@ TEST(DampingDesignScene, RunWritesReportAndPlots) {
   text.replace(text.find("\"steps\": 300"), 12, "\"steps\": 60");
   text.replace(text.find("\"steps\": 200"), 12, "\"steps\": 60");
   std::ofstream(scene) << text;
-  ASSERT_TRUE(is_damping_design_scene(scene));
+  const SceneFile file = read_scene_file(scene);
+  ASSERT_EQ(recognise_scene_kind(file.document).name, "damping_design");
   std::ostringstream log;
-  run_damping_design_scene(scene, folder / "out",
-                           log);  // too short to judge the rates (see damping_study_test)
+  run_damping_design_scene(file.node(), folder / "out",
+                           &log);  // too short to judge the rates (see damping_study_test)
   EXPECT_NE(log.str().find("mode 2"), std::string::npos) << log.str();
-  for (const char* file : {"report.json", "envelope.png", "gamma_curve.png", "cycle_loss.png"})
-    EXPECT_TRUE(std::filesystem::exists(folder / ("out/" + std::string(file)))) << file;
+  for (const char* name : {"report.json", "envelope.png", "gamma_curve.png", "cycle_loss.png"})
+    EXPECT_TRUE(std::filesystem::exists(folder / ("out/" + std::string(name)))) << name;
+  testing::expect_report_header(folder / "out/report.json");
 }
 
 }  // namespace

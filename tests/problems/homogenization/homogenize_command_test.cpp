@@ -8,11 +8,14 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../../support/report_checks.hpp"
 #include "../../support/temp_folder.hpp"
 #include "forward/homogenization/engineering_constants.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
+#include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
 
 namespace tailor::homogenize_command_test {
 namespace {
@@ -23,6 +26,18 @@ std::string write_scene(const std::string& name, const std::string& text) {
   const std::string path = (dir / name).string();
   std::ofstream(path) << text;
   return path;
+}
+
+// The cell scene file as `tailor homogenize` reads it.
+CellScene read_cell_scene(const std::string& path) {
+  const SceneFile file = read_scene_file(path);
+  CellScene scene = parse_cell_scene(file.node(), file.directory());
+  scene.name = file.name();
+  return scene;
+}
+
+std::string kind_of(const std::string& path) {
+  return recognise_scene_kind(read_scene_file(path).document).name;
 }
 
 const char* const kLayered = R"({
@@ -36,9 +51,10 @@ const char* const kLayered = R"({
 
 TEST(HomogenizeCommand, LayeredCellReportAndOutputs) {
   const std::string path = write_scene("layered.json", kLayered);
-  ASSERT_TRUE(is_periodic_cell_scene(path));
+  ASSERT_EQ(kind_of(path), "periodic_cell");
   const CellScene scene = read_cell_scene(path);
   EXPECT_EQ(scene.name, "layered");
+  EXPECT_EQ(scene.source, path);
   EXPECT_EQ(scene.plane, PlaneMode::plane_stress);
   const std::string out = (testing::unique_temp_path("tailor_homogenize_test") / "out").string();
   const HomogenizeRun run = homogenize_scene(scene, out, nullptr);
@@ -55,6 +71,7 @@ TEST(HomogenizeCommand, LayeredCellReportAndOutputs) {
   EXPECT_EQ(report["stiffness"].size(), 3u);
   EXPECT_EQ(report["directional"][0]["youngs_modulus"].size(), 9u);
   EXPECT_NEAR(report["volume_fractions"][1].get<double>(), 0.5, 1e-12);
+  testing::expect_report_header(out + "/report.json");
   for (const char* file : {"youngs_modulus_polar.png", "poisson_ratio.png", "load_case_11.vtu",
                            "load_case_22.vtu", "load_case_12.vtu"})
     EXPECT_TRUE(std::filesystem::exists(out + "/" + file)) << file;
@@ -139,6 +156,7 @@ TEST(HomogenizeCommand, PlateLikeCellReportsTheBendingStiffness) {
   const nlohmann::json report = parse_json(in);
   EXPECT_EQ(report["mode"], "plate_bending");
   EXPECT_EQ(report["directional_bending"]["bending_stiffness"].size(), 9u);
+  testing::expect_report_header(out + "/report.json");
   EXPECT_TRUE(std::filesystem::exists(out + "/bending_stiffness_polar.png"));
   const std::string bad = write_scene("plate_bad.json", R"({
     "type": "periodic_cell",
@@ -162,9 +180,12 @@ TEST(MetamaterialScene, SmallDesignRunsAndReportsTheRechecks) {
       "optimizer": {"max_iterations": 5}
     }
   })");
-  ASSERT_TRUE(is_metamaterial_scene(path));
+  ASSERT_EQ(kind_of(path), "cell_design");
   const std::string out = (testing::unique_temp_path("tailor_homogenize_test") / "design").string();
-  const MetamaterialRun run = run_metamaterial_scene(path, out, nullptr, nullptr);
+  const SceneFile file = read_scene_file(path);
+  const CellScene cell = parse_cell_scene(file.node(), file.directory());
+  const MetamaterialRun run =
+      run_metamaterial_design(cell, parse_metamaterial_design(file.node(), cell), out, nullptr, nullptr);
   EXPECT_EQ(run.stiffness_thresholded.rows(), 3);
   EXPECT_EQ(run.stiffness_refined.rows(), 3);
   std::ifstream in(out + "/report.json");
@@ -175,7 +196,8 @@ TEST(MetamaterialScene, SmallDesignRunsAndReportsTheRechecks) {
   EXPECT_EQ(report["refined_thresholded"]["elements"], 4 * 128);
   EXPECT_LE(report["volume_fraction"].get<double>(), 0.5 + 1e-6);
   EXPECT_TRUE(std::filesystem::exists(out + "/design.png"));
-  EXPECT_FALSE(is_metamaterial_scene(write_scene("plain.json", kLayered)));
+  testing::expect_report_header(out + "/report.json");
+  EXPECT_EQ(kind_of(write_scene("plain.json", kLayered)), "periodic_cell");
 }
 
 }  // namespace

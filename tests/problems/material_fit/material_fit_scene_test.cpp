@@ -12,6 +12,9 @@
 #include <string>
 
 #include "problems/fem/scene.hpp"
+#include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
+#include "tests/support/report_checks.hpp"
 #include "tests/support/temp_folder.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -23,14 +26,19 @@ const std::string kScenes = testing::kScenesDir + "/";
 TEST(MaterialFitScene, ShippedScenesParse) {
   for (const char* name :
        {"spline_fit_neo_hookean", "spline_fit_stable_neo_hookean", "spline_design_locking"}) {
-    const std::string path = kScenes + "material_fit/" + name + ".json";
-    ASSERT_TRUE(is_material_fit_scene(path)) << path;
-    const MaterialFitSpec spec = read_material_fit_scene(path);
-    EXPECT_EQ(spec.name, name);
+    const SceneFile file = read_scene_file(kScenes + "material_fit/" + name + ".json");
+    ASSERT_EQ(recognise_scene_kind(file.document).name, "material_fit") << file.path;
+    const MaterialFitSpec spec = parse_material_fit_scene(file.node());
+    EXPECT_EQ(file.name(), name);
+    EXPECT_EQ(spec.source, file.path);
     EXPECT_FALSE(spec.cases.empty());
   }
-  EXPECT_FALSE(is_material_fit_scene(kScenes + "cantilever.json"));
-  EXPECT_FALSE(is_material_fit_scene(kScenes + "does_not_exist.json"));
+  EXPECT_NE(recognise_scene_kind(read_scene_file(kScenes + "cantilever.json").document).name, "material_fit");
+}
+
+// The scene's text as `tailor` parses it.
+MaterialFitSpec parse_material_fit(const std::string& text, const std::string& source) {
+  return parse_material_fit_scene(scene_from_text(text, source).node());
 }
 
 std::string scene_with(const std::string& replace, const std::string& with) {
@@ -52,7 +60,7 @@ std::string scene_with(const std::string& replace, const std::string& with) {
 
 void expect_error(const std::string& text, const std::string& fragment) {
   try {
-    parse_material_fit_scene(text, "fit.json");
+    parse_material_fit(text, "fit.json");
     ADD_FAILURE() << "no error for " << fragment;
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
@@ -60,7 +68,7 @@ void expect_error(const std::string& text, const std::string& fragment) {
 }
 
 TEST(MaterialFitScene, ReportsBadInputWithItsKeyPath) {
-  EXPECT_NO_THROW(parse_material_fit_scene(scene_with("", ""), "fit.json"));
+  EXPECT_NO_THROW(parse_material_fit(scene_with("", ""), "fit.json"));
   expect_error(scene_with("\"lower\": 0.5, \"upper\": 2.0", "\"lower\": 2.5, \"upper\": 2.0"),
                "curves.uniaxial");
   expect_error(scene_with("\"forces\": [0.1, 0.2]", "\"forces\": [0.1]"), "load_cases[0].forces");
@@ -80,7 +88,7 @@ TEST(MaterialFitScene, ReportsBadInputWithItsKeyPath) {
       scene_with("\"type\": \"material_fit\",", slsqp + "\"shape\": [{\"curve\": \"volumetric\", \"kind\": "
                                                         "\"decreasing\", \"range\": [1, 0.5]}],"),
       "fit.json: shape[0].range: expected [lower, upper] with lower < upper");
-  const MaterialFitSpec shaped = parse_material_fit_scene(
+  const MaterialFitSpec shaped = parse_material_fit(
       scene_with("\"type\": \"material_fit\",",
                  slsqp + "\"convex\": [\"uniaxial\"], \"shape\": [{\"curve\": \"volumetric\", \"kind\": "
                          "\"decreasing\", \"range\": [0.1, 1]}],"),
@@ -114,7 +122,7 @@ TEST(MaterialFitCli, RunWritesReportAndPlots) {
   const std::string output((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
   EXPECT_NE(output.find("material fit 'tiny'"), std::string::npos) << output;
-  EXPECT_TRUE(std::filesystem::exists(folder / "out/report.json")) << output;
+  testing::expect_report_header(folder / "out/report.json");
   EXPECT_TRUE(std::filesystem::exists(folder / "out/force_pull.png")) << output;
 }
 

@@ -21,9 +21,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../../support/report_checks.hpp"
 #include "../../support/temp_folder.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/rods/rod_scene.hpp"
+#include "problems/scene_kinds.hpp"
 #include "rod_scene_files.hpp"
 
 namespace tailor::rod_dynamics_test {
@@ -166,7 +168,9 @@ TEST(RodDynamics, ShippedSwingingRodSceneWritesFramesAndReport) {
   const auto dir = testing::unique_temp_path("tailor_rod_dynamics_scene");
   std::filesystem::remove_all(dir);
   std::ostringstream log;
-  ASSERT_TRUE(simulate_rod_scene_file(rod_scene_path("rod_swing.json"), dir.string(), log)) << log.str();
+  const SceneFile file = read_scene_file(rod_scene_path("rod_swing.json"));
+  ASSERT_TRUE(simulate_rod_scene(file.node(), file.directory(), dir.string(), &log)) << log.str();
+  testing::expect_report_header((dir / "report.json").string());
   const nlohmann::json report = read_json_file((dir / "report.json").string());
   EXPECT_EQ(report["status"], "completed");
   EXPECT_TRUE(report.contains("threads"));

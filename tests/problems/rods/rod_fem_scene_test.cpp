@@ -10,11 +10,14 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../../support/report_checks.hpp"
 #include "../../support/temp_folder.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/fem/static_scene.hpp"
 #include "problems/json_text.hpp"
 #include "problems/rods/rod_scene.hpp"
+#include "problems/scene_kinds.hpp"
+#include "problems/scene_node.hpp"
 #include "rod_scene_files.hpp"
 
 namespace tailor::rod_fem_scene_test {
@@ -29,7 +32,7 @@ TEST(RodFemScene, EachPartMatchesItsSeparateSolve) {
   const nlohmann::json document = read_json_file(kScene);
   const auto dir = testing::unique_temp_path("tailor_rods_and_beam");
   std::filesystem::remove_all(dir);
-  const RodFemSimulation both = simulate_rods_with_fem(document, kScene, ".", dir.string());
+  const RodFemSimulation both = simulate_rods_with_fem(SceneNode(document, kScene, ""), ".", dir.string());
   ASSERT_TRUE(both.rods.converged);
   EXPECT_TRUE(std::filesystem::exists(both.fem_vtu_path));
   EXPECT_TRUE(std::filesystem::exists(both.rods.vtu_path));
@@ -75,21 +78,25 @@ TEST(RodFemScene, EachPartMatchesItsSeparateSolve) {
 TEST(RodFemScene, SimulateEntryPointAndRefusedSections) {
   const auto dir = testing::unique_temp_path("tailor_rods_and_beam_cli");
   std::ostringstream log;
-  EXPECT_TRUE(simulate_rod_scene_file(kScene, dir.string(), log)) << log.str();
+  const SceneFile file = read_scene_file(kScene);
+  EXPECT_TRUE(simulate_rod_scene(file.node(), file.directory(), dir.string(), &log)) << log.str();
+  testing::expect_report_header((dir / "report.json").string());
   EXPECT_TRUE(std::filesystem::exists(dir / "result.vtu"));
   std::filesystem::remove_all(dir);
   nlohmann::json s = read_json_file(kScene);
   s["load_steps"] = 2;
-  EXPECT_THROW(simulate_rods_with_fem(s, "scene", ".", dir.string()), SceneError);
+  const std::string source = "scene";
+  EXPECT_THROW(simulate_rods_with_fem(SceneNode(s, source, ""), ".", dir.string()), SceneError);
   s = read_json_file(kScene);
   s["dynamics"] = {{"time_step", 0.1}, {"steps", 1}};
-  EXPECT_THROW(simulate_rods_with_fem(s, "scene", ".", dir.string()), SceneError);
+  EXPECT_THROW(simulate_rods_with_fem(SceneNode(s, source, ""), ".", dir.string()), SceneError);
   // Free parts have no equilibrium: refused before solving, each with the static scenes'
   // diagnosis (the body's supports; the rods' clamps and pins).
   s = read_json_file(kScene);
   s.erase("dirichlet");
+  const std::string free_beam = "free_beam.json", free_rod = "free_rod.json";
   try {
-    simulate_rods_with_fem(s, "free_beam.json", ".", dir.string());
+    simulate_rods_with_fem(SceneNode(s, free_beam, ""), ".", dir.string());
     ADD_FAILURE() << "a free body was solved";
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("free to move rigidly"), std::string::npos) << e.what();
@@ -97,7 +104,7 @@ TEST(RodFemScene, SimulateEntryPointAndRefusedSections) {
   s = read_json_file(kScene);
   s["rods"][0].erase("clamp");
   try {
-    simulate_rods_with_fem(s, "free_rod.json", ".", dir.string());
+    simulate_rods_with_fem(SceneNode(s, free_rod, ""), ".", dir.string());
     ADD_FAILURE() << "a free rod was solved";
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("free_rod.json: rods[0] (\"rod\"): the supports leave the rod free"),

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "../../support/report_checks.hpp"
 #include "../../support/temp_folder.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/rods/rod_inverse.hpp"
@@ -59,7 +60,7 @@ TEST(RodInverseScene, ShippedScenesPassGradcheck) {
     EXPECT_TRUE(check.passed()) << name << "\n" << check.gradient.table();
     EXPECT_GE(check.gradient.rate1, 1.9) << name << "\n" << check.gradient.table();
     EXPECT_NEAR(check.gradient.rate0, 1.0, 0.2) << name << "\n" << check.gradient.table();
-    EXPECT_TRUE(std::filesystem::exists(out_dir("gradcheck") + "/gradcheck.json"));
+    testing::expect_report_header(out_dir("gradcheck") + "/gradcheck.json");
     std::printf("%s: %d design variables, Taylor rates %.3f / %.3f\n", name.c_str(),
                 static_cast<int>(problem->z0.size()), check.gradient.rate0, check.gradient.rate1);
   }
@@ -88,7 +89,7 @@ TEST(RodInverseScene, RecoversKnownRestCurvaturesThroughTheScene) {
   EXPECT_GT(run.initial_shape_error, 0.1);
   EXPECT_LT(run.shape_error, 1e-9) << run.result.report();
   EXPECT_LT(curvature_error, 1e-6) << run.result.report();
-  EXPECT_TRUE(std::filesystem::exists(out_dir("recovery") + "/report.json"));
+  testing::expect_report_header(out_dir("recovery") + "/report.json");
   EXPECT_TRUE(std::filesystem::exists(out_dir("recovery") + "/rods.vtu"));
 }
 

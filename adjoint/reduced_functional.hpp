@@ -19,6 +19,12 @@ struct FunctionalCounters {
   int adjoint_solves = 0;   // linear solves with the Hessian transpose
   double forward_seconds = 0.0;
   double adjoint_seconds = 0.0;
+  // Where a functional counts them (StaticFunctional does; 0 otherwise): numeric factorizations
+  // of the state Hessian, back-solves with a factor (also as a CG preconditioner), and
+  // Hessian-vector or Gauss-Newton products.
+  long factorizations = 0;
+  long back_solves = 0;
+  int hessian_vectors = 0;
 };
 
 class ReducedFunctional {
@@ -31,6 +37,10 @@ class ReducedFunctional {
   // Hessian-vector product d2J/dz2 v at z (optional).
   virtual bool has_hessian_vector() const { return false; }
   virtual Vector hessian_vector(const Vector& z, const Vector& v);
+  // Gauss-Newton product (dr/dz)^T (dr/dz) v of the residual form at z (optional): the Hessian
+  // without the residuals' curvature, positive semidefinite, without forming dr/dz.
+  virtual bool has_gauss_newton_vector() const { return false; }
+  virtual Vector gauss_newton_vector(const Vector& z, const Vector& v);
 
   // Residual form J = 1/2 ||r||^2 (optional): residuals and their Jacobian dr/dz.
   virtual bool has_residuals() const { return false; }

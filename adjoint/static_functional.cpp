@@ -88,6 +88,8 @@ void StaticFunctional::forward(const Vector& z) {
     newton_.options().reference_residual = g_rest.norm();
   }
   adjoint_solver_ready_ = false;  // Newton's steps set the linear solver up with other matrices
+  first_.reset();
+  products_.reset();
   newton_result_ = solve_refusing(p_, y);
   ++counters_.forward_solves;
   if (!newton_result_.converged() && warm) {
@@ -97,6 +99,7 @@ void StaticFunctional::forward(const Vector& z) {
     ++counters_.forward_solves;
   }
   counters_.forward_seconds += seconds_since(t0);
+  count_factor_work();
   if (!newton_result_.converged())
     throw EvaluationError("forward solve failed: " + to_string(newton_result_.status) + " (" + newton_result_.message + ")");
   y_ = y;
@@ -105,6 +108,11 @@ void StaticFunctional::forward(const Vector& z) {
   objective_value_ = objective_->value(x_, p_);
   have_state_ = true;
   ++counters_.evaluations;
+}
+
+void StaticFunctional::count_factor_work() {
+  counters_.factorizations = newton_.factorization().numeric_factorizations();
+  counters_.back_solves = newton_.factorization().back_solves();
 }
 
 double StaticFunctional::value(const Vector& z) {
@@ -156,6 +164,7 @@ Vector StaticFunctional::solve_hessian(const Vector& rhs) {
     last_cg_iterations_ = 0;
     Vector v = factor.solve(rhs);
     counters_.adjoint_seconds += seconds_since(t0);
+    count_factor_work();
     return v;
   }
   // With NewtonOptions::reuse_factorization the kept factor can be of another design. The
@@ -181,33 +190,70 @@ Vector StaticFunctional::solve_hessian(const Vector& rhs) {
       last_solve_ = HessianSolve::preconditioned_cg;
       last_cg_iterations_ = cg.iterations;
       counters_.adjoint_seconds += seconds_since(t0);
+      count_factor_work();
       return v;
     }
   }
   // Factorize the exact Hessian at the equilibrium; later solves at this state reuse it.
   const FactorizationResult f = newton_.factorize_hessian(p_, y_, HessianMode::exact);
+  count_factor_work();
   if (!f.success) throw EvaluationError("adjoint: the Hessian at the equilibrium is singular (" + f.message + ")");
   last_solve_ = HessianSolve::fresh_factorization;
   last_cg_iterations_ = 0;
   Vector v = factor.solve(rhs);
   counters_.adjoint_seconds += seconds_since(t0);
+  count_factor_work();
   return v;
 }
 
-StaticFunctional::FirstOrder StaticFunctional::first_order() {
+Vector StaticFunctional::adjoint_gradient_p(const Vector& jx, Vector jp, Vector* lambda_out, const SparseMatrix* mixed) {
   const Elimination& elim = model_.elimination();
+  const Vector lambda = elim.expand_direction(solve_hessian(elim.reduce(jx)));
+  if (mixed)
+    jp -= mixed->transpose() * lambda;
+  else
+    jp -= model_.mixed_transpose_times(x_, p_, lambda);
+  if (model_.has_prescribed_parameters()) {
+    // x depends on p directly through D: dJ/dp += D^T (J_x - E_xx S lambda).
+    jp += model_.prescribed_parameters().transpose() * (jx - model_.hessian_times(x_, p_, lambda));
+  }
+  if (lambda_out) *lambda_out = lambda;
+  return jp;
+}
+
+const StaticFunctional::FirstOrder& StaticFunctional::first_order() {
+  if (first_) return *first_;
   FirstOrder f;
   f.jx = Vector::Zero(x_.size());
   objective_->add_gradient_x(x_, p_, f.jx);
-  f.gradient_p = Vector::Zero(p_.size());
-  objective_->add_gradient_p(x_, p_, f.gradient_p);
-  f.lambda = elim.expand_direction(solve_hessian(elim.reduce(f.jx)));
-  f.gradient_p -= model_.mixed_transpose_times(x_, p_, f.lambda);
-  if (model_.has_prescribed_parameters()) {
-    // x depends on p directly through D: dJ/dp += D^T (J_x - E_xx S lambda).
-    f.gradient_p += model_.prescribed_parameters().transpose() * (f.jx - model_.hessian_times(x_, p_, f.lambda));
+  Vector jp = Vector::Zero(p_.size());
+  objective_->add_gradient_p(x_, p_, jp);
+  f.gradient_p = adjoint_gradient_p(f.jx, std::move(jp), &f.lambda);
+  first_ = std::move(f);
+  return *first_;
+}
+
+const StaticFunctional::ProductData& StaticFunctional::product_data(bool residual_jacobians) {
+  if (!newton_.options().linear_solver && !(newton_.assembled_mode() == HessianMode::exact &&
+                                            newton_.factorization_matches_hessian() &&
+                                            newton_.factorization_is_exact())) {
+    // Each product solves with H twice: one factorization now instead of CG with another
+    // iterate's factor in every solve.
+    const FactorizationResult f = newton_.factorize_hessian(p_, y_, HessianMode::exact);
+    count_factor_work();
+    if (!f.success)
+      throw EvaluationError("Hessian-vector product: the Hessian at the equilibrium is singular (" + f.message + ")");
   }
-  return f;
+  if (!products_) {
+    products_.emplace();
+    products_->mixed = model_.mixed(x_, p_);
+  }
+  if (residual_jacobians && !products_->residual_jacobians) {
+    Vector r;
+    objective_->residuals(x_, p_, r, &products_->dr_dx, &products_->dr_dp);
+    products_->residual_jacobians = true;
+  }
+  return *products_;
 }
 
 Vector StaticFunctional::tangent(const Vector& dp, const SparseMatrix& mixed) {
@@ -231,12 +277,14 @@ Vector StaticFunctional::hessian_vector(const Vector& z, const Vector& v) {
   if (v.size() != size()) throw std::invalid_argument("StaticFunctional::hessian_vector: v has the wrong size");
   forward(z);
   const Elimination& elim = model_.elimination();
-  const FirstOrder first = first_order();
+  const ProductData& data = product_data(false);
+  const FirstOrder& first = first_order();
   const Vector& lambda = first.lambda;
+  ++counters_.hessian_vectors;
 
   // Tangent: dp = phi' v, dx = D dp + S dy with H dy = -S^T (E_xp dp + E_xx D dp).
   const Vector dp = parameterization_->jacobian_times(z, v);
-  const Vector dx = tangent(dp, model_.mixed(x_, p_));
+  const Vector dx = tangent(dp, data.mixed);
 
   // Third-derivative contractions along (dx, dp) by central differences (see header).
   double relative = 0.0;
@@ -256,10 +304,27 @@ Vector StaticFunctional::hessian_vector(const Vector& z, const Vector& v) {
   Vector ox = Vector::Zero(x_.size()), op = Vector::Zero(p_.size());
   objective_->add_hessian_times(x_, p_, dx, dp, ox, op);
   const Vector mu = elim.expand_direction(solve_hessian(elim.reduce(ox - d_hessian_lambda)));
-  Vector hp = op - d_mixed_lambda - model_.mixed_transpose_times(x_, p_, mu);
+  Vector hp = op - d_mixed_lambda - data.mixed.transpose() * mu;
   if (model_.has_prescribed_parameters())
     hp += model_.prescribed_parameters().transpose() * (ox - d_hessian_lambda - model_.hessian_times(x_, p_, mu));
   return parameterization_->jacobian_transpose_times(z, hp) + parameterization_->second_derivative_times(z, first.gradient_p, v);
+}
+
+Vector StaticFunctional::gauss_newton_vector(const Vector& z, const Vector& v) {
+  if (!objective_->is_least_squares())
+    throw std::logic_error("StaticFunctional: the objective '" + objective_->name() + "' has no residual form");
+  if (v.size() != size()) throw std::invalid_argument("StaticFunctional::gauss_newton_vector: v has the wrong size");
+  forward(z);
+  const ProductData& data = product_data(true);
+  ++counters_.hessian_vectors;
+  // w = (dr/dz) v = dr/dx dx + dr/dp dp along the tangent; then (dr/dz)^T w is the gradient of
+  // the linear objective w . r by the adjoint.
+  const Vector dp = parameterization_->jacobian_times(z, v);
+  const Vector dx = tangent(dp, data.mixed);
+  const Vector w = data.dr_dx * dx + data.dr_dp * dp;
+  const Vector jx = data.dr_dx.transpose() * w;
+  const Vector gp = adjoint_gradient_p(jx, data.dr_dp.transpose() * w, nullptr, &data.mixed);
+  return parameterization_->jacobian_transpose_times(z, gp);
 }
 
 Matrix StaticFunctional::state_sensitivity(const Vector& z) {

@@ -12,6 +12,7 @@
 // (projected or shifted factorization, indefinite H, slow convergence) is H factorized afresh
 // (LDL^T when indefinite).
 #include <memory>
+#include <optional>
 
 #include "adjoint/parameterization.hpp"
 #include "adjoint/reduced_functional.hpp"
@@ -61,6 +62,13 @@ class StaticFunctional final : public ReducedFunctional {
   // else is exact. Available when the objective has second derivatives.
   bool has_hessian_vector() const override { return objective_->has_second_derivatives(); }
   Vector hessian_vector(const Vector& z, const Vector& v) override;
+  // Gauss-Newton product (dr/dz)^T (dr/dz) v for least-squares objectives: a tangent solve for
+  // (dr/dz) v and an adjoint solve for the transpose, no third derivatives.
+  // Products at one z share its adjoint solution, the mixed block and the residual Jacobians,
+  // and solve with a factorization of the exact Hessian at the equilibrium (made once per z when
+  // the kept factor is another's): two back-solves per product.
+  bool has_gauss_newton_vector() const override { return objective_->is_least_squares(); }
+  Vector gauss_newton_vector(const Vector& z, const Vector& v) override;
 
   bool has_residuals() const override { return objective_->is_least_squares(); }
   int num_residuals() const override { return objective_->num_residuals(); }
@@ -83,7 +91,19 @@ class StaticFunctional final : public ReducedFunctional {
   struct FirstOrder {
     Vector jx, lambda, gradient_p;
   };
-  FirstOrder first_order();
+  const FirstOrder& first_order();  // computed once per equilibrium
+  // dJ/dp of an objective with partial gradients jx, jp at the equilibrium (one adjoint solve).
+  // With `mixed` (d2E/dxdp at the equilibrium), its transpose product replaces the element loop.
+  Vector adjoint_gradient_p(const Vector& jx, Vector jp, Vector* lambda = nullptr,
+                            const SparseMatrix* mixed = nullptr);
+  // What products at the current z share: the mixed block d2E/dxdp, and the residual Jacobians
+  // (Gauss-Newton products only). Factorizes H at the equilibrium unless the kept factor is H's.
+  struct ProductData {
+    SparseMatrix mixed, dr_dx, dr_dp;
+    bool residual_jacobians = false;
+  };
+  const ProductData& product_data(bool residual_jacobians);
+  void count_factor_work();  // counters_.factorizations and back_solves from the factor's counts
   // dx*/dp along dp (direct mode), given the mixed block d2E/dxdp at the equilibrium.
   Vector tangent(const Vector& dp, const SparseMatrix& mixed);
   void forward(const Vector& z);             // solves unless z is the cached point
@@ -106,6 +126,9 @@ class StaticFunctional final : public ReducedFunctional {
   bool adjoint_solver_ready_ = false;
   SparseMatrix adjoint_hessian_;
   LinearSolveStats last_linear_solve_;
+  // Valid for the current equilibrium (reset by each new forward solve).
+  std::optional<FirstOrder> first_;
+  std::optional<ProductData> products_;
 };
 
 }  // namespace tailor

@@ -25,5 +25,6 @@ BackendOutcome run_nlopt(Tracker& tracker, const Vector& z0);
 BackendOutcome run_ceres_lbfgs(Tracker& tracker, const Vector& z0);
 BackendOutcome run_ceres_least_squares(Tracker& tracker, const Vector& z0);
 BackendOutcome run_gradient_descent(Tracker& tracker, const Vector& z0);
+BackendOutcome run_newton_cg(Tracker& tracker, const Vector& z0);
 
 }  // namespace tailor::detail

@@ -8,6 +8,8 @@
 //    ("step"), so it continues along the same path.
 //  - ceres_least_squares: the trust-region radius ("trust_region_radius"); the
 //    Levenberg-Marquardt damping's growth factor and the active-set rounds start afresh.
+//  - newton_cg: the trust-region radius ("trust_region_radius"); its CG restarts at the iterate
+//    anyway (it keeps no memory across iterations).
 //  - ceres_lbfgs: nothing. Ceres keeps its L-BFGS memory and line-search state private.
 //  - nlopt_lbfgs, nlopt_mma, nlopt_slsqp: nothing. NLopt exposes neither the L-BFGS memory, MMA's
 //    asymptotes nor SLSQP's quasi-Newton matrix.

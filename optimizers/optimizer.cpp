@@ -36,6 +36,18 @@ std::string to_string(OptimizerStatus status) {
   return "unknown";
 }
 
+std::string to_string(CurvatureProducts curvature) {
+  switch (curvature) {
+    case CurvatureProducts::automatic:
+      return "automatic";
+    case CurvatureProducts::exact:
+      return "exact";
+    case CurvatureProducts::gauss_newton:
+      return "gauss_newton";
+  }
+  return "unknown";
+}
+
 std::string OptimizerResult::report() const {
   std::ostringstream out;
   out << "Optimizer report\n";
@@ -66,6 +78,10 @@ std::string OptimizerResult::report() const {
   if (!history.empty()) {
     out << "  solves         : " << history.back().forward_solves << " forward, "
         << history.back().adjoint_solves << " adjoint\n";
+  }
+  if (counters.factorizations > 0 || counters.back_solves > 0 || counters.hessian_vectors > 0) {
+    out << "  linear algebra : " << counters.factorizations << " factorizations, " << counters.back_solves
+        << " back-solves, " << counters.hessian_vectors << " Hessian-vector products\n";
   }
   return out.str();
 }

@@ -32,6 +32,7 @@ class OptimizerBackend {
   static const OptimizerBackend ceres_lbfgs;          // Ceres GradientProblemSolver, L-BFGS (no bounds)
   static const OptimizerBackend ceres_least_squares;  // Ceres Levenberg-Marquardt, residual form (bounds)
   static const OptimizerBackend gradient_descent;     // projected descent, halving line search (bounds)
+  static const OptimizerBackend newton_cg;            // trust-region Newton-CG, curvature products (bounds)
 
  private:
   std::string_view name_ = "nlopt_lbfgs";
@@ -43,6 +44,7 @@ inline constexpr OptimizerBackend OptimizerBackend::nlopt_slsqp{"nlopt_slsqp"};
 inline constexpr OptimizerBackend OptimizerBackend::ceres_lbfgs{"ceres_lbfgs"};
 inline constexpr OptimizerBackend OptimizerBackend::ceres_least_squares{"ceres_least_squares"};
 inline constexpr OptimizerBackend OptimizerBackend::gradient_descent{"gradient_descent"};
+inline constexpr OptimizerBackend OptimizerBackend::newton_cg{"newton_cg"};
 
 std::string to_string(OptimizerBackend backend);
 // A registered back-end's kind; std::invalid_argument naming the registered ones otherwise.
@@ -63,6 +65,17 @@ struct Constraint {
 
 struct OptimizerCheckpoint;  // optimizers/checkpoint.hpp
 
+// The curvature newton_cg's CG steps use (optimizers/newton_cg_backend.cpp).
+//  automatic     the functional's Gauss-Newton products where it has them (a least-squares
+//                objective), else its exact Hessian-vector products, else forward differences
+//                of its gradient (each product then costs a forward and an adjoint solve; the
+//                result's message says so);
+//  exact         Hessian-vector products only (newton_cg refuses a functional without them);
+//  gauss_newton  Gauss-Newton products only (no third derivatives; positive semidefinite;
+//                newton_cg refuses a functional without them).
+enum class CurvatureProducts { automatic, exact, gauss_newton };
+std::string to_string(CurvatureProducts curvature);
+
 struct OptimizerOptions {
   OptimizerBackend backend = OptimizerBackend::nlopt_lbfgs;
   int max_iterations = 200;
@@ -76,6 +89,8 @@ struct OptimizerOptions {
   // Ipopt only: use Hessian-vector products to assemble the exact Hessian (small problems),
   // otherwise limited-memory BFGS.
   bool exact_hessian = false;
+  // newton_cg only: see CurvatureProducts.
+  CurvatureProducts curvature = CurvatureProducts::automatic;
   std::ostream* progress = nullptr;  // one line per iteration when set
   // Checkpoints (optimizers/checkpoint.hpp): when on_checkpoint is set, it is called with the
   // run's state after every checkpoint_every-th iteration (0 = never) and once at the end of

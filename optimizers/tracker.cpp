@@ -66,6 +66,9 @@ FunctionalCounters Tracker::counters() const {
   out.adjoint_solves += now.adjoint_solves - start_counters_.adjoint_solves;
   out.forward_seconds += now.forward_seconds - start_counters_.forward_seconds;
   out.adjoint_seconds += now.adjoint_seconds - start_counters_.adjoint_seconds;
+  out.factorizations += now.factorizations - start_counters_.factorizations;
+  out.back_solves += now.back_solves - start_counters_.back_solves;
+  out.hessian_vectors += now.hessian_vectors - start_counters_.hessian_vectors;
   return out;
 }
 
@@ -184,6 +187,40 @@ double Tracker::constraint(int i, const Vector& z, Vector* gradient) {
     request_stop(OptimizerStatus::failed, "constraint '" + constraints_[i].name + "' failed");
   }
   return nan;
+}
+
+bool Tracker::curvature_product(const Vector& z, const Vector& v, bool gauss_newton, Vector& out) {
+  try {
+    out = gauss_newton ? functional_.gauss_newton_vector(z, v) : functional_.hessian_vector(z, v);
+    return out.size() == n_ && out.allFinite();
+  } catch (const EvaluationError&) {
+  } catch (const std::exception& e) {
+    fail(e.what());
+  } catch (...) {
+    fail("unknown exception");
+  }
+  return false;
+}
+
+bool Tracker::gradient_difference(const Vector& z, const Vector& g, const Vector& v, Vector& out) {
+  const double v_norm = v.lpNorm<Eigen::Infinity>();
+  if (v_norm == 0.0) {
+    out = Vector::Zero(n_);
+    return true;
+  }
+  const double h = 1e-6 * (1.0 + z.lpNorm<Eigen::Infinity>()) / v_norm;
+  try {
+    Vector shifted;
+    const double f = functional_.value_and_gradient(z + h * v, shifted);
+    out = (shifted - g) / h;
+    return std::isfinite(f) && out.size() == n_ && out.allFinite();
+  } catch (const EvaluationError&) {
+  } catch (const std::exception& e) {
+    fail(e.what());
+  } catch (...) {
+    fail("unknown exception");
+  }
+  return false;
 }
 
 double Tracker::violation(const Vector& z) {

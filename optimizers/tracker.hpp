@@ -59,6 +59,15 @@ class Tracker {
   bool residuals(const Vector& z, Vector& r, Matrix* jacobian);
   // Constraint i at z (gradient when non-null); NaN where it cannot be evaluated.
   double constraint(int i, const Vector& z, Vector* gradient);
+  // The functional's Hessian-vector product at z (Gauss-Newton product with gauss_newton) into
+  // out; false where it cannot be evaluated (EvaluationError, non-finite) or failed otherwise
+  // (then a stop with status failed is requested as well).
+  bool curvature_product(const Vector& z, const Vector& v, bool gauss_newton, Vector& out);
+  // The same by a forward difference of gradients, (g(z + h v) - g) / h with g the gradient at
+  // z and h = 1e-6 (1 + |z|_inf) / |v|_inf, for functionals without curvature products: one
+  // forward and one adjoint solve at z + h v (not an evaluation of the run: not counted, cached
+  // or considered for the best point).
+  bool gradient_difference(const Vector& z, const Vector& g, const Vector& v, Vector& out);
 
   // Infinity norm of z - P(z - g): the gradient with the components that push against an
   // active bound removed (and, near a bound, cut to the distance to it).

@@ -177,6 +177,7 @@ FactorizationResult NewtonSolver::factorize_hessian(const Vector& p, const Vecto
     analyzed_ = true;
   }
   const FactorizationResult result = cholesky_.factorize(hessian_);
+  factor_p_ = p;
   if (result.success) apply_low_rank(assembler_.low_rank_hessian(y, p, mode));
   factor_is_exact_ = mode == HessianMode::exact && result.success;
   kept_factor_stale_ = false;
@@ -273,6 +274,7 @@ std::string NewtonSolver::factorized_step(const Vector& p, const Vector& y, cons
   constant_factor_ = false;
   kept_factor_stale_ = false;
   FactorizationResult fact = cholesky_.factorize(hessian_);
+  factor_p_ = p;
   ++it.factorizations;
   it.factorization_seconds = seconds_since(t0);
   if (mode == HessianMode::exact && !fact.positive_definite && model_.hessian_is_constant()) {
@@ -572,7 +574,9 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
         const NewtonIteration* last = k > 0 ? &result.history.back() : nullptr;
         const bool converging = !last || (last->step_length == 1.0 && residual <= 0.5 * last->residual);
         if (last && last->reused_factorization && !converging) cg_in_this_solve = false;
-        try_cg = cg_in_this_solve && converging && reuse_pays();
+        const bool same_parameters = options_.reuse_across_parameters ||
+                                     (factor_p_.size() == p.size() && factor_p_ == p);
+        try_cg = cg_in_this_solve && converging && same_parameters && reuse_pays();
       }
       if (try_cg && low_rank.empty() && mode == HessianMode::exact && !kept_factor_stale_ && can_precondition())
         it.reused_factorization = kept_factor_step(gradient, residual, scale, target, it, dy);

@@ -89,9 +89,17 @@ struct NewtonOptions {
   //              that at least halved the residual; after a CG step that did not (a shortened
   //              step or a residual above half the last one), that solve factorizes every
   //              iteration, as without reuse.
+  //            - parameters: the kept factor was factorized at the same parameters p (the
+  //              iterations of one solve, time steps, load steps), unless
+  //              reuse_across_parameters; a solve at new p (an optimizer's next design) first
+  //              factorizes. Measured on per-element modulus recovery (docs/performance.md): CG
+  //              with the previous design's factor made the forward solve cheaper but left the
+  //              adjoint to factorize, slower per evaluation than factorizing once and
+  //              back-solving.
   //  on        CG whenever the kept factor allows it (the rule above without its tests).
   //  off       every iteration that needs a new Hessian factorizes it.
   FactorReuse reuse_factorization = FactorReuse::automatic;
+  bool reuse_across_parameters = false;
   double reuse_min_factor_over_solve = 30.0;
   // Measured with dynamics_bench (Neo-Hookean implicit steps, one thread, CPU time per step,
   // docs/performance.md): at 47 flops per slot (6k tets) CG and factorizing cost the same, at
@@ -264,6 +272,7 @@ class NewtonSolver {
   bool factor_is_exact_ = false;
   bool factor_matches_hessian_ = false;
   bool kept_factor_stale_ = false;  // reuse: the last CG missed its tolerance with the kept factor
+  Vector factor_p_;                 // the parameters of the last factorization
   bool analyzed_ = false;
   // Key of the kept factor of a constant Hessian (valid while constant_factor_ is true).
   bool constant_factor_ = false;

@@ -105,6 +105,7 @@ FactorizationResult SparseCholesky::factorize(const SparseMatrix& upper) {
   const FactorizationThreadsGuard threads;
 
   CholmodFactor& llt = impl_->llt;
+  ++numeric_factorizations_;
   cholmod_factorize(&a, llt.factor, &llt.common);
   if (llt.common.status == CHOLMOD_OK && llt.factor->minor == llt.factor->n) {
     result.success = result.positive_definite = true;
@@ -123,6 +124,7 @@ FactorizationResult SparseCholesky::factorize(const SparseMatrix& upper) {
     ldlt.analyze(&a);
     impl_->ldlt_analyzed_nnz = static_cast<std::size_t>(upper.nonZeros());
   }
+  ++numeric_factorizations_;
   cholmod_factorize(&a, ldlt.factor, &ldlt.common);
   if (ldlt.common.status != CHOLMOD_OK || ldlt.factor->minor != ldlt.factor->n) {
     result.message = "matrix is singular (zero pivot in LDL^T at column " + std::to_string(ldlt.factor->minor) + ")";
@@ -173,6 +175,7 @@ Matrix SparseCholesky::base_solve(const Matrix& b) const {
   if (b.rows() != rows_) throw std::invalid_argument("SparseCholesky::solve: right-hand side has the wrong size");
   CholmodFactor& f = *impl_->active;
   const FactorizationThreadsGuard threads;
+  back_solves_ += static_cast<long>(b.cols());
   cholmod_dense rhs = view(b.data(), b.rows(), b.cols());
   cholmod_dense* sol = cholmod_solve(CHOLMOD_A, f.factor, &rhs, &f.common);
   if (!sol) throw std::runtime_error("CHOLMOD solve failed (status " + std::to_string(f.common.status) + ")");

@@ -52,12 +52,19 @@ class SparseCholesky {
   // a numeric factorization and the nonzeros of L (a back-solve costs about 4 nnz(L) flops).
   double factorization_flops() const;
   double factor_nonzeros() const;
+  // Work done so far, for reports: numeric factorizations (an LDL^T after a failed LL^T counts
+  // as a second one) and right-hand sides solved with a factor (a back-solve each: a forward and
+  // a backward triangular solve).
+  long numeric_factorizations() const { return numeric_factorizations_; }
+  long back_solves() const { return back_solves_; }
 
  private:
   struct Impl;
   Matrix base_solve(const Matrix& b) const;
   std::unique_ptr<Impl> impl_;
   int rows_ = 0;
+  long numeric_factorizations_ = 0;
+  mutable long back_solves_ = 0;
   Matrix low_rank_factors_, low_rank_core_, low_rank_solved_;  // F, G, A^-1 F
   Eigen::PartialPivLU<Matrix> capacitance_;                  // I + G F^T A^-1 F
 };

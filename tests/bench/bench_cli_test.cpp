@@ -48,6 +48,7 @@ const char* const kBenches[] = {"adjoint_bench",
                                 "homogenization_bench",
                                 "material_modes_bench",
                                 "newton_bench",
+                                "recovery_bench",
                                 "reduced_dynamics_bench",
                                 "reduction_error_bench",
                                 "rigid_pile_bench",
@@ -94,6 +95,9 @@ TEST(BenchCli, BadValuesExitWithTwoNamingTheFlag) {
       {"rigid_stack_bench", "--height x", "--height: expected an integer >= 1, got 'x'"},
       {"rod_bench", "--vertices 2", "--vertices: expected an integer >= 3, got '2'"},
       {"solver_defaults_bench", "--repeats", "--repeats"},
+      {"recovery_bench", "--size 12k", "--size: expected one of 6k, 48k, got '12k'"},
+      {"recovery_bench", "--backends newton_cg,lbfgs", "--backends: unknown optimizer back-end 'lbfgs'"},
+      {"recovery_bench", "--reuse maybe", "--reuse: expected one of auto, across, off, got 'maybe'"},
   };
   for (const auto& c : cases) {
     std::string output;
@@ -113,6 +117,29 @@ TEST(BenchCli, AReportStartsWithTheHeaderAndParses) {
   EXPECT_TRUE(report["threads"].contains("blas_library"));
   ASSERT_EQ(report["sizes"].size(), 2u);  // the list replaced the default sizes
   EXPECT_EQ(report["sizes"][1]["vertices"], 8);
+}
+
+// recovery_bench, cut short: a row per variant (newton_cg twice: its default curvature and the
+// exact Hessian), with the counts the table prints.
+TEST(BenchCli, RecoveryBenchReportsEveryVariantWithItsCounts) {
+  TempFolder folder("bench_cli_recovery");
+  std::string output;
+  ASSERT_EQ(run_bench("recovery_bench", "--backends newton_cg,nlopt_lbfgs --max-iterations 2 --out r.json", folder,
+                      output),
+            0)
+      << output;
+  const auto report = parse_ordered_json(read_file(folder / "r.json"));
+  EXPECT_EQ(report["benchmark"], "recovery");
+  EXPECT_EQ(report["tets"], 6000);
+  ASSERT_EQ(report["rows"].size(), 3u) << output;
+  EXPECT_EQ(report["rows"][0]["curvature"], "automatic");
+  EXPECT_EQ(report["rows"][1]["curvature"], "exact");
+  for (const auto& row : report["rows"]) {
+    EXPECT_GT(row["factorizations"].get<long>(), 0) << row.dump();
+    EXPECT_GT(row["back_solves"].get<long>(), 0) << row.dump();
+  }
+  EXPECT_GT(report["rows"][0]["hessian_vectors"].get<int>(), 0);
+  EXPECT_EQ(report["rows"][2]["hessian_vectors"].get<int>(), 0);
 }
 
 // Written by write_report: +-inf and NaN become null, control characters are escaped.

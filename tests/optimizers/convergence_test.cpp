@@ -223,6 +223,9 @@ const Case kCases[] = {
     {B::gradient_descent, P::rosenbrock2, 1e-6},
     {B::gradient_descent, P::rosenbrock10, 1e-6},
     {B::gradient_descent, P::bounded_rosenbrock, 1e-6, false, 1e-7},
+    {B::newton_cg, P::rosenbrock2, 1e-6},
+    {B::newton_cg, P::rosenbrock10, 1e-6},
+    {B::newton_cg, P::bounded_rosenbrock, 1e-6},
 };
 
 INSTANTIATE_TEST_SUITE_P(Optimizers, Convergence, ::testing::ValuesIn(kCases),

@@ -1,0 +1,190 @@
+// newton_cg beyond what every back-end is tested for (convergence_test, control_test,
+// checkpoint_test): active bounds on a 10-variable Rosenbrock, the curvature it chooses and
+// refuses, and on a small per-element modulus recovery the factorizations it saves against
+// nlopt_lbfgs, counted by the functional.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "../support/fem_fixtures.hpp"
+#include "adjoint/static_functional.hpp"
+#include "forward/fem/loads.hpp"
+#include "objectives/material_smoothness.hpp"
+#include "objectives/target_positions.hpp"
+#include "objectives/weighted_sum.hpp"
+#include "tests/optimizers/test_functionals.hpp"
+
+namespace tailor::test::newton_cg_test {
+namespace {
+
+using ::testing::HasSubstr;
+
+OptimizerOptions newton_cg(double gradient_tolerance = 1e-10) {
+  OptimizerOptions options;
+  options.backend = OptimizerBackend::newton_cg;
+  options.max_iterations = 1000;
+  options.gradient_tolerance = gradient_tolerance;
+  return options;
+}
+
+// Rosenbrock(10) in 0.2 <= z <= 0.6: the unconstrained minimizer (1, ..., 1) is outside, and
+// several variables end on a bound. The reference is Ipopt's answer at a tight tolerance.
+TEST(NewtonCg, FindsTheBoundedMinimumWithSeveralActiveBounds) {
+  const Bounds box{Vector::Constant(10, 0.2), Vector::Constant(10, 0.6)};
+  Rosenbrock rosenbrock(10);
+  const OptimizerResult r = minimize(rosenbrock, Vector::Constant(10, 0.3), box, {}, newton_cg());
+  OptimizerOptions ipopt = newton_cg();
+  ipopt.backend = OptimizerBackend::ipopt;
+  Rosenbrock reference_functional(10);
+  const OptimizerResult reference = minimize(reference_functional, Vector::Constant(10, 0.3), box, {}, ipopt);
+  ASSERT_TRUE(reference.converged()) << reference.message;
+  EXPECT_TRUE(r.converged()) << r.message;
+  EXPECT_LT((r.z - reference.z).lpNorm<Eigen::Infinity>(), 1e-7) << r.z.transpose() << "\n"
+                                                                  << reference.z.transpose();
+  int active = 0;
+  for (int i = 0; i < 10; ++i) active += r.z[i] == 0.2 || r.z[i] == 0.6;
+  EXPECT_GE(active, 2) << r.z.transpose();
+  EXPECT_TRUE((r.z.array() >= 0.2).all() && (r.z.array() <= 0.6).all());
+}
+
+// Rosenbrock with its Gauss-Newton product from the residual Jacobian.
+class GaussNewtonRosenbrock : public Rosenbrock {
+ public:
+  using Rosenbrock::Rosenbrock;
+  bool has_gauss_newton_vector() const override { return true; }
+  Vector gauss_newton_vector(const Vector& z, const Vector& v) override {
+    Vector r;
+    Matrix J;
+    residuals(z, r, &J);
+    ++gauss_newton_products;
+    return J.transpose() * (J * v);
+  }
+  int gauss_newton_products = 0;
+};
+
+// Rosenbrock without any curvature products.
+class FirstOrderRosenbrock : public Rosenbrock {
+ public:
+  using Rosenbrock::Rosenbrock;
+  bool has_hessian_vector() const override { return false; }
+};
+
+TEST(NewtonCg, ChoosesGaussNewtonThenExactThenGradientDifferences) {
+  GaussNewtonRosenbrock gauss_newton(10);
+  OptimizerResult r = minimize(gauss_newton, Vector::Zero(10), {}, {}, newton_cg());
+  EXPECT_TRUE(r.converged()) << r.message;
+  EXPECT_THAT(r.message, HasSubstr("Gauss-Newton products"));
+  EXPECT_GT(gauss_newton.gauss_newton_products, 0);
+  EXPECT_LT((r.z - Vector::Ones(10)).lpNorm<Eigen::Infinity>(), 1e-8);
+
+  OptimizerOptions exact = newton_cg();
+  exact.curvature = CurvatureProducts::exact;
+  GaussNewtonRosenbrock both(10);
+  r = minimize(both, Vector::Zero(10), {}, {}, exact);
+  EXPECT_TRUE(r.converged()) << r.message;
+  EXPECT_THAT(r.message, HasSubstr("Hessian-vector products"));
+  EXPECT_EQ(both.gauss_newton_products, 0);
+
+  FirstOrderRosenbrock first_order(10);
+  r = minimize(first_order, Vector::Zero(10), {}, {}, newton_cg(1e-7));
+  EXPECT_TRUE(r.converged()) << r.message;
+  EXPECT_THAT(r.message, HasSubstr("gradient differences"));
+  EXPECT_LT((r.z - Vector::Ones(10)).lpNorm<Eigen::Infinity>(), 1e-6);
+}
+
+TEST(NewtonCg, RefusesCurvatureTheFunctionalLacks) {
+  FirstOrderRosenbrock first_order(2);
+  OptimizerOptions options = newton_cg();
+  options.curvature = CurvatureProducts::exact;
+  OptimizerResult r = minimize(first_order, Eigen::Vector2d(-1.2, 1.0), {}, {}, options);
+  EXPECT_EQ(r.status, OptimizerStatus::failed);
+  EXPECT_THAT(r.message, HasSubstr("asks for Hessian-vector products"));
+  EXPECT_EQ(first_order.calls, 0);
+  options.curvature = CurvatureProducts::gauss_newton;
+  r = minimize(first_order, Eigen::Vector2d(-1.2, 1.0), {}, {}, options);
+  EXPECT_EQ(r.status, OptimizerStatus::failed);
+  EXPECT_THAT(r.message, HasSubstr("not least squares"));
+  WeightedQuadratic quadratic;
+  r = minimize(quadratic, Vector::Zero(3), {}, {gap_constraint()}, newton_cg());
+  EXPECT_EQ(r.status, OptimizerStatus::failed);
+  EXPECT_THAT(r.message, HasSubstr("bounds only"));
+}
+
+// A clamped 3 x 1 x 1 linear block (6 x 2 x 2 cells, 144 tets) under a shear traction; one log E
+// per tet recovered from the positions of every free vertex with a weak smoothness term, from
+// 2x too stiff everywhere.
+struct SmallRecovery {
+  Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(3, 1, 1), 6, 2, 2);
+  Model model{3 * mesh.num_vertices()};
+  Vector rest, base;
+  ObjectivePtr objective;
+
+  SmallRecovery() {
+    const int m = mesh.num_elements();
+    model.parameter_layout().add("youngs_modulus", m);
+    model.parameter_layout().add("poisson_ratio", m);
+    model.add(testing::elastic_term<3>(mesh, MaterialKind::linear));
+    const Eigen::MatrixXi end = boundary_facets_where(mesh, [](const Eigen::VectorXd& X) { return X[0] > 3 - 1e-9; });
+    model.add(std::make_unique<ExternalForceTerm>(traction_forces(mesh, end, Eigen::Vector3d(0, 20, -50))));
+    rest = testing::rest_state(mesh);
+    std::vector<int> fixed, observed;
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (mesh.rest_positions(v, 0) < 1e-9)
+        for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
+      else
+        observed.push_back(v);
+    }
+    model.set_elimination(Elimination::dirichlet(fixed, rest));
+    base = Vector(2 * m);
+    base.tail(m).setConstant(0.3);
+    Vector p = base;
+    for (int e = 0; e < m; ++e) p[e] = 1e4 * (1.0 + 0.5 * std::sin(0.3 * e));
+    NewtonSolver newton(model);
+    Vector y = model.elimination().restrict_state(rest);
+    EXPECT_TRUE(newton.solve(p, y).converged());
+    const Vector x = model.elimination().expand(y);
+    Matrix targets(observed.size(), 3);
+    for (std::size_t k = 0; k < observed.size(); ++k) targets.row(k) = x.segment<3>(3 * observed[k]).transpose();
+    objective = std::make_shared<WeightedSum>(
+        std::vector<ObjectivePtr>{std::make_shared<TargetPositions>(3, observed, targets),
+                                  std::make_shared<MaterialSmoothness>(
+                                      mesh, 0, 1.0, MaterialSmoothnessOptions{AdjacencyWeighting::unit, true})},
+        std::vector<double>{1.0, 1e-7});
+  }
+  StaticFunctional functional() {
+    const int m = mesh.num_elements();
+    return StaticFunctional(model, embed_blocks(base, {{0, exp_map(m)}}), objective,
+                            model.elimination().restrict_state(rest));
+  }
+  Vector z0() const { return Vector::Constant(mesh.num_elements(), std::log(2e4)); }
+};
+
+// Both reach the same minimum; newton_cg with far fewer factorizations (one per design it
+// evaluates, plus none for its products), paying with back-solves instead.
+TEST(NewtonCg, RecoveryTakesFarFewerFactorizationsThanLbfgs) {
+  SmallRecovery recovery;
+  StaticFunctional for_newton = recovery.functional(), for_lbfgs = recovery.functional();
+  Vector g;
+  for_newton.value_and_gradient(recovery.z0(), g);
+  const double tolerance = 1e-7 * g.lpNorm<Eigen::Infinity>();
+  OptimizerOptions options = newton_cg(tolerance);
+  const OptimizerResult a = minimize(for_newton, recovery.z0(), {}, {}, options);
+  options.backend = OptimizerBackend::nlopt_lbfgs;
+  options.max_iterations = 3000;
+  const OptimizerResult b = minimize(for_lbfgs, recovery.z0(), {}, {}, options);
+  std::printf("newton_cg: %d iterations, %ld factorizations, %ld back-solves, %d products, objective %.10e\n",
+              a.history.back().iteration, a.counters.factorizations, a.counters.back_solves,
+              a.counters.hessian_vectors, a.objective);
+  std::printf("nlopt_lbfgs: %d iterations, %ld factorizations, %ld back-solves, objective %.10e\n",
+              b.history.back().iteration, b.counters.factorizations, b.counters.back_solves, b.objective);
+  EXPECT_TRUE(a.converged()) << a.message;
+  EXPECT_LT(a.objective, b.objective + 1e-6 * std::abs(b.objective)) << b.message;
+  EXPECT_GT(a.counters.hessian_vectors, 0);
+  EXPECT_LE(a.counters.factorizations, a.counters.forward_solves);
+  EXPECT_LT(3 * a.counters.factorizations, b.counters.factorizations);
+  EXPECT_GE(a.counters.back_solves, 2 * a.counters.hessian_vectors);
+}
+
+}  // namespace
+}  // namespace tailor::test::newton_cg_test

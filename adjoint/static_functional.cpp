@@ -245,8 +245,7 @@ const StaticFunctional::ProductData& StaticFunctional::product_data(bool residua
       throw EvaluationError("Hessian-vector product: the Hessian at the equilibrium is singular (" + f.message + ")");
   }
   if (!products_) {
-    products_.emplace();
-    products_->mixed = model_.mixed(x_, p_);
+    products_.emplace(ProductData{model_.mixed(x_, p_), {}, {}, false});
   }
   if (residual_jacobians && !products_->residual_jacobians) {
     Vector r;

@@ -100,7 +100,7 @@ class StaticFunctional final : public ReducedFunctional {
   // (Gauss-Newton products only). Factorizes H at the equilibrium unless the kept factor is H's.
   struct ProductData {
     SparseMatrix mixed, dr_dx, dr_dp;
-    bool residual_jacobians = false;
+    bool residual_jacobians;  // no default initializer: clang 14 then cannot construct it in std::optional
   };
   const ProductData& product_data(bool residual_jacobians);
   void count_factor_work();  // counters_.factorizations and back_solves from the factor's counts

@@ -13,6 +13,7 @@
 #include "problems/contact/torus_scene.hpp"
 #include "problems/damping_design/damping_design_scene.hpp"
 #include "problems/fem/builtin_scenes.hpp"
+#include "problems/fem/physics_warnings.hpp"
 #include "problems/fem/commands.hpp"
 #include "problems/fem/dynamic_commands.hpp"
 #include "problems/fem/inverse_commands.hpp"
@@ -67,22 +68,20 @@ Scene load_scene(const SceneFile& file, const VerbArguments& args, std::ostream&
     scene = parse_scene(file.node(), file.directory());
     scene.name = file.name();
   }
+  for (const std::string& warning : locking_warnings(scene)) out << "warning: " << warning << "\n";
   apply_thread_flags(args, scene.solver.threads);
   return scene;
 }
 
-std::string out_dir(const VerbArguments& args, const Scene& scene) {
-  return args.out_dir_or("out/" + scene.name);
-}
 
 int simulate_static(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
-  return exit_code(simulate_scene(scene, out_dir(args, scene), &out).solution.converged);
+  return exit_code(simulate_scene(scene, output_folder(file, args), &out).solution.converged);
 }
 
 int simulate_dynamic(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
-  return exit_code(simulate_dynamic_scene(scene, out_dir(args, scene), &out).completed);
+  return exit_code(simulate_dynamic_scene(scene, output_folder(file, args), &out).completed);
 }
 
 int check_model(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
@@ -96,6 +95,14 @@ int report_gradcheck(const GradcheckRun& run, std::ostream& out) {
         << failed.message << "\n";
   }
   return exit_code(run.passed());
+}
+
+// --hessian on a kind whose design functional has no Hessian-vector products: bad input (exit 2),
+// before any solve.
+void refuse_hessian_flag(const SceneFile& file, const VerbArguments& args, const std::string& kind) {
+  if (args.hessian)
+    throw SceneError(file.source + ": --hessian: " + kind +
+                     " have no Hessian-vector products; run gradcheck without --hessian to check the gradient");
 }
 
 int gradcheck_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
@@ -114,7 +121,7 @@ int gradcheck_inverse(const SceneFile& file, const VerbArguments& args, std::ost
         << r.table() << to_string(r.status) << ": " << r.message << "\n";
     return exit_code(r.passed());
   }
-  return report_gradcheck(gradcheck_scene(scene, out_dir(args, scene), {args.seed, args.hessian}, &out), out);
+  return report_gradcheck(gradcheck_scene(scene, output_folder(file, args), {args.seed, args.hessian}, &out), out);
 }
 
 // A dynamic scene without an inverse section checks the time-dependent adjoint of its
@@ -122,9 +129,10 @@ int gradcheck_inverse(const SceneFile& file, const VerbArguments& args, std::ost
 int gradcheck_dynamic(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
   if (scene.inverse)
-    return report_gradcheck(gradcheck_scene(scene, out_dir(args, scene), {args.seed, args.hessian}, &out),
+    return report_gradcheck(gradcheck_scene(scene, output_folder(file, args), {args.seed, args.hessian}, &out),
                             out);
-  return report_gradcheck(gradcheck_dynamic_scene(scene, out_dir(args, scene), args.seed.value_or(1), &out),
+  refuse_hessian_flag(file, args, "the time-dependent adjoint's functionals (dynamics.objective)");
+  return report_gradcheck(gradcheck_dynamic_scene(scene, output_folder(file, args), args.seed.value_or(1), &out),
                           out);
 }
 
@@ -136,35 +144,23 @@ int run_inverse(const SceneFile& file, const VerbArguments& args, std::ostream& 
       throw SceneError(scene.source + ": " + scene.inverse->design.reduction->key +
                        ": --resume and --checkpoint-every are not supported by the reduced design loop");
     const ReducedDesignRun run =
-        run_reduced_design_scene(scene, out_dir(args, scene), &out, args.quiet ? nullptr : &out);
+        run_reduced_design_scene(scene, output_folder(file, args), &out, args.quiet ? nullptr : &out);
     return exit_code(run.result.converged() || run.result.status == OptimizerStatus::max_iterations);
   }
-  // `run --resume DIR` writes into DIR (the checkpoint's folder) unless --out says otherwise.
-  std::string dir = out_dir(args, scene);
-  if (args.resume && !args.out_dir) {
-    const std::filesystem::path resume(*args.resume);
-    dir = !std::filesystem::is_regular_file(resume) ? resume.string()
-          : resume.has_parent_path()                ? resume.parent_path().string()
-                                                    : ".";
-  }
   const InverseRun run =
-      run_inverse_scene(scene, dir, &out, args.quiet ? nullptr : &out, {args.checkpoint_every, args.resume});
+      run_inverse_scene(scene, output_folder(file, args), &out, args.quiet ? nullptr : &out, {args.checkpoint_every, args.resume});
   return exit_code(run.result.converged());
 }
 
 int compute_modes(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const Scene scene = load_scene(file, args, out);
-  modes_scene(scene, args.count, out_dir(args, scene), &out);
+  modes_scene(scene, args.count, output_folder(file, args), &out);
   return kExitSuccess;
 }
 
 // ---- the other kinds: each parses file.node() (errors name the source and the key path), with
 // relative paths from file.directory(), names the scene file.name() and writes into
-// args.out_dir_or(file.default_out_dir()).
-
-std::string out_dir(const VerbArguments& args, const SceneFile& file) {
-  return args.out_dir_or(file.default_out_dir());
-}
+// output_folder(file, args).
 
 // The runs that are not an inverse problem's optimizer keep no checkpoints.
 void refuse_checkpoint_flags(const VerbArguments& args) {
@@ -179,12 +175,13 @@ RigidSceneSpec load_rigid_scene(const SceneFile& file) {
 }
 
 int simulate_rigid(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  return exit_code(simulate_rigid_scene(load_rigid_scene(file), out_dir(args, file), &out).completed());
+  return exit_code(simulate_rigid_scene(load_rigid_scene(file), output_folder(file, args), &out).completed());
 }
 
 int gradcheck_rigid(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_hessian_flag(file, args, "the design functionals of rigid-body scenes");
   return exit_code(
-      gradcheck_rigid_scene(load_rigid_scene(file), out_dir(args, file), args.seed.value_or(1), &out)
+      gradcheck_rigid_scene(load_rigid_scene(file), output_folder(file, args), args.seed.value_or(1), &out)
           .passed());
 }
 
@@ -195,27 +192,28 @@ TorusSceneSpec load_torus_scene(const SceneFile& file) {
 }
 
 int simulate_tori(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  return exit_code(simulate_torus_scene(load_torus_scene(file), out_dir(args, file), &out).completed());
+  return exit_code(simulate_torus_scene(load_torus_scene(file), output_folder(file, args), &out).completed());
 }
 
 int gradcheck_tori(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_hessian_flag(file, args, "the design functionals of torus scenes");
   TorusGradcheckOptions options;
   options.seed = args.seed.value_or(1);
   return exit_code(
-      gradcheck_torus_scene(load_torus_scene(file), out_dir(args, file), options, &out).passed());
+      gradcheck_torus_scene(load_torus_scene(file), output_folder(file, args), options, &out).passed());
 }
 
 int simulate_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const SceneNode root = file.node();
   // The design section is checked as well, as FEM scenes' are (a rod scene with a mesh refuses it).
   if (root.has("inverse") && !root.has("mesh")) parse_rod_inverse(root, parse_rod_scene(root));
-  return exit_code(simulate_rod_scene(root, file.directory(), out_dir(args, file), &out));
+  return exit_code(simulate_rod_scene(root, file.directory(), output_folder(file, args), &out));
 }
 
 int gradcheck_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const auto problem = build_rod_inverse(file.node(), file.name());
   return exit_code(
-      gradcheck_rod_scene(*problem, out_dir(args, file), args.seed, args.hessian, &out).passed());
+      gradcheck_rod_scene(*problem, output_folder(file, args), args.seed, args.hessian, &out).passed());
 }
 
 int run_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
@@ -223,7 +221,7 @@ int run_elastic_rods(const SceneFile& file, const VerbArguments& args, std::ostr
     throw UsageError("--resume and --checkpoint-every are not implemented for rod scenes");
   const auto problem = build_rod_inverse(file.node(), file.name());
   return exit_code(
-      run_rod_inverse(*problem, out_dir(args, file), &out, args.quiet ? nullptr : &out).result.converged());
+      run_rod_inverse(*problem, output_folder(file, args), &out, args.quiet ? nullptr : &out).result.converged());
 }
 
 CellScene load_cell_scene(const SceneFile& file) {
@@ -235,7 +233,7 @@ CellScene load_cell_scene(const SceneFile& file) {
 int homogenize_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   const CellScene cell = load_cell_scene(file);
   if (cell.has_design) parse_metamaterial_design(file.node(), cell);  // checked, as `run` reads it
-  homogenize_scene(cell, out_dir(args, file), &out);
+  homogenize_scene(cell, output_folder(file, args), &out);
   return kExitSuccess;
 }
 
@@ -244,7 +242,7 @@ int design_cell(const SceneFile& file, const VerbArguments& args, std::ostream& 
   const CellScene cell = load_cell_scene(file);
   const MetamaterialDesignSpec spec = parse_metamaterial_design(file.node(), cell);
   const MetamaterialRun run =
-      run_metamaterial_design(cell, spec, out_dir(args, file), &out, args.quiet ? nullptr : &out);
+      run_metamaterial_design(cell, spec, output_folder(file, args), &out, args.quiet ? nullptr : &out);
   return exit_code(run.result.converged());
 }
 
@@ -252,16 +250,27 @@ int fit_material(const SceneFile& file, const VerbArguments& args, std::ostream&
   refuse_checkpoint_flags(args);
   MaterialFitSpec spec = parse_material_fit_scene(file.node());
   spec.name = file.name();
-  const MaterialFitRun fit = run_material_fit(spec, out_dir(args, file), &out, args.quiet ? nullptr : &out);
+  const MaterialFitRun fit = run_material_fit(spec, output_folder(file, args), &out, args.quiet ? nullptr : &out);
   return exit_code(fit.result.converged());
 }
 
 int design_damping(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
   refuse_checkpoint_flags(args);
-  return exit_code(run_damping_design_scene(file.node(), out_dir(args, file), &out));
+  return exit_code(run_damping_design_scene(file.node(), output_folder(file, args), &out));
 }
 
 }  // namespace
+
+std::string output_folder(const SceneFile& file, const VerbArguments& args) {
+  if (args.out_dir) return *args.out_dir;
+  if (args.resume && args.verb == "run") {
+    const std::filesystem::path resume(*args.resume);
+    return !std::filesystem::is_regular_file(resume) ? resume.string()
+           : resume.has_parent_path()                ? resume.parent_path().string()
+                                                     : ".";
+  }
+  return file.given() ? file.default_out_dir() : "out/" + builtin_cantilever().name;
+}
 
 std::vector<Verb> builtin_verbs() {
   return {
@@ -273,7 +282,8 @@ std::vector<Verb> builtin_verbs() {
        "Check the derivatives of every energy term of the scene's model against finite\n"
        "differences at a randomly perturbed state (seed N, default 1).",
        /*needs_scene=*/false,
-       [](CLI::App& c, VerbArguments& a) { add_seed(c, a, "seed of the perturbed state (default 1)"); }},
+       [](CLI::App& c, VerbArguments& a) { add_seed(c, a, "seed of the perturbed state (default 1)"); },
+       /*writes_output=*/false},
       {"gradcheck", "gradcheck scene.json [--out DIR] [--seed N] [--hessian]",
        "Taylor test of the gradient (and with --hessian of the Hessian-vector products)\n"
        "of the scene's inverse problem at its initial design; write DIR/gradcheck.json.",

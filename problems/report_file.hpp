@@ -1,16 +1,13 @@
 #pragma once
-// Writing a run's files so that a reader sees the old file or the new one, never a part: the
-// text goes to a temporary file in the same folder, is flushed to the disk and checked, then
-// renamed over the target. Every kind's report.json (and gradcheck.json) is written by
+// Writing a run's reports so that a reader sees the old file or the new one, never a part
+// (forward/core/atomic_file.hpp). Every kind's report.json (and gradcheck.json) is written by
 // write_report, which also puts the common header (report_header.hpp) first.
 #include <nlohmann/json.hpp>
 #include <string>
 
-namespace tailor {
+#include "forward/core/atomic_file.hpp"  // write_text_file_atomically
 
-// Writes `text` to `path` atomically. On failure the temporary file is removed, `path` keeps its
-// old content, and std::runtime_error names the path and the reason.
-void write_text_file_atomically(const std::string& path, const std::string& text);
+namespace tailor {
 
 // `report` (a JSON object) written atomically to `path`, indented by 2, starting with the fields
 // of add_report_header (tailor_version, report_format, threads; the report's own values of

@@ -81,6 +81,11 @@ SceneFile scene_from_text(const std::string& json_text, const std::string& sourc
 SceneFile scene_from_document(nlohmann::json document, const std::string& source,
                               const std::string& directory = "");
 
+// The folder a verb writes into: --out DIR; else, for `run --resume DIR`, DIR (or the
+// checkpoint file's folder); else the scene's default_out_dir(), out/cantilever for the built-in
+// scene run without a scene file. Every kind's handler writes there.
+std::string output_folder(const SceneFile& file, const VerbArguments& args);
+
 // The CLI's exit codes: success, a solve, check or optimization that failed, bad input.
 inline constexpr int kExitSuccess = 0;
 inline constexpr int kExitFailure = 1;
@@ -99,6 +104,9 @@ struct Verb {
   bool needs_scene = true;
   // Adds the verb's own flags to its CLI11 subcommand, bound to fields of `args`.
   std::function<void(CLI::App& command, VerbArguments& args)> options;
+  // Whether the verb writes files into output_folder(): the command line then claims that folder
+  // before the handler runs (problems/output_folder.hpp: created, checked, locked).
+  bool writes_output = true;
 };
 
 // One verb a kind supports.

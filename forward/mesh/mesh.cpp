@@ -181,6 +181,24 @@ void validate_mesh_with_lines(const Mesh& mesh, const std::string& source,
     throw MeshError(where(e) + ": " + element(e) + " is degenerate (signed " + measure + " " +
                     format_number(volume) + ", longest edge " + format_number(longest) + vertices + ")");
   }
+  // A vertex no element uses has no stiffness and no mass: the system is singular there (Newton
+  // takes extra iterations, eigensolvers and periodic solves fail without saying why). Refused,
+  // naming the vertices, rather than dropped: dropping would renumber the vertices that scenes
+  // select by index.
+  std::vector<char> used(static_cast<std::size_t>(num_vertices), 0);
+  for (int e = 0; e < num_elements; ++e)
+    for (int k = 0; k <= dim; ++k) used[static_cast<std::size_t>(mesh.elements(e, k))] = 1;
+  if (const long unused = std::count(used.begin(), used.end(), 0); unused > 0) {
+    std::string listed;
+    int shown = 0;
+    for (int v = 0; v < num_vertices && shown < 5; ++v)
+      if (!used[static_cast<std::size_t>(v)]) listed += (shown++ ? ", " : "") + std::to_string(v);
+    if (unused > shown) listed += ", ...";
+    throw MeshError(source + ": " + std::to_string(unused) + " of " + std::to_string(num_vertices) +
+                    " vertices are used by no element (0-based: " + listed +
+                    "); a free vertex has no stiffness or mass. Remove them from the mesh (e.g. "
+                    "geometry points saved with it)");
+  }
 }
 
 }  // namespace mesh_detail

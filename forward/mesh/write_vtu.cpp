@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "forward/core/atomic_file.hpp"
 #include "forward/mesh/mesh_io.hpp"
 
 namespace tailor {
@@ -65,10 +66,9 @@ FieldKind field_kind(const std::string& where, const std::string& name, const Ei
 
 class VtuOutput {
  public:
-  explicit VtuOutput(const std::string& path) : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
-    if (!out_) throw MeshError(path + ": cannot open file for writing (" + std::strerror(errno) + ")");
-    buffer_.reserve(kFlushSize + 256);
-  }
+  // Written to a temporary and renamed into place by finish() (forward/core/atomic_file.hpp): a
+  // run killed while writing never leaves a truncated file.
+  explicit VtuOutput(const std::string& path) : out_(open(path)) { buffer_.reserve(kFlushSize + 256); }
 
   void text(std::string_view s) {
     buffer_ += s;
@@ -79,8 +79,11 @@ class VtuOutput {
 
   void finish() {
     flush();
-    out_.close();
-    if (!out_) throw MeshError(path_ + ": error while writing file");
+    try {
+      out_.commit();
+    } catch (const std::runtime_error& e) {
+      throw MeshError(e.what());
+    }
   }
 
  private:
@@ -93,14 +96,20 @@ class VtuOutput {
     text(std::string_view(chars, static_cast<std::size_t>(result.ptr - chars)));
   }
 
+  static AtomicFile open(const std::string& path) {
+    try {
+      return AtomicFile(path);
+    } catch (const std::runtime_error& e) {
+      throw MeshError(e.what());
+    }
+  }
+
   void flush() {
-    out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
-    if (!out_) throw MeshError(path_ + ": error while writing file");
+    out_.write(buffer_);
     buffer_.clear();
   }
 
-  std::string path_;
-  std::ofstream out_;
+  AtomicFile out_;
   std::string buffer_;
 };
 

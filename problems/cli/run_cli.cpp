@@ -3,12 +3,16 @@
 #include <CLI/CLI.hpp>
 #include <iomanip>
 #include <iostream>
+#include <optional>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "forward/mesh/mesh.hpp"
 #include "problems/cli/flag_checks.hpp"
+#include "problems/output_folder.hpp"
+#include "problems/output_process.hpp"
 #include "problems/scene_error.hpp"
 #include "problems/scene_kinds.hpp"
 #include "problems/scene_node.hpp"
@@ -80,6 +84,22 @@ std::string verb_usage(const Verb& verb, const CLI::App& command, const CLI::App
   return s.str();
 }
 
+// CLI11's parse errors in tailor's words: the ones a user meets name the flag and what it needs
+// (e.g. "--out: At Most 1 required but received 2" becomes "--out takes one value; it was given
+// 2"); others pass unchanged.
+std::string plain_parse_error(const std::string& what) {
+  static const std::regex at_most(R"(^(\S+): At Most (\d+) required but received (\d+)$)");
+  static const std::regex missing(R"(^(\S+): (\d+) required (\S+) missing$)");
+  static const std::regex at_least(R"(^(\S+): At least (\d+) required but received (\d+)$)");
+  std::smatch m;
+  if (std::regex_match(what, m, at_most))
+    return m[1].str() + (m[2] == "1" ? " takes one value" : " takes at most " + m[2].str() + " values") +
+           "; it was given " + m[3].str() + " (give it once; quote a path with spaces)";
+  if (std::regex_match(what, m, missing) || std::regex_match(what, m, at_least))
+    return m[1].str() + " needs a value";
+  return what;
+}
+
 class Cli {
  public:
   Cli(std::ostream& out, std::ostream& err) : out_(out), err_(err) {
@@ -109,10 +129,11 @@ class Cli {
   }
 
   int run(int argc, const char* const* argv) {
+    for (int i = 0; i < argc; ++i) command_line_ += (i ? " " : "") + std::string(argv[i] ? argv[i] : "");
     try {
       app_.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-      return usage_error(e.what());
+      return usage_error(plain_parse_error(e.what()));
     }
     find_verb_on_command_line();
     if (version_) {
@@ -137,6 +158,13 @@ class Cli {
     if (verb_->needs_scene && !args_.scene) return usage_error("'" + name + "' needs a scene file");
     args_.verb = name;
     apply_thread_flags(args_, std::nullopt);
+    std::optional<OutputFolder> folder;  // claimed before the handler, held until it returns
+    // Input that is refused releases the folder and removes it when this run created it empty.
+    const auto bad_input = [&](const std::string& message) {
+      if (folder) folder->release_and_tidy();
+      err_ << "tailor: error: " << message << "\n";
+      return kExitBadInput;
+    };
     try {
       const SceneFile file = args_.scene ? read_scene_file(*args_.scene) : SceneFile{};
       const SceneKind& kind = args_.scene ? recognise_scene_kind(file.document) : default_scene_kind();
@@ -149,15 +177,15 @@ class Cli {
              << "\nRun 'tailor --help' for the verbs of each kind of scene.\n";
         return kExitBadInput;
       }
+      if (verb_->writes_output && writes_output()) folder.emplace(output_folder(file, args_), command_line_);
       return entry->handler(file, args_, out_);
     } catch (const UsageError& e) {
+      if (folder) folder->release_and_tidy();
       return usage_error(e.what());
     } catch (const SceneError& e) {
-      err_ << "tailor: error: " << e.what() << "\n";
-      return kExitBadInput;
+      return bad_input(e.what());
     } catch (const MeshError& e) {
-      err_ << "tailor: error: " << e.what() << "\n";
-      return kExitBadInput;
+      return bad_input(e.what());
     } catch (const std::exception& e) {
       err_ << "tailor: error: " << e.what() << "\n";
       return kExitFailure;
@@ -182,6 +210,7 @@ class Cli {
   CLI::App app_{"tailor: inverse design of deformable objects", "tailor"};
   VerbArguments args_;
   bool help_ = false, version_ = false;
+  std::string command_line_;  // how a second run into the same folder names this one
   std::vector<std::pair<const Verb*, CLI::App*>> commands_;
   const Verb* verb_ = nullptr;
   CLI::App* command_ = nullptr;

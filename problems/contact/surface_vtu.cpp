@@ -1,16 +1,16 @@
 // Triangle surfaces as .vtu (see surface_vtu.hpp).
 #include "problems/contact/surface_vtu.hpp"
 
-#include <fstream>
 #include <iomanip>
-#include <stdexcept>
+#include <sstream>
+
+#include "forward/core/atomic_file.hpp"
 
 namespace tailor {
 
 void write_surface_vtu(const std::string& path, const Eigen::MatrixX3d& positions,
                        const Eigen::MatrixX3i& faces) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path);
+  std::ostringstream out;  // written whole by write_text_file_atomically
   out << std::setprecision(17);
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
          "byte_order=\"LittleEndian\">\n"
@@ -28,7 +28,7 @@ void write_surface_vtu(const std::string& path, const Eigen::MatrixX3d& position
   out << "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
   for (int f = 0; f < faces.rows(); ++f) out << "          5\n";  // VTK_TRIANGLE
   out << "        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-  if (!out) throw std::runtime_error("error while writing " + path);
+  write_text_file_atomically(path, out.str());
 }
 
 }  // namespace tailor

@@ -51,7 +51,11 @@ double decay_rate(const std::vector<double>& time, const Vector& amplitude, doub
     const double y = std::log(a);
     n += 1, st += t, sy += y, stt += t * t, sty += t * y;
   }
-  if (n < 2) throw std::invalid_argument("decay_rate: fewer than two records in the window");
+  if (n < 2)
+    throw std::invalid_argument(
+        "a decay rate needs at least two amplitude records above " + std::to_string(relative_floor) +
+        " of the first in its fitting window; the free vibration has " + std::to_string(static_cast<int>(n)) +
+        " (take more time steps, or a shorter time step)");
   return -(n * sty - st * sy) / (n * stt - st * st);
 }
 

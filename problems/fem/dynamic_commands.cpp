@@ -6,9 +6,12 @@
 
 #include "adjoint/taylor_test.hpp"
 #include "adjoint/transient_functional.hpp"
+#include "forward/core/format_number.hpp"
 #include "forward/core/timing.hpp"
+#include "problems/fem/physics_warnings.hpp"
 #include "problems/fem/scene_selection.hpp"
 #include "problems/output_process.hpp"
+#include "problems/scene_error.hpp"
 
 namespace tailor {
 namespace {
@@ -40,6 +43,28 @@ std::shared_ptr<KeyframeTargets> trajectory_objective(const Scene& scene, const 
   return std::make_shared<KeyframeTargets>(dim, vertices, target.quantity, frames);
 }
 
+// The frames' disk use, projected from the first frame's file: printed; a warning above 1 GB; a
+// SceneError (exit 2, before any step) when it would not fit the free space of the disk.
+void check_output_size(const Scene& scene, const std::filesystem::path& first_frame, std::ostream* log) {
+  const DynamicsSpec& spec = *scene.dynamics;
+  std::error_code ec;
+  const double frame_bytes = static_cast<double>(std::filesystem::file_size(first_frame, ec));
+  if (ec) return;
+  const long frames = 1 + spec.steps / spec.output_every + (spec.steps % spec.output_every != 0 ? 1 : 0);
+  const double total = frame_bytes * static_cast<double>(frames);
+  const std::filesystem::space_info space = std::filesystem::space(first_frame.parent_path(), ec);
+  const auto gb = [](double bytes) { return format_number(bytes / 1e9, "%.3g") + " GB"; };
+  const std::string estimate = std::to_string(frames) + " frames of " + format_number(frame_bytes / 1e6, "%.3g") +
+                               " MB: " + gb(total);
+  if (!ec && total > static_cast<double>(space.available))
+    throw SceneError(scene.source + ": dynamics.steps / output_every: " + estimate + ", more than the " +
+                     gb(static_cast<double>(space.available)) +
+                     " free on the output disk; write fewer frames (a larger output_every)");
+  if (log && total > 1e9)
+    *log << "warning: " << scene.source << ": dynamics: the output will take " << estimate
+         << "; a larger output_every writes fewer frames\n";
+}
+
 }  // namespace
 
 DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir, std::ostream* log) {
@@ -58,6 +83,11 @@ DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir
          << ", h = " << spec.time_step << ", " << spec.steps << " steps\n";
 
   run.linear_solver = d.options.newton.linear_solver;
+  run.warnings = locking_warnings(scene);
+  for (const std::string& warning : time_step_warnings(scene)) {
+    if (log) *log << "warning: " << warning << "\n";
+    run.warnings.push_back(warning);
+  }
   // Every MPI rank of a replicated run (docs/petsc.md) steps the same states; rank 0 writes.
   const bool writes = writes_output();
   const std::filesystem::path out(out_dir), frames = out / "frames";
@@ -74,6 +104,7 @@ DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir
   };
   record(state, nullptr, 0.0);
   write_frame(state);
+  if (writes) check_output_size(scene, out / run.frames.front().second, log);
   run.completed = true;
   run.message = "all steps converged";
   for (int n = 0; n < spec.steps; ++n) {

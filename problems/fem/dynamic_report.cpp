@@ -51,6 +51,7 @@ void write_dynamic_report_json(const std::string& path, const Scene& scene, cons
   report["kind"] = "dynamics";
   report["status"] = run.completed ? "completed" : "failed";
   report["message"] = run.message;
+  report["warnings"] = run.warnings;
   report["dynamics"] = {{"scheme", to_string(spec.scheme)},
                         {"time_step", spec.time_step},
                         {"steps", spec.steps},

@@ -36,6 +36,7 @@ struct DynamicRun {
   DynamicTimings timings;
   std::string report_path, series_path;
   LinearSolverPtr linear_solver;  // the steps' (empty: CHOLMOD)
+  std::vector<std::string> warnings;  // problems/fem/physics_warnings.hpp
 };
 
 // Writes frames_dir/frame_NNNNN.vtu of state s (point data displacement from `rest` and

@@ -9,6 +9,7 @@
 #include "problems/optimizer_checkpoint.hpp"
 #include "problems/output_process.hpp"
 #include "problems/plot/convergence_plot.hpp"
+#include "problems/scene_error.hpp"
 #include "problems/plot/field_image.hpp"
 
 namespace tailor {
@@ -109,6 +110,12 @@ GradcheckRun gradcheck_scene(const Scene& scene, const std::string& out_dir,
 GradcheckRun gradcheck_problem(InverseProblem& built, const std::string& out_dir,
                                const GradcheckSettings& settings, std::ostream* log) {
   InverseProblem* problem = &built;
+  // Refused before any solve, not after the gradient's check.
+  if (settings.hessian && !problem->functional->has_hessian_vector())
+    throw SceneError(problem->scene_source +
+                     ": --hessian: this inverse problem has no Hessian-vector products (an objective term "
+                     "without second derivatives, such as a handle's reaction force); run gradcheck "
+                     "without --hessian to check its gradient");
   TaylorTestOptions options = problem->spec.gradcheck;
   if (settings.seed) options.seed = *settings.seed;
   GradcheckRun run;

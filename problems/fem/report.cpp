@@ -33,6 +33,7 @@ void write_report_json(const std::string& path, const Scene& scene, const Static
   report["status"] = solution.status;
   report["message"] = solution.message;
   report["converged"] = solution.converged;
+  report["residual"] = solution.residual;
 
   int iterations = 0;
   Json steps = Json::array(), residuals = Json::array(), energies = Json::array();

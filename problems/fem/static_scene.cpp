@@ -1,5 +1,6 @@
 #include "problems/fem/static_scene.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ostream>
@@ -7,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "forward/core/format_number.hpp"
 #include "forward/core/timing.hpp"
 #include "forward/fem/elastic_term.hpp"
 #include "forward/fem/loads.hpp"
@@ -277,6 +279,21 @@ StaticSolution solve_static_steps(const StaticSetup& setup, const Vector* start,
   out.num_free = model->elimination().num_free();
   out.positions = model->elimination().expand(y);
   out.energy = model->energy(out.positions, p);
+  // The residual at the result, evaluated afresh (not Newton's own record): a solve reported as
+  // converged must agree with it, else it is reported as failed (a model that is not the same
+  // function in the solve and at the end, as a rod's twisting moment once was, would otherwise
+  // report a wrong "converged").
+  out.residual = model->elimination().reduce(model->gradient(out.positions, p)).norm();
+  if (out.converged && !out.steps.empty()) {
+    const NewtonResult& last = out.steps.back().newton;
+    const double allowed = 10.0 * std::max({last.final_residual, last.residual_floor, 1e-300});
+    if (!(out.residual <= allowed)) {
+      out.converged = false;
+      out.status = "inconsistent_residual";
+      out.message = "the solver reported convergence with residual " + format_number(last.final_residual) +
+                    ", but the residual at the result is " + format_number(out.residual);
+    }
+  }
   const Vector u = out.positions - setup.rest_state();
   out.displacement =
       Eigen::Map<const Eigen::MatrixXd>(u.data(), setup.dim(), setup.mesh.num_vertices()).transpose();

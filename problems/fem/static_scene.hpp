@@ -79,6 +79,9 @@ struct StaticSolution {
   Vector positions;               // final state x (the last iterate when the solve failed)
   Eigen::MatrixXd displacement;   // num_vertices x dim
   double energy = 0.0;            // total potential at the final state and load factor
+  // |S^T dE/dx| at the final state, evaluated afresh; a converged solve whose last Newton
+  // residual it exceeds tenfold (and the floor) is reported as status "inconsistent_residual".
+  double residual = 0.0;
   double max_displacement = 0.0;  // largest vertex displacement norm
   int max_displacement_vertex = 0;
   // Sum over Dirichlet DOFs of -dE_elastic/dx, per component: the force the body exerts on its

@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "forward/core/format_number.hpp"
 #include "forward/homogenization/cell_mesh.hpp"
 #include "forward/homogenization/engineering_constants.hpp"
 #include "forward/mesh/mesh_io.hpp"
@@ -38,6 +39,14 @@ MetamaterialDesignSpec parse_metamaterial_design(const SceneNode& root, const Ce
     spec.material.min_youngs_modulus = material.at("min_youngs_modulus").positive();
   if (material.has("penalty")) spec.material.penalty = material.at("penalty").positive();
   spec.filter_radius = design.at("filter_radius").positive();
+  {
+    double shortest = 1e300;  // the density filter's limit (problems/metamaterial/density_filter.hpp)
+    for (int k = 0; k < scene.cell.dim(); ++k) shortest = std::min(shortest, scene.cell.lattice.col(k).norm());
+    if (spec.filter_radius > 0.5 * shortest)
+      design.at("filter_radius")
+          .fail("at most half the shortest lattice vector (" + format_number(0.5 * shortest) +
+                "): a wider filter would reach the same element through two periodic images");
+  }
   spec.max_volume_fraction = design.at("max_volume_fraction").open_interval(0.0, 1.0 + 1e-12);
   for (const SceneNode& v : design.at("initial_density").items())
     spec.initial_density.push_back(v.open_interval(-1e-12, 1.0 + 1e-12));
@@ -106,6 +115,17 @@ MetamaterialDesignSpec parse_metamaterial_design(const SceneNode& root, const Ce
   const SceneNode cell = root.at("cell");
   if (cell.has("grid")) spec.grid = cell.at("grid").integers(1);
   if (cell.has("split")) spec.split = cell.at("split").string();
+  // The refined check solves a periodic cell of refine^dim times the design mesh's elements after
+  // the optimization: refused here, before it, when that would not be a check but a long solve
+  // that runs out of memory (refine 50 on a 2D cell grew to 3.3 GB).
+  if (spec.refine > 1 && !spec.grid.empty()) {
+    const double refined = static_cast<double>(scene.cell.mesh.num_elements()) * std::pow(spec.refine, dim);
+    if (refined > kMaxRefinedElements)
+      design.at("refine").fail("the refined check would solve a cell of " + format_number(refined, "%.3g") +
+                               " elements (the design mesh's " + std::to_string(scene.cell.mesh.num_elements()) +
+                               " times refine^" + std::to_string(dim) + "); at most " +
+                               format_number(kMaxRefinedElements, "%.3g") + ": take a smaller refine");
+  }
   return spec;
 }
 
@@ -238,28 +258,9 @@ MetamaterialRun run_metamaterial_design(const CellScene& scene, const Metamateri
   const LinearHomogenization thresholded = cell->solve(functional.youngs_moduli(solid), nu0);
   run.stiffness_thresholded = thresholded.stiffness;
   std::filesystem::create_directories(out_dir);
-  nlohmann::json refined_json = nullptr;
-  if (!spec.grid.empty() && spec.refine > 1) {
-    std::vector<int> fine_grid;
-    for (const int n : spec.grid) fine_grid.push_back(n * spec.refine);
-    const Mesh fine = scene.cell.dim() == 2
-                          ? lattice_triangle_mesh(scene.cell.lattice, scene.cell.origin, fine_grid[0],
-                                                  fine_grid[1], parse_triangle_split(spec.split))
-                          : lattice_tet_mesh(scene.cell.lattice, scene.cell.origin, fine_grid[0],
-                                             fine_grid[1], fine_grid[2]);
-    LinearCell fine_cell(make_periodic_cell(fine, scene.cell.lattice, scene.cell.origin), scene.plane);
-    const Vector fine_solid = refine_density(scene.cell, fine, solid, spec.grid);
-    const LinearHomogenization refined =
-        fine_cell.solve(functional.youngs_moduli(fine_solid),
-                        Vector::Constant(fine.num_elements(), spec.material.poisson_ratio));
-    run.stiffness_refined = refined.stiffness;
-    refined_json = summary_json(spec.objective, refined.stiffness);
-    refined_json["elements"] = fine.num_elements();
-  }
+  nlohmann::json refined_json = nullptr;  // after the design's files are written (below)
   run.objective_gray = spec.objective.evaluate(run.stiffness_gray, nullptr);
   run.objective_thresholded = spec.objective.evaluate(run.stiffness_thresholded, nullptr);
-  if (run.stiffness_refined.size())
-    run.objective_refined = spec.objective.evaluate(run.stiffness_refined, nullptr);
 
   nlohmann::ordered_json report;
   add_report_header(report);
@@ -305,6 +306,30 @@ MetamaterialRun run_metamaterial_design(const CellScene& scene, const Metamateri
   picture.bar_label = "density";
   write_field_png(out_dir + "/design.png", scene.cell.mesh,
                   {{"physical density", rho}, {"thresholded at 1/2", solid}}, picture);
+  // The refined check last: the design, its report and pictures are on disk before this solve,
+  // the largest of the run, starts (a run killed or out of memory here keeps them).
+  if (!spec.grid.empty() && spec.refine > 1) {
+    std::vector<int> fine_grid;
+    for (const int n : spec.grid) fine_grid.push_back(n * spec.refine);
+    const Mesh fine = scene.cell.dim() == 2
+                          ? lattice_triangle_mesh(scene.cell.lattice, scene.cell.origin, fine_grid[0],
+                                                  fine_grid[1], parse_triangle_split(spec.split))
+                          : lattice_tet_mesh(scene.cell.lattice, scene.cell.origin, fine_grid[0],
+                                             fine_grid[1], fine_grid[2]);
+    LinearCell fine_cell(make_periodic_cell(fine, scene.cell.lattice, scene.cell.origin), scene.plane);
+    const Vector fine_solid = refine_density(scene.cell, fine, solid, spec.grid);
+    const LinearHomogenization refined =
+        fine_cell.solve(functional.youngs_moduli(fine_solid),
+                        Vector::Constant(fine.num_elements(), spec.material.poisson_ratio));
+    run.stiffness_refined = refined.stiffness;
+    refined_json = summary_json(spec.objective, refined.stiffness);
+    refined_json["elements"] = fine.num_elements();
+  }
+  if (run.stiffness_refined.size()) {
+    run.objective_refined = spec.objective.evaluate(run.stiffness_refined, nullptr);
+    report["refined_thresholded"] = refined_json;
+    write_report(out_dir, report);
+  }
   if (log)
     *log << "status " << to_string(run.result.status) << " after " << run.result.history.size()
          << " iterations (" << run.result.seconds << " s)\n"

@@ -12,6 +12,9 @@
 
 namespace tailor {
 
+// The largest refined check (design mesh elements times refine^dim) a scene may ask for.
+inline constexpr double kMaxRefinedElements = 2e6;
+
 struct MetamaterialDesignSpec {
   SimpMaterial material;
   double filter_radius = 0.0;  // minimum length scale

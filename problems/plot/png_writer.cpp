@@ -5,8 +5,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
+
+#include "forward/core/atomic_file.hpp"
 
 namespace tailor {
 
@@ -70,11 +71,9 @@ std::vector<std::uint8_t> encode_png(const RgbImage& image) {
 
 void write_png(const std::string& path, const RgbImage& image) {
   const std::vector<std::uint8_t> bytes = encode_png(image);
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error("cannot write PNG file '" + path + "': " + std::strerror(errno));
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) throw std::runtime_error("cannot write PNG file '" + path + "': write failed");
+  AtomicFile out(path);
+  out.write(bytes.data(), bytes.size());
+  out.commit();
 }
 
 }  // namespace tailor

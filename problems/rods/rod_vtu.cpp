@@ -1,13 +1,15 @@
 #include "problems/rods/rod_vtu.hpp"
 
-#include <fstream>
 #include <iomanip>
+#include <sstream>
 #include <stdexcept>
+
+#include "forward/core/atomic_file.hpp"
 
 namespace tailor {
 
 namespace {
-void array_header(std::ofstream& f, const char* name, int components) {
+void array_header(std::ostream& f, const char* name, int components) {
   f << "        <DataArray type=\"Float64\" Name=\"" << name << "\" NumberOfComponents=\"" << components
     << "\" format=\"ascii\">\n";
 }
@@ -15,8 +17,7 @@ void array_header(std::ofstream& f, const char* name, int components) {
 
 void write_rods_vtu(const std::string& path, const std::vector<RodOutput>& rods, const Vector& x,
                     const Vector& p) {
-  std::ofstream f(path);
-  if (!f) throw std::runtime_error("write_rods_vtu: cannot open '" + path + "' for writing");
+  std::ostringstream f;  // written whole by write_text_file_atomically
   int points = 0, cells = 0;
   for (const auto& r : rods) points += r.rod->num_vertices(), cells += r.rod->num_edges();
   f << std::setprecision(17);
@@ -74,7 +75,7 @@ void write_rods_vtu(const std::string& path, const std::vector<RodOutput>& rods,
     for (int j = 0; j < r.rod->num_edges(); ++j)
       f << r.rod->edge_vector(x, j).norm() / p[r.blocks.rest_length + j] - 1.0 << "\n";
   f << "        </DataArray>\n      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-  if (!f) throw std::runtime_error("write_rods_vtu: writing '" + path + "' failed");
+  write_text_file_atomically(path, f.str());
 }
 
 }  // namespace tailor

@@ -94,6 +94,21 @@ TEST(ValidateMesh, RejectsIndexOutOfRangeAndNonFiniteCoordinates) {
   expect_mesh_error([&] { validate_mesh(mesh, "src"); }, {"vertex 3", "inf"});
 }
 
+// A vertex that no element uses (a geometry point saved with the mesh) is refused, naming it:
+// it has no stiffness and no mass, so solves, eigensolves and periodic solves fail elsewhere.
+TEST(ValidateMesh, RejectsVerticesUsedByNoElementNamingThem) {
+  Mesh mesh = two_tets();
+  mesh.rest_positions.conservativeResize(7, 3);
+  mesh.rest_positions.row(5) << 3, 3, 3;
+  mesh.rest_positions.row(6) << 4, 4, 4;
+  expect_mesh_error([&] { validate_mesh(mesh, "src"); },
+                    {"src", "2 of 7 vertices are used by no element", "0-based: 5, 6", "Remove them"});
+  Mesh flat = two_triangles();
+  flat.elements.conservativeResize(1, 3);
+  flat.element_regions.conservativeResize(1);
+  expect_mesh_error([&] { validate_mesh(flat, "flat"); }, {"flat", "1 of 4 vertices", "0-based: 3"});
+}
+
 TEST(ValidateMesh, RejectsInvertedAndDegenerateElementsNamingThem) {
   Mesh mesh = two_tets();
   mesh.elements.row(1) << 4, 1, 2, 3;  // swapped: negative orientation

@@ -1,6 +1,7 @@
 #include "problems/cli/run_cli.hpp"
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <optional>
@@ -177,7 +178,10 @@ class Cli {
              << "\nRun 'tailor --help' for the verbs of each kind of scene.\n";
         return kExitBadInput;
       }
-      if (verb_->writes_output && writes_output()) folder.emplace(output_folder(file, args_), command_line_);
+      // A --resume folder that does not exist is not created: the handler refuses it, naming it.
+      const bool missing_resume = args_.resume && !std::filesystem::exists(*args_.resume);
+      if (verb_->writes_output && writes_output() && !missing_resume)
+        folder.emplace(output_folder(file, args_), command_line_);
       return entry->handler(file, args_, out_);
     } catch (const UsageError& e) {
       if (folder) folder->release_and_tidy();

@@ -339,6 +339,22 @@ Matrix StaticFunctional::state_sensitivity(const Vector& z) {
   return dx;
 }
 
+Vector StaticFunctional::state_vjp(const Vector& z, const Vector& w) {
+  forward(z);
+  if (w.size() != x_.size())
+    throw std::invalid_argument("StaticFunctional::state_vjp: w has " + std::to_string(w.size()) +
+                                " entries, the state " + std::to_string(x_.size()));
+  return parameterization_->jacobian_transpose_times(z, adjoint_gradient_p(w, Vector::Zero(p_.size())));
+}
+
+Vector StaticFunctional::state_jvp(const Vector& z, const Vector& dz) {
+  forward(z);
+  if (dz.size() != size())
+    throw std::invalid_argument("StaticFunctional::state_jvp: dz has " + std::to_string(dz.size()) +
+                                " entries, the design " + std::to_string(size()));
+  return tangent(parameterization_->jacobian_times(z, dz), product_data(false).mixed);
+}
+
 void StaticFunctional::residuals(const Vector& z, Vector& r, Matrix* jacobian) {
   if (!objective_->is_least_squares()) throw std::logic_error("StaticFunctional: the objective has no residual form");
   forward(z);

@@ -76,6 +76,13 @@ class StaticFunctional final : public ReducedFunctional {
 
   // Direct mode: dx*/dz, one column per design variable (for few design variables).
   Matrix state_sensitivity(const Vector& z);
+  // Products with dx*/dz at z for any scalar L(x*) a caller computes from the state (what an
+  // autodiff framework chains through): the vector-Jacobian product (dx*/dz)^T w, with w =
+  // dL/dx (all DOFs), is one adjoint solve, H lambda = S^T w, as in the gradient; the
+  // Jacobian-vector product (dx*/dz) dz is one tangent solve. Both solve at the equilibrium
+  // of z, with the factorization the forward solve left when it is H's.
+  Vector state_vjp(const Vector& z, const Vector& w);
+  Vector state_jvp(const Vector& z, const Vector& dz);
 
   // The equilibrium of the last forward solve and its parameters.
   const Vector& state() const { return x_; }

@@ -60,6 +60,41 @@ class Functional {
     const std::lock_guard<std::mutex> lock(mutex_);
     return problem_->functional->hessian_vector(z, v);
   }
+  // The equilibrium at z as displacements from the rest positions (num_vertices x dim), and the
+  // products with its derivative: vjp(z, dL/du) = (du/dz)^T dL/du (one adjoint solve) and
+  // jvp(z, dz) = (du/dz) dz (one tangent solve), as StaticFunctional::state_vjp / state_jvp.
+  Eigen::MatrixXd state(const Vector& z) {
+    check_size(z, "z");
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    problem_->functional->value(z);
+    return as_vertex_rows(problem_->functional->state() - problem_->setup.rest_state());
+  }
+  Vector vjp(const Vector& z, const Eigen::MatrixXd& dL_du) {
+    check_size(z, "z");
+    const Eigen::MatrixXd& X = problem_->setup.mesh.rest_positions;
+    if (dL_du.rows() != X.rows() || dL_du.cols() != X.cols())
+      throw std::invalid_argument(problem_->scene_source + ": dL_du has shape (" + std::to_string(dL_du.rows()) +
+                                  ", " + std::to_string(dL_du.cols()) + "), the state (" +
+                                  std::to_string(X.rows()) + ", " + std::to_string(X.cols()) + ")");
+    if (problem_->model->num_dofs() != X.size()) as_vertex_rows(Vector::Zero(problem_->model->num_dofs()));
+    if (!dL_du.allFinite())
+      throw std::invalid_argument(problem_->scene_source + ": dL_du has non-finite entries");
+    Vector w(dL_du.size());
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(w.data(), X.rows(),
+                                                                                       X.cols()) = dL_du;
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return problem_->functional->state_vjp(z, w);
+  }
+  Eigen::MatrixXd jvp(const Vector& z, const Vector& dz) {
+    check_size(z, "z");
+    check_size(dz, "dz");
+    if (!dz.allFinite()) throw std::invalid_argument(problem_->scene_source + ": dz has non-finite entries");
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return as_vertex_rows(problem_->functional->state_jvp(z, dz));
+  }
   py::object bounds() const {
     if (problem_->bounds.lower.size() == 0) return py::none();
     return py::make_tuple(problem_->bounds.lower, problem_->bounds.upper);
@@ -144,6 +179,15 @@ class Functional {
       throw std::invalid_argument(problem_->scene_source + ": " + name + " has " + std::to_string(z.size()) +
                                   " entries, the design has " + std::to_string(size()));
   }
+  // Interleaved DOFs (x0 y0 z0 x1 ...) as one row per vertex.
+  Eigen::MatrixXd as_vertex_rows(const Vector& x) const {
+    const Eigen::MatrixXd& X = problem_->setup.mesh.rest_positions;
+    if (x.size() != X.size())
+      throw std::invalid_argument(problem_->scene_source + ": the model has " + std::to_string(x.size()) +
+                                  " DOFs beyond the mesh's vertices; state products need a mesh-only state");
+    return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        x.data(), X.rows(), X.cols());
+  }
   std::unique_ptr<Study> study_;
   InverseProblem* problem_ = nullptr;
   // The GIL is released while J is evaluated: Python threads sharing a functional take turns.
@@ -162,6 +206,9 @@ void bind_functional(py::module_& m) {
       .def("value_and_gradient", &Functional::value_and_gradient, py::arg("z"))
       .def_property_readonly("has_hessian_vector", &Functional::has_hessian_vector)
       .def("hessian_vector_product", &Functional::hessian_vector_product, py::arg("z"), py::arg("v"))
+      .def("state", &Functional::state, py::arg("z"))
+      .def("vjp", &Functional::vjp, py::arg("z"), py::arg("dL_du"))
+      .def("jvp", &Functional::jvp, py::arg("z"), py::arg("dz"))
       .def_property_readonly("bounds", &Functional::bounds)
       .def_property_readonly("x0", [](const Functional& f) { return f.problem().z0; })
       .def_property_readonly("design_labels", [](const Functional& f) { return f.problem().design_labels; })

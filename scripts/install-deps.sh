@@ -20,10 +20,12 @@ packages=(
   # CHOLMOD's speed is BLAS's speed: OpenBLAS must provide libblas.so.3 (see below).
   libopenblas0-pthread libopenblas-pthread-dev
 )
-# `install-deps.sh sanitizers`: also clang with its sanitizer and libFuzzer runtimes, LLVM's
-# OpenMP and llvm-symbolizer (for scripts/sanitize.sh and scripts/fuzz.sh).
+# `install-deps.sh sanitizers` (CI): also clang with its sanitizer and libFuzzer runtimes, LLVM's
+# OpenMP and llvm-symbolizer (for scripts/sanitize.sh and scripts/fuzz.sh), and PyTorch for the
+# tests of the torch adapter (python/tailor/torch.py; elsewhere they are skipped without it, and
+# the quick start does not wait for its ~200 packages).
 if [[ ${1:-} == sanitizers ]]; then
-  packages+=(clang-14 libclang-rt-14-dev libomp-14-dev llvm-14)
+  packages+=(clang-14 libclang-rt-14-dev libomp-14-dev llvm-14 python3-torch)
 fi
 
 as_root() {

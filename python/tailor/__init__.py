@@ -17,6 +17,8 @@ import os
 import shutil
 import tempfile
 
+import numpy as np
+
 from ._tailor import EvaluationError, MeshError, SceneError, __version__
 from ._tailor import Functional as _Functional
 from ._tailor import Scene as _Scene
@@ -79,6 +81,21 @@ class Functional:
 
     def hessian_vector_product(self, z, v):
         return self._f.hessian_vector_product(z, v)
+
+    def state(self, z):
+        """The equilibrium at z: displacements from the rest positions, num_vertices x dim
+        (float64, a new array)."""
+        return self._f.state(z)
+
+    def vjp(self, z, dL_du):
+        """(du/dz)^T dL_du: the design gradient of any scalar L(u) of the state, given dL/du
+        (num_vertices x dim), by one adjoint solve at the equilibrium of z."""
+        return self._f.vjp(z, np.asarray(dL_du, dtype=np.float64))
+
+    def jvp(self, z, dz):
+        """(du/dz) dz: the state's directional derivative along dz, num_vertices x dim, by one
+        tangent solve."""
+        return self._f.jvp(z, dz)
 
     def design_values(self, z):
         """E per design variable at z."""

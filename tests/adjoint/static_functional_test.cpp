@@ -115,6 +115,43 @@ TEST(StaticFunctional, DirectModeAgreesWithAdjoint) {
   EXPECT_LT(((rp - rm) / (2 * h) - jac * dz).norm(), 1e-6 * (jac * dz).norm());
 }
 
+// The state products a caller chains through (Python's J.vjp / J.jvp): the JVP against central
+// differences of the equilibrium, the VJP as its exact transpose, and the VJP with the
+// objective's own dT/dx equal to the gradient (a least-squares target with no direct p term).
+TEST(StaticFunctional, StateProductsAgreeWithDifferencesAndWithTheGradient) {
+  BarProblem bar(MaterialKind::neo_hookean, 20.0);
+  StaticFunctional f = bar.functional(0.0);  // T(x) only: no Tikhonov term in p
+  const Vector z = bar.z0() + 0.1 * Vector::LinSpaced(f.size(), -1.0, 1.0);
+  f.value(z);
+  const Vector x = f.state();
+  const Vector dz = Vector::LinSpaced(f.size(), 1.0, -0.5);
+  const Vector jvp = f.state_jvp(z, dz);
+  const double h = 1e-5;
+  f.value(z + h * dz);
+  const Vector xp = f.state();
+  f.value(z - h * dz);
+  const Vector xm = f.state();
+  const Vector difference = (xp - xm) / (2 * h);
+  EXPECT_GT(jvp.norm(), 0.0);
+  EXPECT_LT((difference - jvp).norm(), 1e-6 * jvp.norm());
+  // A wrong JVP (a tenth off) is seen by the same comparison.
+  EXPECT_GT((difference - 1.1 * jvp).norm(), 1e-6 * jvp.norm());
+
+  const Vector w = Vector::LinSpaced(x.size(), -2.0, 3.0);
+  const Vector vjp = f.state_vjp(z, w);
+  EXPECT_NEAR(vjp.dot(dz), w.dot(f.state_jvp(z, dz)), 1e-9 * std::abs(vjp.dot(dz)));
+
+  Vector gradient;
+  f.value_and_gradient(z, gradient);
+  // dT/dx of the bar's tip target, T = 1/2 sum (x_k - t_k)^2 over the tip DOFs (as functional()).
+  Vector jx = Vector::Zero(x.size());
+  for (std::size_t k = 0; k < bar.tip_dofs.size(); ++k) {
+    const int dof = bar.tip_dofs[k];
+    jx[dof] = f.state()[dof] - (bar.rest[dof] + (k % 3 == 2 ? -0.3 : 0.05));
+  }
+  EXPECT_LT((f.state_vjp(z, jx) - gradient).norm(), 1e-10 * gradient.norm());
+}
+
 TEST(TaylorTest, DetectsAWrongGradient) {
   BarProblem bar(MaterialKind::linear, 20.0);
   StaticFunctional f = bar.functional();

@@ -67,7 +67,7 @@ void check_shape_functions() {
   for (int j = 0; j < D; ++j) {
     Eigen::Matrix<double, D, 1> step = Eigen::Matrix<double, D, 1>::Zero();
     step[j] = h;
-    const auto difference = (S::values(xi + step) - S::values(xi - step)) / (2 * h);
+    const typename S::Values difference = (S::values(xi + step) - S::values(xi - step)) / (2 * h);
     EXPECT_LT((difference - S::gradients(xi).col(j)).norm(), 1e-9);
   }
 }

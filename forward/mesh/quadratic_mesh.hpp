@@ -24,6 +24,8 @@
 
 namespace tailor {
 
+// Moving nodes (e.g. mapping the whole mesh): move the corners in both rest_positions and
+// corners.rest_positions, which facet selections (boundary_facets_where on corners) read.
 struct QuadraticMesh {
   Mesh corners;                    // the linear mesh: corner positions, elements and regions
   Eigen::MatrixXd rest_positions;  // num_nodes x dim: the corners, then the edge nodes

@@ -62,4 +62,30 @@ const SimplexRule<3, 4>& tetrahedron_rule_degree2() {
   return rule;
 }
 
+const SimplexRule<3, 11>& tetrahedron_rule_degree4() {
+  static const SimplexRule<3, 11> rule = [] {
+    SimplexRule<3, 11> r;
+    // Orbits in barycentric coordinates: the centroid; (a, a, a, 1 - 3a) with a = 1/14; and
+    // (b, b, c, c) with b = (1 + sqrt(5/14)) / 4, c = (1 - sqrt(5/14)) / 4. xi = the last three.
+    const double a = 1.0 / 14.0, d = 1.0 - 3.0 * a;
+    const double b = 0.25 * (1.0 + std::sqrt(5.0 / 14.0)), c = 0.25 * (1.0 - std::sqrt(5.0 / 14.0));
+    r.points[0] << 0.25, 0.25, 0.25;
+    r.points[1] << a, a, a;
+    r.points[2] << d, a, a;
+    r.points[3] << a, d, a;
+    r.points[4] << a, a, d;
+    // (L0, L1, L2, L3) with two b's and two c's: xi = (L1, L2, L3).
+    r.points[5] << b, c, c;   // (b, b, c, c)
+    r.points[6] << c, b, c;   // (b, c, b, c)
+    r.points[7] << c, c, b;   // (b, c, c, b)
+    r.points[8] << c, b, b;   // (c, c, b, b)
+    r.points[9] << b, c, b;   // (c, b, c, b)
+    r.points[10] << b, b, c;  // (c, b, b, c)
+    const double w0 = -74.0 / 5625.0, w1 = 343.0 / 45000.0, w2 = 56.0 / 2250.0;
+    r.weights = {w0, w1, w1, w1, w1, w2, w2, w2, w2, w2, w2};
+    return r;
+  }();
+  return rule;
+}
+
 }  // namespace tailor

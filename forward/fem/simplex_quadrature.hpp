@@ -10,6 +10,9 @@
 //   tetrahedron_rule_degree2  4 points at barycentric (a, b, b, b) and permutations,
 //                             a = (5 + 3 sqrt 5) / 20, b = (5 - sqrt 5) / 20, degree 2
 //                             (Keast 1986, CMAME 55:339; Zienkiewicz & Taylor, Vol. 1, Table 5.4)
+//   tetrahedron_rule_degree4  11 points, degree 4 (Keast 1986, rule with the centroid weight
+//                             -74/5625: one negative weight, the price of 11 points; fine for the
+//                             mass matrix, whose integrand N_a N_b it integrates exactly)
 // The tests (tests/forward/fem/simplex_quadrature_test.cpp) integrate every monomial up to the
 // stated degree against the closed form  int x^a y^b z^c = a! b! c! / (a + b + c + D)!.
 #include <Eigen/Core>
@@ -29,5 +32,6 @@ const SimplexRule<1, 3>& segment_rule_degree5();
 const SimplexRule<2, 3>& triangle_rule_degree2();
 const SimplexRule<2, 6>& triangle_rule_degree4();
 const SimplexRule<3, 4>& tetrahedron_rule_degree2();
+const SimplexRule<3, 11>& tetrahedron_rule_degree4();
 
 }  // namespace tailor

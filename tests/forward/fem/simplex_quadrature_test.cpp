@@ -37,6 +37,7 @@ TEST(SimplexQuadrature, RulesAreExactToTheirDegree) {
   expect_exact_to_degree(triangle_rule_degree2(), 2);
   expect_exact_to_degree(triangle_rule_degree4(), 4);
   expect_exact_to_degree(tetrahedron_rule_degree2(), 2);
+  expect_exact_to_degree(tetrahedron_rule_degree4(), 4);
 }
 
 // The P2 nodes in local coordinates: corners, then edge midpoints in simplex_edges order.

@@ -193,6 +193,28 @@ TEST(QuadraticElasticTerm, IntegratesQuadraticFieldsExactly) {
   EXPECT_NEAR(energy.template operator()<3>(cube), expected, 1e-13 * expected);
 }
 
+// Splitting by elements (forward/solve/hessian_share.hpp): the shares of a partition of the
+// elements sum to the whole term, and a share keeps the element's full 10-node DOF list.
+TEST(QuadraticElasticTerm, SharesByElementsSumToTheWhole) {
+  const QuadraticMesh q = small_quadratic_mesh(3);
+  const auto term = quadratic_term<3>(q, "neo_hookean");
+  const Vector p = heterogeneous_parameters(q.corners, 1e3, 0.3);
+  Vector x = quadratic_rest_state(q);
+  for (int i = 0; i < x.size(); ++i) x[i] += 0.01 * std::sin(1.0 + i);
+  double sum = 0.0;
+  for (bool first : {true, false}) {
+    std::unique_ptr<EnergyTerm> share;
+    ASSERT_TRUE(term->share_by_elements(
+        [&](const int* dofs, int count) {
+          EXPECT_EQ(count, 30);
+          return (dofs[0] % 2 == 0) == first;
+        },
+        share));
+    if (share) sum += share->value(x, p);
+  }
+  EXPECT_NEAR(sum, term->value(x, p), 1e-12 * std::abs(term->value(x, p)));
+}
+
 // The total force of a nodal force vector.
 Vector component_sums(const Vector& f, int dim) {
   return Eigen::Map<const Matrix>(f.data(), dim, f.size() / dim).rowwise().sum();

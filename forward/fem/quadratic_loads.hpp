@@ -7,9 +7,11 @@
 // each end and 2 l t / 3 to its middle node; a flat triangle of area A gives 0 to its corners
 // and A t / 3 to each edge node; a straight-sided tet of volume V gives -V/20 rho g to each
 // corner and V/5 rho g to each edge node (Zienkiewicz & Taylor, Vol. 1, sections 8.8 and 9.5).
-// Curved (isoparametric) facets integrate N_a |dX/dxi| with the segment's 3-point Gauss rule
-// (2D) or the triangle's degree-4 rule (3D), which is exact for quadratic facets with moved
-// edge nodes in 2D for the pressure (N_a times a linear normal: degree 3) and on flat facets.
+// Facets are integrated with the segment's 3-point Gauss rule (2D, degree 5) or the triangle's
+// degree-4 rule (3D). That is exact on straight facets, and for the pressure on curved
+// (isoparametric) ones too: N_a times the area-weighted normal dX/dxi rotated (degree 1) or
+// dX/dxi x dX/deta (degree 2) is a polynomial of degree 3 or 4. A uniform traction on a curved
+// facet weighs N_a with |dX/dxi|, no polynomial: there the rules are accurate, not exact.
 #include "forward/core/types.hpp"
 #include "forward/mesh/quadratic_mesh.hpp"
 

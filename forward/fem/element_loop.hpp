@@ -1,5 +1,6 @@
 #pragma once
-// The element loop of the simplicial energy terms (ElasticTerm, SplineElasticTerm): each term
+// The element loop of the simplicial energy terms (ElasticTerm, SplineElasticTerm on linear
+// simplices, QuadraticElasticTerm on quadratic ones): each term
 // supplies its per-element math, the loop runs it over the covered elements in parallel,
 // writes the element Hessians to their slots, scatters the element gradients into the global
 // gradient and sums the energy.
@@ -16,15 +17,15 @@
 
 #include "forward/core/energy_term.hpp"
 #include "forward/core/parallel_errors.hpp"
-#include "forward/fem/linear_simplices.hpp"
 
 namespace tailor {
 
-// What the loop asks of one element and where the element's results go.
-template <int Dim>
+// What the loop asks of one element and where the element's results go. Nodes: nodes per
+// element (Dim + 1 for linear simplices, 6 or 10 for quadratic triangles and tets).
+template <int Dim, int Nodes = Dim + 1>
 struct ElementOutput {
-  static constexpr int kLocal = LinearSimplices<Dim>::kLocal;
-  using LocalGradient = Eigen::Map<Eigen::Matrix<double, Dim, Dim + 1>>;  // column a: node a
+  static constexpr int kLocal = Dim * Nodes;
+  using LocalGradient = Eigen::Map<Eigen::Matrix<double, Dim, Nodes>>;  // column a: node a
   using LocalHessian = Eigen::Map<Eigen::Matrix<double, kLocal, kLocal>>;
   bool want_gradient = false;
   bool want_hessian = false;
@@ -42,9 +43,12 @@ struct ElementOutput {
 // kernel(k, out): the energy (and, as out asks, gradient and Hessian) of covered element k.
 // Up to 256 elements run on the calling thread. An exception from the kernel (a material
 // refusing its parameters) reaches the caller: that of the lowest chunk that threw.
-template <int Dim, class Kernel>
-void evaluate_elements(const LinearSimplices<Dim>& simplices, const EnergyRequest& request, const Kernel& kernel) {
-  constexpr int kLocal = LinearSimplices<Dim>::kLocal;
+// Elements: LinearSimplices<Dim> or anything with the same shape: kNodes, size() and
+// vertices[k][a], the global node of local node a (kernel takes ElementOutput<Dim, kNodes>&).
+template <int Dim, class Elements, class Kernel>
+void evaluate_elements(const Elements& simplices, const EnergyRequest& request, const Kernel& kernel) {
+  constexpr int kNodes = Elements::kNodes;
+  constexpr int kLocal = Dim * kNodes;
   constexpr std::ptrdiff_t kSlots = kLocal * kLocal;
   constexpr int kChunk = 256;
   const int n = simplices.size();
@@ -56,7 +60,7 @@ void evaluate_elements(const LinearSimplices<Dim>& simplices, const EnergyReques
   FirstError errors;
 #pragma omp parallel for schedule(static) if (n > 256)
   for (int j = 0; j < chunks; ++j) try {
-    ElementOutput<Dim> out;
+    ElementOutput<Dim, kNodes> out;
     out.want_gradient = gradient != nullptr;
     out.want_hessian = request.hessian_values != nullptr;
     out.hessian_mode = request.hessian_mode;
@@ -80,7 +84,7 @@ void evaluate_elements(const LinearSimplices<Dim>& simplices, const EnergyReques
   }
   if (gradient)
     for (int k = 0; k < n; ++k)
-      for (int a = 0; a <= Dim; ++a)
+      for (int a = 0; a < kNodes; ++a)
         gradient->template segment<Dim>(Dim * simplices.vertices[k][a]) +=
             Eigen::Map<const Eigen::Matrix<double, Dim, 1>>(local.get() + static_cast<std::ptrdiff_t>(k) * kLocal +
                                                             Dim * a);

@@ -1,5 +1,7 @@
 #include "forward/fem/linear_simplices.hpp"
 
+#include "forward/fem/nodal_kinematics.hpp"
+
 #include <Eigen/LU>
 #include <algorithm>
 #include <stdexcept>
@@ -53,27 +55,17 @@ LinearSimplices<Dim>::LinearSimplices(const Mesh& mesh, std::vector<int> covered
 
 template <int Dim>
 typename LinearSimplices<Dim>::Mat LinearSimplices<Dim>::field_gradient(const Vector& x, int k) const {
-  Mat F = Mat::Zero();
-  for (int a = 0; a < kNodes; ++a)
-    F.noalias() += x.template segment<Dim>(Dim * vertices[k][a]) * gradients[k].row(a);
-  return F;
+  return nodal_field_gradient<Dim, kNodes>(x, vertices[k], gradients[k]);
 }
 
 template <int Dim>
 typename LinearSimplices<Dim>::Jacobian LinearSimplices<Dim>::deformation_jacobian(const ShapeGradients& G) {
-  Jacobian B = Jacobian::Zero();
-  for (int a = 0; a <= Dim; ++a)
-    for (int j = 0; j < Dim; ++j)
-      for (int i = 0; i < Dim; ++i) B(i + Dim * j, Dim * a + i) = G(a, j);
-  return B;
+  return nodal_deformation_jacobian<Dim, kNodes>(G);
 }
 
 template <int Dim>
 void LinearSimplices<Dim>::append_hessian_pattern(HessianPattern& pattern) const {
-  pattern.reserve(pattern.size() + elements.size() * kLocal * kLocal);
-  for (int k = 0; k < size(); ++k)
-    for (int r = 0; r < kLocal; ++r)
-      for (int c = 0; c < kLocal; ++c) pattern.push_back({dof(k, r), dof(k, c)});
+  append_element_hessian_pattern<Dim, kNodes>(vertices, pattern);
 }
 
 template <int Dim>

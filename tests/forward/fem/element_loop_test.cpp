@@ -1,4 +1,5 @@
-// The shared element loop of ElasticTerm and SplineElasticTerm (forward/fem/element_loop.hpp):
+// The shared element loop of ElasticTerm, SplineElasticTerm and QuadraticElasticTerm
+// (forward/fem/element_loop.hpp):
 //  - every element contributes exactly once: the whole term's energy, gradient and Hessian slots
 //    equal the sums of one-element terms (the reference, evaluated one element at a time);
 //  - the result does not depend on the thread count (1, 2 or 3 OpenMP threads give the same
@@ -17,6 +18,7 @@
 #include <thread>
 
 #include "forward/fem/elastic_term.hpp"
+#include "forward/fem/quadratic_elastic_term.hpp"
 #include "forward/fem/spline_elastic_term.hpp"
 #include "forward/mesh/generate.hpp"
 #include "tests/support/fem_fixtures.hpp"
@@ -126,6 +128,21 @@ TEST(ElementLoop, SplineElasticTermIsDeterministicAndReentrant) {
   const Vector p = curves.controls();
   check_loop(mesh, perturbed_rest(mesh, 0.03), p, [&](std::vector<int> elements) -> std::unique_ptr<EnergyTerm> {
     return std::make_unique<SplineElasticTerm<3>>(mesh, curves, 0, std::move(elements));
+  });
+}
+
+// Quadratic elements: 10 nodes per element through the same loop. check_loop takes the corner
+// mesh for the element count; the state covers every node.
+TEST(ElementLoop, QuadraticElasticTermIsDeterministicAndReentrant) {
+  const QuadraticMesh q = make_quadratic_mesh(box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(3, 1, 1), 9, 3, 2));
+  const Vector p = testing::heterogeneous_parameters(q.corners, 1e3, 0.3);
+  Vector x = quadratic_rest_state(q);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.02, 0.02);
+  for (int i = 0; i < x.size(); ++i) x[i] += u(rng);
+  check_loop(q.corners, x, p, [&](std::vector<int> elements) -> std::unique_ptr<EnergyTerm> {
+    return std::make_unique<QuadraticElasticTerm<3>>(q, make_material<3>(MaterialKind::stvk), 0, q.num_elements(),
+                                                     std::move(elements));
   });
 }
 

@@ -210,6 +210,18 @@ void bind_functional(py::module_& m) {
       .def("vjp", &Functional::vjp, py::arg("z"), py::arg("dL_du"))
       .def("jvp", &Functional::jvp, py::arg("z"), py::arg("dz"))
       .def_property_readonly("bounds", &Functional::bounds)
+      .def_property_readonly("optimizer",
+                             [](const Functional& f) {
+                               const OptimizerOptions& o = f.problem().spec.optimizer;
+                               py::dict d;
+                               d["backend"] = to_string(o.backend);
+                               d["max_iterations"] = o.max_iterations;
+                               d["gradient_tolerance"] = o.gradient_tolerance;
+                               d["objective_tolerance"] = o.objective_tolerance;
+                               d["step_tolerance"] = o.step_tolerance;
+                               d["time_limit"] = o.time_limit_seconds;
+                               return d;
+                             })
       .def_property_readonly("x0", [](const Functional& f) { return f.problem().z0; })
       .def_property_readonly("design_labels", [](const Functional& f) { return f.problem().design_labels; })
       .def(

@@ -19,7 +19,9 @@ std::vector<std::string> locking_warnings(const Scene& scene) {
                        " on linear elements: nearly incompressible material locks on linear tets and "
                        "triangles (displacements too small, by a factor growing like 1 / (1 - 2 nu) = " +
                        format_number(1.0 / (1.0 - 2.0 * m.poisson_ratio)) +
-                       " in bending); refine a lot or use a lower Poisson's ratio");
+                       " in bending); refine a lot, use a lower Poisson's ratio, or quadratic elements "
+                       "(from C++ for now: docs/materials.md, \"Quadratic elements for nearly "
+                       "incompressible solids\")");
   }
   return warnings;
 }

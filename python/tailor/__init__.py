@@ -17,11 +17,27 @@ import os
 import shutil
 import tempfile
 
-import numpy as np
+from ._interpreter import EXECUTABLE as _BUILT_FOR, VERSION as _BUILT_VERSION
 
-from ._tailor import EvaluationError, MeshError, SceneError, __version__
-from ._tailor import Functional as _Functional
-from ._tailor import Scene as _Scene
+
+def _interpreter_message(version, executable):
+    """What an import from an interpreter other than the one the module was built for says."""
+    built = ".".join(map(str, _BUILT_VERSION))
+    running = ".".join(map(str, version[:2]))
+    return (f"tailor's compiled module was built for Python {built} ({_BUILT_FOR}) with NumPy; "
+            f"this is Python {running} ({executable}). Run it with {_BUILT_FOR}, or configure "
+            f"tailor with -DPython3_EXECUTABLE={executable} and rebuild (docs/python.md)")
+
+
+try:
+    import numpy as np
+
+    from ._tailor import EvaluationError, MeshError, SceneError, __version__
+    from ._tailor import Functional as _Functional
+    from ._tailor import Scene as _Scene
+except ImportError as _error:
+    import sys as _sys
+    raise ImportError(_interpreter_message(_sys.version_info, _sys.executable) + f" [{_error}]") from _error
 from .optimize import scipy_minimize
 
 __all__ = [
@@ -48,6 +64,22 @@ class Report(dict):
         self.ok = exit_code == 0
         self.out_dir = out_dir
 
+    def __repr__(self):
+        keys = ", ".join(k for k in self if k != "fields")
+        fields = ", ".join(self.fields) if isinstance(self.fields, dict) else ""
+        return f"tailor.Report(exit_code={self.exit_code}, keys=[{keys}], fields=[{fields}])"
+
+    def to_json(self, **kwargs):
+        """The report as JSON text, fields included (arrays as nested lists); keyword arguments
+        go to json.dumps (indent=1, ...)."""
+        def plain(value):
+            if isinstance(value, np.ndarray):
+                return value.tolist()
+            if isinstance(value, np.generic):
+                return value.item()
+            raise TypeError(f"{type(value).__name__} is not JSON serializable")
+        return json.dumps(self, default=plain, **kwargs)
+
 
 class Functional:
     """J(z) of a scene's inverse problem, as the optimizer back-ends of `tailor run` see it.
@@ -63,6 +95,8 @@ class Functional:
     size = property(lambda self: self._f.size)
     x0 = property(lambda self: self._f.x0, doc="the initial design z0")
     bounds = property(lambda self: self._f.bounds, doc="(lower, upper) arrays in z, or None")
+    optimizer = property(lambda self: self._f.optimizer,
+                         doc="the scene's inverse.optimizer section: backend, max_iterations, tolerances")
     design_labels = property(lambda self: self._f.design_labels)
     truth = property(lambda self: self._f.truth, doc="per-element true E when the scene knows it")
     has_hessian_vector = property(lambda self: self._f.has_hessian_vector)
@@ -199,7 +233,12 @@ class Scene:
         return self._doc.check(seed=seed, log=log) == 0
 
     def functional(self):
-        """The reduced functional of the scene's inverse problem."""
+        """The reduced functional of the scene's inverse problem (static FEM scenes with an
+        "inverse" section; other kinds are a SceneError naming the supported one)."""
+        if self.kind != "static":
+            raise SceneError(f"{self.source}: functional() needs a static FEM scene with an \"inverse\" "
+                             f"section; this is a {self.kind} scene (its designs run through run() and "
+                             f"gradcheck(), docs/python.md)")
         return Functional(self)
 
 

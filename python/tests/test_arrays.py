@@ -27,3 +27,16 @@ def test_functional_returns_arrays():
     assert isinstance(g, np.ndarray) and g.shape == (2,) and g.dtype == np.float64
     # Lists are taken as designs too.
     assert J.value(list(J.x0)) == J.value(J.x0)
+
+
+def test_reports_serialize_to_json_and_have_a_short_repr():
+    import json
+
+    report = tailor.simulate(str(scene_path("cantilever.json")))
+    document = json.loads(report.to_json())
+    np.testing.assert_array_equal(np.array(document["fields"]["displacement"]), report.fields["displacement"])
+    assert document["status"] == report["status"]
+    assert len(repr(report)) < 2000 and "displacement" in repr(report)
+    # The documented dtypes: float64 values, int32 vertex ids.
+    assert report.fields["displacement"].dtype == np.float64
+    assert report.fields["elements"].dtype == np.int32

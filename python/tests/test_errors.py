@@ -59,6 +59,12 @@ def test_verbs_that_need_an_inverse_section():
         scene.functional()
 
 
+def test_functional_of_another_kind_names_the_supported_one():
+    with pytest.raises(tailor.SceneError, match=r"rod_rest_shape_design\.json: functional\(\) needs a static FEM "
+                       r"scene with an \"inverse\" section; this is a rods scene"):
+        tailor.load(str(scene_path("rods/rod_rest_shape_design.json"))).functional()
+
+
 def test_bad_inverse_key_path_in_functional():
     scene = read_json(scene_path("two_material_bar_inverse.json"))
     scene["inverse"]["design"]["min"] = 0

@@ -80,3 +80,22 @@ def test_taylor_test_of_hessian_vector_products_and_at_another_design(bar):
     elsewhere = bar.taylor_test(z=bar.x0 + np.array([0.5, -0.5]), seed=3)
     assert elsewhere["passed"], elsewhere["table"]
     assert elsewhere["value"] == pytest.approx(bar.value(bar.x0 + np.array([0.5, -0.5])), rel=1e-10)
+
+
+def test_scipy_minimize_takes_the_scenes_settings_and_reaches_tailor_runs_objective(tmp_path):
+    # scenes/plate_stripe_inverse.json: nlopt_lbfgs, 500 iterations, gradient_tolerance 1e-10.
+    # Reference: the objective `tailor run` reaches on the same scene (its L-BFGS back-end).
+    scene = tailor.load(str(scene_path("plate_stripe_inverse.json")))
+    run = scene.run(out_dir=tmp_path)
+    J = scene.functional()
+    assert J.optimizer["max_iterations"] == 500 and J.optimizer["gradient_tolerance"] == 1e-10
+    seen = []
+    result = tailor.scipy_minimize(J, callback=lambda z: seen.append(z.copy()))
+    assert result.fun <= run["objective"]["final"] * (1 + 1e-6)
+    assert len(result.history) == result.nit == len(seen)
+    assert result.history[-1]["objective"] == pytest.approx(result.fun, rel=1e-12)
+    assert [h["iteration"] for h in result.history] == list(range(1, result.nit + 1))
+    assert result.tailor_message.startswith("projected gradient norm")
+    # SciPy's own defaults stop far earlier (ftol 2.2e-9 relative): the settings matter.
+    default = tailor.scipy_minimize(J, settings=None)
+    assert default.nit < result.nit

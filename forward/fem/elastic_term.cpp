@@ -1,6 +1,7 @@
 #include "forward/fem/elastic_term.hpp"
 
 #include "forward/fem/element_loop.hpp"
+#include "forward/fem/nodal_kinematics.hpp"
 
 #include <array>
 #include <stdexcept>
@@ -31,12 +32,7 @@ ElasticTerm<Dim>::ElasticTerm(std::shared_ptr<const Material<Dim>> material, int
 template <int Dim>
 bool ElasticTerm<Dim>::share_by_elements(const std::function<bool(const int* dofs, int count)>& keep,
                                          std::unique_ptr<EnergyTerm>& share) const {
-  std::vector<int> kept;
-  std::array<int, kLocal> dofs;
-  for (int k = 0; k < simplices_.size(); ++k) {
-    for (int r = 0; r < kLocal; ++r) dofs[static_cast<std::size_t>(r)] = simplices_.dof(k, r);
-    if (keep(dofs.data(), kLocal)) kept.push_back(k);
-  }
+  const std::vector<int> kept = elements_kept(simplices_, keep);
   share.reset();
   if (!kept.empty())
     share.reset(new ElasticTerm(material_, youngs_offset_, poisson_offset_, simplices_.subset(kept)));

@@ -5,6 +5,9 @@
 // pattern of the element DOFs. Local DOFs are node-major: local DOF Dim * a + i is component i
 // of local node a.
 #include <Eigen/Core>
+#include <array>
+#include <functional>
+#include <vector>
 
 #include "forward/core/types.hpp"
 
@@ -39,6 +42,19 @@ void append_element_hessian_pattern(const NodeLists& nodes, HessianPattern& patt
   for (const auto& element : nodes)
     for (int r = 0; r < kLocal; ++r)
       for (int c = 0; c < kLocal; ++c) pattern.push_back({Dim * element[r / Dim] + r % Dim, Dim * element[c / Dim] + c % Dim});
+}
+
+// The elements of `simplices` (LinearSimplices or QuadraticSimplices) whose element DOFs `keep`
+// accepts, in order: the subset an elastic term's EnergyTerm::share_by_elements keeps.
+template <class Simplices>
+std::vector<int> elements_kept(const Simplices& simplices, const std::function<bool(const int* dofs, int count)>& keep) {
+  std::vector<int> kept;
+  std::array<int, Simplices::kLocal> dofs;
+  for (int k = 0; k < simplices.size(); ++k) {
+    for (int r = 0; r < Simplices::kLocal; ++r) dofs[static_cast<std::size_t>(r)] = simplices.dof(k, r);
+    if (keep(dofs.data(), Simplices::kLocal)) kept.push_back(k);
+  }
+  return kept;
 }
 
 }  // namespace tailor

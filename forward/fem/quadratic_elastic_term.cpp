@@ -6,6 +6,7 @@
 
 #include "forward/core/parallel_errors.hpp"
 #include "forward/fem/element_loop.hpp"
+#include "forward/fem/nodal_kinematics.hpp"
 
 namespace tailor {
 
@@ -30,12 +31,7 @@ QuadraticElasticTerm<Dim>::QuadraticElasticTerm(std::shared_ptr<const Material<D
 template <int Dim>
 bool QuadraticElasticTerm<Dim>::share_by_elements(const std::function<bool(const int* dofs, int count)>& keep,
                                                   std::unique_ptr<EnergyTerm>& share) const {
-  std::vector<int> kept;
-  std::array<int, kLocal> dofs;
-  for (int k = 0; k < simplices_.size(); ++k) {
-    for (int r = 0; r < kLocal; ++r) dofs[static_cast<std::size_t>(r)] = simplices_.dof(k, r);
-    if (keep(dofs.data(), kLocal)) kept.push_back(k);
-  }
+  const std::vector<int> kept = elements_kept(simplices_, keep);
   share.reset();
   if (!kept.empty())
     share.reset(new QuadraticElasticTerm(material_, youngs_offset_, poisson_offset_, simplices_.subset(kept)));

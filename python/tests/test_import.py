@@ -16,7 +16,8 @@ def test_an_import_that_cannot_load_the_module_names_the_interpreter_it_was_buil
     for file in package.glob("*.py"):
         shutil.copy(file, copy)
     env = dict(os.environ, PYTHONPATH=str(tmp_path))
-    done = subprocess.run([sys.executable, "-c", "import tailor"], capture_output=True, text=True, env=env)
+    done = subprocess.run([sys.executable, "-c", "import tailor"], capture_output=True, text=True, env=env,
+                          cwd=tmp_path)
     assert done.returncode != 0
     assert "tailor's compiled module was built for Python 3." in done.stderr, done.stderr
     assert f"this is Python {sys.version_info[0]}.{sys.version_info[1]} ({sys.executable})" in done.stderr

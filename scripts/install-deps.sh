@@ -21,11 +21,11 @@ packages=(
   libopenblas0-pthread libopenblas-pthread-dev
 )
 # `install-deps.sh sanitizers` (CI): also clang with its sanitizer and libFuzzer runtimes, LLVM's
-# OpenMP and llvm-symbolizer (for scripts/sanitize.sh and scripts/fuzz.sh), and PyTorch for the
-# tests of the torch adapter (python/tailor/torch.py; elsewhere they are skipped without it, and
-# the quick start does not wait for its ~200 packages).
+# OpenMP and llvm-symbolizer (for scripts/sanitize.sh and scripts/fuzz.sh), and the optional
+# Python packages whose tests are skipped without them: PyTorch (python/tailor/torch.py), meshio
+# and matplotlib (python/tailor/fields.py); the quick start does not wait for their ~230 packages.
 if [[ ${1:-} == sanitizers ]]; then
-  packages+=(clang-14 libclang-rt-14-dev libomp-14-dev llvm-14 python3-torch)
+  packages+=(clang-14 libclang-rt-14-dev libomp-14-dev llvm-14 python3-torch python3-meshio python3-matplotlib)
 fi
 
 as_root() {

@@ -38,11 +38,12 @@ try:
 except ImportError as _error:
     import sys as _sys
     raise ImportError(_interpreter_message(_sys.version_info, _sys.executable) + f" [{_error}]") from _error
+from . import fields
 from .optimize import scipy_minimize
 
 __all__ = [
     "EvaluationError", "Functional", "MeshError", "Report", "Scene", "SceneError", "__version__",
-    "gradcheck", "homogenize", "load", "modes", "run", "scipy_minimize", "simulate",
+    "fields", "gradcheck", "homogenize", "load", "modes", "run", "scipy_minimize", "simulate",
 ]
 
 
@@ -68,6 +69,11 @@ class Report(dict):
         keys = ", ".join(k for k in self if k != "fields")
         fields = ", ".join(self.fields) if isinstance(self.fields, dict) else ""
         return f"tailor.Report(exit_code={self.exit_code}, keys=[{keys}], fields=[{fields}])"
+
+    def to_meshio(self):
+        """The fields on the mesh as a meshio.Mesh (simulate and run reports; tailor.fields)."""
+        from .fields import to_meshio
+        return to_meshio(self.fields)
 
     def to_json(self, **kwargs):
         """The report as JSON text, fields included (arrays as nested lists); keyword arguments
@@ -130,6 +136,13 @@ class Functional:
         """(du/dz) dz: the state's directional derivative along dz, num_vertices x dim, by one
         tangent solve."""
         return self._f.jvp(z, dz)
+
+    def fields(self, z):
+        """The result fields at design z, as a Report's: displacement (num_vertices x dim),
+        youngs_modulus (per element), rest_positions and elements; for tailor.fields.to_meshio,
+        write and plot."""
+        return {"displacement": self.state(z), "youngs_modulus": self.youngs_modulus(z),
+                "rest_positions": self.rest_positions, "elements": self.elements}
 
     def design_values(self, z):
         """E per design variable at z."""

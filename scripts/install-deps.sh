@@ -23,9 +23,11 @@ packages=(
 # `install-deps.sh sanitizers` (CI): also clang with its sanitizer and libFuzzer runtimes, LLVM's
 # OpenMP and llvm-symbolizer (for scripts/sanitize.sh and scripts/fuzz.sh), and the optional
 # Python packages whose tests are skipped without them: PyTorch (python/tailor/torch.py), meshio
-# and matplotlib (python/tailor/fields.py); the quick start does not wait for their ~230 packages.
+# and matplotlib (python/tailor/fields.py), mypy (stubtest of python/tailor/_tailor.pyi); the quick
+# start does not wait for their ~230 packages.
 if [[ ${1:-} == sanitizers ]]; then
-  packages+=(clang-14 libclang-rt-14-dev libomp-14-dev llvm-14 python3-torch python3-meshio python3-matplotlib)
+  packages+=(clang-14 libclang-rt-14-dev libomp-14-dev llvm-14
+            python3-torch python3-meshio python3-matplotlib python3-mypy)
 fi
 
 as_root() {

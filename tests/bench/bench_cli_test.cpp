@@ -15,6 +15,7 @@
 #include <string>
 
 #include "../support/temp_folder.hpp"
+#include "../support/text_files.hpp"
 #include "problems/json_text.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -23,13 +24,7 @@ namespace {
 
 using testing::TempFolder;
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
+using tailor::testing::read_file;
 // Runs build/bin/<program> with `arguments` in `folder`; returns its exit code, with stdout and
 // stderr in `output`.
 int run_bench(const std::string& program, const std::string& arguments, const TempFolder& folder,

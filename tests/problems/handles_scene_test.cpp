@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "../support/temp_folder.hpp"
+#include "../support/text_files.hpp"
 #include "problems/fem/inverse_commands.hpp"
 #include "problems/fem/inverse_handles.hpp"
 #include "problems/json_text.hpp"
@@ -50,13 +51,7 @@ std::string build_error(const std::string& text) {
   return "";
 }
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
+using tailor::testing::read_file;
 TEST(HandlesScene, ParsesTheTermWithDefaults) {
   const Scene scene = parse_scene(
       handle_scene(

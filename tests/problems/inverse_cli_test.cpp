@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "../support/temp_folder.hpp"
+#include "../support/text_files.hpp"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -24,13 +25,7 @@ const std::string kBar = kScenes + "/two_material_bar_inverse.json";
 
 using TempFolder = tailor::testing::TempFolder;
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
+using tailor::testing::read_file;
 // Runs the tailor executable; returns its exit code, with stdout and stderr in `output`.
 int run_cli(const std::string& arguments, const std::string& log, std::string& output) {
   const std::string command =

@@ -13,6 +13,7 @@
 
 #include "../support/report_checks.hpp"
 #include "../support/temp_folder.hpp"
+#include "../support/text_files.hpp"
 #include "problems/json_text.hpp"
 #include "scene_text.hpp"
 
@@ -25,13 +26,7 @@ const std::string kScenes = tailor::testing::kScenesDir;
 
 using TempFolder = tailor::testing::TempFolder;
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
+using tailor::testing::read_file;
 // small_box_scene() (linear, E = 1000, pulled along x) with an inverse section.
 Scene box_scene(const std::string& inverse, const std::string& directory = "") {
   return parse_scene(testing::with("\"solver\": {\"load_steps\": 1}",

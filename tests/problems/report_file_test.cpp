@@ -15,6 +15,7 @@
 
 #include "../support/report_checks.hpp"
 #include "../support/temp_folder.hpp"
+#include "../support/text_files.hpp"
 #include "problems/json_text.hpp"
 
 namespace tailor::report_file_test {
@@ -23,11 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::TempFolder;
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
+using tailor::testing::read_file;
 // The names in `folder`.
 std::vector<std::string> listing(const std::string& folder) {
   std::vector<std::string> names;

@@ -14,6 +14,7 @@
 
 #include "../support/report_checks.hpp"
 #include "../support/temp_folder.hpp"
+#include "../support/text_files.hpp"
 #include "problems/fem/commands.hpp"
 #include "problems/json_text.hpp"
 #include "scene_text.hpp"
@@ -26,15 +27,8 @@ namespace fs = std::filesystem;
 
 using TempFolder = tailor::testing::TempFolder;
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_file(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
-
+using tailor::testing::read_file;
+using tailor::testing::write_file;
 TEST(Report, HasEveryDocumentedKey) {
   TempFolder folder("problems_report");
   const Scene scene = parse_scene(testing::with("\"load_steps\": 1", "\"load_steps\": 2"), "box.json", "");

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "../support/temp_folder.hpp"
+#include "../support/text_files.hpp"
 #include "tests/support/test_paths.hpp"
 
 extern char** environ;
@@ -33,13 +34,7 @@ using TempFolder = tailor::testing::TempFolder;
 
 const std::string kTailor = std::string(::tailor::testing::binary_dir()) + "/bin/tailor";
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
+using tailor::testing::read_file;
 Json read_json(const std::string& path) { return Json::parse(read_file(path)); }
 
 // Starts bin/tailor with `arguments`, stdout and stderr into `log`.

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "../support/temp_folder.hpp"
+#include "../support/text_files.hpp"
 #include "problems/output_folder.hpp"
 #include "problems/scene_error.hpp"
 #include "tests/support/test_paths.hpp"
@@ -28,14 +29,8 @@ using tailor::testing::TempFolder;
 
 const std::string kScenes = tailor::testing::kScenesDir;
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_file(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+using tailor::testing::read_file;
+using tailor::testing::write_file;
 
 nlohmann::json read_json(const std::string& path) { return nlohmann::json::parse(read_file(path)); }
 

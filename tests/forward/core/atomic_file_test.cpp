@@ -11,19 +11,14 @@
 #include <stdexcept>
 
 #include "../../support/temp_folder.hpp"
+#include "../../support/text_files.hpp"
 
 namespace tailor::atomic_file_test {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
+using tailor::testing::read_file;
 int entries(const std::string& folder) {
   int n = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(folder)) ++n;

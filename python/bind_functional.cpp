@@ -27,9 +27,13 @@ class Functional {
                        "see docs/scenes.md)");
     Study made = Study::from_json(file.document, file.source, file.directory());
     if (!file.path.empty() && !made.scene().contains("name")) made.scene()["name"] = file.stem();
+    // Building the problem may take seconds (synthetic observations are forward solves): a
+    // stream that drops the solves' lines and checks Python's signals on each makes Ctrl-C
+    // stop it with KeyboardInterrupt.
+    PythonStream interruptible(py::none(), /*check_signals=*/true);
+    made.build_progress(&interruptible);
     study_ = std::make_unique<Study>(std::move(made));
-    py::gil_scoped_release release;
-    problem_ = &study_->problem();
+    problem_ = without_gil([&] { return &study_->problem(); });
   }
 
   int size() const { return problem_->num_design(); }

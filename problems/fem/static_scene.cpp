@@ -242,7 +242,8 @@ StaticSolution solve_static_steps(const StaticSetup& setup, const Vector* start,
   const Vector p = setup.parameters();
   const int num_steps = start ? 1 : setup.solver.load_steps;
   NewtonOptions options = setup.solver.newton;
-  options.progress = progress;
+  if (progress) options.progress = progress;  // else the setup's own (none unless a caller set one)
+  progress = options.progress;
   std::unique_ptr<Model> model;
   Vector y;
   for (int step = 1; step <= num_steps; ++step) {

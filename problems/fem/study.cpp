@@ -187,8 +187,23 @@ const Scene& Study::parsed_scene() {
   return *scene_;
 }
 
+Study& Study::build_progress(std::ostream* progress) {
+  check_unbuilt("build_progress");
+  build_progress_ = progress;
+  return *this;
+}
+
 InverseProblem& Study::problem() {
-  if (!problem_) problem_ = build_inverse_problem(parsed_scene(), extensions_);
+  if (problem_) return *problem_;
+  parsed_scene();
+  if (!build_progress_) return *(problem_ = build_inverse_problem(*scene_, extensions_));
+  // The progress stream only while the problem is built: its solves afterwards print nothing.
+  Scene scene = *scene_;
+  scene.solver.newton.progress = build_progress_;
+  problem_ = build_inverse_problem(scene, extensions_);
+  problem_->setup.solver.newton.progress = nullptr;
+  problem_->functional->newton_options().progress = nullptr;
+  build_progress_ = nullptr;  // for this build only (a later one, after run(), prints nothing)
   return *problem_;
 }
 

@@ -82,6 +82,10 @@ class Study {
   Study& optimizer(nlohmann::json optimizer);
   Study& constraint(ConstraintFactory make);
 
+  // Where the problem's Newton solves print one line per iteration while it is built (its
+  // synthetic-observation solves); none by default. A caller that must stop a long build (the
+  // Python module, on Ctrl-C) gives a stream that throws from its writes.
+  Study& build_progress(std::ostream* progress);
   // The parsed scene and the built problem (built on first call).
   const Scene& parsed_scene();
   InverseProblem& problem();
@@ -104,6 +108,7 @@ class Study {
   std::vector<ConstraintFactory> constraints_;
   std::optional<Scene> scene_;
   std::unique_ptr<InverseProblem> problem_;
+  std::ostream* build_progress_ = nullptr;
 };
 
 // Reduced functionals for constraints (each has its own Taylor test in tests/study).

@@ -434,6 +434,19 @@ bool NewtonSolver::line_search(const Vector& p, Vector& y, const Vector& dy, dou
       // Energy differences are at round-off: judge the step by the residual instead.
       if (!with_gradient) assembler_.evaluate(trial, p, nullptr, &trial_gradient, nullptr);
       accepted = trial_gradient.norm() < residual;
+    } else if (ls == 0 && std::abs(slope) <= 1e-6 * std::abs(energy) && trial_gradient.norm() < residual) {
+      // The full step's predicted decrease (-slope / 2 for a Newton step) is a millionth of the
+      // energy: it may be below the energy's own round-off, which a sum of element energies that
+      // each cancel O(modulus) terms (a stable Neo-Hookean at small strain) makes far larger
+      // than 64 eps |E|. Measure that round-off: the energy a thousandth of the way along the
+      // step should differ from E by a thousandth of the slope; what differs more is noise.
+      // When the noise hides the predicted decrease and the step changed the energy by no more
+      // than the noise, judge the step by the residual, which it lowered.
+      double probe_energy = 0.0;
+      assembler_.evaluate(Vector(y + 1e-3 * alpha * dy), p, &probe_energy, nullptr, nullptr);
+      const double noise = std::abs(probe_energy - energy - 1e-3 * alpha * slope);
+      accepted = std::isfinite(noise) && 0.5 * std::abs(alpha * slope) <= 2.0 * noise &&
+                 trial_energy - energy <= 2.0 * noise;
     }
     if (accepted) {
       y = trial;
@@ -484,6 +497,7 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
   bool carried = false;
   HessianChoice choice;
   const Vector y_start = y;  // solution_change is measured from here
+  bool started_at_floor = false;  // the start's residual was within its round-off floor
   bool cg_in_this_solve = true;  // FactorReuse::automatic: no CG step of this solve has stalled
   for (int k = 0;; ++k) {
     NewtonIteration it;
@@ -558,11 +572,11 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     const double accurate = std::sqrt(options_.relative_tolerance) * load_scale;
     std::ostringstream why;
     why << std::scientific << std::setprecision(2);
-    if (k == 0 && result.residual_floor > 0.0 && result.floor_ratio <= 1.0) {
-      why << "the start is in equilibrium to round-off (residual " << residual << ", floor about "
-          << result.residual_floor << ")";
-      return finish(NewtonStatus::round_off_floor, why.str());
-    }
+    // A start within its floor may still be far from the equilibrium where the stiffness is
+    // ill-conditioned (a load on a stiff block held by a soft support is below the block's
+    // round-off, yet moves it): the first Newton step decides, below.
+    const bool start_at_floor = k == 0 && result.residual_floor > 0.0 && result.floor_ratio <= 1.0;
+    if (start_at_floor) started_at_floor = true;
     // At the floor: has the answer digits? (See the top of newton.hpp.)
     auto at_floor = [&](const NewtonIteration& last, bool below_floor_estimate) {
       why << "residual " << residual << " at its round-off floor (estimated " << result.residual_floor
@@ -583,6 +597,22 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
           << result.accuracy << " against a change of " << result.solution_change;
       if (result.accuracy < kReliableDigit * result.solution_change || result.accuracy <= storage)
         return finish(NewtonStatus::round_off_floor, why.str());
+      if (started_at_floor && result.condition_estimate * std::numeric_limits<double>::epsilon() < 1.0) {
+        // The start's residual was within its floor, and the steps from it have no digits: the
+        // start is as good an answer as double precision gives (a sliver element at rest, its
+        // residual pure round-off). Where the diagonal alone shows the stiffness beyond double
+        // precision, a load below the round-off is the likelier reading: ill_conditioned below.
+        y = y_start;
+        result.accuracy = result.solution_change;
+        result.final_residual = result.initial_residual;
+        result.final_energy = result.history.front().energy;
+        result.iterations = 0;
+        std::ostringstream start;
+        start << std::scientific << std::setprecision(2) << "the start is in equilibrium to round-off (residual "
+              << result.initial_residual << "); Newton steps from it have no reliable digits (estimated error "
+              << result.accuracy << ")";
+        return finish(NewtonStatus::round_off_floor, start.str());
+      }
       why << ": the stiffness matrix is too ill-conditioned for double precision (condition number at least "
           << result.condition_estimate << "; a contrast of moduli?), the solution has no reliable digits";
       return finish(NewtonStatus::ill_conditioned, why.str());
@@ -649,6 +679,17 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       }
     }
 
+    if (start_at_floor) {
+      // In equilibrium to round-off when the Newton step would not move the state beyond the
+      // precision its coordinates are stored to.
+      const double step = model_.elimination().expand_direction(dy).lpNorm<Eigen::Infinity>();
+      if (step <= 100.0 * std::numeric_limits<double>::epsilon() * (1.0 + x.lpNorm<Eigen::Infinity>())) {
+        why << "the start is in equilibrium to round-off (residual " << residual << ", floor about "
+            << result.residual_floor << ", Newton step " << step << ")";
+        result.accuracy = step;
+        return finish(NewtonStatus::round_off_floor, why.str());
+      }
+    }
     if (options_.direction_converged &&
         options_.direction_converged(model_.state(y, p), model_.elimination().expand_direction(dy)))
       return finish(NewtonStatus::converged, "Newton direction within the caller's tolerance");

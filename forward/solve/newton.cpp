@@ -408,6 +408,9 @@ bool NewtonSolver::line_search(const Vector& p, Vector& y, const Vector& dy, dou
   double alpha = std::min(1.0, model_.max_step(model_.state(y, p), dx));
   const double slope = gradient.dot(dy);
   const double round_off = 64.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(energy), 1e-300);
+  // dy = -H^-1 g with H the exact Hessian: CHOLMOD's unshifted factor of it, not CG's step.
+  const bool exact_newton =
+      !options_.linear_solver && factor_is_exact_ && !it.reused_factorization && !it.used_projected;
   bool accepted = false;
   if (it.kept_constant_factor && alpha == 1.0 && slope < 0.0 && model_.hessian_is_constant()) {
     // The energy is quadratic with the factorized Hessian H, and dy = -H^-1 g: the full step
@@ -434,12 +437,14 @@ bool NewtonSolver::line_search(const Vector& p, Vector& y, const Vector& dy, dou
       // Energy differences are at round-off: judge the step by the residual instead.
       if (!with_gradient) assembler_.evaluate(trial, p, nullptr, &trial_gradient, nullptr);
       accepted = trial_gradient.norm() < residual;
-    } else if (ls == 0 && std::abs(slope) <= 1e-6 * std::abs(energy) && trial_gradient.norm() < residual) {
-      // The full step's predicted decrease (-slope / 2 for a Newton step) is a millionth of the
-      // energy: it may be below the energy's own round-off, which a sum of element energies that
-      // each cancel O(modulus) terms (a stable Neo-Hookean at small strain) makes far larger
-      // than 64 eps |E|. Measure that round-off: the energy a thousandth of the way along the
-      // step should differ from E by a thousandth of the slope; what differs more is noise.
+    } else if (ls == 0 && exact_newton && std::abs(slope) <= 1e-6 * std::abs(energy) &&
+               trial_gradient.norm() < residual) {
+      // The full step's predicted decrease (-slope / 2 for a step of the exact Hessian; an
+      // inexact step's differs) is a millionth of the energy: it may be below the energy's own
+      // round-off, which a sum of element energies that each cancel O(modulus) terms (a stable
+      // Neo-Hookean at small strain) makes far larger than 64 eps |E|. Measure that round-off:
+      // the energy a thousandth of the way along the step should differ from E by a thousandth
+      // of the slope; what differs more is noise.
       // When the noise hides the predicted decrease and the step changed the energy by no more
       // than the noise, judge the step by the residual, which it lowered.
       double probe_energy = 0.0;

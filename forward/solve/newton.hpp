@@ -21,7 +21,9 @@
 // component where f_i = 0, e.g. on a node of zero stiffness, is never at round-off), so that
 // the round-off of a stiff part does not hide the load on a soft one. Newton stops at the
 // floor (status round_off_floor, converged) when
-//   - at the start, w <= 1: a state already in equilibrium to round-off, or
+//   - at the start, w <= 1 and the Newton step from it is below 100 eps (1 + ||x||_inf): a state
+//     already in equilibrium to round-off (a start within its floor whose step is larger is
+//     stepped from: a load below the round-off of a stiff part may still move it), or
 //   - after a step, w <= 1, or w <= floor_slack (10) and the step did not halve ||g||
 //     (the residual has stopped decreasing, within a small factor of its floor), or
 //   - a full step of an exact factorization did not halve ||g|| and ||g|| <= sqrt(relative_
@@ -36,6 +38,9 @@
 //   accuracy < 0.1 * solution_change (at least one reliable digit), or accuracy below
 //   100 eps (1 + ||x||_inf) (as exact as positions are stored): round_off_floor;
 //   otherwise ill_conditioned (not converged): the answer has no reliable digits.
+// When the steps from a start within its floor have no digits and the diagonal ratio is below
+// 1 / eps, the start is returned (round_off_floor at iteration 0: its residual was round-off,
+// as a sliver element's at rest).
 // A constant Hessian whose refinement steps stall with the residual above floor_slack times
 // its floor (the factorization's solves have no digits left) is ill_conditioned too, as is a
 // constant Hessian that fails to factorize. Each message gives the residual, the floor, and

@@ -608,6 +608,15 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
         // residual pure round-off). Where the diagonal alone shows the stiffness beyond double
         // precision, a load below the round-off is the likelier reading: ill_conditioned below.
         y = y_start;
+        // hessian() is the Hessian at the returned iterate after a converged solve (the adjoint
+        // relies on it); the factor is of another iterate's.
+        if (share_) {
+          assemble_share(p, y, HessianMode::exact);
+        } else {
+          assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, HessianMode::exact);
+          assembled_mode_ = HessianMode::exact;
+        }
+        factor_matches_hessian_ = false;
         result.accuracy = result.solution_change;
         result.final_residual = result.initial_residual;
         result.final_energy = result.history.front().energy;

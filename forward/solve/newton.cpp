@@ -106,6 +106,13 @@ bool NewtonSolver::reuse_pays() const {
 
 namespace {
 
+// The round-off floor rule (newton.hpp): a residual that stopped decreasing within this factor
+// of its componentwise floor estimate is at the floor (the estimate counts the round-off of
+// the positions only, not the few more rounding errors of each element's stress).
+constexpr double kFloorSlack = 10.0;
+// At least one reliable digit: the estimated error below this fraction of the solution's change.
+constexpr double kReliableDigit = 0.1;
+
 bool by_parts(const NewtonOptions& options) {
   return options.linear_solver && options.linear_solver->assembles_by_parts();
 }
@@ -171,6 +178,7 @@ FactorizationResult NewtonSolver::factorize_hessian(const Vector& p, const Vecto
   }
   constant_factor_ = false;
   assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, mode);
+  floor_rows_.resize(0);  // solve() estimates the floor from its own exact Hessian again
   assembled_mode_ = mode;
   if (!analyzed_) {
     cholesky_.analyze(hessian_);
@@ -216,32 +224,57 @@ HessianMode NewtonSolver::choose_mode(const HessianChoice& choice) const {
   return choice.projected_left > 0 ? HessianMode::projected : HessianMode::exact;
 }
 
-std::pair<double, double> NewtonSolver::round_off_estimates(const Vector& x, double h_norm, double max_diagonal,
-                                                            double min_diagonal) const {
-  const double floor = std::numeric_limits<double>::epsilon() * h_norm * (1.0 + x.lpNorm<Eigen::Infinity>());
-  const double condition = min_diagonal > 0.0 && std::isfinite(min_diagonal)
-                               ? max_diagonal / min_diagonal
-                               : std::numeric_limits<double>::infinity();
-  return {floor, condition};
+double NewtonSolver::estimate_floor_rows(double h_norm, double max_diagonal, double min_diagonal) {
+  floor_rows_ = Vector::Constant(hessian_.rows() > 0 ? hessian_.rows() : model_.elimination().num_free(),
+                                 std::numeric_limits<double>::epsilon() * h_norm);
+  return min_diagonal > 0.0 && std::isfinite(min_diagonal) ? max_diagonal / min_diagonal
+                                                           : std::numeric_limits<double>::infinity();
 }
 
-std::pair<double, double> NewtonSolver::round_off_estimates(const Vector& x) const {
-  // ||H||_inf of the symmetric matrix stored as its upper triangle: each off-diagonal entry
-  // counts in its row and in its column.
-  Vector row_sums = Vector::Zero(hessian_.rows());
+double NewtonSolver::estimate_floor_rows() {
+  // The symmetric matrix is stored as its upper triangle: each off-diagonal entry counts in its
+  // row and in its column.
+  floor_rows_ = Vector::Zero(hessian_.rows());
   double max_diagonal = 0.0, min_diagonal = std::numeric_limits<double>::infinity();
   for (int j = 0; j < hessian_.outerSize(); ++j)
     for (SparseMatrix::InnerIterator e(hessian_, j); e; ++e) {
-      row_sums[e.row()] += std::abs(e.value());
+      floor_rows_[e.row()] += std::abs(e.value());
       if (e.row() != j) {
-        row_sums[j] += std::abs(e.value());
+        floor_rows_[j] += std::abs(e.value());
       } else {
         max_diagonal = std::max(max_diagonal, std::abs(e.value()));
         min_diagonal = std::min(min_diagonal, std::abs(e.value()));
       }
     }
-  const double h_norm = row_sums.size() ? row_sums.maxCoeff() : 0.0;
-  return round_off_estimates(x, h_norm, max_diagonal, min_diagonal);
+  floor_rows_ *= std::numeric_limits<double>::epsilon();
+  return min_diagonal > 0.0 && std::isfinite(min_diagonal) ? max_diagonal / min_diagonal
+                                                           : std::numeric_limits<double>::infinity();
+}
+
+std::pair<double, double> NewtonSolver::floor_ratio(const Vector& gradient, const Vector& x) const {
+  if (floor_rows_.size() != gradient.size()) return {std::numeric_limits<double>::infinity(), 0.0};
+  const double x_scale = 1.0 + x.lpNorm<Eigen::Infinity>();
+  double ratio = 0.0;
+  for (Eigen::Index i = 0; i < gradient.size(); ++i) {
+    const double g = std::abs(gradient[i]);
+    if (g == 0.0) continue;
+    // A row without stiffness has no round-off to hide a force behind: never at the floor.
+    const double f = floor_rows_[i] * x_scale;
+    ratio = std::max(ratio, f > 0.0 ? g / f : std::numeric_limits<double>::infinity());
+  }
+  return {ratio, floor_rows_.norm() * x_scale};
+}
+
+double NewtonSolver::error_estimate(const Vector& gradient, const NewtonIteration& last) {
+  // The next Newton step is the iterate's error to first order (x* - x = -H^-1 g); at the floor
+  // g is round-off, and the step is that round-off propagated through the inverse stiffness.
+  if (!options_.linear_solver && factor_is_exact_ && cholesky_.has_factor() && cholesky_.rows() == gradient.size()) {
+    const Vector dy = cholesky_.solve(Vector(-gradient));
+    if (dy.allFinite()) return model_.elimination().expand_direction(dy).lpNorm<Eigen::Infinity>();
+  }
+  // Another solver (or a projected or shifted factor): the last step's direction, taken at an
+  // iterate that was at the floor as well.
+  return last.step_length > 0.0 ? last.step_norm / last.step_length : std::numeric_limits<double>::infinity();
 }
 
 bool NewtonSolver::kept_factor_step(const Vector& gradient, double residual, double scale, double target,
@@ -375,6 +408,9 @@ bool NewtonSolver::line_search(const Vector& p, Vector& y, const Vector& dy, dou
   double alpha = std::min(1.0, model_.max_step(model_.state(y, p), dx));
   const double slope = gradient.dot(dy);
   const double round_off = 64.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(energy), 1e-300);
+  // dy = -H^-1 g with H the exact Hessian: CHOLMOD's unshifted factor of it, not CG's step.
+  const bool exact_newton =
+      !options_.linear_solver && factor_is_exact_ && !it.reused_factorization && !it.used_projected;
   bool accepted = false;
   if (it.kept_constant_factor && alpha == 1.0 && slope < 0.0 && model_.hessian_is_constant()) {
     // The energy is quadratic with the factorized Hessian H, and dy = -H^-1 g: the full step
@@ -401,6 +437,21 @@ bool NewtonSolver::line_search(const Vector& p, Vector& y, const Vector& dy, dou
       // Energy differences are at round-off: judge the step by the residual instead.
       if (!with_gradient) assembler_.evaluate(trial, p, nullptr, &trial_gradient, nullptr);
       accepted = trial_gradient.norm() < residual;
+    } else if (ls == 0 && exact_newton && std::abs(slope) <= 1e-6 * std::abs(energy) &&
+               trial_gradient.norm() < residual) {
+      // The full step's predicted decrease (-slope / 2 for a step of the exact Hessian; an
+      // inexact step's differs) is a millionth of the energy: it may be below the energy's own
+      // round-off, which a sum of element energies that each cancel O(modulus) terms (a stable
+      // Neo-Hookean at small strain) makes far larger than 64 eps |E|. Measure that round-off:
+      // the energy a thousandth of the way along the step should differ from E by a thousandth
+      // of the slope; what differs more is noise.
+      // When the noise hides the predicted decrease and the step changed the energy by no more
+      // than the noise, judge the step by the residual, which it lowered.
+      double probe_energy = 0.0;
+      assembler_.evaluate(Vector(y + 1e-3 * alpha * dy), p, &probe_energy, nullptr, nullptr);
+      const double noise = std::abs(probe_energy - energy - 1e-3 * alpha * slope);
+      accepted = std::isfinite(noise) && 0.5 * std::abs(alpha * slope) <= 2.0 * noise &&
+                 trial_energy - energy <= 2.0 * noise;
     }
     if (accepted) {
       y = trial;
@@ -450,6 +501,8 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
   Vector carried_gradient;
   bool carried = false;
   HessianChoice choice;
+  const Vector y_start = y;  // solution_change is measured from here
+  bool started_at_floor = false;  // the start's residual was within its round-off floor
   bool cg_in_this_solve = true;  // FactorReuse::automatic: no CG step of this solve has stalled
   for (int k = 0;; ++k) {
     NewtonIteration it;
@@ -499,56 +552,106 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
     const double scale = std::max(result.initial_residual, options_.reference_residual);
     const double target = std::max(options_.relative_tolerance * scale, options_.absolute_tolerance);
     if (residual <= target) return finish(NewtonStatus::converged, "residual below tolerance");
-    if (mode == HessianMode::exact && result.residual_floor == 0.0) {
+    // The floor's row sums come from each exact Hessian assembled (a kept constant one is the
+    // same matrix); its size scales with the current coordinates.
+    if (mode == HessianMode::exact && (!kept_constant || floor_rows_.size() != gradient.size())) {
       if (!share_) {
-        std::tie(result.residual_floor, result.condition_estimate) = round_off_estimates(model_.state(y, p));
+        floor_condition_ = estimate_floor_rows();
       } else {
         // From the solver, which holds the summed shares (a failed set-up is reported by the step).
         std::string ignored;
         double h_norm = 0.0, max_diagonal = 0.0, min_diagonal = 0.0;
         if (set_up_share(ignored) && options_.linear_solver->matrix_norms(h_norm, max_diagonal, min_diagonal))
-          std::tie(result.residual_floor, result.condition_estimate) =
-              round_off_estimates(model_.state(y, p), h_norm, max_diagonal, min_diagonal);
+          floor_condition_ = estimate_floor_rows(h_norm, max_diagonal, min_diagonal);
       }
     }
-    // What a floor must be below to count as converged: sqrt(relative tolerance) of the load
-    // scale, which an absolute tolerance implies too (absolute / relative, e.g. when a warm start
-    // from a ramped equilibrium makes ||g_0|| tiny).
+    const Vector x = model_.state(y, p);
+    if (floor_rows_.size() == gradient.size()) {
+      std::tie(result.floor_ratio, result.residual_floor) = floor_ratio(gradient, x);
+      result.condition_estimate = floor_condition_;
+    }
+    // What a floor must be below for the residual alone to certify the solution: sqrt(relative
+    // tolerance) of the load scale, which an absolute tolerance implies too (absolute / relative,
+    // e.g. when a warm start from a ramped equilibrium makes ||g_0|| tiny).
     const double load_scale = std::max(scale, options_.absolute_tolerance / options_.relative_tolerance);
     const double accurate = std::sqrt(options_.relative_tolerance) * load_scale;
     std::ostringstream why;
     why << std::scientific << std::setprecision(2);
-    if (k == 0 && residual <= result.residual_floor) {
-      why << "the start is in equilibrium to round-off (residual " << residual << ", floor about "
-          << result.residual_floor << ")";
-      return finish(NewtonStatus::round_off_floor, why.str());
-    }
+    // A start within its floor may still be far from the equilibrium where the stiffness is
+    // ill-conditioned (a load on a stiff block held by a soft support is below the block's
+    // round-off, yet moves it): the first Newton step decides, below.
+    const bool start_at_floor = k == 0 && result.residual_floor > 0.0 && result.floor_ratio <= 1.0;
+    if (start_at_floor) started_at_floor = true;
+    // At the floor: has the answer digits? (See the top of newton.hpp.)
+    auto at_floor = [&](const NewtonIteration& last, bool below_floor_estimate) {
+      why << "residual " << residual << " at its round-off floor (estimated " << result.residual_floor
+          << ", componentwise ratio " << result.floor_ratio << "; requested " << target << ")";
+      if (residual <= accurate) return finish(NewtonStatus::round_off_floor, why.str());
+      if (!below_floor_estimate) {
+        // Refinement with the factor of a constant Hessian stalled above the floor: the
+        // factorization's solves have no digits left.
+        why << ": refinement with the stiffness factorization stalls above the floor, the "
+            << "stiffness matrix is too ill-conditioned for double precision (condition number at least "
+            << result.condition_estimate << "; a contrast of moduli?), the solution has no reliable digits";
+        return finish(NewtonStatus::ill_conditioned, why.str());
+      }
+      result.accuracy = error_estimate(gradient, last);
+      result.solution_change = model_.elimination().expand_direction(y - y_start).lpNorm<Eigen::Infinity>();
+      const double storage = 100.0 * std::numeric_limits<double>::epsilon() * (1.0 + x.lpNorm<Eigen::Infinity>());
+      why << ", " << residual / scale << " of the initial residual; estimated error of the solution "
+          << result.accuracy << " against a change of " << result.solution_change;
+      if (result.accuracy < kReliableDigit * result.solution_change || result.accuracy <= storage)
+        return finish(NewtonStatus::round_off_floor, why.str());
+      if (started_at_floor && result.condition_estimate * std::numeric_limits<double>::epsilon() < 1.0) {
+        // The start's residual was within its floor, and the steps from it have no digits: the
+        // start is as good an answer as double precision gives (a sliver element at rest, its
+        // residual pure round-off). Where the diagonal alone shows the stiffness beyond double
+        // precision, a load below the round-off is the likelier reading: ill_conditioned below.
+        y = y_start;
+        // hessian() is the Hessian at the returned iterate after a converged solve (the adjoint
+        // relies on it); the factor is of another iterate's.
+        if (share_) {
+          assemble_share(p, y, HessianMode::exact);
+        } else {
+          assembler_.evaluate(y, p, nullptr, nullptr, &hessian_, HessianMode::exact);
+          assembled_mode_ = HessianMode::exact;
+        }
+        factor_matches_hessian_ = false;
+        result.accuracy = result.solution_change;
+        result.final_residual = result.initial_residual;
+        result.final_energy = result.history.front().energy;
+        result.iterations = 0;
+        std::ostringstream start;
+        start << std::scientific << std::setprecision(2) << "the start is in equilibrium to round-off (residual "
+              << result.initial_residual << "); Newton steps from it have no reliable digits (estimated error "
+              << result.accuracy << ")";
+        return finish(NewtonStatus::round_off_floor, start.str());
+      }
+      why << ": the stiffness matrix is too ill-conditioned for double precision (condition number at least "
+          << result.condition_estimate << "; a contrast of moduli?), the solution has no reliable digits";
+      return finish(NewtonStatus::ill_conditioned, why.str());
+    };
     if (k > 0) {
       const NewtonIteration& last = result.history.back();
-      const double x_scale = 1.0 + model_.state(y, p).lpNorm<Eigen::Infinity>();
+      const double x_scale = 1.0 + x.lpNorm<Eigen::Infinity>();
       const bool full_step = last.step_length == 1.0;
       if (full_step && last.step_norm <= options_.step_tolerance * x_scale && residual <= accurate)
         return finish(NewtonStatus::converged, "step at round-off level");
-      // At the floor: below its estimate, or a full step of an exact factorization that did not
-      // halve the residual (quadratic convergence has stopped). With a constant Hessian every
-      // step after the first is iterative refinement with the same factor, and the energy is
-      // quadratic: a step of any length that does not halve the residual means the factor's
-      // solves have no digits left (a line search that shortens such steps only hides it).
+      // At the floor: within it, or within floor_slack of it and no longer decreasing.
+      const bool stagnant = residual > 0.5 * last.residual;
+      const bool near_floor =
+          result.residual_floor > 0.0 &&
+          (result.floor_ratio <= 1.0 || (stagnant && result.floor_ratio <= kFloorSlack));
+      // Or a full step of an exact factorization that did not halve the residual (quadratic
+      // convergence has stopped). With a constant Hessian every step after the first is
+      // iterative refinement with the same factor, and the energy is quadratic: a step of any
+      // length that does not halve the residual means the residual is at its floor or the
+      // factor's solves have no digits left (a line search that shortens such steps only hides
+      // it).
       const bool exact_step = (last.factorizations == 1 && !last.used_projected) || last.kept_constant_factor;
       const bool refinement = exact_step && model_.hessian_is_constant();
-      const bool stalled = (full_step || refinement) && exact_step && residual > 0.5 * last.residual;
-      if (residual <= result.residual_floor || (stalled && (residual <= accurate || refinement))) {
-        if (residual <= accurate) {
-          why << "residual " << residual << " at its round-off floor (requested " << target << ")";
-          return finish(NewtonStatus::round_off_floor, why.str());
-        }
-        why << "residual " << residual << " at its round-off floor (estimated " << result.residual_floor
-            << ", " << residual / scale
-            << " of the initial residual): the stiffness matrix is too ill-conditioned for "
-            << "double precision (condition number at least " << result.condition_estimate
-            << "; a contrast of moduli?), the solution has no reliable digits";
-        return finish(NewtonStatus::ill_conditioned, why.str());
-      }
+      const bool stalled = (full_step || refinement) && exact_step && stagnant;
+      if (near_floor || (stalled && (residual <= accurate || refinement))) return at_floor(last, near_floor);
     }
     if (k == options_.max_iterations)
       return finish(NewtonStatus::max_iterations, "iteration limit " + std::to_string(k) + " reached");
@@ -590,12 +693,29 @@ NewtonResult NewtonSolver::solve(const Vector& p, Vector& y) {
       }
     }
 
+    if (start_at_floor) {
+      // In equilibrium to round-off when the Newton step would not move the state beyond the
+      // precision its coordinates are stored to.
+      const double step = model_.elimination().expand_direction(dy).lpNorm<Eigen::Infinity>();
+      if (step <= 100.0 * std::numeric_limits<double>::epsilon() * (1.0 + x.lpNorm<Eigen::Infinity>())) {
+        why << "the start is in equilibrium to round-off (residual " << residual << ", floor about "
+            << result.residual_floor << ", Newton step " << step << ")";
+        result.accuracy = step;
+        return finish(NewtonStatus::round_off_floor, why.str());
+      }
+    }
     if (options_.direction_converged &&
         options_.direction_converged(model_.state(y, p), model_.elimination().expand_direction(dy)))
       return finish(NewtonStatus::converged, "Newton direction within the caller's tolerance");
     const bool accepted =
         line_search(p, y, dy, energy, gradient, residual, it, carried_energy, carried_gradient, carried);
     result.history.push_back(it);
+    // No decrease left to find within floor_slack of the floor: the residual is at its floor.
+    if (!accepted && result.residual_floor > 0.0 && result.floor_ratio <= kFloorSlack) {
+      it.step_length = 1.0;  // for error_estimate's fallback: the direction just computed
+      it.step_norm = model_.elimination().expand_direction(dy).lpNorm<Eigen::Infinity>();
+      return at_floor(it, true);
+    }
     if (!accepted)
       return finish(NewtonStatus::line_search_failed,
                     "line search found no decrease at iteration " + std::to_string(k) + " after " +

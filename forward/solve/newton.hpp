@@ -11,17 +11,41 @@
 //   floating point, so the residual has reached its round-off floor (which scales with the
 //   stiffness times the coordinates and cannot be predicted by a fixed absolute number).
 // A start that is already in equilibrium (||g_0|| = 0) converges at once.
-// The residual's round-off floor: the residual cannot fall below the error of forces computed
-// from positions held to relative precision eps, estimated as eps * ||H||_inf * (1 + ||x||_inf).
-// Newton stops with status round_off_floor (which counts as converged) when the residual is
-// below that estimate at the start (a state at equilibrium to round-off), or later when it is
-// below the estimate or a full step of an exact factorization did not halve it, provided it is
-// below sqrt(relative_tolerance) * scale (quadratic convergence has stopped at the floor); the
-// scale is the larger of the initial residual and absolute_tolerance / relative_tolerance.
-// When the floor is above that level, the matrix is too ill-conditioned for double precision
-// (e.g. a contrast of moduli of 1e15): status ill_conditioned (not converged), with the floor
-// and a condition estimate (the ratio of the Hessian's largest to smallest diagonal entry, a
-// lower bound) in the message and the result.
+//
+// The round-off floor (docs/performance.md, "The round-off floor"). A residual computed in
+// double precision cannot fall below the error of the forces it sums: positions are held to
+// relative precision eps, so component i of the residual carries an error of about
+//   f_i = eps * (1 + ||x||_inf) * sum_j |H_ij|       (force units),
+// the row sum of the exact Hessian's absolute values times the size of the coordinates.
+// residual_floor reports ||f||_2; the test is componentwise, w = max_i |g_i| / f_i (a residual
+// component where f_i = 0, e.g. on a node of zero stiffness, is never at round-off), so that
+// the round-off of a stiff part does not hide the load on a soft one. Newton stops at the
+// floor (status round_off_floor, converged) when
+//   - at the start, w <= 1 and the Newton step from it is below 100 eps (1 + ||x||_inf): a state
+//     already in equilibrium to round-off (a start within its floor whose step is larger is
+//     stepped from: a load below the round-off of a stiff part may still move it), or
+//   - after a step, w <= 1, or w <= floor_slack (10) and the step did not halve ||g||
+//     (the residual has stopped decreasing, within a small factor of its floor), or
+//   - a full step of an exact factorization did not halve ||g|| and ||g|| <= sqrt(relative_
+//     tolerance) * scale (quadratic convergence has stopped; scale is the larger of ||g_0||,
+//     reference_residual and absolute_tolerance / relative_tolerance), or
+//   - the line search fails with w <= floor_slack (no decrease is left to find),
+// provided the answer has digits. When the floor is above sqrt(relative_tolerance) * scale,
+// the residual no longer certifies the solution, so Newton estimates the iterate's error as
+// the next Newton step, accuracy = ||S H^-1 g||_inf (state units: the residual's round-off
+// propagated through the inverse stiffness, which is what a contrast of moduli amplifies), and
+// compares it with solution_change = ||x - x_start||_inf, what the solve moved the state:
+//   accuracy < 0.1 * solution_change (at least one reliable digit), or accuracy below
+//   100 eps (1 + ||x||_inf) (as exact as positions are stored): round_off_floor;
+//   otherwise ill_conditioned (not converged): the answer has no reliable digits.
+// When the steps from a start within its floor have no digits and the diagonal ratio is below
+// 1 / eps, the start is returned (round_off_floor at iteration 0: its residual was round-off,
+// as a sliver element's at rest).
+// A constant Hessian whose refinement steps stall with the residual above floor_slack times
+// its floor (the factorization's solves have no digits left) is ill_conditioned too, as is a
+// constant Hessian that fails to factorize. Each message gives the residual, the floor, and
+// where estimated the accuracy and a condition estimate (the ratio of the Hessian's largest to
+// smallest diagonal entry, a lower bound of its condition number).
 //
 // Constant Hessians: when every term declares hessian_is_constant() (linear elasticity,
 // inertia, loads), the exact Hessian is factorized once per parameter vector p (and per
@@ -164,7 +188,12 @@ struct NewtonResult {
   double initial_residual = 0.0;
   double final_residual = 0.0;
   double final_energy = 0.0;
-  double residual_floor = 0.0;      // the round-off floor estimate (0 when not estimated)
+  double residual_floor = 0.0;      // ||f||_2 of the round-off floor estimate (0 when not estimated)
+  double floor_ratio = 0.0;         // w = max_i |g_i| / f_i at the last iterate (0 when not estimated)
+  // Where the floor decided (see the top of this file): the estimated error of the iterate,
+  // ||S H^-1 g||_inf, and how far the solve moved the state, ||x - x_start||_inf (state units).
+  double accuracy = 0.0;
+  double solution_change = 0.0;
   double condition_estimate = 0.0;  // max / min |diagonal| of the exact Hessian (a lower bound)
   double analysis_seconds = 0.0;
   double total_seconds = 0.0;
@@ -240,12 +269,17 @@ class NewtonSolver {
   bool line_search(const Vector& p, Vector& y, const Vector& dy, double energy, const Vector& gradient,
                    double residual, NewtonIteration& it, double& accepted_energy, Vector& accepted_gradient,
                    bool& accepted_evaluated);
-  // For the assembled (exact) Hessian at x: eps * ||H||_inf * (1 + ||x||_inf), and the ratio of
-  // its largest to smallest absolute diagonal entry.
-  std::pair<double, double> round_off_estimates(const Vector& x) const;
-  // The same from the norms the solver reports of its last set-up (distributed assembly).
-  std::pair<double, double> round_off_estimates(const Vector& x, double h_norm, double max_diagonal,
-                                                double min_diagonal) const;
+  // From the assembled (exact) Hessian: floor_rows_ = eps * sum_j |H_ij| per row, and the
+  // ratio of its largest to smallest absolute diagonal entry (the condition estimate).
+  double estimate_floor_rows();
+  // Distributed assembly, from the norms the solver reports of its last set-up: every row
+  // gets eps * ||H||_inf (a bound of each row's sum), and the condition estimate.
+  double estimate_floor_rows(double h_norm, double max_diagonal, double min_diagonal);
+  // w = max_i |g_i| / (floor_rows_i * (1 + ||x||_inf)), and ||floor_rows_||_2 (1 + ||x||_inf).
+  std::pair<double, double> floor_ratio(const Vector& gradient, const Vector& x) const;
+  // The estimated error of the iterate, ||S H^-1 g||_inf, with the kept factor when it is of an
+  // exact Hessian (that of the last step), else the last step's direction.
+  double error_estimate(const Vector& gradient, const NewtonIteration& last);
   // Distributed assembly: assembles this process's share at (p, y) in `mode`, and hands it to
   // the solver (set_up_share) when a step or an estimate needs it.
   void assemble_share(const Vector& p, const Vector& y, HessianMode mode);
@@ -282,6 +316,10 @@ class NewtonSolver {
   // estimate it quotes.
   bool ill_conditioned_ = false;
   double condition_hint_ = 0.0;
+  // eps * sum_j |H_ij| of the last exact Hessian solve() assembled (empty before one was, and
+  // after factorize_hessian replaced it), and that Hessian's condition estimate.
+  Vector floor_rows_;
+  double floor_condition_ = 0.0;
 };
 
 }  // namespace tailor

@@ -66,8 +66,13 @@ rod_detail::StencilEnergy<2, 8> RodBendingTerm::energy_density(const Eigen::Vect
   return W;
 }
 
+std::array<rod_detail::BendTwistDual1, 2> RodBendingTerm::strain_gradients(const Local& local, int interior) const {
+  auto s = rod_detail::bend_twist_strains<rod_detail::BendTwistDual1>(local, rod_detail::stored_frames(*rod_, interior));
+  return {std::move(s.kappa1), std::move(s.kappa2)};
+}
+
 Eigen::Vector2d RodBendingTerm::strain_values(const Local& local, int interior) const {
-  const auto s = rod_detail::bend_twist_strains<1>(local, rod_detail::stored_frames(*rod_, interior));
+  const auto s = rod_detail::bend_twist_strains<rod_detail::Dual0>(local, rod_detail::stored_frames(*rod_, interior));
   return {s.kappa1.v, s.kappa2.v};
 }
 

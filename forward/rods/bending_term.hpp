@@ -32,6 +32,7 @@ class RodBendingTerm final
   // kappabar_1, kappabar_2, E_{i-1}, E_i, r_{i-1}, r_i, L_{i-1}, L_i
   std::array<int, 8> stencil_parameters(int interior) const;
   std::array<rod_detail::BendTwistDual, 2> strains(const Local& local, int interior) const;
+  std::array<rod_detail::BendTwistDual1, 2> strain_gradients(const Local& local, int interior) const;
   Eigen::Vector2d strain_values(const Local& local, int interior) const;
   rod_detail::StencilEnergy<2, 8> energy_density(const Eigen::Vector2d& kappa,
                                                  const Eigen::Matrix<double, 8, 1>& q, int interior) const;

@@ -2,7 +2,10 @@
 // Strains of the discrete elastic rod as dual numbers (private to forward/rods): edge length,
 // material curvatures and twist of one stencil, with their exact gradients and Hessians in the
 // stencil's DOFs, including the dependence of the time-parallel reference frame and of the
-// reference twist on the positions (docs/rods.md, "Exact Hessian").
+// reference twist on the positions (docs/rods.md, "Exact Hessian"). Written once on a scalar
+// type T: Dual2<N> for value, gradient and Hessian, Dual1<N> for value and gradient, Dual0 for
+// the value alone (forward/rods/low_order_duals.hpp; the three agree bit for bit on what they
+// share).
 #include <Eigen/Core>
 #include <cmath>
 #include <numbers>
@@ -15,16 +18,17 @@ namespace tailor::rod_detail {
 //   0-2 x_{i-1}, 3-5 x_i, 6-8 x_{i+1}, 9 theta^{i-1}, 10 theta^i.
 inline constexpr int kBendTwistDofs = 11;
 using BendTwistDual = Dual2<kBendTwistDofs>;
+using BendTwistDual1 = Dual1<kBendTwistDofs>;
 using BendTwistLocal = Eigen::Matrix<double, kBendTwistDofs, 1>;
 
 // Parallel transport of w from unit u to unit v: P w = c w + b x w + (b . w) / (1 + c) b with
 // b = u x v, c = u . v (Rodrigues' rotation about b by the angle between u and v, written
 // without dividing by |b| so it stays smooth at u = v; Bergou 2008 section 4.2). 1 + c is
 // evaluated as |u + v|^2 / 2, which keeps its relative precision when u and v nearly fold back.
-template <int N>
-Dual2Vec3<N> transport(const Dual2Vec3<N>& u, const Dual2Vec3<N>& v, const Dual2Vec3<N>& w) {
-  const Dual2Vec3<N> b = cross(u, v), sum = u + v;
-  const Dual2<N> c = dot(u, v);
+template <class T>
+Vec3Of<T> transport(const Vec3Of<T>& u, const Vec3Of<T>& v, const Vec3Of<T>& w) {
+  const Vec3Of<T> b = cross(u, v), sum = u + v;
+  const T c = dot(u, v);
   return c * w + cross(b, w) + (2.0 * dot(b, w) / dot(sum, sum)) * b;
 }
 
@@ -40,25 +44,23 @@ struct StoredFrames {
   double reference_twist = 0.0;
 };
 
-template <int N>
+template <class T>
 struct BendTwistStrainsOf {
-  Dual2<N> kappa1, kappa2;   // material curvatures (dimensionless: 2 tan(phi/2) scale)
-  Dual2<N> twist;            // m_i = theta^i - theta^{i-1} + m_ref [rad]
-  Dual2<N> reference_twist;  // m_ref, unwrapped
+  T kappa1, kappa2;   // material curvatures (dimensionless: 2 tan(phi/2) scale)
+  T twist;            // m_i = theta^i - theta^{i-1} + m_ref [rad]
+  T reference_twist;  // m_ref, unwrapped
 };
-using BendTwistStrains = BendTwistStrainsOf<kBendTwistDofs>;
+using BendTwistStrains = BendTwistStrainsOf<BendTwistDual>;
 
 // Bergou 2008 eq. (1) curvature binormal, the material curvatures of Bergou 2010 with the
 // frames of both edges averaged, and the reference twist (angle about t^i from the space-
 // parallel transport of a1^{i-1} to a1^i).
-// N = kBendTwistDofs: with derivatives; N = 1: values only (no variable is marked).
-template <int N = kBendTwistDofs>
-BendTwistStrainsOf<N> bend_twist_strains(const BendTwistLocal& local, const StoredFrames& stored) {
-  using D = Dual2<N>;
-  using V = Dual2Vec3<N>;
-  auto var = [&](int index) {
-    return N == kBendTwistDofs ? D::variable(local[index], index) : D(local[index]);
-  };
+// T = BendTwistDual (Hessians), BendTwistDual1 (gradients) or Dual0 (values).
+template <class T = BendTwistDual>
+BendTwistStrainsOf<T> bend_twist_strains(const BendTwistLocal& local, const StoredFrames& stored) {
+  using D = T;
+  using V = Vec3Of<T>;
+  auto var = [&](int index) { return D::variable(local[index], index); };
   V x0, x1, x2;
   for (int k = 0; k < 3; ++k) {
     x0[k] = var(k);
@@ -83,7 +85,7 @@ BendTwistStrainsOf<N> bend_twist_strains(const BendTwistLocal& local, const Stor
   const V m1_0 = c0 * a10 + s0 * a20, m2_0 = c0 * a20 - s0 * a10;
   const V m1_1 = c1 * a11 + s1 * a21, m2_1 = c1 * a21 - s1 * a11;
 
-  BendTwistStrainsOf<N> out;
+  BendTwistStrainsOf<T> out;
   out.kappa1 = 0.5 * dot(kb, m2_0 + m2_1);
   out.kappa2 = -0.5 * dot(kb, m1_0 + m1_1);
 
@@ -95,11 +97,12 @@ BendTwistStrainsOf<N> bend_twist_strains(const BendTwistLocal& local, const Stor
   return out;
 }
 
-// Length of the edge between local DOFs 0-2 and 3-5, with its derivatives.
-inline Dual2<6> edge_length(const Eigen::Matrix<double, 6, 1>& local) {
-  Dual2Vec3<6> e;
-  for (int k = 0; k < 3; ++k)
-    e[k] = Dual2<6>::variable(local[3 + k], 3 + k) - Dual2<6>::variable(local[k], k);
+// Length of the edge between local DOFs 0-2 and 3-5, with its derivatives (T = Dual2<6>,
+// Dual1<6> or Dual0).
+template <class T = Dual2<6>>
+T edge_length(const Eigen::Matrix<double, 6, 1>& local) {
+  Vec3Of<T> e;
+  for (int k = 0; k < 3; ++k) e[k] = T::variable(local[3 + k], 3 + k) - T::variable(local[k], k);
   return norm(e);
 }
 

@@ -49,8 +49,13 @@ rod_detail::StencilEnergy<1, 7> RodTwistingTerm::energy_density(const Eigen::Mat
   return W;
 }
 
+std::array<rod_detail::BendTwistDual1, 1> RodTwistingTerm::strain_gradients(const Local& local, int interior) const {
+  auto s = rod_detail::bend_twist_strains<rod_detail::BendTwistDual1>(local, rod_detail::stored_frames(*rod_, interior));
+  return {std::move(s.twist)};
+}
+
 Eigen::Matrix<double, 1, 1> RodTwistingTerm::strain_values(const Local& local, int interior) const {
-  const auto s = rod_detail::bend_twist_strains<1>(local, rod_detail::stored_frames(*rod_, interior));
+  const auto s = rod_detail::bend_twist_strains<rod_detail::Dual0>(local, rod_detail::stored_frames(*rod_, interior));
   return Eigen::Matrix<double, 1, 1>(s.twist.v);
 }
 

@@ -28,6 +28,7 @@ class RodTwistingTerm final
   // mbar, G_{i-1}, G_i, r_{i-1}, r_i, L_{i-1}, L_i
   std::array<int, 7> stencil_parameters(int interior) const;
   std::array<rod_detail::BendTwistDual, 1> strains(const Local& local, int interior) const;
+  std::array<rod_detail::BendTwistDual1, 1> strain_gradients(const Local& local, int interior) const;
   Eigen::Matrix<double, 1, 1> strain_values(const Local& local, int interior) const;
   rod_detail::StencilEnergy<1, 7> energy_density(const Eigen::Matrix<double, 1, 1>& twist,
                                                  const Eigen::Matrix<double, 7, 1>& q, int interior) const;

@@ -54,21 +54,12 @@ using BendTwistStrains = BendTwistStrainsOf<BendTwistDual>;
 
 // Bergou 2008 eq. (1) curvature binormal, the material curvatures of Bergou 2010 with the
 // frames of both edges averaged, and the reference twist (angle about t^i from the space-
-// parallel transport of a1^{i-1} to a1^i).
-// T = BendTwistDual (Hessians), BendTwistDual1 (gradients) or Dual0 (values).
-template <class T = BendTwistDual>
-BendTwistStrainsOf<T> bend_twist_strains(const BendTwistLocal& local, const StoredFrames& stored) {
+// parallel transport of a1^{i-1} to a1^i), from the two edge vectors and twist angles.
+template <class T>
+BendTwistStrainsOf<T> bend_twist_strains_of(const Vec3Of<T>& e0, const Vec3Of<T>& e1, const T& theta0,
+                                            const T& theta1, const StoredFrames& stored) {
   using D = T;
   using V = Vec3Of<T>;
-  auto var = [&](int index) { return D::variable(local[index], index); };
-  V x0, x1, x2;
-  for (int k = 0; k < 3; ++k) {
-    x0[k] = var(k);
-    x1[k] = var(3 + k);
-    x2[k] = var(6 + k);
-  }
-  const D theta0 = var(9), theta1 = var(10);
-  const V e0 = x1 - x0, e1 = x2 - x1;
   const D l0 = norm(e0), l1 = norm(e1);
   const V t0 = reciprocal(l0) * e0, t1 = reciprocal(l1) * e1;
   // (kb) = 2 t0 x t1 / (1 + t0 . t1) = 4 t0 x t1 / |t0 + t1|^2 (the second form keeps its
@@ -95,6 +86,68 @@ BendTwistStrainsOf<T> bend_twist_strains(const BendTwistLocal& local, const Stor
   out.reference_twist = raw;
   out.twist = theta1 - theta0 + raw;
   return out;
+}
+
+// The strains with derivatives in the stencil's 11 DOFs directly.
+// T = BendTwistDual (Hessians), BendTwistDual1 (gradients) or Dual0 (values).
+template <class T = BendTwistDual>
+BendTwistStrainsOf<T> bend_twist_strains(const BendTwistLocal& local, const StoredFrames& stored) {
+  using V = Vec3Of<T>;
+  auto var = [&](int index) { return T::variable(local[index], index); };
+  V x0, x1, x2;
+  for (int k = 0; k < 3; ++k) {
+    x0[k] = var(k);
+    x1[k] = var(3 + k);
+    x2[k] = var(6 + k);
+  }
+  return bend_twist_strains_of<T>(x1 - x0, x2 - x1, var(9), var(10), stored);
+}
+
+// The same strains with derivatives in 8 variables, the two edge vectors and twist angles
+// (e^{i-1} 0-2, e^i 3-5, theta^{i-1} 6, theta^i 7): the strains depend on the positions only
+// through the edges, so a Dual2 operation carries an 8x8 Hessian instead of 11x11 (64 numbers
+// instead of 121, half the work). lift() maps the derivatives to the 11 DOFs by the chain rule
+// with the constant Jacobian de/dx. The edges' values are the same doubles (x_{i+1} - x_i), so
+// the values are those of bend_twist_strains bit for bit; the derivatives agree to round-off.
+// T = Dual2<8> or Dual1<8>.
+inline constexpr int kEdgeVariables = 8;
+template <class T>
+BendTwistStrainsOf<T> bend_twist_strains_by_edges(const BendTwistLocal& local, const StoredFrames& stored) {
+  Vec3Of<T> e0, e1;
+  for (int k = 0; k < 3; ++k) {
+    e0[k] = T::variable(local[3 + k] - local[k], k);
+    e1[k] = T::variable(local[6 + k] - local[3 + k], 3 + k);
+  }
+  return bend_twist_strains_of<T>(e0, e1, T::variable(local[9], 6), T::variable(local[10], 7), stored);
+}
+
+// g_x = A^T g_e with A = de/dx (8 x 11): x_{i-1} -> -e^{i-1}, x_i -> e^{i-1} - e^i, x_{i+1} -> e^i.
+inline Eigen::Matrix<double, kBendTwistDofs, 1> lift_gradient(const Eigen::Matrix<double, kEdgeVariables, 1>& g) {
+  Eigen::Matrix<double, kBendTwistDofs, 1> out;
+  for (int k = 0; k < 3; ++k) {
+    out[k] = -g[k];
+    out[3 + k] = g[k] - g[3 + k];
+    out[6 + k] = g[3 + k];
+  }
+  out[9] = g[6];
+  out[10] = g[7];
+  return out;
+}
+
+inline BendTwistDual1 lift(const Dual1<kEdgeVariables>& a) {
+  BendTwistDual1 r(a.v);
+  r.g = lift_gradient(a.g);
+  return r;
+}
+
+// H_x = A^T H_e A, as the gradient's map applied to the columns, then to the rows.
+inline BendTwistDual lift(const Dual2<kEdgeVariables>& a) {
+  BendTwistDual r(a.v);
+  r.g = lift_gradient(a.g);
+  Eigen::Matrix<double, kBendTwistDofs, kEdgeVariables> half;
+  for (int c = 0; c < kEdgeVariables; ++c) half.col(c) = lift_gradient(a.h.col(c));
+  for (int row = 0; row < kBendTwistDofs; ++row) r.h.row(row) = lift_gradient(half.row(row).transpose()).transpose();
+  return r;
 }
 
 // Length of the edge between local DOFs 0-2 and 3-5, with its derivatives (T = Dual2<6>,

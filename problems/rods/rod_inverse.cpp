@@ -416,6 +416,7 @@ RodInverseRun run_rod_inverse(RodInverseProblem& P, const std::string& out_dir, 
                                  {"steps", s.steps},
                                  {"residual_initial", s.residual_initial},
                                  {"residual", s.residual},
+                                 {"residuals", s.residuals},
                                  {"at_round_off", s.at_round_off},
                                  {"stability", stability_json(s.stability)},
                                  {"seconds", s.seconds}};

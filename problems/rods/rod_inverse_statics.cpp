@@ -98,8 +98,9 @@ SparseMatrix residual_jacobian(const RodInverseProblem& P, const DesignColumns& 
 
 }  // namespace
 
-RodStability rod_stability(const Model& model, const Vector& y, const Vector& p) {
-  ReducedAssembler assembler(model);
+namespace {
+
+RodStability stability_with(ReducedAssembler& assembler, const Model& model, const Vector& y, const Vector& p) {
   SparseMatrix hessian = assembler.hessian_pattern_matrix();
   assembler.evaluate(y, p, nullptr, nullptr, &hessian, HessianMode::exact);
   Vector row_sums = Vector::Zero(hessian.rows());  // ||H||_inf from the upper triangle
@@ -125,6 +126,13 @@ RodStability rod_stability(const Model& model, const Vector& y, const Vector& p)
   return s;
 }
 
+}  // namespace
+
+RodStability rod_stability(const Model& model, const Vector& y, const Vector& p) {
+  ReducedAssembler assembler(model);
+  return stability_with(assembler, model, y, p);
+}
+
 RodInverseStaticsResult solve_rod_inverse_statics(const RodInverseProblem& P) {
   const auto t0 = std::chrono::steady_clock::now();
   if (const std::string why = rod_inverse_statics_obstacle(P.spec, P.scene); !why.empty())
@@ -141,23 +149,30 @@ RodInverseStaticsResult solve_rod_inverse_statics(const RodInverseProblem& P) {
   Vector p = P.parameterization->apply(out.z), r;
   assembler.evaluate(y, p, nullptr, &r, nullptr);
   out.residual_initial = out.residual = r.norm();
+  out.residuals.push_back(out.residual);
 
-  // Gauss-Newton with minimum-norm steps: (J^T J + mu I) dz = -J^T r, mu at 1e-13 of J^T J's
-  // largest diagonal entry (it only decides directions J does not see; the next step repairs
-  // what it damps elsewhere). Stops when a step no longer gains a factor 10: the residual has
-  // reached its round-off floor (or the system is inconsistent, which the check below sees).
+  // Gauss-Newton with columns scaled to unit norm (J = Jh D, D = diag |J_j|): the rest-length
+  // columns (axial stiffness EA) and the curvature columns (EI / lbar^2) differ by 1e6 and more
+  // in a thin strand. (Jh^T Jh + mu I) w = -Jh^T r, dz = D^-1 w, mu = 1e-13: it only decides
+  // directions Jh does not see (a zero column stays put) and damps the others by less than
+  // round-off. Stops when a step no longer gains a factor 10: the residual has reached its
+  // round-off floor (or the system is inconsistent, which the check below sees).
   constexpr int kMaxSteps = 10;
   for (int step = 0; step < kMaxSteps && out.residual > 0.0; ++step) {
-    const SparseMatrix J = residual_jacobian(P, columns, x, p);
+    SparseMatrix J = residual_jacobian(P, columns, x, p);
+    Vector scale(J.cols());
+    for (int j = 0; j < J.cols(); ++j) {
+      const double n = J.col(j).norm();
+      scale[j] = n > 0.0 ? n : 1.0;
+    }
+    J = J * scale.cwiseInverse().asDiagonal();
     SparseMatrix normal = SparseMatrix(J.transpose() * J);
-    double largest = 0.0;
-    for (int j = 0; j < normal.cols(); ++j) largest = std::max(largest, normal.coeff(j, j));
     SparseMatrix shift(normal.rows(), normal.cols());
     shift.setIdentity();
-    normal += (1e-13 * std::max(largest, std::numeric_limits<double>::min())) * shift;
+    normal += 1e-13 * shift;
     Eigen::SimplicialLDLT<SparseMatrix> solver(normal);
     if (solver.info() != Eigen::Success) break;
-    const Vector dz = solver.solve(Vector(J.transpose() * r));
+    const Vector dz = Vector(solver.solve(Vector(J.transpose() * r))).cwiseQuotient(scale);
     Vector trial = out.z;
     for (std::size_t j = 0; j < columns.variable.size(); ++j) trial[columns.variable[j]] -= dz[static_cast<Eigen::Index>(j)];
     const Vector trial_p = P.parameterization->apply(trial);
@@ -170,11 +185,12 @@ RodInverseStaticsResult solve_rod_inverse_statics(const RodInverseProblem& P) {
     p = trial_p;
     r = std::move(trial_r);
     out.residual = trial_residual;
+    out.residuals.push_back(trial_residual);
     ++out.steps;
     if (stalled) break;
   }
 
-  out.stability = rod_stability(model, y, p);
+  out.stability = stability_with(assembler, model, y, p);
   out.at_round_off = out.residual <= 10.0 * out.stability.residual_floor;
 
   std::ostringstream why;

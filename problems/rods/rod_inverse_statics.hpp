@@ -26,6 +26,7 @@
 // solution when the system is rank deficient (e.g. the rest length of a clamped edge, which only
 // scales its bending stencil's stiffness, already set by the curvatures).
 #include <string>
+#include <vector>
 
 #include "forward/core/model.hpp"
 
@@ -57,6 +58,7 @@ struct RodInverseStaticsResult {
   int steps = 0;                  // Gauss-Newton steps taken
   double residual_initial = 0.0;  // ||r|| at z0 [force units]
   double residual = 0.0;          // ||r|| at z
+  std::vector<double> residuals;  // ||r|| at z0 and after each step taken
   bool at_round_off = false;      // residual <= 10 stability.residual_floor
   RodStability stability;         // at the drawn state and p(z)
   double seconds = 0.0;

@@ -1,5 +1,6 @@
 // The rod strains on Dual0 (values), Dual1<N> (values and gradients) and Dual2<N> (and Hessians)
-// agree bit for bit on what they share (forward/rods/low_order_duals.hpp): an energy request, a
+// agree bit for bit on what they share, in the stencil's 11 DOFs and in the 8 edge variables
+// the terms use (whose lifted derivatives agree with the direct ones to round-off) (forward/rods/low_order_duals.hpp): an energy request, a
 // gradient request and a Hessian assembly see the same function to the last bit (reference:
 // the Dual2 path, which the derivative checks of rod_derivatives_test.cpp hold against central
 // differences). A bent, twisted helix with frames stored ~0.3 rad away and perturbed parameters.
@@ -76,6 +77,24 @@ TEST(RodScalarOrders, StrainsAgreeBitForBitAtEveryStencil) {
     EXPECT_EQ((s1.kappa1.g - s2.kappa1.g).lpNorm<Eigen::Infinity>(), 0.0) << i;
     EXPECT_EQ((s1.kappa2.g - s2.kappa2.g).lpNorm<Eigen::Infinity>(), 0.0) << i;
     EXPECT_EQ((s1.twist.g - s2.twist.g).lpNorm<Eigen::Infinity>(), 0.0) << i;
+    // The terms' path: derivatives in the two edges and twists, lifted to the 11 DOFs.
+    using E2 = Dual2<rod_detail::kEdgeVariables>;
+    using E1 = rod_detail::Dual1<rod_detail::kEdgeVariables>;
+    const auto e2 = rod_detail::bend_twist_strains_by_edges<E2>(local, frames);
+    const auto e1 = rod_detail::bend_twist_strains_by_edges<E1>(local, frames);
+    EXPECT_EQ(e2.kappa1.v, s0.kappa1.v);
+    EXPECT_EQ(e2.kappa2.v, s0.kappa2.v);
+    EXPECT_EQ(e2.twist.v, s0.twist.v);
+    EXPECT_EQ(e1.twist.v, s0.twist.v);
+    EXPECT_EQ((rod_detail::lift(e1.kappa1).g - rod_detail::lift(e2.kappa1).g).lpNorm<Eigen::Infinity>(), 0.0);
+    EXPECT_EQ((rod_detail::lift(e1.twist).g - rod_detail::lift(e2.twist).g).lpNorm<Eigen::Infinity>(), 0.0);
+    // ... and equal to the direct derivatives to round-off.
+    for (const auto& [lifted, direct] : {std::pair{rod_detail::lift(e2.kappa1), s2.kappa1},
+                                         std::pair{rod_detail::lift(e2.kappa2), s2.kappa2},
+                                         std::pair{rod_detail::lift(e2.twist), s2.twist}}) {
+      EXPECT_LE((lifted.g - direct.g).lpNorm<Eigen::Infinity>(), 1e-13 * (1.0 + direct.g.lpNorm<Eigen::Infinity>()));
+      EXPECT_LE((lifted.h - direct.h).lpNorm<Eigen::Infinity>(), 1e-12 * (1.0 + direct.h.lpNorm<Eigen::Infinity>()));
+    }
   }
 }
 

@@ -31,9 +31,9 @@ std::array<int, 8> RodBendingTerm::stencil_parameters(int i) const {
 }
 
 std::array<rod_detail::BendTwistDual, 2> RodBendingTerm::strains(const Local& local, int interior) const {
-  const auto s = rod_detail::bend_twist_strains_by_edges<Dual2<rod_detail::kEdgeVariables>>(
+  const auto kappa = rod_detail::curvatures_by_edges<Dual2<6>, Dual2<rod_detail::kEdgeVariables>>(
       local, rod_detail::stored_frames(*rod_, interior));
-  return {rod_detail::lift(s.kappa1), rod_detail::lift(s.kappa2)};
+  return {rod_detail::lift(kappa[0]), rod_detail::lift(kappa[1])};
 }
 
 // W = sum_a B_a d_a^2 / lbar, d = kappa - kappabar; derivatives in s = kappa and q (see header).
@@ -68,9 +68,10 @@ rod_detail::StencilEnergy<2, 8> RodBendingTerm::energy_density(const Eigen::Vect
 }
 
 std::array<rod_detail::BendTwistDual1, 2> RodBendingTerm::strain_gradients(const Local& local, int interior) const {
-  const auto s = rod_detail::bend_twist_strains_by_edges<rod_detail::Dual1<rod_detail::kEdgeVariables>>(
-      local, rod_detail::stored_frames(*rod_, interior));
-  return {rod_detail::lift(s.kappa1), rod_detail::lift(s.kappa2)};
+  const auto kappa =
+      rod_detail::curvatures_by_edges<rod_detail::Dual1<6>, rod_detail::Dual1<rod_detail::kEdgeVariables>>(
+          local, rod_detail::stored_frames(*rod_, interior));
+  return {rod_detail::lift(kappa[0]), rod_detail::lift(kappa[1])};
 }
 
 Eigen::Vector2d RodBendingTerm::strain_values(const Local& local, int interior) const {

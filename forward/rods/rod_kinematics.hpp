@@ -7,6 +7,7 @@
 // the value alone (forward/rods/low_order_duals.hpp; the three agree bit for bit on what they
 // share).
 #include <Eigen/Core>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -52,39 +53,78 @@ struct BendTwistStrainsOf {
 };
 using BendTwistStrains = BendTwistStrainsOf<BendTwistDual>;
 
+// The unit tangents and time-parallel reference directors of the stencil's two edges: the
+// stored director transported to the current tangent.
+template <class T>
+struct EdgeFramesOf {
+  Vec3Of<T> t0, t1, a10, a11;
+};
+template <class T>
+EdgeFramesOf<T> edge_frames(const Vec3Of<T>& e0, const Vec3Of<T>& e1, const StoredFrames& stored) {
+  using V = Vec3Of<T>;
+  const T l0 = norm(e0), l1 = norm(e1);
+  EdgeFramesOf<T> f;
+  f.t0 = reciprocal(l0) * e0;
+  f.t1 = reciprocal(l1) * e1;
+  f.a10 = transport(V::constant(stored.tangent0), f.t0, V::constant(stored.director0));
+  f.a11 = transport(V::constant(stored.tangent1), f.t1, V::constant(stored.director1));
+  return f;
+}
+
+// The reference twist: the angle about t^i from the space-parallel transport of a1^{i-1} to
+// a1^i, on the branch nearest the stored value.
+template <class T>
+T reference_twist_of(const EdgeFramesOf<T>& f, const StoredFrames& stored) {
+  const Vec3Of<T> u = transport(f.t0, f.t1, f.a10);
+  T raw = atan2(dot(cross(u, f.a11), f.t1), dot(u, f.a11));
+  raw.v += nearest_branch_shift(raw.v, stored.reference_twist);
+  return raw;
+}
+
+// (kb) = 2 t0 x t1 / (1 + t0 . t1) = 4 t0 x t1 / |t0 + t1|^2 (Bergou 2008 eq. 1; the second
+// form keeps its relative precision when the edges nearly fold back onto each other).
+template <class T>
+Vec3Of<T> curvature_binormal(const EdgeFramesOf<T>& f) {
+  const Vec3Of<T> tsum = f.t0 + f.t1;
+  return (4.0 * reciprocal(dot(tsum, tsum))) * cross(f.t0, f.t1);
+}
+
+// kb projected on the reference frames of both edges: p_j = kb . a1^j, q_j = kb . a2^j
+// (a2 = t x a1). They depend on the edges only; the twist angles enter below.
+template <class T>
+struct CurvatureProjections {
+  T p0, q0, p1, q1;
+};
+template <class T>
+CurvatureProjections<T> curvature_projections(const EdgeFramesOf<T>& f, const Vec3Of<T>& kb) {
+  return {dot(kb, f.a10), dot(kb, cross(f.t0, f.a10)), dot(kb, f.a11), dot(kb, cross(f.t1, f.a11))};
+}
+
+// Material curvatures with the two edges' material frames averaged (Bergou 2010 section 4.1):
+// m1 = c a1 + s a2, m2 = c a2 - s a1 (the reference frame turned by theta about t), so
+//   kappa_1 = kb . (m2^{i-1} + m2^i) / 2 = ((c0 q0 - s0 p0) + (c1 q1 - s1 p1)) / 2,
+//   kappa_2 = -kb . (m1^{i-1} + m1^i) / 2 = -((c0 p0 + s0 q0) + (c1 p1 + s1 q1)) / 2.
+template <class T, class P>
+void material_curvatures(const CurvatureProjections<P>& k, const T& theta0, const T& theta1, T& kappa1,
+                         T& kappa2) {
+  const T c0 = cos(theta0), s0 = sin(theta0), c1 = cos(theta1), s1 = sin(theta1);
+  kappa1 = 0.5 * ((c0 * k.q0 - s0 * k.p0) + (c1 * k.q1 - s1 * k.p1));
+  kappa2 = -0.5 * ((c0 * k.p0 + s0 * k.q0) + (c1 * k.p1 + s1 * k.q1));
+}
+
 // Bergou 2008 eq. (1) curvature binormal, the material curvatures of Bergou 2010 with the
-// frames of both edges averaged, and the reference twist (angle about t^i from the space-
-// parallel transport of a1^{i-1} to a1^i), from the two edge vectors and twist angles.
+// frames of both edges averaged, and the reference twist, from the two edge vectors and twist
+// angles.
 template <class T>
 BendTwistStrainsOf<T> bend_twist_strains_of(const Vec3Of<T>& e0, const Vec3Of<T>& e1, const T& theta0,
                                             const T& theta1, const StoredFrames& stored) {
-  using D = T;
-  using V = Vec3Of<T>;
-  const D l0 = norm(e0), l1 = norm(e1);
-  const V t0 = reciprocal(l0) * e0, t1 = reciprocal(l1) * e1;
-  // (kb) = 2 t0 x t1 / (1 + t0 . t1) = 4 t0 x t1 / |t0 + t1|^2 (the second form keeps its
-  // relative precision when the edges nearly fold back onto each other).
-  const V tsum = t0 + t1;
-  const V kb = (4.0 * reciprocal(dot(tsum, tsum))) * cross(t0, t1);
-
-  // Time-parallel reference frames: stored director transported to the current tangent.
-  const V a10 = transport(V::constant(stored.tangent0), t0, V::constant(stored.director0));
-  const V a11 = transport(V::constant(stored.tangent1), t1, V::constant(stored.director1));
-  const V a20 = cross(t0, a10), a21 = cross(t1, a11);
-  // Material frames: reference frames rotated by theta about the tangent.
-  const D c0 = cos(theta0), s0 = sin(theta0), c1 = cos(theta1), s1 = sin(theta1);
-  const V m1_0 = c0 * a10 + s0 * a20, m2_0 = c0 * a20 - s0 * a10;
-  const V m1_1 = c1 * a11 + s1 * a21, m2_1 = c1 * a21 - s1 * a11;
-
+  const EdgeFramesOf<T> f = edge_frames(e0, e1, stored);
+  const Vec3Of<T> kb = curvature_binormal(f);
   BendTwistStrainsOf<T> out;
-  out.kappa1 = 0.5 * dot(kb, m2_0 + m2_1);
-  out.kappa2 = -0.5 * dot(kb, m1_0 + m1_1);
-
-  const V u = transport(t0, t1, a10);
-  D raw = atan2(dot(cross(u, a11), t1), dot(u, a11));
-  raw.v += nearest_branch_shift(raw.v, stored.reference_twist);
-  out.reference_twist = raw;
-  out.twist = theta1 - theta0 + raw;
+  const CurvatureProjections<T> k = curvature_projections(f, kb);
+  material_curvatures(k, theta0, theta1, out.kappa1, out.kappa2);
+  out.reference_twist = reference_twist_of(f, stored);
+  out.twist = theta1 - theta0 + out.reference_twist;
   return out;
 }
 
@@ -103,23 +143,10 @@ BendTwistStrainsOf<T> bend_twist_strains(const BendTwistLocal& local, const Stor
   return bend_twist_strains_of<T>(x1 - x0, x2 - x1, var(9), var(10), stored);
 }
 
-// The same strains with derivatives in 8 variables, the two edge vectors and twist angles
-// (e^{i-1} 0-2, e^i 3-5, theta^{i-1} 6, theta^i 7): the strains depend on the positions only
-// through the edges, so a Dual2 operation carries an 8x8 Hessian instead of 11x11 (64 numbers
-// instead of 121, half the work). lift() maps the derivatives to the 11 DOFs by the chain rule
-// with the constant Jacobian de/dx. The edges' values are the same doubles (x_{i+1} - x_i), so
-// the values are those of bend_twist_strains bit for bit; the derivatives agree to round-off.
-// T = Dual2<8> or Dual1<8>.
+// Derivatives in 8 variables, the two edge vectors and twist angles (e^{i-1} 0-2, e^i 3-5,
+// theta^{i-1} 6, theta^i 7; the strains depend on the positions only through the edges), are
+// lifted to the stencil's 11 DOFs by the chain rule with the constant Jacobian A = de/dx.
 inline constexpr int kEdgeVariables = 8;
-template <class T>
-BendTwistStrainsOf<T> bend_twist_strains_by_edges(const BendTwistLocal& local, const StoredFrames& stored) {
-  Vec3Of<T> e0, e1;
-  for (int k = 0; k < 3; ++k) {
-    e0[k] = T::variable(local[3 + k] - local[k], k);
-    e1[k] = T::variable(local[6 + k] - local[3 + k], 3 + k);
-  }
-  return bend_twist_strains_of<T>(e0, e1, T::variable(local[9], 6), T::variable(local[10], 7), stored);
-}
 
 // g_x = A^T g_e with A = de/dx (8 x 11): x_{i-1} -> -e^{i-1}, x_i -> e^{i-1} - e^i, x_{i+1} -> e^i.
 inline Eigen::Matrix<double, kBendTwistDofs, 1> lift_gradient(const Eigen::Matrix<double, kEdgeVariables, 1>& g) {
@@ -147,6 +174,75 @@ inline BendTwistDual lift(const Dual2<kEdgeVariables>& a) {
   Eigen::Matrix<double, kBendTwistDofs, kEdgeVariables> half;
   for (int c = 0; c < kEdgeVariables; ++c) half.col(c) = lift_gradient(a.h.col(c));
   for (int row = 0; row < kBendTwistDofs; ++row) r.h.row(row) = lift_gradient(half.row(row).transpose()).transpose();
+  return r;
+}
+
+// The material curvatures alone, as the bending term needs them: the projections p_j, q_j of
+// kb depend on the two edges only and are differentiated in those 6 variables (T6 = Dual2<6>
+// or Dual1<6>: 6x6 Hessians for the transports and kb, most of the work, instead of 11x11),
+// then embedded in the 8 edge-and-twist variables (T8 = Dual2<8> or Dual1<8>) for the few
+// operations with the twist angles, and lifted to the 11 DOFs. The edges' values are the same
+// doubles (x_{i+1} - x_i) and the formulas the same, so the values are bend_twist_strains' bit
+// for bit; the derivatives agree to round-off.
+template <class T8, class T6>
+T8 embed_edges(const T6& a) {
+  T8 r(a.v);
+  r.g.template head<6>() = a.g;
+  if constexpr (requires { a.h; }) r.h.template topLeftCorner<6, 6>() = a.h;
+  return r;
+}
+template <class T6, class T8>
+std::array<T8, 2> curvatures_by_edges(const BendTwistLocal& local, const StoredFrames& stored) {
+  Vec3Of<T6> e0, e1;
+  for (int k = 0; k < 3; ++k) {
+    e0[k] = T6::variable(local[3 + k] - local[k], k);
+    e1[k] = T6::variable(local[6 + k] - local[3 + k], 3 + k);
+  }
+  const EdgeFramesOf<T6> f = edge_frames(e0, e1, stored);
+  const CurvatureProjections<T6> k6 = curvature_projections(f, curvature_binormal(f));
+  const CurvatureProjections<T8> k8{embed_edges<T8>(k6.p0), embed_edges<T8>(k6.q0), embed_edges<T8>(k6.p1),
+                                    embed_edges<T8>(k6.q1)};
+  std::array<T8, 2> kappa;
+  material_curvatures(k8, T8::variable(local[9], 6), T8::variable(local[10], 7), kappa[0], kappa[1]);
+  return kappa;
+}
+
+// The twist strain alone: m = theta^i - theta^{i-1} + m_ref is linear in the twist angles and
+// m_ref depends on the two edges only (6 variables: no material frame, 6x6 Hessians), lifted
+// to the 11 DOFs. Values bit-identical to bend_twist_strains' twist. T = Dual2<6> or Dual1<6>.
+template <class T>
+T reference_twist_by_edges(const BendTwistLocal& local, const StoredFrames& stored) {
+  Vec3Of<T> e0, e1;
+  for (int k = 0; k < 3; ++k) {
+    e0[k] = T::variable(local[3 + k] - local[k], k);
+    e1[k] = T::variable(local[6 + k] - local[3 + k], 3 + k);
+  }
+  return reference_twist_of(edge_frames(e0, e1, stored), stored);
+}
+
+inline Eigen::Matrix<double, kBendTwistDofs, 1> lift_edge_gradient(const Eigen::Matrix<double, 6, 1>& g) {
+  Eigen::Matrix<double, kEdgeVariables, 1> padded;
+  padded << g, 0.0, 0.0;
+  return lift_gradient(padded);
+}
+
+inline BendTwistDual1 twist_from_reference(const Dual1<6>& raw, const BendTwistLocal& local) {
+  BendTwistDual1 r((local[10] - local[9]) + raw.v);
+  r.g = lift_edge_gradient(raw.g);
+  r.g[9] = -1.0;
+  r.g[10] = 1.0;
+  return r;
+}
+
+inline BendTwistDual twist_from_reference(const Dual2<6>& raw, const BendTwistLocal& local) {
+  BendTwistDual r((local[10] - local[9]) + raw.v);
+  r.g = lift_edge_gradient(raw.g);
+  r.g[9] = -1.0;
+  r.g[10] = 1.0;
+  Eigen::Matrix<double, kBendTwistDofs, 6> half;
+  for (int c = 0; c < 6; ++c) half.col(c) = lift_edge_gradient(raw.h.col(c));
+  for (int row = 0; row < kBendTwistDofs; ++row)
+    r.h.row(row) = lift_edge_gradient(half.row(row).transpose()).transpose();
   return r;
 }
 

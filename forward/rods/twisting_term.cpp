@@ -25,9 +25,8 @@ std::array<int, 7> RodTwistingTerm::stencil_parameters(int i) const {
 }
 
 std::array<rod_detail::BendTwistDual, 1> RodTwistingTerm::strains(const Local& local, int interior) const {
-  const auto s = rod_detail::bend_twist_strains_by_edges<Dual2<rod_detail::kEdgeVariables>>(
-      local, rod_detail::stored_frames(*rod_, interior));
-  return {rod_detail::lift(s.twist)};
+  const auto raw = rod_detail::reference_twist_by_edges<Dual2<6>>(local, rod_detail::stored_frames(*rod_, interior));
+  return {rod_detail::twist_from_reference(raw, local)};
 }
 
 // W = GJ d^2 / lbar, d = m - mbar; derivatives in s = m and q (see header).
@@ -51,9 +50,9 @@ rod_detail::StencilEnergy<1, 7> RodTwistingTerm::energy_density(const Eigen::Mat
 }
 
 std::array<rod_detail::BendTwistDual1, 1> RodTwistingTerm::strain_gradients(const Local& local, int interior) const {
-  const auto s = rod_detail::bend_twist_strains_by_edges<rod_detail::Dual1<rod_detail::kEdgeVariables>>(
-      local, rod_detail::stored_frames(*rod_, interior));
-  return {rod_detail::lift(s.twist)};
+  const auto raw =
+      rod_detail::reference_twist_by_edges<rod_detail::Dual1<6>>(local, rod_detail::stored_frames(*rod_, interior));
+  return {rod_detail::twist_from_reference(raw, local)};
 }
 
 Eigen::Matrix<double, 1, 1> RodTwistingTerm::strain_values(const Local& local, int interior) const {

@@ -36,6 +36,7 @@
 #include "forward/core/statistics.hpp"
 #include "forward/fem/loads.hpp"
 #include "forward/rods/bending_term.hpp"
+#include "forward/rods/rod_kinematics.hpp"
 #include "forward/rods/rod_supports.hpp"
 #include "forward/rods/stretching_term.hpp"
 #include "forward/rods/twisting_term.hpp"
@@ -193,6 +194,49 @@ StrandResult design_strand(int k, int strands, int vertices, double shape_error,
   return out;
 }
 
+// The bend-twist stencil's strain kernels with Hessians, per stencil (one per interior
+// vertex), on the bench's helix with frames stored at rest and a perturbed state: the direct
+// Dual2<11> strains, which the bending and the twisting term each evaluated before
+// (twice per stencil), against the terms' present kernels, the curvatures from kb's
+// projections in the 6 edge variables and the twist from the reference twist alone, lifted to
+// the 11 DOFs. Median over `repeats` passes of seconds per stencil.
+struct KernelResult {
+  double direct_twice, present;
+};
+
+KernelResult time_kernels(int stencils, int repeats) {
+  using namespace rod_detail;
+  std::vector<BendTwistLocal> locals(static_cast<std::size_t>(stencils));
+  StoredFrames frames{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(),
+                      Eigen::Vector3d::UnitZ(), 0.0};
+  for (int k = 0; k < stencils; ++k) {
+    const double a = 0.01 * k;
+    BendTwistLocal& l = locals[static_cast<std::size_t>(k)];
+    l << 0.0, 0.0, 0.0, 0.01, 0.001 * std::sin(a), 0.0, 0.02, 0.002 * std::cos(a), 0.001, 0.1 * a, 0.1 * a + 0.01;
+  }
+  double sink = 0.0;
+  std::vector<double> direct, present;
+  for (int r = 0; r < repeats; ++r) {
+    auto t0 = std::chrono::steady_clock::now();
+    for (const BendTwistLocal& l : locals)
+      for (int term = 0; term < 2; ++term) {
+        const auto s = bend_twist_strains<BendTwistDual>(l, frames);
+        sink += s.kappa1.h(3, 4) + s.twist.h(0, 7);
+      }
+    direct.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / stencils);
+    t0 = std::chrono::steady_clock::now();
+    for (const BendTwistLocal& l : locals) {
+      const auto kappa = curvatures_by_edges<Dual2<6>, Dual2<kEdgeVariables>>(l, frames);
+      const BendTwistDual k1 = lift(kappa[0]), k2 = lift(kappa[1]);
+      const BendTwistDual m = twist_from_reference(reference_twist_by_edges<Dual2<6>>(l, frames), l);
+      sink += k1.h(3, 4) + k2.h(1, 2) + m.h(0, 7);
+    }
+    present.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / stencils);
+  }
+  if (sink == 12345.0) std::printf(" ");  // keeps the work
+  return {median(direct), median(present)};
+}
+
 }  // namespace
 
 int run(int argc, char** argv) {
@@ -214,6 +258,10 @@ int run(int argc, char** argv) {
   std::vector<SizeResult> results;
   std::printf("%10s %10s %9s %6s %10s %10s %10s %10s %10s %12s %12s\n", "vertices", "free_dofs", "gradients",
               "iters", "assembly", "factor", "solve", "line_srch", "iteration", "us/vertex", "ls us/vertex");
+  const KernelResult kernels = time_kernels(20000, 5);
+  std::printf("bend-twist strain kernels with Hessians, per stencil: direct Dual2<11> twice (bending, twisting) "
+              "%.2f us, present kernels %.2f us\n",
+              1e6 * kernels.direct_twice, 1e6 * kernels.present);
   for (int n : sizes)
     for (bool first_order : {false, true}) {
       const SizeResult s = run(n, iterations, first_order);
@@ -236,6 +284,7 @@ int run(int argc, char** argv) {
                     {"line_search_s", s.line_search},
                     {"iteration_s", s.iteration}});
   json["sizes"] = rows;
+  json["stencil_kernels"] = {{"direct_dual2_twice_s", kernels.direct_twice}, {"present_s", kernels.present}};
   if (strands > 0) {
     std::printf("\nrest-shape design (--method %s), %d strands of %d vertices, to a shape error of %.1e of the "
                 "length\n",

@@ -21,10 +21,11 @@
 // Otherwise the caller falls back to the optimizer (problems/rods/rod_inverse.cpp).
 //
 // Design variables z are those of the scene's parameterization: rest curvatures and twists
-// as they are [rad], rest lengths as z = log(L / L0). Minimum-norm steps in z (the Tikhonov
-// regularization's metric: change relative to L0 for the lengths, angles as they are) select a
-// solution when the system is rank deficient (e.g. the rest length of a clamped edge, which only
-// scales its bending stencil's stiffness, already set by the curvatures).
+// as they are [rad], rest lengths as z = log(L / L0). Each step solves the normal equations of
+// the column-scaled Jacobian with a shift of 1e-13 (directions the equilibrium does not see stay
+// put); the rest length of a clamped edge, which only trades off against its neighbouring
+// stencils' rest curvature, is left as drawn. The Tikhonov weight of the scene is not used:
+// every exact solution has zero misfit.
 #include <string>
 #include <vector>
 

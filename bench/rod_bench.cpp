@@ -27,6 +27,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <memory>
 #include <string>
 #include <vector>
@@ -106,9 +107,10 @@ SizeResult run(int vertices, int iterations, bool first_order) {
 }
 
 struct StrandResult {
-  int iterations;
+  int iterations;  // the optimizer's to the stated error, or inverse statics' Gauss-Newton steps
   std::string method;  // that gave the design
   double build_seconds, seconds, verify_seconds, initial_error, error, smallest_pivot;
+  double cpu_seconds;  // process CPU time of the design (robust to a loaded machine's preemption)
   std::string status;
 };
 
@@ -149,13 +151,16 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 StrandResult design_strand(int k, int strands, int vertices, double shape_error, const std::string& method) {
   auto t0 = std::chrono::steady_clock::now();
   auto problem = build_rod_inverse(strand_scene(k, strands, vertices, method), "strand", "strand");
-  StrandResult out{0, "optimizer", seconds_since(t0), -1.0, 0.0, 0.0, 0.0, 0.0, "not_reached"};
+  StrandResult out{0, "optimizer", seconds_since(t0), -1.0, 0.0, 0.0, 0.0, 0.0, -1.0, "not_reached"};
   StaticFunctional& f = *problem->functional;
   Vector z = problem->z0;
   bool optimize = method == "optimizer";
   if (!optimize) {
+    const std::clock_t c0 = std::clock();
     const RodInverseStaticsResult s = solve_rod_inverse_statics(*problem);
+    out.cpu_seconds = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     out.smallest_pivot = s.stability.smallest_pivot;
+    out.iterations = s.steps;  // Gauss-Newton steps
     z = s.z;
     if (s.accepted()) {
       out.method = "inverse_statics";
@@ -195,8 +200,8 @@ StrandResult design_strand(int k, int strands, int vertices, double shape_error,
 }
 
 // The bend-twist stencil's strain kernels with Hessians, per stencil (one per interior
-// vertex), on the bench's helix with frames stored at rest and a perturbed state: the direct
-// Dual2<11> strains, which the bending and the twisting term each evaluated before
+// vertex), as many stencils as the largest size (100 to 20,000), on bent, twisted stencils:
+// the direct Dual2<11> strains, which the bending and the twisting term each evaluated before
 // (twice per stencil), against the terms' present kernels, the curvatures from kb's
 // projections in the 6 edge variables and the twist from the reference twist alone, lifted to
 // the 11 DOFs. Median over `repeats` passes of seconds per stencil.
@@ -258,7 +263,8 @@ int run(int argc, char** argv) {
   std::vector<SizeResult> results;
   std::printf("%10s %10s %9s %6s %10s %10s %10s %10s %10s %12s %12s\n", "vertices", "free_dofs", "gradients",
               "iters", "assembly", "factor", "solve", "line_srch", "iteration", "us/vertex", "ls us/vertex");
-  const KernelResult kernels = time_kernels(20000, 5);
+  const KernelResult kernels =
+      time_kernels(std::clamp(*std::max_element(sizes.begin(), sizes.end()), 100, 20000), 5);
   std::printf("bend-twist strain kernels with Hessians, per stencil: direct Dual2<11> twice (bending, twisting) "
               "%.2f us, present kernels %.2f us\n",
               1e6 * kernels.direct_twice, 1e6 * kernels.present);
@@ -271,9 +277,11 @@ int run(int argc, char** argv) {
                   s.line_search, s.iteration, 1e6 * s.iteration / s.vertices, 1e6 * s.line_search / s.vertices);
     }
   bench::Json json = bench::report("rod_newton_iteration");
-  bench::Json rows = bench::Json::array();
+  // "sizes": one row per size, the present code; "sizes_dual2_gradients": the same sizes with
+  // the gradient requests on Dual2 (before the first-order path), from the same run.
+  bench::Json rows = bench::Json::array(), before = bench::Json::array();
   for (const SizeResult& s : results)
-    rows.push_back({{"vertices", s.vertices},
+    (s.first_order ? rows : before).push_back({{"vertices", s.vertices},
                     {"free_dofs", s.free_dofs},
                     {"iterations", s.iterations},
                     {"gradients", s.first_order ? "dual1" : "dual2"},
@@ -284,6 +292,7 @@ int run(int argc, char** argv) {
                     {"line_search_s", s.line_search},
                     {"iteration_s", s.iteration}});
   json["sizes"] = rows;
+  json["sizes_dual2_gradients"] = before;
   json["stencil_kernels"] = {{"direct_dual2_twice_s", kernels.direct_twice}, {"present_s", kernels.present}};
   if (strands > 0) {
     std::printf("\nrest-shape design (--method %s), %d strands of %d vertices, to a shape error of %.1e of the "
@@ -292,7 +301,7 @@ int run(int argc, char** argv) {
     std::printf("%8s %16s %6s %11s %11s %11s %11s %11s %11s %12s\n", "strand", "method", "iters", "error0",
                 "max_error", "pivot_min", "build_s", "design_s", "verify_s", "status");
     bench::Json designs = bench::Json::array();
-    std::vector<double> times, builds, verifies, errors;
+    std::vector<double> times, builds, verifies, errors, cpu;
     double total = 0.0;
     for (int k = 0; k < strands; ++k) {
       const StrandResult d = design_strand(k, strands, strand_vertices, shape_error, method);
@@ -305,6 +314,7 @@ int run(int argc, char** argv) {
       builds.push_back(d.build_seconds);
       verifies.push_back(d.verify_seconds);
       errors.push_back(d.error);
+      cpu.push_back(d.cpu_seconds);
       total += d.seconds;
       designs.push_back({{"strand", k},
                          {"method", d.method},
@@ -314,19 +324,21 @@ int run(int argc, char** argv) {
                          {"smallest_pivot", d.smallest_pivot},
                          {"build_seconds", d.build_seconds},
                          {"seconds", d.seconds},
+                         {"cpu_seconds", d.cpu_seconds},
                          {"verify_seconds", d.verify_seconds},
                          {"status", d.status}});
     }
     const double worst = *std::max_element(errors.begin(), errors.end());
     std::printf(
-        "median %.5f s per strand (scene build %.5f s, verifying forward solve %.5f s), total %.3f s for %d "
-        "strands, largest shape error %.2e\n",
-        median(times), median(builds), median(verifies), total, strands, worst);
+        "median %.5f s per strand (process CPU time of inverse statics %.5f s; scene build %.5f s, verifying "
+        "forward solve %.5f s), total %.3f s for %d strands, largest shape error %.2e\n",
+        median(times), median(cpu), median(builds), median(verifies), total, strands, worst);
     json["rest_shape_design"] = {{"strands", strands},
                                  {"strand_vertices", strand_vertices},
                                  {"method", method},
                                  {"shape_error_target", shape_error},
                                  {"median_seconds_per_strand", median(times)},
+                                 {"median_cpu_seconds_per_strand", median(cpu)},
                                  {"median_build_seconds", median(builds)},
                                  {"median_verify_seconds", median(verifies)},
                                  {"total_seconds", total},

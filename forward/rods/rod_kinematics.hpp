@@ -59,16 +59,25 @@ template <class T>
 struct EdgeFramesOf {
   Vec3Of<T> t0, t1, a10, a11;
 };
+// One edge's unit tangent and reference director, a function of its edge vector alone.
+template <class T>
+struct EdgeFrameOf {
+  Vec3Of<T> t, a1;
+};
+template <class T>
+EdgeFrameOf<T> edge_frame(const Vec3Of<T>& e, const Eigen::Vector3d& stored_tangent,
+                          const Eigen::Vector3d& stored_director) {
+  using V = Vec3Of<T>;
+  EdgeFrameOf<T> f;
+  f.t = reciprocal(norm(e)) * e;
+  f.a1 = transport(V::constant(stored_tangent), f.t, V::constant(stored_director));
+  return f;
+}
 template <class T>
 EdgeFramesOf<T> edge_frames(const Vec3Of<T>& e0, const Vec3Of<T>& e1, const StoredFrames& stored) {
-  using V = Vec3Of<T>;
-  const T l0 = norm(e0), l1 = norm(e1);
-  EdgeFramesOf<T> f;
-  f.t0 = reciprocal(l0) * e0;
-  f.t1 = reciprocal(l1) * e1;
-  f.a10 = transport(V::constant(stored.tangent0), f.t0, V::constant(stored.director0));
-  f.a11 = transport(V::constant(stored.tangent1), f.t1, V::constant(stored.director1));
-  return f;
+  const EdgeFrameOf<T> f0 = edge_frame(e0, stored.tangent0, stored.director0);
+  const EdgeFrameOf<T> f1 = edge_frame(e1, stored.tangent1, stored.director1);
+  return {f0.t, f1.t, f0.a1, f1.a1};
 }
 
 // The reference twist: the angle about t^i from the space-parallel transport of a1^{i-1} to
@@ -191,14 +200,39 @@ T8 embed_edges(const T6& a) {
   if constexpr (requires { a.h; }) r.h.template topLeftCorner<6, 6>() = a.h;
   return r;
 }
+
+// An edge's frame differentiated in its own 3 coordinates (T3 = Dual2<3> or Dual1<3>):
+// computed once per edge (forward/rods/rod_stencils.hpp, edge_frames_of_rod) and embedded into
+// the 6 edge coordinates of each of the two stencils that share the edge, instead of being
+// computed by both stencils in 6 variables (the norm and the transport, half of the work).
+template <class T3>
+EdgeFrameOf<T3> edge_frame_in_own_coordinates(const Eigen::Vector3d& e, const Eigen::Vector3d& stored_tangent,
+                                              const Eigen::Vector3d& stored_director) {
+  Vec3Of<T3> v;
+  for (int k = 0; k < 3; ++k) v[k] = T3::variable(e[k], k);
+  return edge_frame(v, stored_tangent, stored_director);
+}
+template <class T6, class T3>
+T6 embed_edge(const T3& a, int offset) {
+  T6 r(a.v);
+  r.g.template segment<3>(offset) = a.g;
+  if constexpr (requires { a.h; }) r.h.template block<3, 3>(offset, offset) = a.h;
+  return r;
+}
+template <class T6, class T3>
+Vec3Of<T6> embed_edge(const Vec3Of<T3>& a, int offset) {
+  Vec3Of<T6> r;
+  for (int k = 0; k < 3; ++k) r[k] = embed_edge<T6>(a[k], offset);
+  return r;
+}
+// The stencil's frames in its 6 edge coordinates from its two edges' frames (edge i-1: 0-2).
+template <class T6, class T3>
+EdgeFramesOf<T6> stencil_frames(const EdgeFrameOf<T3>& f0, const EdgeFrameOf<T3>& f1) {
+  return {embed_edge<T6>(f0.t, 0), embed_edge<T6>(f1.t, 3), embed_edge<T6>(f0.a1, 0), embed_edge<T6>(f1.a1, 3)};
+}
+
 template <class T6, class T8>
-std::array<T8, 2> curvatures_by_edges(const BendTwistLocal& local, const StoredFrames& stored) {
-  Vec3Of<T6> e0, e1;
-  for (int k = 0; k < 3; ++k) {
-    e0[k] = T6::variable(local[3 + k] - local[k], k);
-    e1[k] = T6::variable(local[6 + k] - local[3 + k], 3 + k);
-  }
-  const EdgeFramesOf<T6> f = edge_frames(e0, e1, stored);
+std::array<T8, 2> curvatures_from_frames(const EdgeFramesOf<T6>& f, const BendTwistLocal& local) {
   const CurvatureProjections<T6> k6 = curvature_projections(f, curvature_binormal(f));
   const CurvatureProjections<T8> k8{embed_edges<T8>(k6.p0), embed_edges<T8>(k6.q0), embed_edges<T8>(k6.p1),
                                     embed_edges<T8>(k6.q1)};
@@ -207,17 +241,31 @@ std::array<T8, 2> curvatures_by_edges(const BendTwistLocal& local, const StoredF
   return kappa;
 }
 
+// The stencil's two edges (x_i - x_{i-1}, x_{i+1} - x_i), as doubles.
+inline std::array<Eigen::Vector3d, 2> stencil_edges(const BendTwistLocal& local) {
+  return {Eigen::Vector3d(local.segment<3>(3) - local.segment<3>(0)),
+          Eigen::Vector3d(local.segment<3>(6) - local.segment<3>(3))};
+}
+
+template <class T3, class T6, class T8>
+std::array<T8, 2> curvatures_by_edges(const BendTwistLocal& local, const StoredFrames& stored) {
+  const auto e = stencil_edges(local);
+  return curvatures_from_frames<T6, T8>(
+      stencil_frames<T6>(edge_frame_in_own_coordinates<T3>(e[0], stored.tangent0, stored.director0),
+                         edge_frame_in_own_coordinates<T3>(e[1], stored.tangent1, stored.director1)),
+      local);
+}
+
 // The twist strain alone: m = theta^i - theta^{i-1} + m_ref is linear in the twist angles and
 // m_ref depends on the two edges only (6 variables: no material frame, 6x6 Hessians), lifted
-// to the 11 DOFs. Values bit-identical to bend_twist_strains' twist. T = Dual2<6> or Dual1<6>.
-template <class T>
-T reference_twist_by_edges(const BendTwistLocal& local, const StoredFrames& stored) {
-  Vec3Of<T> e0, e1;
-  for (int k = 0; k < 3; ++k) {
-    e0[k] = T::variable(local[3 + k] - local[k], k);
-    e1[k] = T::variable(local[6 + k] - local[3 + k], 3 + k);
-  }
-  return reference_twist_of(edge_frames(e0, e1, stored), stored);
+// to the 11 DOFs. Values bit-identical to bend_twist_strains' twist. T6 = Dual2<6> or Dual1<6>.
+template <class T3, class T6>
+T6 reference_twist_by_edges(const BendTwistLocal& local, const StoredFrames& stored) {
+  const auto e = stencil_edges(local);
+  return reference_twist_of(
+      stencil_frames<T6>(edge_frame_in_own_coordinates<T3>(e[0], stored.tangent0, stored.director0),
+                         edge_frame_in_own_coordinates<T3>(e[1], stored.tangent1, stored.director1)),
+      stored);
 }
 
 inline Eigen::Matrix<double, kBendTwistDofs, 1> lift_edge_gradient(const Eigen::Matrix<double, 6, 1>& g) {

@@ -16,6 +16,9 @@
 //   Eigen::Matrix<double, S, 1> strain_values(const Eigen::Matrix<double, N, 1>& local, int k) const;
 //     (the same strains without derivatives, for value-only requests such as line searches)
 // The three orders give bit-identical values and first derivatives (forward/rods/low_order_duals.hpp).
+//   void prepare(const Vector& x, int order) const;
+//     (called before strains (order 2) and strain_gradients (order 1) at state x: per-edge
+//     data the stencils share, such as the bend-twist stencils' edge frames)
 //   StencilEnergy<S, Q> energy_density(const Eigen::Matrix<double, S, 1>& s,
 //                                      const Eigen::Matrix<double, Q, 1>& q, int k) const;
 #include <Eigen/Core>
@@ -63,6 +66,10 @@ class RodStencilTerm : public EnergyTerm {
     const int num = self().num_stencils();
     const bool want_gradient = request.gradient != nullptr, want_hessian = request.hessian_values != nullptr;
     if (want_gradient) local_gradients_.resize(static_cast<std::size_t>(num) * N);
+    if (want_hessian || (want_gradient && !first_order_path_))
+      self().prepare(x, 2);
+    else if (want_gradient)
+      self().prepare(x, 1);
     double energy = 0.0;
 #pragma omp parallel for schedule(static) reduction(+ : energy) if (num > 512)
     for (int k = 0; k < num; ++k) {
@@ -141,6 +148,7 @@ class RodStencilTerm : public EnergyTerm {
   }
 
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override {
+    self().prepare(x, 1);
     for (int k = 0; k < self().num_stencils(); ++k) {
       if (omitted(k)) continue;
       const auto dofs = self().stencil_dofs(k);
@@ -156,6 +164,7 @@ class RodStencilTerm : public EnergyTerm {
 
   void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
                                  Vector& gradient_p) const override {
+    self().prepare(x, 1);
     for (int k = 0; k < self().num_stencils(); ++k) {
       if (omitted(k)) continue;
       const auto dofs = self().stencil_dofs(k);

@@ -80,17 +80,17 @@ TEST(RodScalarOrders, StrainsAgreeBitForBitAtEveryStencil) {
     // The terms' path: derivatives in the two edges and twists, lifted to the 11 DOFs.
     using E2 = Dual2<rod_detail::kEdgeVariables>;
     using E1 = rod_detail::Dual1<rod_detail::kEdgeVariables>;
-    const auto e2 = rod_detail::curvatures_by_edges<Dual2<6>, E2>(local, frames);
-    const auto e1 = rod_detail::curvatures_by_edges<rod_detail::Dual1<6>, E1>(local, frames);
+    const auto e2 = rod_detail::curvatures_by_edges<Dual2<3>, Dual2<6>, E2>(local, frames);
+    const auto e1 = rod_detail::curvatures_by_edges<rod_detail::Dual1<3>, rod_detail::Dual1<6>, E1>(local, frames);
     EXPECT_EQ(e2[0].v, s0.kappa1.v);
     EXPECT_EQ(e2[1].v, s0.kappa2.v);
     EXPECT_EQ(e1[1].v, s0.kappa2.v);
     EXPECT_EQ((rod_detail::lift(e1[0]).g - rod_detail::lift(e2[0]).g).lpNorm<Eigen::Infinity>(), 0.0);
     EXPECT_EQ((rod_detail::lift(e1[1]).g - rod_detail::lift(e2[1]).g).lpNorm<Eigen::Infinity>(), 0.0);
     // The twisting term's path: the reference twist in the 6 edge coordinates.
-    const auto w2 = rod_detail::twist_from_reference(rod_detail::reference_twist_by_edges<Dual2<6>>(local, frames), local);
+    const auto w2 = rod_detail::twist_from_reference(rod_detail::reference_twist_by_edges<Dual2<3>, Dual2<6>>(local, frames), local);
     const auto w1 =
-        rod_detail::twist_from_reference(rod_detail::reference_twist_by_edges<rod_detail::Dual1<6>>(local, frames), local);
+        rod_detail::twist_from_reference(rod_detail::reference_twist_by_edges<rod_detail::Dual1<3>, rod_detail::Dual1<6>>(local, frames), local);
     EXPECT_EQ(w2.v, s0.twist.v);
     EXPECT_EQ(w1.v, s0.twist.v);
     EXPECT_EQ((w1.g - w2.g).lpNorm<Eigen::Infinity>(), 0.0);

@@ -5,23 +5,29 @@
 // Newton's round-off floor estimate and stop at once); Newton runs a fixed number of
 // iterations and the medians of the per-iteration times are reported: assembly (energy,
 // gradient, Hessian of the stretching, bending, twisting and load terms), factorization,
-// solve, line search, and the whole iteration. Writes JSON (--out, default bench_rods.json)
-// and prints a table.
+// solve, line search, and the whole iteration. Each size runs twice in the same process: with
+// the rod terms' gradient requests (the line search's first trial) on Dual2<11> as before
+// ("dual2 gradients") and on the first-order path (forward/rods/low_order_duals.hpp). Writes
+// JSON (--out, default bench_rods.json) and prints a table.
 //
 // Second part, rest-shape design (problems/rods/rod_inverse.hpp, the scenes' "inverse" section):
 // --strands strands of --strand-vertices vertices (nylon: length 0.5, r = 1e-3, E = 3e9,
 // density 1150, clamped at the root, curling up with a radius that differs per strand), each
-// designed separately (rest curvatures and rest lengths, target: the drawn shape, Ceres
-// Levenberg-Marquardt); reports per strand the time until the RMS shape error (over the
-// vertices, relative to the length) is below --shape-error, the median and the total, and the
-// final largest vertex error.
+// designed separately (rest curvatures and rest lengths, target: the drawn shape) by
+// --method: "auto" (inverse statics, problems/rods/rod_inverse_statics.hpp, falling back to
+// the optimizer) or "optimizer" (Ceres Levenberg-Marquardt; the time until the RMS shape error,
+// over the vertices relative to the length, is below --shape-error, read from its history).
+// Reports per strand the design time, the scene build time, the time of the forward solve that
+// verifies the design (Newton from the drawn shape at the designed rest shape) and the largest
+// vertex error of that equilibrium; the median and the total.
 //
 // usage: rod_bench [--vertices 100,1000,10000,100000] [--iterations N] [--strands S]
-//                  [--strand-vertices V] [--shape-error E] [--out FILE]
+//                  [--strand-vertices V] [--shape-error E] [--method auto|optimizer] [--out FILE]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,6 +37,7 @@
 #include "forward/core/statistics.hpp"
 #include "forward/fem/loads.hpp"
 #include "forward/rods/bending_term.hpp"
+#include "forward/rods/rod_kinematics.hpp"
 #include "forward/rods/rod_supports.hpp"
 #include "forward/rods/stretching_term.hpp"
 #include "forward/rods/twisting_term.hpp"
@@ -45,11 +52,12 @@ namespace {
 
 struct SizeResult {
   int vertices, free_dofs, iterations;
+  bool first_order;
   std::string status;
   double assembly, factorization, solve, line_search, iteration;
 };
 
-SizeResult run(int vertices, int iterations) {
+SizeResult run(int vertices, int iterations, bool first_order) {
   Eigen::MatrixX3d positions(vertices, 3);
   for (int i = 0; i < vertices; ++i) {
     const double s = 0.01 * i, phi = 4.0 * M_PI * s;  // edges of length ~0.01 at every size
@@ -64,9 +72,9 @@ SizeResult run(int vertices, int iterations) {
   const RodParameterBlocks blocks = add_rod_parameters(model.parameter_layout(), *rod);
   Vector p = Vector::Zero(model.parameter_layout().size());
   write_rod_parameters(*rod, blocks, material, p);
-  model.add(std::make_unique<RodStretchingTerm>(rod, material.section, blocks));
-  model.add(std::make_unique<RodBendingTerm>(rod, material.section, blocks));
-  model.add(std::make_unique<RodTwistingTerm>(rod, material.section, blocks));
+  model.add(std::make_unique<RodStretchingTerm>(rod, material.section, blocks)).set_first_order_path(first_order);
+  model.add(std::make_unique<RodBendingTerm>(rod, material.section, blocks)).set_first_order_path(first_order);
+  model.add(std::make_unique<RodTwistingTerm>(rod, material.section, blocks)).set_first_order_path(first_order);
   const double area = M_PI * material.radius * material.radius, g = 9.81;
   const Eigen::VectorXd masses = lumped_vertex_masses(*rod, material.section, 2.0 / (area * g),
                                                       p.segment(blocks.radius, rod->num_edges()),
@@ -92,20 +100,23 @@ SizeResult run(int vertices, int iterations) {
     iteration.push_back(it.assembly_seconds + it.factorization_seconds + it.solve_seconds +
                         it.line_search_seconds);
   }
-  return {vertices,         model.elimination().num_free(), r.iterations,  to_string(r.status),
+  return {vertices,         model.elimination().num_free(), r.iterations,  first_order,
+          to_string(r.status),
           median(assembly), median(factorization),          median(solve), median(line_search),
           median(iteration)};
 }
 
 struct StrandResult {
-  int iterations;
-  double seconds, initial_error, error;
+  int iterations;  // the optimizer's to the stated error, or inverse statics' Gauss-Newton steps
+  std::string method;  // that gave the design
+  double build_seconds, seconds, verify_seconds, initial_error, error, smallest_pivot;
+  double cpu_seconds;  // process CPU time of the design (robust to a loaded machine's preemption)
   std::string status;
 };
 
 // Strand k of `strands`: a planar arc of length 0.5 leaving the root horizontally and curling
 // up against gravity, radius of curvature 0.3 .. 0.6 (the scene rod_rest_shape_design.json).
-nlohmann::json strand_scene(int k, int strands, int vertices) {
+nlohmann::json strand_scene(int k, int strands, int vertices, const std::string& method) {
   const double L = 0.5, R = 0.3 + 0.3 * k / std::max(1, strands - 1);
   nlohmann::json points = nlohmann::json::array();
   for (int i = 0; i < vertices; ++i) {
@@ -121,6 +132,7 @@ nlohmann::json strand_scene(int k, int strands, int vertices) {
           {"gravity", {0, -9.81, 0}},
           {"inverse",
            {{"design", {"rest_curvature", "rest_length"}},
+            {"method", method},
             {"optimizer",
              {{"backend", "ceres_least_squares"},
               {"max_iterations", 50},
@@ -128,27 +140,106 @@ nlohmann::json strand_scene(int k, int strands, int vertices) {
               {"gradient_tolerance", 1e-20}}}}}};
 }
 
-// One Levenberg-Marquardt run to convergence; the time to the stated error is read from its
-// history: J = 1/2 mean |x - t|^2 / L^2, so the RMS shape error is sqrt(2 J).
-StrandResult design_strand(int k, int strands, int vertices, double shape_error) {
-  auto problem = build_rod_inverse(strand_scene(k, strands, vertices), "strand", "strand");
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// One design of strand k. The optimizer's time to the stated error is read from its history:
+// J = 1/2 mean |x - t|^2 / L^2, so the RMS shape error is sqrt(2 J). The initial shape error
+// (the drawn rest shape under load, a Newton solve of ~40 iterations) is computed after the
+// timed part, for the first 10 strands only.
+StrandResult design_strand(int k, int strands, int vertices, double shape_error, const std::string& method) {
+  auto t0 = std::chrono::steady_clock::now();
+  auto problem = build_rod_inverse(strand_scene(k, strands, vertices, method), "strand", "strand");
+  StrandResult out{0, "optimizer", seconds_since(t0), -1.0, 0.0, 0.0, 0.0, 0.0, -1.0, "not_reached"};
   StaticFunctional& f = *problem->functional;
-  const auto start = std::chrono::steady_clock::now();
-  f.value(problem->z0);
-  const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const double initial = problem->shape_error(f.state());
-  const OptimizerResult r = minimize(f, problem->z0, Bounds{}, {}, problem->spec.optimizer);
-  StrandResult out{static_cast<int>(r.history.size()), -1.0, initial, 0.0, "not_reached"};
-  for (const OptimizerIteration& it : r.history)
-    if (std::sqrt(2.0 * it.objective) <= shape_error) {
-      out.iterations = it.iteration;
-      out.seconds = setup + it.seconds;
+  Vector z = problem->z0;
+  bool optimize = method == "optimizer";
+  if (!optimize) {
+    const std::clock_t c0 = std::clock();
+    const RodInverseStaticsResult s = solve_rod_inverse_statics(*problem);
+    out.cpu_seconds = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+    out.smallest_pivot = s.stability.smallest_pivot;
+    out.iterations = s.steps;  // Gauss-Newton steps
+    z = s.z;
+    if (s.accepted()) {
+      out.method = "inverse_statics";
+      out.seconds = s.seconds;
       out.status = "reached";
-      break;
+    } else {
+      optimize = true;  // the fallback, from its result
     }
-  f.value(r.z);
+  }
+  if (optimize) {
+    const auto start = std::chrono::steady_clock::now();
+    f.value(z);
+    const double setup = seconds_since(start);
+    const OptimizerResult r = minimize(f, z, Bounds{}, {}, problem->spec.optimizer);
+    out.iterations = static_cast<int>(r.history.size());
+    for (const OptimizerIteration& it : r.history)
+      if (std::sqrt(2.0 * it.objective) <= shape_error) {
+        out.iterations = it.iteration;
+        out.seconds = setup + it.seconds;
+        out.status = "reached";
+        break;
+      }
+    z = r.z;
+  }
+  // The check: Newton from the drawn shape (the functional's first solve starts there) at the
+  // design; the optimizer's functional warm-starts from its last equilibrium instead.
+  t0 = std::chrono::steady_clock::now();
+  f.value(z);
+  out.verify_seconds = seconds_since(t0);
   out.error = problem->shape_error(f.state());
+  out.initial_error = std::nan("");
+  if (k < 10) {
+    f.value(problem->z0);
+    out.initial_error = problem->shape_error(f.state());
+  }
   return out;
+}
+
+// The bend-twist stencil's strain kernels with Hessians, per stencil (one per interior
+// vertex), as many stencils as the largest size (100 to 20,000), on bent, twisted stencils:
+// the direct Dual2<11> strains, which the bending and the twisting term each evaluated before
+// (twice per stencil), against the terms' present kernels, the curvatures from kb's
+// projections in the 6 edge variables and the twist from the reference twist alone, lifted to
+// the 11 DOFs. Median over `repeats` passes of seconds per stencil.
+struct KernelResult {
+  double direct_twice, present;
+};
+
+KernelResult time_kernels(int stencils, int repeats) {
+  using namespace rod_detail;
+  std::vector<BendTwistLocal> locals(static_cast<std::size_t>(stencils));
+  StoredFrames frames{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(),
+                      Eigen::Vector3d::UnitZ(), 0.0};
+  for (int k = 0; k < stencils; ++k) {
+    const double a = 0.01 * k;
+    BendTwistLocal& l = locals[static_cast<std::size_t>(k)];
+    l << 0.0, 0.0, 0.0, 0.01, 0.001 * std::sin(a), 0.0, 0.02, 0.002 * std::cos(a), 0.001, 0.1 * a, 0.1 * a + 0.01;
+  }
+  double sink = 0.0;
+  std::vector<double> direct, present;
+  for (int r = 0; r < repeats; ++r) {
+    auto t0 = std::chrono::steady_clock::now();
+    for (const BendTwistLocal& l : locals)
+      for (int term = 0; term < 2; ++term) {
+        const auto s = bend_twist_strains<BendTwistDual>(l, frames);
+        sink += s.kappa1.h(3, 4) + s.twist.h(0, 7);
+      }
+    direct.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / stencils);
+    t0 = std::chrono::steady_clock::now();
+    for (const BendTwistLocal& l : locals) {
+      const auto kappa = curvatures_by_edges<Dual2<3>, Dual2<6>, Dual2<kEdgeVariables>>(l, frames);
+      const BendTwistDual k1 = lift(kappa[0]), k2 = lift(kappa[1]);
+      const BendTwistDual m = twist_from_reference(reference_twist_by_edges<Dual2<3>, Dual2<6>>(l, frames), l);
+      sink += k1.h(3, 4) + k2.h(1, 2) + m.h(0, 7);
+    }
+    present.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / stencils);
+  }
+  if (sink == 12345.0) std::printf(" ");  // keeps the work
+  return {median(direct), median(present)};
 }
 
 }  // namespace
@@ -162,27 +253,38 @@ int run(int argc, char** argv) {
   cli.integer("--iterations", iterations, "Newton iterations run (and timed) per size", 1);
   int strands = 10, strand_vertices = 100;
   double shape_error = 1e-6;
+  std::string method = "auto";
   cli.integer("--strands", strands, "strands designed (0: no design part)", 0);
   cli.integer("--strand-vertices", strand_vertices, "vertices per strand", 3);
   cli.number("--shape-error", shape_error, "stated RMS shape error (vertex distance / strand length)", 0.0);
+  cli.choice("--method", method, "rest-shape design method (the scenes' inverse.method)", {"auto", "optimizer"});
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   std::vector<SizeResult> results;
-  std::printf("%10s %10s %6s %10s %10s %10s %10s %10s %12s\n", "vertices", "free_dofs", "iters", "assembly",
-              "factor", "solve", "line_srch", "iteration", "us/vertex");
-  for (int n : sizes) {
-    const SizeResult s = run(n, iterations);
-    results.push_back(s);
-    std::printf("%10d %10d %6d %10.4f %10.4f %10.4f %10.4f %10.4f %12.3f\n", s.vertices, s.free_dofs,
-                s.iterations, s.assembly, s.factorization, s.solve, s.line_search, s.iteration,
-                1e6 * s.iteration / s.vertices);
-  }
+  std::printf("%10s %10s %9s %6s %10s %10s %10s %10s %10s %12s %12s\n", "vertices", "free_dofs", "gradients",
+              "iters", "assembly", "factor", "solve", "line_srch", "iteration", "us/vertex", "ls us/vertex");
+  const KernelResult kernels =
+      time_kernels(std::clamp(*std::max_element(sizes.begin(), sizes.end()), 100, 20000), 5);
+  std::printf("bend-twist strain kernels with Hessians, per stencil: direct Dual2<11> twice (bending, twisting) "
+              "%.2f us, present kernels %.2f us\n",
+              1e6 * kernels.direct_twice, 1e6 * kernels.present);
+  for (int n : sizes)
+    for (bool first_order : {false, true}) {
+      const SizeResult s = run(n, iterations, first_order);
+      results.push_back(s);
+      std::printf("%10d %10d %9s %6d %10.4f %10.4f %10.4f %10.4f %10.4f %12.3f %12.3f\n", s.vertices, s.free_dofs,
+                  first_order ? "dual1" : "dual2", s.iterations, s.assembly, s.factorization, s.solve,
+                  s.line_search, s.iteration, 1e6 * s.iteration / s.vertices, 1e6 * s.line_search / s.vertices);
+    }
   bench::Json json = bench::report("rod_newton_iteration");
-  bench::Json rows = bench::Json::array();
+  // "sizes": one row per size, the present code; "sizes_dual2_gradients": the same sizes with
+  // the gradient requests on Dual2 (before the first-order path), from the same run.
+  bench::Json rows = bench::Json::array(), before = bench::Json::array();
   for (const SizeResult& s : results)
-    rows.push_back({{"vertices", s.vertices},
+    (s.first_order ? rows : before).push_back({{"vertices", s.vertices},
                     {"free_dofs", s.free_dofs},
                     {"iterations", s.iterations},
+                    {"gradients", s.first_order ? "dual1" : "dual2"},
                     {"status", s.status},
                     {"assembly_s", s.assembly},
                     {"factorization_s", s.factorization},
@@ -190,33 +292,57 @@ int run(int argc, char** argv) {
                     {"line_search_s", s.line_search},
                     {"iteration_s", s.iteration}});
   json["sizes"] = rows;
+  json["sizes_dual2_gradients"] = before;
+  json["stencil_kernels"] = {{"direct_dual2_twice_s", kernels.direct_twice}, {"present_s", kernels.present}};
   if (strands > 0) {
-    std::printf("\nrest-shape design, %d strands of %d vertices, to a shape error of %.1e of the length\n",
-                strands, strand_vertices, shape_error);
-    std::printf("%8s %8s %12s %12s %10s %12s\n", "strand", "iters", "error0", "max_error", "seconds",
-                "status");
+    std::printf("\nrest-shape design (--method %s), %d strands of %d vertices, to a shape error of %.1e of the "
+                "length\n",
+                method.c_str(), strands, strand_vertices, shape_error);
+    std::printf("%8s %16s %6s %11s %11s %11s %11s %11s %11s %12s\n", "strand", "method", "iters", "error0",
+                "max_error", "pivot_min", "build_s", "design_s", "verify_s", "status");
     bench::Json designs = bench::Json::array();
-    std::vector<double> times;
+    std::vector<double> times, builds, verifies, errors, cpu;
     double total = 0.0;
     for (int k = 0; k < strands; ++k) {
-      const StrandResult d = design_strand(k, strands, strand_vertices, shape_error);
-      std::printf("%8d %8d %12.3e %12.3e %10.4f %12s\n", k, d.iterations, d.initial_error, d.error, d.seconds,
-                  d.status.c_str());
+      const StrandResult d = design_strand(k, strands, strand_vertices, shape_error, method);
+      if (k < 10 || k == strands - 1)
+        std::printf("%8d %16s %6d %11.3e %11.3e %11.3e %11.6f %11.6f %11.6f %12s\n", k, d.method.c_str(),
+                    d.iterations, d.initial_error, d.error, d.smallest_pivot, d.build_seconds, d.seconds,
+                    d.verify_seconds, d.status.c_str());
+      std::fflush(stdout);
       times.push_back(d.seconds);
+      builds.push_back(d.build_seconds);
+      verifies.push_back(d.verify_seconds);
+      errors.push_back(d.error);
+      cpu.push_back(d.cpu_seconds);
       total += d.seconds;
       designs.push_back({{"strand", k},
+                         {"method", d.method},
                          {"iterations", d.iterations},
                          {"initial_shape_error", d.initial_error},
                          {"shape_error", d.error},
+                         {"smallest_pivot", d.smallest_pivot},
+                         {"build_seconds", d.build_seconds},
                          {"seconds", d.seconds},
+                         {"cpu_seconds", d.cpu_seconds},
+                         {"verify_seconds", d.verify_seconds},
                          {"status", d.status}});
     }
-    std::printf("median %.4f s per strand, total %.3f s for %d strands\n", median(times), total, strands);
+    const double worst = *std::max_element(errors.begin(), errors.end());
+    std::printf(
+        "median %.5f s per strand (process CPU time of inverse statics %.5f s; scene build %.5f s, verifying "
+        "forward solve %.5f s), total %.3f s for %d strands, largest shape error %.2e\n",
+        median(times), median(cpu), median(builds), median(verifies), total, strands, worst);
     json["rest_shape_design"] = {{"strands", strands},
                                  {"strand_vertices", strand_vertices},
+                                 {"method", method},
                                  {"shape_error_target", shape_error},
                                  {"median_seconds_per_strand", median(times)},
+                                 {"median_cpu_seconds_per_strand", median(cpu)},
+                                 {"median_build_seconds", median(builds)},
+                                 {"median_verify_seconds", median(verifies)},
                                  {"total_seconds", total},
+                                 {"largest_shape_error", worst},
                                  {"strand_results", designs}};
   }
   return bench::write_report(out, json, "rod_bench") ? 0 : 1;

@@ -30,9 +30,19 @@ std::array<int, 8> RodBendingTerm::stencil_parameters(int i) const {
           b.rest_length + k};
 }
 
+void RodBendingTerm::prepare(const Vector& x, int order) const {
+  if (order == 2)
+    rod_detail::edge_frames_of_rod(*rod_, x, frames2_);
+  else
+    rod_detail::edge_frames_of_rod(*rod_, x, frames1_);
+}
+
 std::array<rod_detail::BendTwistDual, 2> RodBendingTerm::strains(const Local& local, int interior) const {
-  auto s = rod_detail::bend_twist_strains(local, rod_detail::stored_frames(*rod_, interior));
-  return {std::move(s.kappa1), std::move(s.kappa2)};
+  const auto kappa = rod_detail::curvatures_from_frames<Dual2<6>, Dual2<rod_detail::kEdgeVariables>>(
+      rod_detail::stencil_frames<Dual2<6>>(frames2_[static_cast<std::size_t>(interior)],
+                                           frames2_[static_cast<std::size_t>(rod_->next_edge(interior))]),
+      local);
+  return {rod_detail::lift(kappa[0]), rod_detail::lift(kappa[1])};
 }
 
 // W = sum_a B_a d_a^2 / lbar, d = kappa - kappabar; derivatives in s = kappa and q (see header).
@@ -66,8 +76,18 @@ rod_detail::StencilEnergy<2, 8> RodBendingTerm::energy_density(const Eigen::Vect
   return W;
 }
 
+std::array<rod_detail::BendTwistDual1, 2> RodBendingTerm::strain_gradients(const Local& local, int interior) const {
+  const auto kappa =
+      rod_detail::curvatures_from_frames<rod_detail::Dual1<6>, rod_detail::Dual1<rod_detail::kEdgeVariables>>(
+          rod_detail::stencil_frames<rod_detail::Dual1<6>>(
+              frames1_[static_cast<std::size_t>(interior)],
+              frames1_[static_cast<std::size_t>(rod_->next_edge(interior))]),
+          local);
+  return {rod_detail::lift(kappa[0]), rod_detail::lift(kappa[1])};
+}
+
 Eigen::Vector2d RodBendingTerm::strain_values(const Local& local, int interior) const {
-  const auto s = rod_detail::bend_twist_strains<1>(local, rod_detail::stored_frames(*rod_, interior));
+  const auto s = rod_detail::bend_twist_strains<rod_detail::Dual0>(local, rod_detail::stored_frames(*rod_, interior));
   return {s.kappa1.v, s.kappa2.v};
 }
 

@@ -12,6 +12,7 @@
 // frame's dependence on x (docs/rods.md, "Exact Hessian"). Units: energy = pressure length^3.
 // Parameters: youngs_modulus, radius, rest_length and rest_curvature blocks.
 #include <memory>
+#include <vector>
 
 #include "forward/rods/rod_kinematics.hpp"
 #include "forward/rods/rod_parameters.hpp"
@@ -32,6 +33,9 @@ class RodBendingTerm final
   // kappabar_1, kappabar_2, E_{i-1}, E_i, r_{i-1}, r_i, L_{i-1}, L_i
   std::array<int, 8> stencil_parameters(int interior) const;
   std::array<rod_detail::BendTwistDual, 2> strains(const Local& local, int interior) const;
+  // The edges' frames at x, shared by the two stencils at each edge (rod_stencils.hpp).
+  void prepare(const Vector& x, int order) const;
+  std::array<rod_detail::BendTwistDual1, 2> strain_gradients(const Local& local, int interior) const;
   Eigen::Vector2d strain_values(const Local& local, int interior) const;
   rod_detail::StencilEnergy<2, 8> energy_density(const Eigen::Vector2d& kappa,
                                                  const Eigen::Matrix<double, 8, 1>& q, int interior) const;
@@ -40,6 +44,8 @@ class RodBendingTerm final
   std::shared_ptr<const DiscreteRod> rod_;
   CrossSection section_;
   RodParameterBlocks blocks_;
+  mutable std::vector<rod_detail::EdgeFrameOf<Dual2<3>>> frames2_;
+  mutable std::vector<rod_detail::EdgeFrameOf<rod_detail::Dual1<3>>> frames1_;
 };
 
 // The stencil loop (value, gradient, Hessian, parameter derivatives with Dual2 numbers) is

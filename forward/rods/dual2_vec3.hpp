@@ -1,70 +1,74 @@
 #pragma once
-// Three-vectors of Dual2 numbers (forward/core/dual2.hpp), with the few operations the rod
-// kinematics needs (private to forward/rods): the discrete rod's strains are written once on
-// these and give their exact gradients and Hessians in the stencil's N <= 11 variables.
+// Three-vectors of dual numbers (Dual2<N>, forward/core/dual2.hpp, or its lower orders Dual1<N>
+// and Dual0, forward/rods/low_order_duals.hpp), with the few operations the rod kinematics
+// needs (private to forward/rods): the discrete rod's strains are written once on these and
+// give their exact derivatives in the stencil's N <= 11 variables to the order asked for.
 #include <Eigen/Core>
 
 #include "forward/core/dual2.hpp"
+#include "forward/rods/low_order_duals.hpp"
 
 namespace tailor::rod_detail {
 
-// Three-vectors of dual numbers with the few operations the rod kinematics needs.
-template <int N>
-struct Dual2Vec3 {
-  Dual2<N> c[3];
-  Dual2<N>& operator[](int i) { return c[i]; }
-  const Dual2<N>& operator[](int i) const { return c[i]; }
-  static Dual2Vec3 constant(const Eigen::Vector3d& v) {
-    Dual2Vec3 r;
-    for (int i = 0; i < 3; ++i) r[i] = Dual2<N>(v[i]);
+template <class T>
+struct Vec3Of {
+  T c[3];
+  T& operator[](int i) { return c[i]; }
+  const T& operator[](int i) const { return c[i]; }
+  static Vec3Of constant(const Eigen::Vector3d& v) {
+    Vec3Of r;
+    for (int i = 0; i < 3; ++i) r[i] = T(v[i]);
     return r;
   }
   Eigen::Vector3d value() const { return {c[0].v, c[1].v, c[2].v}; }
 };
 
 template <int N>
-Dual2Vec3<N> operator+(const Dual2Vec3<N>& a, const Dual2Vec3<N>& b) {
-  Dual2Vec3<N> r;
+using Dual2Vec3 = Vec3Of<Dual2<N>>;
+
+template <class T>
+Vec3Of<T> operator+(const Vec3Of<T>& a, const Vec3Of<T>& b) {
+  Vec3Of<T> r;
   for (int i = 0; i < 3; ++i) r[i] = a[i] + b[i];
   return r;
 }
-template <int N>
-Dual2Vec3<N> operator-(const Dual2Vec3<N>& a, const Dual2Vec3<N>& b) {
-  Dual2Vec3<N> r;
+template <class T>
+Vec3Of<T> operator-(const Vec3Of<T>& a, const Vec3Of<T>& b) {
+  Vec3Of<T> r;
   for (int i = 0; i < 3; ++i) r[i] = a[i] - b[i];
   return r;
 }
-template <int N>
-Dual2Vec3<N> operator*(const Dual2<N>& s, const Dual2Vec3<N>& a) {
-  Dual2Vec3<N> r;
+template <class T>
+Vec3Of<T> operator*(const T& s, const Vec3Of<T>& a) {
+  Vec3Of<T> r;
   for (int i = 0; i < 3; ++i) r[i] = s * a[i];
   return r;
 }
-template <int N>
-Dual2Vec3<N> operator*(double s, const Dual2Vec3<N>& a) {
-  Dual2Vec3<N> r;
+template <class T>
+Vec3Of<T> operator*(double s, const Vec3Of<T>& a) {
+  Vec3Of<T> r;
   for (int i = 0; i < 3; ++i) r[i] = s * a[i];
   return r;
 }
-template <int N>
-Dual2<N> dot(const Dual2Vec3<N>& a, const Dual2Vec3<N>& b) {
+template <class T>
+T dot(const Vec3Of<T>& a, const Vec3Of<T>& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
-template <int N>
-Dual2<N> dot(const Eigen::Vector3d& a, const Dual2Vec3<N>& b) {
+template <class T>
+T dot(const Eigen::Vector3d& a, const Vec3Of<T>& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
-// a x b with `a` a Dual2Vec3<N> or a constant Eigen::Vector3d.
-template <class Left, int N>
-Dual2Vec3<N> cross(const Left& a, const Dual2Vec3<N>& b) {
-  Dual2Vec3<N> r;
+// a x b with `a` a Vec3Of<T> or a constant Eigen::Vector3d.
+template <class Left, class T>
+Vec3Of<T> cross(const Left& a, const Vec3Of<T>& b) {
+  Vec3Of<T> r;
   r[0] = a[1] * b[2] - a[2] * b[1];
   r[1] = a[2] * b[0] - a[0] * b[2];
   r[2] = a[0] * b[1] - a[1] * b[0];
   return r;
 }
-template <int N>
-Dual2<N> norm(const Dual2Vec3<N>& a) {
+template <class T>
+T norm(const Vec3Of<T>& a) {
   return sqrt(dot(a, a));
 }
 

@@ -54,7 +54,7 @@ Eigen::Vector3d bend_twist_strain_values(const DiscreteRod& rod, const Vector& x
   const auto dofs = rod_detail::bend_twist_dofs(rod, interior);
   rod_detail::BendTwistLocal local;
   for (int r = 0; r < rod_detail::kBendTwistDofs; ++r) local[r] = x[dofs[static_cast<std::size_t>(r)]];
-  const auto s = rod_detail::bend_twist_strains(local, rod_detail::stored_frames(rod, interior));
+  const auto s = rod_detail::bend_twist_strains<rod_detail::Dual0>(local, rod_detail::stored_frames(rod, interior));
   return {s.kappa1.v, s.kappa2.v, s.twist.v};
 }
 

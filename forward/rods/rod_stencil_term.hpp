@@ -10,8 +10,15 @@
 //   std::array<int, N> stencil_dofs(int k) const;
 //   std::array<int, Q> stencil_parameters(int k) const;
 //   std::array<Dual2<N>, S> strains(const Eigen::Matrix<double, N, 1>& local, int k) const;
+//   std::array<Dual1<N>, S> strain_gradients(const Eigen::Matrix<double, N, 1>& local, int k) const;
+//     (the same strains with first derivatives only: gradient requests without a Hessian, such
+//     as the line search's first trial, and the mixed block, which needs ds/dx only)
 //   Eigen::Matrix<double, S, 1> strain_values(const Eigen::Matrix<double, N, 1>& local, int k) const;
 //     (the same strains without derivatives, for value-only requests such as line searches)
+// The three orders give bit-identical values and first derivatives (forward/rods/low_order_duals.hpp).
+//   void prepare(const Vector& x, int order) const;
+//     (called before strains (order 2) and strain_gradients (order 1) at state x: per-edge
+//     data the stencils share, such as the bend-twist stencils' edge frames)
 //   StencilEnergy<S, Q> energy_density(const Eigen::Matrix<double, S, 1>& s,
 //                                      const Eigen::Matrix<double, Q, 1>& q, int k) const;
 #include <Eigen/Core>
@@ -39,6 +46,7 @@ class RodStencilTerm : public EnergyTerm {
  public:
   using Local = Eigen::Matrix<double, N, 1>;
   using Strains = std::array<Dual2<N>, S>;
+  using StrainGradients = std::array<Dual1<N>, S>;
 
   // Leaves stencil k out of the energy (a rigid joint at a rod's interior vertex replaces its
   // bending and twisting stencil there, forward/rods/rigid_joint_term.hpp); its Hessian block
@@ -49,10 +57,19 @@ class RodStencilTerm : public EnergyTerm {
   }
   bool omitted(int k) const { return !omitted_.empty() && omitted_[static_cast<std::size_t>(k)] != 0; }
 
+  // Off: gradient requests run the strains on Dual2<N> (with their unused Hessians), as before
+  // the Dual1 path existed (rod_bench's before/after comparison; the results are the same bit
+  // for bit). Energy-only requests always take the plain-value path.
+  void set_first_order_path(bool on) { first_order_path_ = on; }
+
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override {
     const int num = self().num_stencils();
     const bool want_gradient = request.gradient != nullptr, want_hessian = request.hessian_values != nullptr;
     if (want_gradient) local_gradients_.resize(static_cast<std::size_t>(num) * N);
+    if (want_hessian || (want_gradient && !first_order_path_))
+      self().prepare(x, 2);
+    else if (want_gradient)
+      self().prepare(x, 1);
     double energy = 0.0;
 #pragma omp parallel for schedule(static) reduction(+ : energy) if (num > 512)
     for (int k = 0; k < num; ++k) {
@@ -68,6 +85,15 @@ class RodStencilTerm : public EnergyTerm {
       }
       if (!want_gradient && !want_hessian) {
         energy += self().energy_density(self().strain_values(gather(x, dofs), k), parameters(p, k), k).value;
+        continue;
+      }
+      if (!want_hessian && first_order_path_) {
+        const StrainGradients s = self().strain_gradients(gather(x, dofs), k);
+        const auto W = self().energy_density(values(s), parameters(p, k), k);
+        energy += W.value;
+        Local g = Local::Zero();
+        for (int a = 0; a < S; ++a) g += W.ds[a] * s[a].g;
+        std::copy(g.data(), g.data() + N, local_gradients_.data() + static_cast<std::size_t>(k) * N);
         continue;
       }
       const Strains s = self().strains(gather(x, dofs), k);
@@ -114,18 +140,19 @@ class RodStencilTerm : public EnergyTerm {
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override {
     for (int k = 0; k < self().num_stencils(); ++k) {
       if (omitted(k)) continue;
-      const Strains s = self().strains(gather(x, self().stencil_dofs(k)), k);
-      const auto W = self().energy_density(values(s), parameters(p, k), k);
+      const auto W =
+          self().energy_density(self().strain_values(gather(x, self().stencil_dofs(k)), k), parameters(p, k), k);
       const auto params = self().stencil_parameters(k);
       for (int j = 0; j < Q; ++j) gradient_p[params[j]] += W.dq[j];
     }
   }
 
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override {
+    self().prepare(x, 1);
     for (int k = 0; k < self().num_stencils(); ++k) {
       if (omitted(k)) continue;
       const auto dofs = self().stencil_dofs(k);
-      const Strains s = self().strains(gather(x, dofs), k);
+      const StrainGradients s = self().strain_gradients(gather(x, dofs), k);
       const auto W = self().energy_density(values(s), parameters(p, k), k);
       const auto params = self().stencil_parameters(k);
       const Eigen::Matrix<double, N, Q> local = jacobian(s).transpose() * W.dsq;
@@ -137,10 +164,11 @@ class RodStencilTerm : public EnergyTerm {
 
   void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
                                  Vector& gradient_p) const override {
+    self().prepare(x, 1);
     for (int k = 0; k < self().num_stencils(); ++k) {
       if (omitted(k)) continue;
       const auto dofs = self().stencil_dofs(k);
-      const Strains s = self().strains(gather(x, dofs), k);
+      const StrainGradients s = self().strain_gradients(gather(x, dofs), k);
       const auto W = self().energy_density(values(s), parameters(p, k), k);
       const auto params = self().stencil_parameters(k);
       const Eigen::Matrix<double, Q, 1> local = W.dsq.transpose() * (jacobian(s) * gather(w, dofs));
@@ -154,12 +182,14 @@ class RodStencilTerm : public EnergyTerm {
     for (int r = 0; r < N; ++r) local[r] = x[dofs[r]];
     return local;
   }
-  static Eigen::Matrix<double, S, 1> values(const Strains& s) {
+  template <class Array>
+  static Eigen::Matrix<double, S, 1> values(const Array& s) {
     Eigen::Matrix<double, S, 1> v;
     for (int a = 0; a < S; ++a) v[a] = s[a].v;
     return v;
   }
-  static Eigen::Matrix<double, S, N> jacobian(const Strains& s) {
+  template <class Array>
+  static Eigen::Matrix<double, S, N> jacobian(const Array& s) {
     Eigen::Matrix<double, S, N> J;
     for (int a = 0; a < S; ++a) J.row(a) = s[a].g.transpose();
     return J;
@@ -175,6 +205,7 @@ class RodStencilTerm : public EnergyTerm {
   const Derived& self() const { return static_cast<const Derived&>(*this); }
   mutable std::vector<double> local_gradients_;
   std::vector<char> omitted_;
+  bool first_order_path_ = true;
 };
 
 }  // namespace tailor::rod_detail

@@ -1,6 +1,7 @@
 #pragma once
 // DOF indices and stored frames of a rod's stencils (private to forward/rods).
 #include <array>
+#include <vector>
 
 #include "forward/rods/discrete_rod.hpp"
 #include "forward/rods/rod_kinematics.hpp"
@@ -32,6 +33,22 @@ inline StoredFrames stored_frames(const DiscreteRod& rod, int interior) {
   const int next = rod.next_edge(interior);
   return {rod.stored_tangent(interior), rod.stored_director(interior), rod.stored_tangent(next),
           rod.stored_director(next), rod.stored_reference_twist(interior)};
+}
+
+// Every edge's frame in its own 3 coordinates at state x (T3 = Dual2<3> or Dual1<3>), for the
+// bend-twist stencils to share (rod_kinematics.hpp, edge_frame_in_own_coordinates). The edge
+// vectors are the same doubles as the stencils' (x_end - x_start).
+template <class T3>
+void edge_frames_of_rod(const DiscreteRod& rod, const Vector& x, std::vector<EdgeFrameOf<T3>>& out) {
+  const int ne = rod.num_edges();
+  out.resize(static_cast<std::size_t>(ne));
+#pragma omp parallel for schedule(static) if (ne > 512)
+  for (int j = 0; j < ne; ++j) {
+    Eigen::Vector3d e;
+    for (int k = 0; k < 3; ++k) e[k] = x[rod.position_dof(rod.edge_end(j), k)] - x[rod.position_dof(j, k)];
+    out[static_cast<std::size_t>(j)] =
+        edge_frame_in_own_coordinates<T3>(e, rod.stored_tangent(j), rod.stored_director(j));
+  }
 }
 
 }  // namespace tailor::rod_detail

@@ -40,9 +40,14 @@ rod_detail::StencilEnergy<1, 3> RodStretchingTerm::energy_density(const Eigen::M
   return W;
 }
 
+std::array<rod_detail::Dual1<6>, 1> RodStretchingTerm::strain_gradients(const Eigen::Matrix<double, 6, 1>& local,
+                                                                          int) const {
+  return {rod_detail::edge_length<rod_detail::Dual1<6>>(local)};
+}
+
 Eigen::Matrix<double, 1, 1> RodStretchingTerm::strain_values(const Eigen::Matrix<double, 6, 1>& local,
                                                              int) const {
-  return Eigen::Matrix<double, 1, 1>((local.tail<3>() - local.head<3>()).norm());
+  return Eigen::Matrix<double, 1, 1>(rod_detail::edge_length<rod_detail::Dual0>(local).v);
 }
 
 std::string RodStretchingTerm::name() const { return "rod_stretching"; }

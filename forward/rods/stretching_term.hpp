@@ -21,6 +21,8 @@ class RodStretchingTerm final : public rod_detail::RodStencilTerm<RodStretchingT
   std::array<int, 6> stencil_dofs(int edge) const;
   std::array<int, 3> stencil_parameters(int edge) const;  // E, r, L
   std::array<Dual2<6>, 1> strains(const Eigen::Matrix<double, 6, 1>& local, int edge) const;
+  void prepare(const Vector&, int) const {}  // no shared per-edge data
+  std::array<rod_detail::Dual1<6>, 1> strain_gradients(const Eigen::Matrix<double, 6, 1>& local, int edge) const;
   Eigen::Matrix<double, 1, 1> strain_values(const Eigen::Matrix<double, 6, 1>& local, int edge) const;
   rod_detail::StencilEnergy<1, 3> energy_density(const Eigen::Matrix<double, 1, 1>& length,
                                                  const Eigen::Vector3d& q, int edge) const;

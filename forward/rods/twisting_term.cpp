@@ -24,9 +24,19 @@ std::array<int, 7> RodTwistingTerm::stencil_parameters(int i) const {
           b.radius + k,     b.rest_length + i,   b.rest_length + k};
 }
 
+void RodTwistingTerm::prepare(const Vector& x, int order) const {
+  if (order == 2)
+    rod_detail::edge_frames_of_rod(*rod_, x, frames2_);
+  else
+    rod_detail::edge_frames_of_rod(*rod_, x, frames1_);
+}
+
 std::array<rod_detail::BendTwistDual, 1> RodTwistingTerm::strains(const Local& local, int interior) const {
-  auto s = rod_detail::bend_twist_strains(local, rod_detail::stored_frames(*rod_, interior));
-  return {std::move(s.twist)};
+  const auto raw = rod_detail::reference_twist_of(
+      rod_detail::stencil_frames<Dual2<6>>(frames2_[static_cast<std::size_t>(interior)],
+                                           frames2_[static_cast<std::size_t>(rod_->next_edge(interior))]),
+      rod_detail::stored_frames(*rod_, interior));
+  return {rod_detail::twist_from_reference(raw, local)};
 }
 
 // W = GJ d^2 / lbar, d = m - mbar; derivatives in s = m and q (see header).
@@ -49,8 +59,16 @@ rod_detail::StencilEnergy<1, 7> RodTwistingTerm::energy_density(const Eigen::Mat
   return W;
 }
 
+std::array<rod_detail::BendTwistDual1, 1> RodTwistingTerm::strain_gradients(const Local& local, int interior) const {
+  const auto raw = rod_detail::reference_twist_of(
+      rod_detail::stencil_frames<rod_detail::Dual1<6>>(frames1_[static_cast<std::size_t>(interior)],
+                                                       frames1_[static_cast<std::size_t>(rod_->next_edge(interior))]),
+      rod_detail::stored_frames(*rod_, interior));
+  return {rod_detail::twist_from_reference(raw, local)};
+}
+
 Eigen::Matrix<double, 1, 1> RodTwistingTerm::strain_values(const Local& local, int interior) const {
-  const auto s = rod_detail::bend_twist_strains<1>(local, rod_detail::stored_frames(*rod_, interior));
+  const auto s = rod_detail::bend_twist_strains<rod_detail::Dual0>(local, rod_detail::stored_frames(*rod_, interior));
   return Eigen::Matrix<double, 1, 1>(s.twist.v);
 }
 

@@ -8,6 +8,7 @@
 // Exact derivatives for the stored frames (see bending_term.hpp and docs/rods.md).
 // Parameters: shear_modulus, radius, rest_length and rest_twist blocks.
 #include <memory>
+#include <vector>
 
 #include "forward/rods/rod_kinematics.hpp"
 #include "forward/rods/rod_parameters.hpp"
@@ -28,6 +29,9 @@ class RodTwistingTerm final
   // mbar, G_{i-1}, G_i, r_{i-1}, r_i, L_{i-1}, L_i
   std::array<int, 7> stencil_parameters(int interior) const;
   std::array<rod_detail::BendTwistDual, 1> strains(const Local& local, int interior) const;
+  // The edges' frames at x, shared by the two stencils at each edge (rod_stencils.hpp).
+  void prepare(const Vector& x, int order) const;
+  std::array<rod_detail::BendTwistDual1, 1> strain_gradients(const Local& local, int interior) const;
   Eigen::Matrix<double, 1, 1> strain_values(const Local& local, int interior) const;
   rod_detail::StencilEnergy<1, 7> energy_density(const Eigen::Matrix<double, 1, 1>& twist,
                                                  const Eigen::Matrix<double, 7, 1>& q, int interior) const;
@@ -36,6 +40,8 @@ class RodTwistingTerm final
   std::shared_ptr<const DiscreteRod> rod_;
   CrossSection section_;
   RodParameterBlocks blocks_;
+  mutable std::vector<rod_detail::EdgeFrameOf<Dual2<3>>> frames2_;
+  mutable std::vector<rod_detail::EdgeFrameOf<rod_detail::Dual1<3>>> frames1_;
 };
 
 // The stencil loop (value, gradient, Hessian, parameter derivatives with Dual2 numbers) is

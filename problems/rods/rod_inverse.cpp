@@ -38,6 +38,18 @@ std::string to_string(RodDesignBlock block) {
   return "?";
 }
 
+std::string to_string(RodInverseMethod method) {
+  switch (method) {
+    case RodInverseMethod::automatic:
+      return "auto";
+    case RodInverseMethod::inverse_statics:
+      return "inverse_statics";
+    case RodInverseMethod::optimizer:
+      return "optimizer";
+  }
+  return "?";
+}
+
 namespace {
 
 bool is_logarithmic(RodDesignBlock b) {
@@ -55,8 +67,9 @@ RodDesignBlock parse_block(const SceneNode& node) {
   node.fail("unknown design block");
 }
 
-// Offset and size of a designed block of rod `k` in p.
-std::pair<int, int> block_range(const RodSceneModel& m, int k, RodDesignBlock b) {
+}  // namespace
+
+std::pair<int, int> rod_design_block_range(const RodSceneModel& m, int k, RodDesignBlock b) {
   const RodParameterBlocks& blocks = m.blocks[static_cast<std::size_t>(k)];
   const DiscreteRod& rod = *m.rods[static_cast<std::size_t>(k)];
   switch (b) {
@@ -74,11 +87,9 @@ std::pair<int, int> block_range(const RodSceneModel& m, int k, RodDesignBlock b)
   return {0, 0};
 }
 
-}  // namespace
-
 RodInverseSpec parse_rod_inverse(const SceneNode& root, const RodSceneSpec& scene) {
   const SceneNode inv = root.at("inverse");
-  inv.expect_keys({"rod", "design", "per", "target", "regularization", "optimizer", "gradcheck"});
+  inv.expect_keys({"rod", "design", "per", "target", "regularization", "method", "optimizer", "gradcheck"});
   RodInverseSpec spec;
   if (const auto rod = inv.find("rod")) {
     if (rod->is_string()) {
@@ -143,6 +154,15 @@ RodInverseSpec parse_rod_inverse(const SceneNode& root, const RodSceneSpec& scen
     }
   }
   if (inv.has("regularization")) spec.regularization = inv.at("regularization").non_negative();
+  if (const auto method = inv.find("method")) {
+    const std::string m = method->choice({"auto", "inverse_statics", "optimizer"});
+    spec.method = m == "auto"              ? RodInverseMethod::automatic
+                  : m == "inverse_statics" ? RodInverseMethod::inverse_statics
+                                           : RodInverseMethod::optimizer;
+    if (spec.method == RodInverseMethod::inverse_statics)
+      if (const std::string why = rod_inverse_statics_obstacle(spec, scene); !why.empty())
+        method->fail("inverse statics does not apply: " + why);
+  }
 
   spec.optimizer.backend = OptimizerBackend::ceres_least_squares;
   spec.optimizer.max_iterations = 100;
@@ -194,7 +214,7 @@ std::unique_ptr<RodInverseProblem> build_rod_inverse(const SceneNode& root, cons
   std::vector<double> coefficients;
   std::vector<Vector> z_parts;
   for (RodDesignBlock b : P.spec.design) {
-    const auto [offset, size] = block_range(P.model, k, b);
+    const auto [offset, size] = rod_design_block_range(P.model, k, b);
     const Vector initial = P.model.p.segment(offset, size);
     const std::string label = to_string(b);
     if (is_logarithmic(b)) {
@@ -301,23 +321,71 @@ RodGradcheck gradcheck_rod_scene(const RodInverseProblem& problem, const std::st
   return check;
 }
 
+namespace {
+
+nlohmann::ordered_json stability_json(const RodStability& s) {
+  return {{"stable", s.stable()},
+          {"smallest_pivot", s.smallest_pivot},
+          {"largest_pivot", s.largest_pivot},
+          {"nonpositive_pivots", s.nonpositive_pivots},
+          {"residual_floor", s.residual_floor}};
+}
+
+}  // namespace
+
 RodInverseRun run_rod_inverse(RodInverseProblem& P, const std::string& out_dir, std::ostream* log,
                               std::ostream* progress) {
   RodInverseRun run;
   StaticFunctional& f = *P.functional;
-  const double initial_objective = f.value(P.z0);
-  run.initial_shape_error = P.shape_error(f.state());
   std::filesystem::create_directories(out_dir);
   const std::filesystem::path dir(out_dir);
-  write_rods_vtu((dir / "rods_initial.vtu").string(), P.model.outputs(), f.state(), f.parameters());
-  if (log)
-    *log << "designing " << P.name << ": " << P.z0.size() << " variables "
-         << dump_json(scene_json(P)["design"]) << ", " << P.spec.target_vertices.size()
-         << " target vertices; initial shape error " << run.initial_shape_error << " (of the rod's length), "
-         << to_string(P.spec.optimizer.backend) << "\n";
   OptimizerOptions options = P.spec.optimizer;
   options.progress = progress;
-  run.result = minimize(f, P.z0, Bounds{}, {}, options);
+  const std::string obstacle = P.spec.method == RodInverseMethod::optimizer
+                                   ? std::string("the scene asks for the optimizer")
+                                   : rod_inverse_statics_obstacle(P.spec, P.scene);
+  if (log)
+    *log << "designing " << P.name << ": " << P.z0.size() << " variables "
+         << dump_json(scene_json(P)["design"]) << ", " << P.spec.target_vertices.size() << " target vertices, "
+         << (obstacle.empty() ? std::string("inverse statics") : "optimizer " + to_string(options.backend) +
+                                                                     " (inverse statics: " + obstacle + ")")
+         << "\n";
+
+  // The shape at z0, for the report: solved first on the optimizer's path (its first
+  // evaluation), last on inverse statics' (whose equilibrium Newton then finds at once from the
+  // drawn state, where the functional's first solve starts).
+  double initial_objective = 0.0;
+  auto solve_initial = [&] {
+    initial_objective = f.value(P.z0);
+    run.initial_shape_error = P.shape_error(f.state());
+    write_rods_vtu((dir / "rods_initial.vtu").string(), P.model.outputs(), f.state(), f.parameters());
+  };
+  Vector start = P.z0;
+  bool optimize = true;
+  if (!obstacle.empty()) {
+    solve_initial();
+  } else {
+    run.statics = solve_rod_inverse_statics(P);
+    const RodInverseStaticsResult& s = *run.statics;
+    if (log) *log << "inverse statics (" << s.seconds << " s): " << s.message << "\n";
+    if (s.accepted() || P.spec.method == RodInverseMethod::inverse_statics) {
+      optimize = false;
+      run.method = RodInverseMethod::inverse_statics;
+      run.result.z = s.z;
+      run.result.seconds = s.seconds;
+      run.result.status = s.accepted() ? OptimizerStatus::converged : OptimizerStatus::failed;
+      run.result.message = "inverse statics: " + s.message;
+    } else {
+      run.fallback = "inverse statics rejected: " + s.message;
+      start = s.z;
+      if (log) *log << "falling back to the optimizer from its result\n";
+    }
+  }
+  if (optimize) {
+    run.method = RodInverseMethod::optimizer;
+    run.result = minimize(f, start, Bounds{}, {}, options);
+    if (run.statics) run.result.seconds += run.statics->seconds;
+  }
   double final_objective = run.result.objective;
   try {
     final_objective = f.value(run.result.z);
@@ -325,14 +393,37 @@ RodInverseRun run_rod_inverse(RodInverseProblem& P, const std::string& out_dir, 
   } catch (const EvaluationError&) {
     run.final_converged = false;
   }
+  if (!optimize) run.result.objective = final_objective;
   run.shape_error = P.shape_error(f.state());
+  run.final_stability =
+      rod_stability(*P.model.model, P.model.model->elimination().restrict_state(f.state()), f.parameters());
   write_rods_vtu((dir / "rods.vtu").string(), P.model.outputs(), f.state(), f.parameters());
+  const Vector final_parameters = f.parameters();
+  if (obstacle.empty()) solve_initial();
 
   nlohmann::ordered_json report;
   add_report_header(report);
   report["status"] = to_string(run.result.status);
   report["message"] = run.result.message;
   report["scene"] = scene_json(P);
+  report["method_requested"] = to_string(P.spec.method);
+  report["method"] = to_string(run.method);
+  report["fallback"] = run.fallback.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(run.fallback);
+  if (run.statics) {
+    const RodInverseStaticsResult& s = *run.statics;
+    report["inverse_statics"] = {{"accepted", s.accepted()},
+                                 {"message", s.message},
+                                 {"steps", s.steps},
+                                 {"residual_initial", s.residual_initial},
+                                 {"residual", s.residual},
+                                 {"residuals", s.residuals},
+                                 {"at_round_off", s.at_round_off},
+                                 {"stability", stability_json(s.stability)},
+                                 {"seconds", s.seconds}};
+  } else {
+    report["inverse_statics"] = {{"not_applicable", obstacle}};
+  }
+  report["final_stability"] = stability_json(run.final_stability);
   report["backend"] = to_string(options.backend);
   report["objective_initial"] = initial_objective;
   report["objective"] = final_objective;
@@ -343,8 +434,8 @@ RodInverseRun run_rod_inverse(RodInverseProblem& P, const std::string& out_dir, 
   report["seconds"] = run.result.seconds;
   nlohmann::ordered_json design = nlohmann::ordered_json::object();
   for (RodDesignBlock b : P.spec.design) {
-    const auto [offset, size] = block_range(P.model, P.spec.rod, b);
-    const Vector q = f.parameters().segment(offset, size);
+    const auto [offset, size] = rod_design_block_range(P.model, P.spec.rod, b);
+    const Vector q = final_parameters.segment(offset, size);
     design[to_string(b)] = std::vector<double>(q.data(), q.data() + q.size());
   }
   report["design"] = design;
@@ -359,7 +450,8 @@ RodInverseRun run_rod_inverse(RodInverseProblem& P, const std::string& out_dir, 
   report["history"] = optimizer_history_json(run.result);
   run.report_path = write_report(out_dir, report);
   if (log)
-    *log << "status " << to_string(run.result.status) << " after " << run.result.history.size()
+    *log << "method " << to_string(run.method) << ", status " << to_string(run.result.status) << " after "
+         << run.result.history.size()
          << " iterations (" << run.result.seconds << " s): shape error " << run.initial_shape_error << " -> "
          << run.shape_error << " of the rod's length, J " << initial_objective << " -> " << final_objective
          << "\nwrote " << run.report_path << ", " << (dir / "rods.vtu").string() << " and rods_initial.vtu\n";

@@ -10,11 +10,13 @@
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "adjoint/static_functional.hpp"
 #include "adjoint/taylor_test.hpp"
 #include "optimizers/optimizer.hpp"
+#include "problems/rods/rod_inverse_statics.hpp"
 #include "problems/rods/rod_scene.hpp"
 
 namespace tailor {
@@ -22,6 +24,13 @@ namespace tailor {
 // A designed parameter block of the rod.
 enum class RodDesignBlock { rest_curvature, rest_twist, rest_length, radius, youngs_modulus };
 std::string to_string(RodDesignBlock block);
+
+// How `tailor run` designs (the scene key inverse.method): inverse statics where it applies,
+// falling back to the optimizer when its result is not a stable equilibrium at round-off
+// (automatic, "auto"); inverse statics only (a scene where it does not apply is refused); the
+// optimizer only (problems/rods/rod_inverse_statics.hpp, docs/rods.md).
+enum class RodInverseMethod { automatic, inverse_statics, optimizer };
+std::string to_string(RodInverseMethod method);
 
 struct RodInverseSpec {
   int rod = 0;  // index into the scene's rods
@@ -32,6 +41,7 @@ struct RodInverseSpec {
   Matrix target_positions;
   std::vector<int> components = {0, 1, 2};  // the coordinates that are matched
   double regularization = 0.0;              // Tikhonov weight on the designed blocks (docs/rods.md)
+  RodInverseMethod method = RodInverseMethod::automatic;
   OptimizerOptions optimizer;
   unsigned seed = 1;  // of the gradcheck's random direction
 };
@@ -57,6 +67,9 @@ struct RodInverseProblem {
 // naming the source and key path (unknown keys included).
 RodInverseSpec parse_rod_inverse(const SceneNode& root, const RodSceneSpec& scene);
 
+// Offset and size in p of a designed block of rod `rod`.
+std::pair<int, int> rod_design_block_range(const RodSceneModel& model, int rod, RodDesignBlock block);
+
 // The scene's document with its "inverse" section; `name` is the scene's name in the outputs.
 // Throws SceneError naming the source and key path (unknown keys included).
 std::unique_ptr<RodInverseProblem> build_rod_inverse(const SceneNode& root, const std::string& name);
@@ -77,7 +90,12 @@ RodGradcheck gradcheck_rod_scene(const RodInverseProblem& problem, const std::st
 // `tailor run`: minimizes J from z0; writes out_dir/report.json and out_dir/rods.vtu at the best
 // design (and rods_initial.vtu at z0).
 struct RodInverseRun {
+  // The design: z, status and message; by inverse statics without history or evaluations.
   OptimizerResult result;
+  RodInverseMethod method = RodInverseMethod::optimizer;  // the one that gave the result
+  std::optional<RodInverseStaticsResult> statics;        // when inverse statics ran
+  std::string fallback;  // why the optimizer ran under "auto" (empty when it did not, or was asked)
+  RodStability final_stability;  // of the equilibrium at the best design
   double initial_shape_error = 0.0, shape_error = 0.0;  // relative to the rod's length
   bool final_converged = false;                         // the equilibrium at the best design
   std::string report_path;

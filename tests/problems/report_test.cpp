@@ -49,7 +49,8 @@ TEST(Report, HasEveryDocumentedKey) {
                           "applied_force_total"})
     EXPECT_TRUE(report["results"].contains(key)) << key;
   for (const char* key : {"load_factor", "status", "message", "iterations", "initial_residual",
-                          "final_residual", "energy", "seconds"})
+                          "final_residual", "residual_floor", "floor_ratio", "accuracy", "solution_change",
+                          "condition_estimate", "energy", "seconds"})
     EXPECT_TRUE(report["load_steps"][0].contains(key)) << key;
 
   EXPECT_EQ(report["scene"]["name"], "box");

@@ -65,28 +65,21 @@ def test_ctrl_c_stops_a_forward_solve(tmp_path):
 
 def test_ctrl_c_stops_building_a_functional():
     # scenes/inclusion_recovery.json with one variable per element: its synthetic observations
-    # are a Neo-Hookean forward solve of several Newton iterations before J exists. Reference:
-    # the same build without the interrupt; with SIGINT 0.2 s in, it ends with
-    # KeyboardInterrupt at the next Newton iteration, before the build would have ended.
+    # are a Neo-Hookean forward solve of several Newton iterations (about 2 s) before J exists.
+    # With SIGINT 0.2 s in, KeyboardInterrupt comes from inside the build, at its next Newton
+    # iteration (reference: the previous module let the build finish, and the interrupt then
+    # came from the test's own frame). No wall time is asserted (loaded machines vary).
     import threading
 
     document = read_json(scene_path("inclusion_recovery.json"))
     document["inverse"]["design"] = {"parameter": "youngs_modulus", "granularity": "per_element", "map": "log",
                                      "min": 1e4, "max": 1e7}
     scene = tailor.load(document, directory=str(scene_path(".")))
-    start = time.perf_counter()
-    scene.functional()
-    whole = time.perf_counter() - start
-
     timer = threading.Timer(0.2, lambda: os.kill(os.getpid(), signal.SIGINT))
-    start = time.perf_counter()
     timer.start()
     with pytest.raises(KeyboardInterrupt) as raised:
         scene.functional()
-    elapsed = time.perf_counter() - start
     timer.cancel()
     # Raised from inside the build (the compiled constructor called by tailor.Functional), not
-    # by Python once the build had returned; the build's Newton lines are the checks, so it
-    # stops at the first one after the signal.
+    # by Python once the build had returned.
     assert raised.traceback[-1].name == "__init__", raised.traceback
-    assert elapsed < whole, (elapsed, whole)

@@ -66,6 +66,16 @@ Vector linear_pressure_forces(const Mesh& mesh, const Eigen::MatrixXi& facets, d
 // A quarter of it, with symmetry conditions on x = 0 and y = 0.
 constexpr double kInner = 1.0, kOuter = 2.0, kPressure = 1.0, kModulus = 1000.0, kPoisson = 0.4999;
 
+// Linear triangles of the linear material, per-element E and nu in p (the P1 comparisons).
+Model linear_plane_model(const Mesh& mesh) {
+  const int m = mesh.num_elements();
+  Model model(2 * mesh.num_vertices());
+  model.parameter_layout().add("youngs_modulus", m);
+  model.parameter_layout().add("poisson_ratio", m);
+  model.add(std::make_unique<ElasticTerm<2>>(mesh, make_material<2>(MaterialKind::linear), 0, m));
+  return model;
+}
+
 double lame_radial_displacement(double r) {
   return (1 + kPoisson) * kPressure * kInner * kInner / (kModulus * (kOuter * kOuter - kInner * kInner)) *
          ((1 - 2 * kPoisson) * r + kOuter * kOuter / r);
@@ -111,11 +121,8 @@ double cylinder_error(const Eigen::MatrixXd& positions, const Vector& x) {
 double cylinder_p1_error(int nr, int nt) {
   Mesh mesh = rectangle_triangle_mesh(Eigen::Vector2d(kInner, 0), Eigen::Vector2d(kOuter, M_PI / 2), nr, nt);
   to_polar(mesh.rest_positions);
-  Model model(2 * mesh.num_vertices());
+  Model model = linear_plane_model(mesh);
   const int m = mesh.num_elements();
-  model.parameter_layout().add("youngs_modulus", m);
-  model.parameter_layout().add("poisson_ratio", m);
-  model.add(std::make_unique<ElasticTerm<2>>(mesh, make_material<2>(MaterialKind::linear), 0, m));
   model.add(std::make_unique<ExternalForceTerm>(
       linear_pressure_forces(mesh, boundary_facets_where(mesh, on_inner), kPressure)));
   const Vector rest = flat_positions(mesh.rest_positions);
@@ -198,11 +205,8 @@ bool on_right(const Eigen::VectorXd& X) { return X[0] > 48 - 1e-9; }
 double cook_tip_p1(int n, double E, double nu, double F) {
   Mesh mesh = rectangle_triangle_mesh(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), n, n);
   to_cook(mesh.rest_positions);
-  Model model(2 * mesh.num_vertices());
+  Model model = linear_plane_model(mesh);
   const int m = mesh.num_elements();
-  model.parameter_layout().add("youngs_modulus", m);
-  model.parameter_layout().add("poisson_ratio", m);
-  model.add(std::make_unique<ElasticTerm<2>>(mesh, make_material<2>(MaterialKind::linear), 0, m));
   model.add(std::make_unique<ExternalForceTerm>(
       traction_forces(mesh, boundary_facets_where(mesh, on_right), Eigen::Vector2d(0, F / 16))));
   std::vector<int> fixed;

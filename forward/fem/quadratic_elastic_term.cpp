@@ -49,6 +49,27 @@ Eigen::Matrix2d QuadraticElasticTerm<Dim>::lame_chain(const Vector& p, int eleme
 }
 
 template <int Dim>
+Eigen::MatrixXd QuadraticElasticTerm<Dim>::stresses(const Vector& x, const Vector& p) const {
+  Eigen::MatrixXd out(simplices_.elements.size(), Dim * Dim);
+  for (std::size_t k = 0; k < simplices_.elements.size(); ++k) {
+    const int kk = static_cast<int>(k);
+    const LameParameters lame_k = lame(p, simplices_.elements[k]);
+    Eigen::Matrix<double, Dim, Dim> mean = Eigen::Matrix<double, Dim, Dim>::Zero();
+    double volume = 0.0;
+    for (int q = 0; q < kPoints; ++q) {
+      MaterialEvaluation<Dim> m;
+      material_->evaluate(deformation_gradient(x, kk, q), lame_k, true, false, HessianMode::exact, m);
+      mean += simplices_.weight(kk, q) * m.stress;
+      volume += simplices_.weight(kk, q);
+    }
+    mean /= volume;
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j) out(kk, Dim * i + j) = mean(i, j);
+  }
+  return out;
+}
+
+template <int Dim>
 void QuadraticElasticTerm<Dim>::evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const {
   evaluate_elements<Dim>(simplices_, request, [&](int k, ElementOutput<Dim, kNodes>& out) {
     const LameParameters lame_k = lame(p, simplices_.elements[static_cast<std::size_t>(k)]);

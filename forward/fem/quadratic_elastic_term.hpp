@@ -43,6 +43,10 @@ class QuadraticElasticTerm final : public EnergyTerm {
   bool share_by_elements(const std::function<bool(const int* dofs, int count)>& keep,
                          std::unique_ptr<EnergyTerm>& share) const override;
 
+  // First Piola-Kirchhoff stress per covered element (rows in elements() order, row-major
+  // Dim x Dim): the element's mean, sum_q w_q P(F_q) / sum_q w_q, for outputs.
+  Eigen::MatrixXd stresses(const Vector& x, const Vector& p) const;
+
   // Deformation gradient at quadrature point q of covered element k (index into elements()).
   Eigen::Matrix<double, Dim, Dim> deformation_gradient(const Vector& x, int k, int q) const {
     return simplices_.field_gradient(x, k, q);

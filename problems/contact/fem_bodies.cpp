@@ -49,6 +49,7 @@ FemBodySpec parse_fem_body(const SceneNode& node, const Eigen::Vector3d& gravity
 FemBodyPart build_fem_body(const FemBodySpec& spec, int dof_offset, int parameter_offset) {
   FemBodyPart part;
   part.name = spec.name;
+  require_linear_elements(*spec.scene, "contact bodies");
   part.setup = setup_static_scene(*spec.scene);
   if (part.setup.dim() != 3)
     throw SceneError(spec.scene->source + ": mesh: contact scenes need a 3D (tetrahedral) mesh");

@@ -13,7 +13,8 @@ namespace {
 
 void print_setup(std::ostream& log, const Scene& scene, const StaticSetup& setup) {
   log << "scene '" << scene.name << "' (" << scene.source << "): " << setup.dim() << "D mesh, "
-      << setup.mesh.num_vertices() << " vertices, " << setup.mesh.num_elements() << " elements, "
+      << setup.mesh.num_vertices() << " vertices, " << setup.mesh.num_elements()
+      << (setup.quadratic ? " quadratic elements (" + std::to_string(setup.num_nodes()) + " nodes), " : " elements, ")
       << setup.materials.size() << " material(s); " << setup.num_dofs() << " DOFs, "
       << setup.fixed_dofs.size() << " fixed" << (setup.has_loads ? "" : "; no loads") << "\n";
 }

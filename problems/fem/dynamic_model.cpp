@@ -9,6 +9,7 @@ namespace tailor {
 DynamicSceneModel build_dynamic_scene(const Scene& scene) {
   const DynamicsSpec& spec = *scene.dynamics;
   DynamicSceneModel d;
+  require_linear_elements(scene, "dynamics");
   d.setup = setup_static_scene(scene);
   const int dim = d.setup.dim(), m = d.setup.mesh.num_elements();
   for (std::size_t k = 0; k < scene.materials.size(); ++k)

@@ -7,6 +7,7 @@
 
 #include "forward/fem/elastic_term.hpp"
 #include "forward/fem/loads.hpp"
+#include "forward/fem/quadratic_elastic_term.hpp"
 #include "forward/reduction/free_space.hpp"
 #include "problems/fem/scene_parsing.hpp"
 #include "problems/fem/scene_selection.hpp"
@@ -123,13 +124,17 @@ std::vector<std::shared_ptr<const EnergyTerm>> reaction_terms(const InverseProbl
           touching.push_back(e);
           break;
         }
-    if (!touching.empty())
+    if (touching.empty()) continue;
+    if (setup.quadratic)
+      terms.push_back(std::make_shared<QuadraticElasticTerm<Dim>>(
+          *setup.quadratic, make_material<Dim>(block.kind), problem.youngs_offset, poisson_offset, std::move(touching)));
+    else
       terms.push_back(std::make_shared<ElasticTerm<Dim>>(
           mesh, make_material<Dim>(block.kind), problem.youngs_offset, poisson_offset, std::move(touching)));
   }
   if (setup.has_loads) {
     Vector loads = Vector::Zero(setup.num_dofs());
-    for (int v = 0; v < mesh.num_vertices(); ++v)
+    for (int v = 0; v < mesh.num_vertices(); ++v)  // handle DOFs are vertices' (corners come first)
       if (on_handle[static_cast<std::size_t>(v)])
         loads.segment(Dim * v, Dim) = setup.nodal_forces.segment(Dim * v, Dim);
     terms.push_back(std::make_shared<ExternalForceTerm>(std::move(loads), "external_force"));

@@ -30,6 +30,7 @@ Eigen::MatrixXd point_field(const Vector& mode, int dim) {
 
 ModesRun modes_scene(const Scene& scene, int count, const std::string& out_dir, std::ostream* log) {
   const auto start = std::chrono::steady_clock::now();
+  require_linear_elements(scene, "modes");
   const StaticSetup setup = setup_static_scene(scene);
   if (setup.density.size() > 0 && setup.density.minCoeff() <= 0.0)
     throw SceneError(scene.source + ": materials: modal analysis needs a density > 0 in every material");

@@ -14,14 +14,14 @@ namespace tailor {
 std::vector<std::string> locking_warnings(const Scene& scene) {
   std::vector<std::string> warnings;
   for (const MaterialSpec& m : scene.materials) {
-    if (m.spline_curves || m.poisson_ratio < kLockingPoissonRatio) continue;
+    if (scene.mesh.order == 2 || m.spline_curves || m.poisson_ratio < kLockingPoissonRatio) continue;
     warnings.push_back(scene.source + ": " + m.key + ".poisson_ratio: " + format_number(m.poisson_ratio) +
                        " on linear elements: nearly incompressible material locks on linear tets and "
                        "triangles (displacements too small, by a factor growing like 1 / (1 - 2 nu) = " +
                        format_number(1.0 / (1.0 - 2.0 * m.poisson_ratio)) +
-                       " in bending); refine a lot, use a lower Poisson's ratio, or quadratic elements "
-                       "(from C++ for now: docs/materials.md, \"Quadratic elements for nearly "
-                       "incompressible solids\")");
+                       " in bending); use quadratic elements (\"mesh\": {..., \"order\": 2}, "
+                       "docs/materials.md, \"Quadratic elements for nearly incompressible solids\"), "
+                       "refine a lot, or use a lower Poisson's ratio");
   }
   return warnings;
 }

@@ -259,6 +259,7 @@ ReducedDesign build_reduced_design(const Scene& scene) {
   }
   if (!term) scene_fail(scene, "inverse.objective", "the reduced design loop needs a \"handles\" term");
 
+  require_linear_elements(scene, "the reduced design loop (" + reduction.key + ")");
   design.setup = setup_static_scene(scene);
   StaticSetup& setup = design.setup;
   const Mesh& mesh = setup.mesh;

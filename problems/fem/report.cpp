@@ -72,15 +72,18 @@ void write_report_json(const std::string& path, const Scene& scene, const Static
                        {"solve", timings.solve},
                        {"line_search", timings.line_search},
                        {"output", timings.output}};
-  report["mesh"] = {
-      {"dim", setup.dim()}, {"vertices", setup.mesh.num_vertices()}, {"elements", setup.mesh.num_elements()}};
+  report["mesh"] = {{"dim", setup.dim()},
+                    {"vertices", setup.mesh.num_vertices()},
+                    {"elements", setup.mesh.num_elements()},
+                    {"order", setup.order()},
+                    {"nodes", setup.num_nodes()}};
   report["dofs"] = {{"total", setup.num_dofs()},
                     {"free", solution.num_free},
                     {"fixed", static_cast<int>(setup.fixed_dofs.size())}};
   // The load actually applied: the last attempted step's share of the full load.
   const double load_factor = solution.steps.empty() ? 1.0 : solution.steps.back().load_factor;
   const Eigen::VectorXd applied =
-      load_factor * setup.nodal_forces.reshaped(setup.dim(), setup.mesh.num_vertices()).rowwise().sum();
+      load_factor * setup.nodal_forces.reshaped(setup.dim(), setup.num_nodes()).rowwise().sum();
   report["results"] = {{"max_displacement", solution.max_displacement},
                        {"max_displacement_vertex", solution.max_displacement_vertex},
                        {"energy", solution.energy},

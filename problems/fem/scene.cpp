@@ -171,7 +171,19 @@ ElementSelector parse_element_selector(const SceneNode& node) {
 
 MeshSpec parse_mesh(const SceneNode& node, const std::string& directory) {
   MeshSpec m;
-  const std::string kind = node.only_key({"file", "box", "rectangle"});
+  node.expect_keys({"file", "box", "rectangle", "order"});
+  int shapes = 0;
+  std::string kind;
+  for (const char* k : {"file", "box", "rectangle"})
+    if (node.has(k)) {
+      ++shapes;
+      kind = k;
+    }
+  if (shapes != 1) node.fail("expected exactly one of the keys \"file\", \"box\", \"rectangle\" (and optionally \"order\")");
+  if (auto order = node.find("order")) {
+    m.order = order->integer(1);
+    if (m.order > 2) order->fail("expected 1 (linear elements) or 2 (quadratic elements), got " + std::to_string(m.order));
+  }
   if (kind == "file") {
     m.kind = MeshSpec::Kind::file;
     m.file = resolve_scene_path(directory, node.at("file").string());

@@ -27,6 +27,9 @@ struct MeshSpec {
   std::string file;          // kind == file: path resolved against the scene's folder
   Eigen::VectorXd min, max;  // box (3) / rectangle (2) corners
   Eigen::VectorXi cells;     // cells per axis, each >= 1
+  // 1: linear elements (4-node tets, 3-node triangles); 2: quadratic ones (10-node tets, 6-node
+  // triangles; forward/mesh/quadratic_mesh.hpp) over the same corners, for static scenes.
+  int order = 1;
 };
 
 // Which elements a material covers.

@@ -13,6 +13,8 @@
 #include "forward/fem/elastic_term.hpp"
 #include "forward/fem/loads.hpp"
 #include "forward/fem/materials/spline_material.hpp"
+#include "forward/fem/quadratic_elastic_term.hpp"
+#include "forward/fem/quadratic_loads.hpp"
 #include "forward/mesh/generate.hpp"
 #include "forward/mesh/mesh_io.hpp"
 #include "forward/reduction/free_space.hpp"
@@ -70,6 +72,27 @@ void assign_materials(const Scene& scene, StaticSetup& setup) {
                             ") is covered by no material (every element needs exactly one)");
 }
 
+// The nodes a vertex selection holds: the vertices, and with quadratic elements the node of
+// every edge whose two ends are selected (so a clamped face holds its edge nodes too, while a
+// list of single vertices holds only those).
+std::vector<int> spec_nodes(const StaticSetup& setup, std::vector<int> vertices) {
+  if (!setup.quadratic) return vertices;
+  const QuadraticMesh& q = *setup.quadratic;
+  std::vector<bool> selected(static_cast<std::size_t>(q.num_corners()), false);
+  for (int v : vertices) selected[static_cast<std::size_t>(v)] = true;
+  for (int i = 0; i < q.edges.rows(); ++i)
+    if (selected[static_cast<std::size_t>(q.edges(i, 0))] && selected[static_cast<std::size_t>(q.edges(i, 1))])
+      vertices.push_back(q.num_corners() + i);
+  return vertices;
+}
+
+std::string node_name(const StaticSetup& setup, int node) {
+  if (node < setup.mesh.num_vertices()) return "vertex " + std::to_string(node);
+  const int edge = node - setup.mesh.num_vertices();
+  return "the edge node between vertices " + std::to_string(setup.quadratic->edges(edge, 0)) + " and " +
+         std::to_string(setup.quadratic->edges(edge, 1));
+}
+
 void assign_dirichlet(const Scene& scene, StaticSetup& setup) {
   const int dim = setup.dim();
   setup.prescribed_displacement = Vector::Zero(setup.num_dofs());
@@ -89,13 +112,13 @@ void assign_dirichlet(const Scene& scene, StaticSetup& setup) {
         throw_scene_error(
             scene, spec.key + ".components",
             "component " + std::to_string(k) + " does not exist in a " + std::to_string(dim) + "D mesh");
-    for (int v : select_vertices(scene, setup.mesh, spec.vertices))
+    for (int v : spec_nodes(setup, select_vertices(scene, setup.mesh, spec.vertices)))
       for (int k : components) {
         const int dof = dim * v + k;
         const int previous = owner[static_cast<std::size_t>(dof)];
         if (previous >= 0 && setup.prescribed_displacement[dof] != u[k])
           throw_scene_error(scene, spec.key,
-                            "prescribes vertex " + std::to_string(v) + " component " + std::to_string(k) +
+                            "prescribes " + node_name(setup, v) + " component " + std::to_string(k) +
                                 " differently from " + scene.dirichlet[previous].key);
         owner[static_cast<std::size_t>(dof)] = static_cast<int>(c);
         setup.prescribed_displacement[dof] = u[k];
@@ -116,11 +139,15 @@ void assign_loads(const Scene& scene, StaticSetup& setup) {
     if (setup.density.maxCoeff() <= 0.0)
       throw_scene_error(scene, loads.gravity_key,
                         "has no effect: every material has density 0 (give materials a density)");
-    setup.nodal_forces += gravity_forces(mesh, setup.density, *loads.gravity);
+    setup.nodal_forces += setup.quadratic ? quadratic_gravity_forces(*setup.quadratic, setup.density, *loads.gravity)
+                                          : gravity_forces(mesh, setup.density, *loads.gravity);
   }
   for (const TractionSpec& t : loads.tractions) {
     check_dimension(scene, mesh, t.traction, t.key + ".traction");
-    setup.nodal_forces += traction_forces(mesh, select_boundary_facets(scene, mesh, t.faces), t.traction);
+    const Eigen::MatrixXi facets = select_boundary_facets(scene, mesh, t.faces);
+    setup.nodal_forces += setup.quadratic ? quadratic_traction_forces(*setup.quadratic,
+                                                                      quadratic_facets(*setup.quadratic, facets), t.traction)
+                                          : traction_forces(mesh, facets, t.traction);
   }
   for (const NodalForceSpec& n : loads.nodal) {
     check_dimension(scene, mesh, n.force, n.key + ".force");
@@ -150,16 +177,20 @@ void add_elastic_terms(const StaticSetup& setup, Model& model, int youngs_offset
     std::shared_ptr<const Material<Dim>> material =
         block.spline_curves ? std::make_shared<const SplineMaterial<Dim>>(*block.spline_curves)
                             : std::shared_ptr<const Material<Dim>>(make_material<Dim>(block.kind));
-    model.add(std::make_unique<ElasticTerm<Dim>>(setup.mesh, material, youngs_offset, poisson_offset,
-                                                 block.elements));
+    if (setup.quadratic)
+      model.add(std::make_unique<QuadraticElasticTerm<Dim>>(*setup.quadratic, material, youngs_offset, poisson_offset,
+                                                            block.elements));
+    else
+      model.add(std::make_unique<ElasticTerm<Dim>>(setup.mesh, material, youngs_offset, poisson_offset,
+                                                   block.elements));
   }
 }
 
-// Calls f(term) for each elastic term of the model (of dimension Dim).
-template <int Dim, class F>
+// Calls f(term) for each elastic term of the model of type Term.
+template <int Dim, class Term, class F>
 void for_each_elastic_term(const Model& model, F&& f) {
   for (const auto& term : model.terms())
-    if (const auto* elastic = dynamic_cast<const ElasticTerm<Dim>*>(term.get())) f(*elastic);
+    if (const auto* elastic = dynamic_cast<const Term*>(term.get())) f(*elastic);
 }
 
 template <int Dim>
@@ -167,12 +198,14 @@ void postprocess(const StaticSetup& setup, const Model& model, const Vector& p, 
   const Vector& x = out.positions;
   out.stresses = Eigen::MatrixXd::Zero(setup.mesh.num_elements(), Dim * Dim);
   Vector elastic_gradient = Vector::Zero(x.size());
-  for_each_elastic_term<Dim>(model, [&](const ElasticTerm<Dim>& term) {
+  auto collect = [&](const auto& term) {
     const Eigen::MatrixXd stresses = term.stresses(x, p);
     for (std::size_t k = 0; k < term.elements().size(); ++k)
       out.stresses.row(term.elements()[k]) = stresses.row(static_cast<Eigen::Index>(k));
     term.add_gradient(x, p, elastic_gradient);
-  });
+  };
+  for_each_elastic_term<Dim, ElasticTerm<Dim>>(model, collect);
+  for_each_elastic_term<Dim, QuadraticElasticTerm<Dim>>(model, collect);
   out.reaction_force_total = Eigen::VectorXd::Zero(Dim);
   for (int dof : setup.fixed_dofs) out.reaction_force_total[dof % Dim] -= elastic_gradient[dof];
 }
@@ -180,6 +213,7 @@ void postprocess(const StaticSetup& setup, const Model& model, const Vector& p, 
 }  // namespace
 
 Vector StaticSetup::rest_state() const {
+  if (quadratic) return quadratic_rest_state(*quadratic);
   const Eigen::MatrixXd transposed = mesh.rest_positions.transpose();  // dim x nv, column-major = interleaved
   return Eigen::Map<const Vector>(transposed.data(), transposed.size());
 }
@@ -193,6 +227,7 @@ Vector StaticSetup::parameters() const {
 StaticSetup setup_static_scene(const Scene& scene) {
   StaticSetup setup;
   setup.mesh = make_mesh(scene.mesh);
+  if (scene.mesh.order == 2) setup.quadratic = std::make_shared<const QuadraticMesh>(make_quadratic_mesh(setup.mesh));
   setup.solver = scene.solver;
   assign_materials(scene, setup);
   assign_dirichlet(scene, setup);
@@ -200,8 +235,18 @@ StaticSetup setup_static_scene(const Scene& scene) {
   return setup;
 }
 
+void require_linear_elements(const Scene& scene, const std::string& what) {
+  if (scene.mesh.order == 1) return;
+  throw_scene_error(scene, "mesh.order",
+                    "quadratic elements (order 2) are available for static solves (simulate, check) and "
+                    "inverse problems with a full-space design; not yet for " + what + ": use \"order\": 1");
+}
+
 void require_supported(const Scene& scene, const StaticSetup& setup) {
-  const std::vector<std::string> free = unconstrained_rigid_motions(setup.mesh, setup.fixed_dofs);
+  // The corners' supports decide: fixed edge nodes come only with both their ends.
+  std::vector<int> corner_dofs = setup.fixed_dofs;
+  std::erase_if(corner_dofs, [&](int dof) { return dof >= setup.dim() * setup.mesh.num_vertices(); });
+  const std::vector<std::string> free = unconstrained_rigid_motions(setup.mesh, corner_dofs);
   if (free.empty()) return;
   std::string list;
   for (const std::string& motion : free) list += (list.empty() ? "" : "; ") + motion;
@@ -296,7 +341,7 @@ StaticSolution solve_static_steps(const StaticSetup& setup, const Vector* start,
     }
   }
   const Vector u = out.positions - setup.rest_state();
-  out.displacement =
+  out.displacement =  // the corners' (the head of the state) with quadratic elements
       Eigen::Map<const Eigen::MatrixXd>(u.data(), setup.dim(), setup.mesh.num_vertices()).transpose();
   const Eigen::VectorXd norms = out.displacement.rowwise().norm();
   out.max_displacement = norms.size() ? norms.maxCoeff(&out.max_displacement_vertex) : 0.0;

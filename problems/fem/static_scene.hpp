@@ -13,6 +13,7 @@
 #include "adjoint/derivative_check.hpp"
 #include "forward/core/model.hpp"
 #include "forward/mesh/mesh.hpp"
+#include "forward/mesh/quadratic_mesh.hpp"
 #include "forward/solve/newton.hpp"
 #include "problems/fem/scene.hpp"
 
@@ -32,9 +33,16 @@ struct StaticSetup;
 using EnergyTermFactory = std::function<std::unique_ptr<EnergyTerm>(const StaticSetup& setup)>;
 
 // Everything a static solve needs, checked against the mesh. Vectors over DOFs are interleaved
-// like the state (index dim * vertex + component).
+// like the state (index dim * node + component).
+//
+// Quadratic elements ("mesh": {"order": 2}): `quadratic` holds the P2 mesh whose corners are
+// `mesh`, and the state holds every node, the corners first (node v < mesh.num_vertices() is
+// vertex v), so a vertex's DOFs are where they are for linear elements and every vertex-indexed
+// input (selectors, observations, nodal forces) keeps its meaning. Per-element data are per
+// element of either. Outputs per vertex (displacement, VTU) are the corners'.
 struct StaticSetup {
   Mesh mesh;
+  std::shared_ptr<const QuadraticMesh> quadratic;  // set: quadratic elements over mesh
   std::vector<MaterialBlock> materials;
   Eigen::VectorXi element_material;  // per element: index into materials (= scene.materials)
   Eigen::VectorXd youngs_modulus;    // per element
@@ -48,8 +56,10 @@ struct StaticSetup {
   std::vector<EnergyTermFactory> extra_terms;  // user energy terms (not from the scene file)
 
   int dim() const { return mesh.dim(); }
-  int num_dofs() const { return mesh.dim() * mesh.num_vertices(); }
-  Vector rest_state() const;  // rest positions, interleaved
+  int num_nodes() const { return quadratic ? quadratic->num_nodes() : mesh.num_vertices(); }
+  int num_dofs() const { return mesh.dim() * num_nodes(); }
+  int order() const { return quadratic ? 2 : 1; }
+  Vector rest_state() const;  // rest positions of every node, interleaved
   Vector parameters() const;  // p: blocks "youngs_modulus" then "poisson_ratio"
 };
 
@@ -59,6 +69,11 @@ StaticSetup setup_static_scene(const Scene& scene);
 // A static equilibrium needs supports that leave no rigid motion free (its stiffness matrix is
 // singular otherwise): throws a SceneError at "dirichlet" naming the free motions.
 void require_supported(const Scene& scene, const StaticSetup& setup);
+
+// Quadratic elements ("mesh": {"order": 2}) serve static solves (simulate, check) and inverse
+// problems on the full-space adjoint; every other use (`what`, e.g. "dynamics") calls this
+// first, which throws a SceneError at "mesh.order" for an order-2 scene.
+void require_linear_elements(const Scene& scene, const std::string& what);
 
 // The Model at a load factor s in (0, 1]: one ElasticTerm per material block, one
 // ExternalForceTerm with s * nodal_forces when the scene has loads, the extra_terms, and Dirichlet
@@ -77,7 +92,7 @@ struct StaticSolution {
   std::vector<LoadStep> steps;  // the steps attempted (stops at the first failure)
   int num_free = 0;
   Vector positions;               // final state x (the last iterate when the solve failed)
-  Eigen::MatrixXd displacement;   // num_vertices x dim
+  Eigen::MatrixXd displacement;   // num_vertices x dim (the corners' with quadratic elements)
   double energy = 0.0;            // total potential at the final state and load factor
   // |S^T dE/dx| at the final state, evaluated afresh; a converged solve whose last Newton
   // residual it exceeds tenfold (and the floor) is reported as status "inconsistent_residual".

@@ -84,6 +84,7 @@ RodFemSimulation simulate_rods_with_fem(const SceneNode& root, const std::string
   for (const char* key : {"name", "description", "mesh", "materials", "dirichlet", "loads", "solver"})
     if (root.has(key)) fem[key] = root.at(key).json();
   const Scene scene = parse_scene(SceneNode(fem, source, ""), directory);
+  require_linear_elements(scene, "a mesh coupled to rods");
   const StaticSetup setup = setup_static_scene(scene);
   require_supported(scene, setup);  // a body free to move rigidly has no equilibrium (nor do free rods)
   if (setup.solver.load_steps > 1)

@@ -1,0 +1,29 @@
+#pragma once
+// Analytic solids for the meshless simulator (issue 34, docs/meshless.md): a signed distance
+// d(X) (negative inside, zero on the boundary) and a bounding box. The node placement and the
+// clipped quadrature (octree_sampling.hpp) rely on d being 1-Lipschitz with |d(X)| no larger
+// than the distance from X to the boundary, so that a cell whose centre has |d| above its
+// half-diagonal lies wholly on one side. The exact signed distances below have that property.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+
+namespace tailor {
+
+struct AnalyticShape {
+  std::string name;
+  std::function<double(const Eigen::Vector3d&)> signed_distance;
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();  // bounding box
+  double exact_volume = 0.0;
+  bool inside(const Eigen::Vector3d& X) const { return signed_distance(X) <= 0.0; }
+};
+
+// Axis-aligned box [lo, hi]. std::invalid_argument unless lo < hi componentwise.
+AnalyticShape box_shape(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+// Ball of the given centre and radius > 0.
+AnalyticShape sphere_shape(const Eigen::Vector3d& center, double radius);
+// Solid circular cylinder along coordinate axis `axis` (0, 1, 2) through `center`, radius and
+// length > 0 (flat caps at center +- length / 2 along the axis).
+AnalyticShape cylinder_shape(const Eigen::Vector3d& center, double radius, double length, int axis = 2);
+
+}  // namespace tailor

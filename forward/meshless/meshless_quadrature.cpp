@@ -1,0 +1,59 @@
+#include "forward/meshless/meshless_quadrature.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace tailor {
+
+Eigen::Matrix3d MeshlessQuadrature::deformation_gradient(const Vector& x, int q) const {
+  Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+  for (int t = begin[static_cast<std::size_t>(q)]; t < begin[static_cast<std::size_t>(q) + 1]; ++t)
+    F.noalias() += x.segment<3>(3 * nodes[static_cast<std::size_t>(t)]) * gradients[static_cast<std::size_t>(t)].transpose();
+  return F;
+}
+
+double MeshlessQuadrature::interpolate(const Vector& v, int offset, int q) const {
+  double s = 0.0;
+  for (int t = begin[static_cast<std::size_t>(q)]; t < begin[static_cast<std::size_t>(q) + 1]; ++t)
+    s += values[static_cast<std::size_t>(t)] * v[offset + nodes[static_cast<std::size_t>(t)]];
+  return s;
+}
+
+MeshlessQuadrature build_meshless_quadrature(const MlsShapeFunctions& mls, const Eigen::MatrixXd& points,
+                                             const Eigen::VectorXd& weights) {
+  if (points.cols() != 3 || points.rows() != weights.size())
+    throw std::invalid_argument("build_meshless_quadrature: points must be q x 3 with one weight per point");
+  MeshlessQuadrature out;
+  out.num_nodes = mls.num_nodes();
+  out.begin.push_back(0);
+  for (Eigen::Index q = 0; q < points.rows(); ++q) {
+    const Eigen::Vector3d X = points.row(q).transpose();
+    const MlsValues v = mls.evaluate(X);
+    out.points.push_back(X);
+    out.weights.push_back(weights[q]);
+    out.max_condition = std::max(out.max_condition, v.condition);
+    for (std::size_t t = 0; t < v.nodes.size(); ++t) {
+      out.nodes.push_back(v.nodes[t]);
+      out.values.push_back(v.values[static_cast<Eigen::Index>(t)]);
+      out.gradients.push_back(v.gradients.row(static_cast<Eigen::Index>(t)).transpose());
+    }
+    out.begin.push_back(static_cast<int>(out.nodes.size()));
+  }
+  return out;
+}
+
+Vector meshless_point_forces(const MlsShapeFunctions& mls, const Eigen::MatrixXd& points, const Eigen::VectorXd& weights,
+                             const Eigen::MatrixXd& densities) {
+  if (points.cols() != 3 || points.rows() != weights.size() || densities.rows() != points.rows() || densities.cols() != 3)
+    throw std::invalid_argument("meshless_point_forces: points and densities must be s x 3 with one weight per point");
+  Vector f = Vector::Zero(3 * mls.num_nodes());
+  for (Eigen::Index s = 0; s < points.rows(); ++s) {
+    const MlsValues v = mls.evaluate(points.row(s).transpose());
+    for (std::size_t t = 0; t < v.nodes.size(); ++t)
+      f.segment<3>(3 * v.nodes[t]) += weights[s] * v.values[static_cast<Eigen::Index>(t)] * densities.row(s).transpose();
+  }
+  return f;
+}
+
+}  // namespace tailor

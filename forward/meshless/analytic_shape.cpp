@@ -1,5 +1,6 @@
 #include "forward/meshless/analytic_shape.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -57,6 +58,22 @@ AnalyticShape cylinder_shape(const Eigen::Vector3d& center, double radius, doubl
   s.lo[axis] = center[axis] - 0.5 * length;
   s.hi[axis] = center[axis] + 0.5 * length;
   s.exact_volume = M_PI * radius * radius * length;
+  return s;
+}
+
+AnalyticShape shell_octant_shape(const Eigen::Vector3d& center, double inner_radius, double outer_radius) {
+  if (!(inner_radius > 0.0) || !(outer_radius > inner_radius))
+    throw std::invalid_argument("shell_octant_shape: needs 0 < inner_radius < outer_radius");
+  AnalyticShape s;
+  s.name = "shell_octant";
+  s.signed_distance = [center, inner_radius, outer_radius](const Eigen::Vector3d& X) {
+    const Eigen::Vector3d d = X - center;
+    const double r = d.norm();
+    return std::max({r - outer_radius, inner_radius - r, -d[0], -d[1], -d[2]});
+  };
+  s.lo = center;
+  s.hi = center.array() + outer_radius;
+  s.exact_volume = M_PI / 6.0 * (outer_radius * outer_radius * outer_radius - inner_radius * inner_radius * inner_radius);
   return s;
 }
 

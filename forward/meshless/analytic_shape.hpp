@@ -3,7 +3,7 @@
 // d(X) (negative inside, zero on the boundary) and a bounding box. The node placement and the
 // clipped quadrature (octree_sampling.hpp) rely on d being 1-Lipschitz with |d(X)| no larger
 // than the distance from X to the boundary, so that a cell whose centre has |d| above its
-// half-diagonal lies wholly on one side. The exact signed distances below have that property.
+// half-diagonal lies wholly on one side. The signed distances below have that property.
 #include <Eigen/Core>
 #include <functional>
 #include <string>
@@ -25,5 +25,11 @@ AnalyticShape sphere_shape(const Eigen::Vector3d& center, double radius);
 // Solid circular cylinder along coordinate axis `axis` (0, 1, 2) through `center`, radius and
 // length > 0 (flat caps at center +- length / 2 along the axis).
 AnalyticShape cylinder_shape(const Eigen::Vector3d& center, double radius, double length, int axis = 2);
+
+// The octant x, y, z >= 0 of the spherical shell inner_radius <= |X - center| <= outer_radius
+// (0 < inner < outer), for problems with three symmetry planes. Its signed distance is the
+// maximum of the shell's and the three half-spaces': exact inside, a lower bound of the distance
+// outside, which is what the sampling needs.
+AnalyticShape shell_octant_shape(const Eigen::Vector3d& center, double inner_radius, double outer_radius);
 
 }  // namespace tailor

@@ -15,6 +15,7 @@
 // coefficients, not the prescribed one. The rows of S for B are dense over the free nodes
 // whose supports reach a collocation point.
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "forward/core/elimination.hpp"
@@ -24,12 +25,24 @@ namespace tailor {
 
 struct MlsEssentialConditions {
   Elimination elimination;
-  double condition_estimate;  // 1 / (reciprocal condition estimate of C_BB)
+  double condition_estimate;  // the largest over the components  // 1 / (reciprocal condition estimate of C_BB)
 };
 
-// targets: |nodes| x 3 prescribed positions x(X_b). std::invalid_argument on a repeated or
-// out-of-range node, or when C_BB is singular or its reciprocal condition estimate is below
-// 1e-12 (collocation points too close for the supports).
+// Conditions on one component k: x_k(X_b) = targets[i] at the rest positions of nodes[i].
+struct MlsComponentConditions {
+  std::vector<int> nodes;
+  Eigen::VectorXd targets;
+};
+
+// Per component (symmetry planes hold one component, a clamp all three): each component's
+// constrained coefficients are eliminated by its own C_BB; the free unknowns y are the other
+// (node, component) coefficients in increasing DOF order. std::invalid_argument on a repeated
+// or out-of-range node, sizes that differ, or when a C_BB is singular or its reciprocal
+// condition estimate is below 1e-12 (collocation points too close for the supports).
+MlsEssentialConditions mls_transformation(const MlsShapeFunctions& mls,
+                                          const std::array<MlsComponentConditions, 3>& components);
+
+// All three components at the listed nodes; targets: |nodes| x 3 prescribed positions x(X_b).
 MlsEssentialConditions mls_transformation(const MlsShapeFunctions& mls, const std::vector<int>& nodes,
                                           const Eigen::MatrixXd& targets);
 

@@ -79,6 +79,16 @@ TEST(OctreeSampling, CylinderVolume) {
   EXPECT_NEAR(s.volume(), c.exact_volume, 2e-3 * c.exact_volume);
 }
 
+TEST(OctreeSampling, ShellOctantVolume) {
+  const AnalyticShape shell = shell_octant_shape(Eigen::Vector3d::Zero(), 1.0, 2.0);
+  EXPECT_NEAR(shell.signed_distance(Eigen::Vector3d(1.5, 0.3, 0.2).normalized() * 1.5), -0.2 / std::sqrt(1.5 * 1.5 + 0.09 + 0.04) * 1.5, 1e-12);
+  EXPECT_GT(shell.signed_distance(Eigen::Vector3d(-0.1, 1.5, 0.5)), 0.0);
+  EXPECT_GT(shell.signed_distance(Eigen::Vector3d(0.3, 0.3, 0.3)), 0.0);
+  const OctreeSampling s = sample_shape(shell, {0.25, 2, 3});
+  EXPECT_NEAR(s.volume(), shell.exact_volume, 2e-3 * shell.exact_volume);
+  for (Eigen::Index a = 0; a < s.nodes.rows(); ++a) EXPECT_LE(shell.signed_distance(s.nodes.row(a).transpose()), 1e-12);
+}
+
 TEST(OctreeSampling, RefusesBadOptions) {
   const AnalyticShape ball = sphere_shape(Eigen::Vector3d::Zero(), 1.0);
   EXPECT_THROW(sample_shape(ball, {0.0, 2, 1}), std::invalid_argument);

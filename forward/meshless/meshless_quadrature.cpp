@@ -56,4 +56,22 @@ Vector meshless_point_forces(const MlsShapeFunctions& mls, const Eigen::MatrixXd
   return f;
 }
 
+SparseMatrix meshless_mass_matrix(const MeshlessQuadrature& quadrature, double density) {
+  if (!(density > 0.0)) throw std::invalid_argument("meshless_mass_matrix: the density must be positive");
+  Triplets triplets;
+  for (int q = 0; q < quadrature.num_points(); ++q) {
+    const double w = density * quadrature.weights[static_cast<std::size_t>(q)];
+    for (int s = quadrature.begin[static_cast<std::size_t>(q)]; s < quadrature.begin[static_cast<std::size_t>(q) + 1]; ++s)
+      for (int t = quadrature.begin[static_cast<std::size_t>(q)]; t < quadrature.begin[static_cast<std::size_t>(q) + 1]; ++t) {
+        const double m = w * quadrature.values[static_cast<std::size_t>(s)] * quadrature.values[static_cast<std::size_t>(t)];
+        for (int k = 0; k < 3; ++k)
+          triplets.emplace_back(3 * quadrature.nodes[static_cast<std::size_t>(s)] + k,
+                                3 * quadrature.nodes[static_cast<std::size_t>(t)] + k, m);
+      }
+  }
+  SparseMatrix M(3 * quadrature.num_nodes, 3 * quadrature.num_nodes);
+  M.setFromTriplets(triplets.begin(), triplets.end());
+  return M;
+}
+
 }  // namespace tailor

@@ -38,4 +38,9 @@ MeshlessQuadrature build_meshless_quadrature(const MlsShapeFunctions& mls, const
 Vector meshless_point_forces(const MlsShapeFunctions& mls, const Eigen::MatrixXd& points,
                              const Eigen::VectorXd& weights, const Eigen::MatrixXd& densities);
 
+// Consistent mass matrix (3n x 3n, interleaved like x) of a uniform density rho:
+// M_(3a+k)(3b+k) = rho sum_q w_q phi_a(X_q) phi_b(X_q). The sum of a component's entries is
+// rho times the quadrature's volume (partition of unity).
+SparseMatrix meshless_mass_matrix(const MeshlessQuadrature& quadrature, double density);
+
 }  // namespace tailor

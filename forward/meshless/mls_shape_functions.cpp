@@ -87,8 +87,13 @@ MlsShapeFunctions::MlsShapeFunctions(Eigen::MatrixXd nodes, Eigen::VectorXd spac
 
 std::vector<int> MlsShapeFunctions::covering_nodes(const Eigen::Vector3d& X) const {
   std::vector<int> out;
+  // Bucket coordinates, clamped to one bucket outside the grid (no node covers points further out).
   Eigen::Vector3i c;
-  for (int k = 0; k < 3; ++k) c[k] = static_cast<int>(std::floor((X[k] - grid_lo_[k]) / grid_cell_));
+  for (int k = 0; k < 3; ++k) {
+    const double t = std::floor((X[k] - grid_lo_[k]) / grid_cell_);
+    if (!(t >= -1.0 && t <= grid_size_[k])) return out;
+    c[k] = static_cast<int>(t);
+  }
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {

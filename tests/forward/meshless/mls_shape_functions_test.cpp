@@ -6,8 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 
+#include "forward/meshless/meshless_quadrature.hpp"
 #include "forward/meshless/octree_sampling.hpp"
 
 namespace tailor::mls_shape_functions_test {
@@ -140,6 +142,35 @@ TEST(MlsShapeFunctions, RefusesAPointWithTooFewCoveringNodes) {
     EXPECT_NE(std::string(e.what()).find("covered by 0 nodes"), std::string::npos) << e.what();
     EXPECT_EQ(e.point(), far);
   }
+}
+
+TEST(MlsShapeFunctions, FarAndNonFinitePointsAreRefused) {
+  const BallSetup setup = ball_setup(MlsBasis::linear, 2.0);
+  EXPECT_TRUE(setup.mls.covering_nodes(Eigen::Vector3d(1e300, -1e300, 0)).empty());
+  EXPECT_THROW(setup.mls.evaluate(Eigen::Vector3d(1e300, 0, 0)), MeshlessPointError);
+  EXPECT_THROW(setup.mls.evaluate(Eigen::Vector3d(NAN, 0, 0)), MeshlessPointError);
+}
+
+// Supports too small for the boundary cells of a sampled ball: building the quadrature stops at
+// the first point that fails, naming it, instead of integrating with it.
+TEST(MlsShapeFunctions, QuadratureBuildNamesTheFirstUncoveredPoint) {
+  const AnalyticShape ball = sphere_shape(Eigen::Vector3d(0, 0, 0), 1.0);
+  const OctreeSampling s = sample_shape(ball, {0.25, 2, 2});
+  const MlsShapeFunctions mls(s.nodes, s.spacing, {MlsBasis::linear, 1.0, 1e8});
+  try {
+    build_meshless_quadrature(mls, s.points, s.weights);
+    FAIL() << "no error";
+  } catch (const MeshlessPointError& e) {
+    EXPECT_NE(std::string(e.what()).find("MLS shape functions: the point ("), std::string::npos) << e.what();
+    EXPECT_GT(e.point().norm(), 0.5);  // near the boundary, where the cut cells have few nodes
+    EXPECT_LT(e.point().norm(), 1.0);
+  }
+  // With support_factor 2 every point of the same sampling is covered and well conditioned.
+  const MlsShapeFunctions wide(s.nodes, s.spacing, {MlsBasis::linear, 2.0, 1e8});
+  const MeshlessQuadrature q = build_meshless_quadrature(wide, s.points, s.weights);
+  EXPECT_EQ(q.num_points(), s.points.rows());
+  EXPECT_LT(q.max_condition, 1e8);
+  std::printf("ball h = 0.25, support factor 2: largest moment-matrix condition number %.3e\n", q.max_condition);
 }
 
 TEST(MlsShapeFunctions, RefusesAnIllConditionedMomentMatrix) {

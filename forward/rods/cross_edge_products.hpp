@@ -80,7 +80,8 @@ CrossEdgeDual<B> cross_edge_sum_squared(const Vec3Of<Dual2<B>>& u, const Vec3Of<
 // The Hessian of f(p_1 .. p_K) in the 2B variables (block 0, then block 1), from f's value,
 // gradient and Hessian in the products (f on Dual2<K>, the products its variables 0 .. K-1).
 template <int B, int K>
-Eigen::Matrix<double, 2 * B, 2 * B> chained_hessian(const Dual2<K>& f, const std::array<CrossEdgeDual<B>, K>& p) {
+Eigen::Matrix<double, 2 * B, 2 * B> chained_hessian(const Dual2<K>& f,
+                                                    const std::array<CrossEdgeDual<B>, K>& p) {
   Eigen::Matrix<double, K, 2 * B> G;
   Eigen::Matrix<double, B, B> h00 = Eigen::Matrix<double, B, B>::Zero(), h11 = h00, h01 = h00;
   for (int k = 0; k < K; ++k) {
@@ -128,9 +129,8 @@ inline MaterialFrameVectors material_frame_vectors(const EdgeFrameOf<Dual2<3>>& 
 
 // Sum_a w_a d2kappa_a/dx2 in the 8 edge variables (e^{i-1} 0-2, e^i 3-5, theta^{i-1} 6,
 // theta^i 7): kappa_1 = 2 (P1 - P2) / D, kappa_2 = 2 (P3 - P4) / D.
-inline Eigen::Matrix<double, kEdgeVariables, kEdgeVariables> curvature_hessian_sum(const MaterialFrameVectors& f0,
-                                                                                  const MaterialFrameVectors& f1,
-                                                                                  const Eigen::Vector2d& w) {
+inline Eigen::Matrix<double, kEdgeVariables, kEdgeVariables> curvature_hessian_sum(
+    const MaterialFrameVectors& f0, const MaterialFrameVectors& f1, const Eigen::Vector2d& w) {
   const std::array<CrossEdgeDual<4>, 5> p = {cross_edge_sum_squared(f0.t, f1.t), cross_edge_dot(f0.m1, f1.t),
                                              cross_edge_dot(f0.t, f1.m1), cross_edge_dot(f0.m2, f1.t),
                                              cross_edge_dot(f0.t, f1.m2)};
@@ -171,7 +171,8 @@ inline Eigen::Matrix<double, kBendTwistDofs, kBendTwistDofs> lift_hessian(
   Eigen::Matrix<double, kBendTwistDofs, kEdgeVariables> half;
   for (int c = 0; c < kEdgeVariables; ++c) half.col(c) = lift_gradient(h.col(c));
   Eigen::Matrix<double, kBendTwistDofs, kBendTwistDofs> out;
-  for (int row = 0; row < kBendTwistDofs; ++row) out.row(row) = lift_gradient(half.row(row).transpose()).transpose();
+  for (int row = 0; row < kBendTwistDofs; ++row)
+    out.row(row) = lift_gradient(half.row(row).transpose()).transpose();
   return out;
 }
 

@@ -21,18 +21,19 @@
 namespace tailor::rod_elastica_scene_test {
 namespace {
 
-constexpr double kAlpha = 5.0;  // tip rotation ~60 degrees, deflection ~0.71 L
+constexpr double kAlpha = 5.0;    // tip rotation ~60 degrees, deflection ~0.71 L
 constexpr double kRadius = 3e-3;  // axial strain ~1e-5, far below the discretization error
 
 // A cantilever of length 1 along +x, EI = 1 (I = pi r^4 / 4), n edges inside [0, 1], the load
 // P = alpha along -y at the last end, written as a scene would be.
 nlohmann::json cantilever_scene(int n, bool staggered) {
   const double E = 4.0 / (M_PI * std::pow(kRadius, 4));
-  nlohmann::json rod = {{"line", {{"from", {0, 0, 0}}, {"to", {1, 0, 0}}, {"vertices", staggered ? n + 2 : n + 1}}},
-                        {"cross_section", {{"radius", kRadius}}},
-                        {"material", {{"youngs_modulus", E}}},
-                        {"clamp", {"first"}},
-                        {"point_loads", {{{"end", "last"}, {"force", {0.0, -kAlpha, 0.0}}}}}};
+  nlohmann::json rod = {
+      {"line", {{"from", {0, 0, 0}}, {"to", {1, 0, 0}}, {"vertices", staggered ? n + 2 : n + 1}}},
+      {"cross_section", {{"radius", kRadius}}},
+      {"material", {{"youngs_modulus", E}}},
+      {"clamp", {"first"}},
+      {"point_loads", {{{"end", "last"}, {"force", {0.0, -kAlpha, 0.0}}}}}};
   if (staggered) rod["ends"] = "edge_midpoints";
   return {{"rods", {rod}}, {"max_newton_iterations", 200}};
 }
@@ -46,7 +47,8 @@ double tip_error(int n, bool staggered) {
   EXPECT_TRUE(sim.converged) << "n = " << n;
   const int nv = static_cast<int>(spec.rods[0].points.rows());
   auto vertex = [&](int v) { return Eigen::Vector3d(sim.state.segment<3>(3 * v)); };
-  const Eigen::Vector3d tip = staggered ? Eigen::Vector3d(0.5 * (vertex(nv - 2) + vertex(nv - 1))) : vertex(nv - 1);
+  const Eigen::Vector3d tip =
+      staggered ? Eigen::Vector3d(0.5 * (vertex(nv - 2) + vertex(nv - 1))) : vertex(nv - 1);
   const Eigen::Vector2d reference = testing::elastica_tip(kAlpha, 1.0);
   return std::hypot(tip[0] - reference[0], -tip[1] - reference[1]);
 }

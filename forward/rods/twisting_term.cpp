@@ -29,9 +29,12 @@ void RodTwistingTerm::prepare(const Vector& x, int order) const {
     rod_detail::edge_frames_of_rod(*rod_, x, frames2_);
     return;
   }
-  rod_detail::edge_frames_of_rod(*rod_, x, frames1_);
-  if (order != rod_detail::kProductHessians) return;
+  if (order != rod_detail::kProductHessians) {
+    rod_detail::edge_frames_of_rod(*rod_, x, frames1_);
+    return;
+  }
   rod_detail::edge_frames_of_rod(*rod_, x, frames2_);
+  rod_detail::first_order_parts(frames2_, frames1_);
   const int ne = rod_->num_edges();
   reference_frames_.resize(static_cast<std::size_t>(ne));
 #pragma omp parallel for schedule(static) if (ne > 512)

@@ -6,9 +6,11 @@
 // iterations and the medians of the per-iteration times are reported: assembly (energy,
 // gradient, Hessian of the stretching, bending, twisting and load terms), factorization,
 // solve, line search, and the whole iteration. Each size runs twice in the same process: with
-// the rod terms' gradient requests (the line search's first trial) on Dual2<11> as before
-// ("dual2 gradients") and on the first-order path (forward/rods/low_order_duals.hpp). Writes
-// JSON (--out, default bench_rods.json) and prints a table.
+// the bending and twisting Hessians by dual numbers as before ("duals": the strains' Hessians
+// in the edge variables, lifted to the stencil's 11 DOFs) and from cross-edge products
+// ("products", forward/rods/cross_edge_products.hpp). Then each term's Hessian request alone
+// at the largest size (both ways for bending and twisting). Writes JSON (--out, default
+// bench_rods.json) and prints a table.
 //
 // Second part, rest-shape design (problems/rods/rod_inverse.hpp, the scenes' "inverse" section):
 // --strands strands of --strand-vertices vertices (nylon: length 0.5, r = 1e-3, E = 3e9,
@@ -33,6 +35,7 @@
 #include <vector>
 
 #include "bench_cli.hpp"
+#include "forward/core/assembler.hpp"
 #include "forward/core/elimination.hpp"
 #include "forward/core/statistics.hpp"
 #include "forward/fem/loads.hpp"
@@ -52,19 +55,33 @@ namespace {
 
 struct SizeResult {
   int vertices, free_dofs, iterations;
-  bool first_order;
+  int projected;  // iterations whose Hessian was the PSD-projected one (assembled a second time)
+  bool product_hessians;
   std::string status;
   double assembly, factorization, solve, line_search, iteration;
 };
 
-SizeResult run(int vertices, int iterations, bool first_order) {
+// The bench's rod: the helix below with its three terms, gravity, the clamp and p.
+struct HelixRod {
+  std::shared_ptr<DiscreteRod> rod;
+  std::unique_ptr<Model> model;
+  Vector p, rest;
+  RodStretchingTerm* stretching = nullptr;
+  RodBendingTerm* bending = nullptr;
+  RodTwistingTerm* twisting = nullptr;
+};
+
+HelixRod helix_rod(int vertices, bool product_hessians) {
   Eigen::MatrixX3d positions(vertices, 3);
   for (int i = 0; i < vertices; ++i) {
     const double s = 0.01 * i, phi = 4.0 * M_PI * s;  // edges of length ~0.01 at every size
     positions.row(i) << s, 0.05 * std::cos(phi), 0.05 * std::sin(phi);
   }
-  auto rod = std::make_shared<DiscreteRod>(positions, 0, 3 * vertices, Eigen::Vector3d::UnitZ());
-  Model model(rod->dof_end());
+  HelixRod h;
+  h.rod = std::make_shared<DiscreteRod>(positions, 0, 3 * vertices, Eigen::Vector3d::UnitZ());
+  const auto& rod = h.rod;
+  h.model = std::make_unique<Model>(rod->dof_end());
+  Model& model = *h.model;
   RodMaterial material;
   material.radius = 1e-2;
   material.youngs_modulus = 4.0 / (M_PI * std::pow(material.radius, 4));
@@ -72,9 +89,11 @@ SizeResult run(int vertices, int iterations, bool first_order) {
   const RodParameterBlocks blocks = add_rod_parameters(model.parameter_layout(), *rod);
   Vector p = Vector::Zero(model.parameter_layout().size());
   write_rod_parameters(*rod, blocks, material, p);
-  model.add(std::make_unique<RodStretchingTerm>(rod, material.section, blocks)).set_first_order_path(first_order);
-  model.add(std::make_unique<RodBendingTerm>(rod, material.section, blocks)).set_first_order_path(first_order);
-  model.add(std::make_unique<RodTwistingTerm>(rod, material.section, blocks)).set_first_order_path(first_order);
+  h.stretching = &model.add(std::make_unique<RodStretchingTerm>(rod, material.section, blocks));
+  h.bending = &model.add(std::make_unique<RodBendingTerm>(rod, material.section, blocks));
+  h.twisting = &model.add(std::make_unique<RodTwistingTerm>(rod, material.section, blocks));
+  h.bending->set_product_hessian(product_hessians);
+  h.twisting->set_product_hessian(product_hessians);
   const double area = M_PI * material.radius * material.radius, g = 9.81;
   const Eigen::VectorXd masses = lumped_vertex_masses(*rod, material.section, 2.0 / (area * g),
                                                       p.segment(blocks.radius, rod->num_edges()),
@@ -82,17 +101,27 @@ SizeResult run(int vertices, int iterations, bool first_order) {
   Vector forces = Vector::Zero(model.num_dofs());
   add_gravity_forces(*rod, masses, Eigen::Vector3d(0, -g, 0), forces);
   model.add(std::make_unique<ExternalForceTerm>(forces, "gravity"));
-  Vector rest = Vector::Zero(model.num_dofs());
-  rod->write_rest_state(rest);
-  model.set_elimination(Elimination::dirichlet(clamped_end_dofs(*rod, RodEnd::first), rest));
+  h.rest = Vector::Zero(model.num_dofs());
+  rod->write_rest_state(h.rest);
+  model.set_elimination(Elimination::dirichlet(clamped_end_dofs(*rod, RodEnd::first), h.rest));
+  h.p = std::move(p);
+  return h;
+}
 
+SizeResult run(int vertices, int iterations, bool product_hessians) {
+  const HelixRod h = helix_rod(vertices, product_hessians);
+  const Model& model = *h.model;
+  const Vector& p = h.p;
+  const Vector& rest = h.rest;
   NewtonOptions options;
   options.max_iterations = iterations;
   NewtonSolver solver(model, options);
   Vector y = model.elimination().restrict_state(rest);
   const NewtonResult r = solver.solve(p, y);
   std::vector<double> assembly, factorization, solve, line_search, iteration;
+  int projected = 0;
   for (const auto& it : r.history) {
+    projected += it.used_projected ? 1 : 0;
     assembly.push_back(it.assembly_seconds);
     factorization.push_back(it.factorization_seconds);
     solve.push_back(it.solve_seconds);
@@ -100,10 +129,60 @@ SizeResult run(int vertices, int iterations, bool first_order) {
     iteration.push_back(it.assembly_seconds + it.factorization_seconds + it.solve_seconds +
                         it.line_search_seconds);
   }
-  return {vertices,         model.elimination().num_free(), r.iterations,  first_order,
+  return {vertices,         model.elimination().num_free(), r.iterations,  projected, product_hessians,
           to_string(r.status),
           median(assembly), median(factorization),          median(solve), median(line_search),
           median(iteration)};
+}
+
+// Process CPU seconds per Hessian request (energy and Hessian values, as Newton's assembly
+// asks) of each rod term on the helix of `vertices` vertices, bent and twisted off its rest
+// state, medians of `repeats`: the bend-twist terms with Hessians from cross-edge products and
+// by dual numbers. CPU time, not wall time: on a loaded machine it does not count the time the
+// process waits for a core (with several threads it is their sum).
+struct TermTimes {
+  double stretching, bending, twisting, bending_dual, twisting_dual;
+  double assembler;  // the reduced Hessian (all terms, the gather into the matrix), as Newton's assembly
+};
+
+TermTimes time_terms(int vertices, int repeats) {
+  const HelixRod h = helix_rod(vertices, true);
+  Vector x = h.rest;
+  for (int i = 0; i < static_cast<int>(x.size()); ++i) x[i] += 1e-3 * std::sin(0.37 * i);
+  auto seconds = [&](const EnergyTerm& term) {
+    HessianPattern pattern;
+    term.hessian_pattern(pattern);
+    std::vector<double> values(pattern.size());
+    std::vector<double> times;
+    for (int r = 0; r < repeats; ++r) {
+      double energy = 0.0;
+      EnergyRequest request;
+      request.value = &energy;
+      request.hessian_values = values.data();
+      const std::clock_t c0 = std::clock();
+      term.evaluate(x, h.p, request);
+      times.push_back(static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
+    }
+    return median(times);
+  };
+  TermTimes t{seconds(*h.stretching), seconds(*h.bending), seconds(*h.twisting), 0.0, 0.0, 0.0};
+  {
+    ReducedAssembler assembler(*h.model);
+    SparseMatrix H = assembler.hessian_pattern_matrix();
+    const Vector y = h.model->elimination().restrict_state(x);
+    std::vector<double> times;
+    for (int r = 0; r < repeats; ++r) {
+      const std::clock_t c0 = std::clock();
+      assembler.evaluate(y, h.p, nullptr, nullptr, &H);
+      times.push_back(static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
+    }
+    t.assembler = median(times);
+  }
+  h.bending->set_product_hessian(false);
+  h.twisting->set_product_hessian(false);
+  t.bending_dual = seconds(*h.bending);
+  t.twisting_dual = seconds(*h.twisting);
+  return t;
 }
 
 struct StrandResult {
@@ -261,30 +340,39 @@ int run(int argc, char** argv) {
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   std::vector<SizeResult> results;
-  std::printf("%10s %10s %9s %6s %10s %10s %10s %10s %10s %12s %12s\n", "vertices", "free_dofs", "gradients",
-              "iters", "assembly", "factor", "solve", "line_srch", "iteration", "us/vertex", "ls us/vertex");
+  std::printf("%10s %10s %9s %6s %10s %10s %10s %10s %10s %12s %12s %12s\n", "vertices", "free_dofs", "hessians",
+              "pr/its", "assembly", "factor", "solve", "line_srch", "iteration", "asm us/vert", "us/vertex",
+              "ls us/vertex");
   const KernelResult kernels =
       time_kernels(std::clamp(*std::max_element(sizes.begin(), sizes.end()), 100, 20000), 5);
   std::printf("bend-twist strain kernels with Hessians, per stencil: direct Dual2<11> twice (bending, twisting) "
               "%.2f us, present kernels %.2f us\n",
               1e6 * kernels.direct_twice, 1e6 * kernels.present);
   for (int n : sizes)
-    for (bool first_order : {false, true}) {
-      const SizeResult s = run(n, iterations, first_order);
+    for (bool products : {false, true}) {
+      const SizeResult s = run(n, iterations, products);
       results.push_back(s);
-      std::printf("%10d %10d %9s %6d %10.4f %10.4f %10.4f %10.4f %10.4f %12.3f %12.3f\n", s.vertices, s.free_dofs,
-                  first_order ? "dual1" : "dual2", s.iterations, s.assembly, s.factorization, s.solve,
-                  s.line_search, s.iteration, 1e6 * s.iteration / s.vertices, 1e6 * s.line_search / s.vertices);
+      std::printf("%10d %10d %9s %3d/%-2d %10.4f %10.4f %10.4f %10.4f %10.4f %12.3f %12.3f %12.3f\n", s.vertices,
+                  s.free_dofs, products ? "products" : "duals", s.projected, s.iterations, s.assembly, s.factorization, s.solve,
+                  s.line_search, s.iteration, 1e6 * s.assembly / s.vertices, 1e6 * s.iteration / s.vertices,
+                  1e6 * s.line_search / s.vertices);
     }
+  const int largest = *std::max_element(sizes.begin(), sizes.end());
+  const TermTimes terms = time_terms(largest, 9);
+  std::printf("Hessian requests at %d vertices, CPU us per vertex: reduced Hessian %.3f; of it stretching %.3f, bending "
+              "%.3f (dual numbers %.3f), twisting %.3f (dual numbers %.3f)\n",
+              largest, 1e6 * terms.assembler / largest, 1e6 * terms.stretching / largest, 1e6 * terms.bending / largest,
+              1e6 * terms.bending_dual / largest, 1e6 * terms.twisting / largest, 1e6 * terms.twisting_dual / largest);
   bench::Json json = bench::report("rod_newton_iteration");
-  // "sizes": one row per size, the present code; "sizes_dual2_gradients": the same sizes with
-  // the gradient requests on Dual2 (before the first-order path), from the same run.
+  // "sizes": one row per size, the present code; "sizes_dual_hessians": the same sizes with the
+  // bend-twist Hessians by dual numbers (before the cross-edge products), from the same run.
   bench::Json rows = bench::Json::array(), before = bench::Json::array();
   for (const SizeResult& s : results)
-    (s.first_order ? rows : before).push_back({{"vertices", s.vertices},
+    (s.product_hessians ? rows : before).push_back({{"vertices", s.vertices},
                     {"free_dofs", s.free_dofs},
                     {"iterations", s.iterations},
-                    {"gradients", s.first_order ? "dual1" : "dual2"},
+                    {"projected_iterations", s.projected},
+                    {"hessians", s.product_hessians ? "cross_edge_products" : "dual_numbers"},
                     {"status", s.status},
                     {"assembly_s", s.assembly},
                     {"factorization_s", s.factorization},
@@ -292,7 +380,14 @@ int run(int argc, char** argv) {
                     {"line_search_s", s.line_search},
                     {"iteration_s", s.iteration}});
   json["sizes"] = rows;
-  json["sizes_dual2_gradients"] = before;
+  json["sizes_dual_hessians"] = before;
+  json["term_hessian_cpu_seconds"] = {{"vertices", largest},
+                                  {"reduced_hessian", terms.assembler},
+                                  {"stretching", terms.stretching},
+                                  {"bending", terms.bending},
+                                  {"twisting", terms.twisting},
+                                  {"bending_dual_numbers", terms.bending_dual},
+                                  {"twisting_dual_numbers", terms.twisting_dual}};
   json["stencil_kernels"] = {{"direct_dual2_twice_s", kernels.direct_twice}, {"present_s", kernels.present}};
   if (strands > 0) {
     std::printf("\nrest-shape design (--method %s), %d strands of %d vertices, to a shape error of %.1e of the "

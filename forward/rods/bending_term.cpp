@@ -31,10 +31,29 @@ std::array<int, 8> RodBendingTerm::stencil_parameters(int i) const {
 }
 
 void RodBendingTerm::prepare(const Vector& x, int order) const {
-  if (order == 2)
+  if (order == 2) {
     rod_detail::edge_frames_of_rod(*rod_, x, frames2_);
-  else
+    return;
+  }
+  if (order != rod_detail::kProductHessians) {
     rod_detail::edge_frames_of_rod(*rod_, x, frames1_);
+    return;
+  }
+  rod_detail::edge_frames_of_rod(*rod_, x, frames2_);
+  rod_detail::first_order_parts(frames2_, frames1_);
+  const int ne = rod_->num_edges();
+  material_frames_.resize(static_cast<std::size_t>(ne));
+#pragma omp parallel for schedule(static) if (ne > 512)
+  for (int j = 0; j < ne; ++j)
+    material_frames_[static_cast<std::size_t>(j)] =
+        rod_detail::material_frame_vectors(frames2_[static_cast<std::size_t>(j)], x[rod_->twist_dof(j)]);
+}
+
+Eigen::Matrix<double, rod_detail::kBendTwistDofs, rod_detail::kBendTwistDofs> RodBendingTerm::strain_hessian_sum(
+    const Local&, int interior, const Eigen::Vector2d& w) const {
+  return rod_detail::lift_hessian(
+      rod_detail::curvature_hessian_sum(material_frames_[static_cast<std::size_t>(interior)],
+                                        material_frames_[static_cast<std::size_t>(rod_->next_edge(interior))], w));
 }
 
 std::array<rod_detail::BendTwistDual, 2> RodBendingTerm::strains(const Local& local, int interior) const {

@@ -14,6 +14,7 @@
 #include <memory>
 #include <vector>
 
+#include "forward/rods/cross_edge_products.hpp"
 #include "forward/rods/rod_kinematics.hpp"
 #include "forward/rods/rod_parameters.hpp"
 #include "forward/rods/rod_stencil_term.hpp"
@@ -37,6 +38,9 @@ class RodBendingTerm final
   void prepare(const Vector& x, int order) const;
   std::array<rod_detail::BendTwistDual1, 2> strain_gradients(const Local& local, int interior) const;
   Eigen::Vector2d strain_values(const Local& local, int interior) const;
+  // sum_a w_a d2kappa_a/dx2 from cross-edge products (forward/rods/cross_edge_products.hpp).
+  Eigen::Matrix<double, rod_detail::kBendTwistDofs, rod_detail::kBendTwistDofs> strain_hessian_sum(
+      const Local& local, int interior, const Eigen::Vector2d& w) const;
   rod_detail::StencilEnergy<2, 8> energy_density(const Eigen::Vector2d& kappa,
                                                  const Eigen::Matrix<double, 8, 1>& q, int interior) const;
 
@@ -46,6 +50,7 @@ class RodBendingTerm final
   RodParameterBlocks blocks_;
   mutable std::vector<rod_detail::EdgeFrameOf<Dual2<3>>> frames2_;
   mutable std::vector<rod_detail::EdgeFrameOf<rod_detail::Dual1<3>>> frames1_;
+  mutable std::vector<rod_detail::MaterialFrameVectors> material_frames_;
 };
 
 // The stencil loop (value, gradient, Hessian, parameter derivatives with Dual2 numbers) is

@@ -18,7 +18,14 @@
 // The three orders give bit-identical values and first derivatives (forward/rods/low_order_duals.hpp).
 //   void prepare(const Vector& x, int order) const;
 //     (called before strains (order 2) and strain_gradients (order 1) at state x: per-edge
-//     data the stencils share, such as the bend-twist stencils' edge frames)
+//     data the stencils share, such as the bend-twist stencils' edge frames; order
+//     kProductHessians: what strain_gradients and strain_hessian_sum need)
+// and optionally
+//   Eigen::Matrix<double, N, N> strain_hessian_sum(const Local& local, int k,
+//                                                 const Eigen::Matrix<double, S, 1>& w) const;
+//     (sum_a w_a d2s_a/dx2 by a kernel of its own: Hessian assemblies then take the values and
+//     gradients from strain_gradients, bit-identical to the other paths, and only this sum
+//     from the kernel; set_product_hessian(false) sends them back to `strains`)
 //   StencilEnergy<S, Q> energy_density(const Eigen::Matrix<double, S, 1>& s,
 //                                      const Eigen::Matrix<double, Q, 1>& q, int k) const;
 #include <Eigen/Core>
@@ -41,6 +48,9 @@ struct StencilEnergy {
   Eigen::Matrix<double, S, Q> dsq = Eigen::Matrix<double, S, Q>::Zero();
 };
 
+// prepare()'s order for a Hessian assembly through strain_hessian_sum.
+inline constexpr int kProductHessians = 3;
+
 template <class Derived, int N, int S, int Q>
 class RodStencilTerm : public EnergyTerm {
  public:
@@ -61,12 +71,19 @@ class RodStencilTerm : public EnergyTerm {
   // the Dual1 path existed (rod_bench's before/after comparison; the results are the same bit
   // for bit). Energy-only requests always take the plain-value path.
   void set_first_order_path(bool on) { first_order_path_ = on; }
+  // Off: Hessian assemblies run `strains` (Hessians of every strain on dual numbers in the
+  // stencil's variables, lifted to its N DOFs) instead of strain_hessian_sum, where the
+  // term has one (rod_bench's before/after comparison; the Hessians agree to round-off).
+  void set_product_hessian(bool on) { product_hessian_ = on; }
 
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override {
     const int num = self().num_stencils();
     const bool want_gradient = request.gradient != nullptr, want_hessian = request.hessian_values != nullptr;
+    const bool product = want_hessian && uses_product_hessian();
     if (want_gradient) local_gradients_.resize(static_cast<std::size_t>(num) * N);
-    if (want_hessian || (want_gradient && !first_order_path_))
+    if (product)
+      self().prepare(x, kProductHessians);
+    else if (want_hessian || (want_gradient && !first_order_path_))
       self().prepare(x, 2);
     else if (want_gradient)
       self().prepare(x, 1);
@@ -85,6 +102,25 @@ class RodStencilTerm : public EnergyTerm {
       }
       if (!want_gradient && !want_hessian) {
         energy += self().energy_density(self().strain_values(gather(x, dofs), k), parameters(p, k), k).value;
+        continue;
+      }
+      if (product) {
+        const Local local = gather(x, dofs);
+        const StrainGradients s = self().strain_gradients(local, k);
+        const auto W = self().energy_density(values(s), parameters(p, k), k);
+        energy += W.value;
+        const Eigen::Matrix<double, S, N> J = jacobian(s);
+        if (want_gradient) {
+          Local g = Local::Zero();
+          for (int a = 0; a < S; ++a) g += W.ds[a] * s[a].g;
+          std::copy(g.data(), g.data() + N, local_gradients_.data() + static_cast<std::size_t>(k) * N);
+        }
+        Eigen::Matrix<double, N, N> H = Eigen::Matrix<double, N, N>::Zero();
+        if constexpr (has_product_hessian()) H = self().strain_hessian_sum(local, k, W.ds);
+        H += J.transpose() * W.dss * J;
+        H = 0.5 * (H + H.transpose()).eval();
+        if (request.hessian_mode == HessianMode::projected) project_psd(H);
+        std::copy(H.data(), H.data() + N * N, request.hessian_values + static_cast<std::size_t>(k) * N * N);
         continue;
       }
       if (!want_hessian && first_order_path_) {
@@ -203,9 +239,17 @@ class RodStencilTerm : public EnergyTerm {
 
  private:
   const Derived& self() const { return static_cast<const Derived&>(*this); }
+  // (A function: its body is instantiated where Derived is complete.)
+  static constexpr bool has_product_hessian() {
+    return requires(const Derived& d, const Local& l, const Eigen::Matrix<double, S, 1>& w) {
+      d.strain_hessian_sum(l, 0, w);
+    };
+  }
+  bool uses_product_hessian() const { return has_product_hessian() && product_hessian_; }
   mutable std::vector<double> local_gradients_;
   std::vector<char> omitted_;
   bool first_order_path_ = true;
+  bool product_hessian_ = true;
 };
 
 }  // namespace tailor::rod_detail

@@ -51,4 +51,22 @@ void edge_frames_of_rod(const DiscreteRod& rod, const Vector& x, std::vector<Edg
   }
 }
 
+// The first-order part of frames on Dual2<3>: the frames edge_frames_of_rod computes on Dual1<3>,
+// bit for bit (Dual1 computes values and gradients with Dual2's expressions,
+// low_order_duals.hpp), without computing them again.
+inline void first_order_parts(const std::vector<EdgeFrameOf<Dual2<3>>>& frames2,
+                              std::vector<EdgeFrameOf<Dual1<3>>>& out) {
+  out.resize(frames2.size());
+  auto truncate = [](const Dual2<3>& a) {
+    Dual1<3> r(a.v);
+    r.g = a.g;
+    return r;
+  };
+  for (std::size_t j = 0; j < frames2.size(); ++j)
+    for (int k = 0; k < 3; ++k) {
+      out[j].t[k] = truncate(frames2[j].t[k]);
+      out[j].a1[k] = truncate(frames2[j].a1[k]);
+    }
+}
+
 }  // namespace tailor::rod_detail

@@ -25,10 +25,33 @@ std::array<int, 7> RodTwistingTerm::stencil_parameters(int i) const {
 }
 
 void RodTwistingTerm::prepare(const Vector& x, int order) const {
-  if (order == 2)
+  if (order == 2) {
     rod_detail::edge_frames_of_rod(*rod_, x, frames2_);
-  else
+    return;
+  }
+  if (order != rod_detail::kProductHessians) {
     rod_detail::edge_frames_of_rod(*rod_, x, frames1_);
+    return;
+  }
+  rod_detail::edge_frames_of_rod(*rod_, x, frames2_);
+  rod_detail::first_order_parts(frames2_, frames1_);
+  const int ne = rod_->num_edges();
+  reference_frames_.resize(static_cast<std::size_t>(ne));
+#pragma omp parallel for schedule(static) if (ne > 512)
+  for (int j = 0; j < ne; ++j)
+    reference_frames_[static_cast<std::size_t>(j)] =
+        rod_detail::reference_frame_vectors(frames2_[static_cast<std::size_t>(j)]);
+}
+
+// m = theta^i - theta^{i-1} + m_ref: only m_ref has second derivatives, in the edge coordinates.
+Eigen::Matrix<double, rod_detail::kBendTwistDofs, rod_detail::kBendTwistDofs> RodTwistingTerm::strain_hessian_sum(
+    const Local&, int interior, const Eigen::Matrix<double, 1, 1>& w) const {
+  Eigen::Matrix<double, rod_detail::kEdgeVariables, rod_detail::kEdgeVariables> h =
+      Eigen::Matrix<double, rod_detail::kEdgeVariables, rod_detail::kEdgeVariables>::Zero();
+  h.topLeftCorner<6, 6>() =
+      w[0] * rod_detail::reference_twist_hessian(reference_frames_[static_cast<std::size_t>(interior)],
+                                                 reference_frames_[static_cast<std::size_t>(rod_->next_edge(interior))]);
+  return rod_detail::lift_hessian(h);
 }
 
 std::array<rod_detail::BendTwistDual, 1> RodTwistingTerm::strains(const Local& local, int interior) const {

@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "forward/rods/cross_edge_products.hpp"
 #include "forward/rods/rod_kinematics.hpp"
 #include "forward/rods/rod_parameters.hpp"
 #include "forward/rods/rod_stencil_term.hpp"
@@ -33,6 +34,9 @@ class RodTwistingTerm final
   void prepare(const Vector& x, int order) const;
   std::array<rod_detail::BendTwistDual1, 1> strain_gradients(const Local& local, int interior) const;
   Eigen::Matrix<double, 1, 1> strain_values(const Local& local, int interior) const;
+  // w d2m/dx2 from cross-edge products (forward/rods/cross_edge_products.hpp).
+  Eigen::Matrix<double, rod_detail::kBendTwistDofs, rod_detail::kBendTwistDofs> strain_hessian_sum(
+      const Local& local, int interior, const Eigen::Matrix<double, 1, 1>& w) const;
   rod_detail::StencilEnergy<1, 7> energy_density(const Eigen::Matrix<double, 1, 1>& twist,
                                                  const Eigen::Matrix<double, 7, 1>& q, int interior) const;
 
@@ -42,6 +46,7 @@ class RodTwistingTerm final
   RodParameterBlocks blocks_;
   mutable std::vector<rod_detail::EdgeFrameOf<Dual2<3>>> frames2_;
   mutable std::vector<rod_detail::EdgeFrameOf<rod_detail::Dual1<3>>> frames1_;
+  mutable std::vector<rod_detail::ReferenceFrameVectors> reference_frames_;
 };
 
 // The stencil loop (value, gradient, Hessian, parameter derivatives with Dual2 numbers) is

@@ -79,12 +79,17 @@ Eigen::MatrixX3d listed_points(const SceneNode& node) {
   return x;
 }
 
-Eigen::MatrixX3d line_points(const SceneNode& node) {
+// n vertices from `from` to `to`; with the ends at edge midpoints the first and last edges
+// straddle them instead: vertex i at s = (i - 1/2) h, h = |to - from| / (n - 2).
+Eigen::MatrixX3d line_points(const SceneNode& node, bool ends_at_edge_midpoints) {
   node.expect_keys({"from", "to", "vertices"});
   const Eigen::Vector3d a = vec3(node.at("from")), b = vec3(node.at("to"));
   const int n = integer_between(node.at("vertices"), 3, kMaxRodVertices);
   Eigen::MatrixX3d x(n, 3);
-  for (int i = 0; i < n; ++i) x.row(i) = (a + (b - a) * (i / (n - 1.0))).transpose();
+  for (int i = 0; i < n; ++i) {
+    const double s = ends_at_edge_midpoints ? (i - 0.5) / (n - 2.0) : i / (n - 1.0);
+    x.row(i) = (a + (b - a) * s).transpose();
+  }
   return x;
 }
 
@@ -111,12 +116,12 @@ Eigen::MatrixX3d circle_points(const SceneNode& node) {
   return x;
 }
 
-Eigen::MatrixX3d points_of(const SceneNode& rod) {
+Eigen::MatrixX3d points_of(const SceneNode& rod, bool ends_at_edge_midpoints) {
   const int given = int{rod.has("points")} + int{rod.has("line")} + int{rod.has("circle")};
   if (given == 0) rod.fail("needs 'points', 'line' or 'circle'");
   if (given > 1) rod.fail("give only one of 'points', 'line' and 'circle'");
   if (const auto points = rod.find("points")) return listed_points(*points);
-  if (const auto line = rod.find("line")) return line_points(*line);
+  if (const auto line = rod.find("line")) return line_points(*line, ends_at_edge_midpoints);
   return circle_points(rod.at("circle"));
 }
 
@@ -129,6 +134,14 @@ void parse_rod_shape(const SceneNode& node, RodSpec& rod) {
   if (rod.closing_twist != 0.0 && !rod.closed) node.at("closing_twist").fail("only for closed rods");
   if (const auto rest = node.find("rest_shape"))
     rod.straight_rest = rest->choice({"drawn", "straight"}) == "straight";
+  if (rod.closed && rod.ends_at_edge_midpoints) node.at("ends").fail("a closed rod has no ends");
+}
+
+// "ends": where the rod's ends are, "vertices" (default: its first and last vertex) or
+// "edge_midpoints" (the midpoints of its first and last edges).
+bool parse_rod_ends(const SceneNode& node) {
+  const auto ends = node.find("ends");
+  return ends && ends->choice({"vertices", "edge_midpoints"}) == "edge_midpoints";
 }
 
 void parse_cross_section(const SceneNode& node, RodMaterial& material) {
@@ -174,8 +187,23 @@ void parse_rod_loads(const SceneNode& node, RodSpec& rod) {
   const int nv = static_cast<int>(rod.points.rows()), ne = rod.closed ? nv : nv - 1;
   if (const auto loads = node.find("point_loads"))
     for (const SceneNode& load : loads->items()) {
-      load.expect_keys({"vertex", "force"});
-      rod.point_loads.push_back({integer_between(load.at("vertex"), 0, nv - 1), vec3(load.at("force"))});
+      load.expect_keys({"vertex", "end", "force"});
+      const Eigen::Vector3d force = vec3(load.at("force"));
+      if (load.has("vertex") == load.has("end")) load.fail("give exactly one of 'vertex' and 'end'");
+      if (const auto vertex = load.find("vertex")) {
+        rod.point_loads.push_back({integer_between(*vertex, 0, nv - 1), force});
+        continue;
+      }
+      const SceneNode end = load.at("end");
+      if (rod.closed) end.fail("a closed rod has no ends");
+      const bool first = end.choice({"first", "last"}) == "first";
+      if (!rod.ends_at_edge_midpoints) {
+        rod.point_loads.push_back({first ? 0 : nv - 1, force});
+        continue;
+      }
+      // At the end edge's midpoint: half on each of its vertices.
+      rod.point_loads.push_back({first ? 0 : nv - 2, 0.5 * force});
+      rod.point_loads.push_back({first ? 1 : nv - 1, 0.5 * force});
     }
   if (const auto moments = node.find("twisting_moments"))
     for (const SceneNode& moment : moments->items()) {
@@ -186,13 +214,14 @@ void parse_rod_loads(const SceneNode& node, RodSpec& rod) {
 }
 
 RodSpec parse_rod(const SceneNode& node, std::size_t k) {
-  node.expect_keys({"name", "points", "line", "circle", "closed", "closing_twist", "rest_shape",
+  node.expect_keys({"name", "points", "line", "circle", "closed", "closing_twist", "rest_shape", "ends",
                     "clamp_edges", "cross_section", "material", "clamp", "pin", "point_loads",
                     "twisting_moments"});
   RodSpec rod;
   const auto name = node.find("name");
   rod.name = name ? name->string() : "rod" + std::to_string(k);
-  rod.points = points_of(node);
+  rod.ends_at_edge_midpoints = parse_rod_ends(node);
+  rod.points = points_of(node, rod.ends_at_edge_midpoints);
   parse_rod_shape(node, rod);
   parse_cross_section(node.at("cross_section"), rod.material);
   parse_rod_material(node.at("material"), rod);
@@ -268,9 +297,13 @@ DynamicsSpec parse_rod_dynamics(const SceneNode& root, const RodSceneSpec& spec)
   if (root.has("load_steps"))
     root.at("load_steps").fail("not used with a dynamics section (loads act from t = 0)");
   const std::vector<SceneNode> rods = root.at("rods").items();
-  for (std::size_t k = 0; k < spec.rods.size(); ++k)
+  for (std::size_t k = 0; k < spec.rods.size(); ++k) {
     if (!(spec.rods[k].density > 0.0))
       fail_at_member(rods[k].at("material"), "density", "a dynamic scene needs a positive density");
+    if (spec.rods[k].ends_at_edge_midpoints)
+      rods[k].at("ends").fail("ends at edge midpoints are not implemented with a dynamics section (the lumped "
+                              "masses of the end edges are whole)");
+  }
   d.lumping = MassLumping::lumped;
   for (std::size_t k = 0; k < spec.joints.size(); ++k)
     if (spec.joints[k].rigid)
@@ -397,12 +430,20 @@ RodSceneModel build_rod_model(const RodSceneSpec& spec, const RodModelPrefix& pr
     model.add(std::make_unique<RodStretchingTerm>(rod, r.material.section, blocks));
     bending.push_back(&model.add(std::make_unique<RodBendingTerm>(rod, r.material.section, blocks)));
     twisting.push_back(&model.add(std::make_unique<RodTwistingTerm>(rod, r.material.section, blocks)));
-    if (r.density > 0.0)
-      add_gravity_forces(*rod,
-                         lumped_vertex_masses(*rod, r.material.section, r.density,
-                                              m.p.segment(blocks.radius, rod->num_edges()),
-                                              m.p.segment(blocks.rest_length, rod->num_edges())),
-                         spec.gravity, forces);
+    if (r.density > 0.0) {
+      Eigen::VectorXd masses = lumped_vertex_masses(*rod, r.material.section, r.density,
+                                                    m.p.segment(blocks.radius, rod->num_edges()),
+                                                    m.p.segment(blocks.rest_length, rod->num_edges()));
+      if (r.ends_at_edge_midpoints)  // half of each end edge lies beyond the rod's end
+        for (int j : {0, rod->num_edges() - 1}) {
+          const double radius = m.p[blocks.radius + j];
+          const double quarter =
+              0.25 * r.density * r.material.section.area_coefficient() * radius * radius * m.p[blocks.rest_length + j];
+          masses[j] -= quarter;
+          masses[j + 1] -= quarter;
+        }
+      add_gravity_forces(*rod, masses, spec.gravity, forces);
+    }
     for (const auto& l : r.point_loads) add_point_load(*rod, l.vertex, l.force, forces);
     if (!r.twisting_moments.empty())  // a potential of the state, not a force on theta (see the term)
       m.twisting_moments.push_back(&model.add(std::make_unique<RodTwistingMomentTerm>(rod, r.twisting_moments)));

@@ -35,6 +35,10 @@ struct RodSpec {
   bool closed = false;         // a ring: the last vertex joins the first
   double closing_twist = 0.0;  // closed rods: total twist imposed when the ends were joined [rad]
   bool straight_rest = false;  // rest curvatures and twists zero (naturally straight rod)
+  // "ends": "edge_midpoints": the rod's ends are the midpoints of its first and last edges (a
+  // line's from/to, loads at an "end" split over the end edge, the end edges' weight halved);
+  // with a clamped end edge this is the staggered set-up, second order (docs/rods.md).
+  bool ends_at_edge_midpoints = false;
   std::vector<RodEnd> clamped;
   std::vector<int> clamped_edges;  // both vertices and the twist of each edge held
   std::vector<int> pinned;

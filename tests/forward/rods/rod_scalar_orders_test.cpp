@@ -6,6 +6,9 @@
 // differences). A bent, twisted helix with frames stored ~0.3 rad away and perturbed parameters.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
+
 #include "forward/rods/rod_kinematics.hpp"
 #include "forward/rods/rod_stencils.hpp"
 #include "rod_fixtures.hpp"
@@ -100,6 +103,73 @@ TEST(RodScalarOrders, StrainsAgreeBitForBitAtEveryStencil) {
       EXPECT_LE((lifted.g - direct.g).lpNorm<Eigen::Infinity>(), 1e-13 * (1.0 + direct.g.lpNorm<Eigen::Infinity>()));
       EXPECT_LE((lifted.h - direct.h).lpNorm<Eigen::Infinity>(), 1e-12 * (1.0 + direct.h.lpNorm<Eigen::Infinity>()));
     }
+  }
+}
+
+// The Hessian path of the bending and twisting terms (forward/rods/cross_edge_products.hpp:
+// the strains' Hessians from dot products of the two edges' frames) against the dual-number
+// path (`strains`, the formulas of rod_kinematics.hpp differentiated as written), stencil by
+// stencil with independent weights per strain, on stale frames: equal to round-off, so a
+// dropped or mis-signed block (the cross-edge block h01, a product's own Hessians, the chain
+// term dp^T f_pp dp, the theta rows of the material frame) fails. The derivative checks of
+// rod_derivatives_test.cpp hold the terms' Hessians, by this path, against central differences.
+TEST(RodScalarOrders, CrossEdgeProductHessiansMatchTheDualPath) {
+  RodSetup s = make_rod(helix(14, 1.0, 0.3, 0.9));
+  s.rod->update_reference_frames(s.rest + 0.3 * uniform_noise(s.model->num_dofs(), 8));
+  Vector x = s.rest + 0.3 * uniform_noise(s.model->num_dofs(), 9);
+  for (int j = 0; j < s.rod->num_edges(); ++j) x[s.rod->twist_dof(j)] += 0.7 * j;  // turned material frames
+  s.bending->prepare(x, rod_detail::kProductHessians);
+  s.twisting->prepare(x, rod_detail::kProductHessians);
+  double worst = 0.0;
+  for (int i = 0; i < s.rod->num_interior(); ++i) {
+    const auto dofs = rod_detail::bend_twist_dofs(*s.rod, i);
+    rod_detail::BendTwistLocal local;
+    for (int r = 0; r < rod_detail::kBendTwistDofs; ++r) local[r] = x[dofs[static_cast<std::size_t>(r)]];
+    const Eigen::Vector2d w(1.0 + 0.1 * i, -0.6 + 0.05 * i);
+    const auto kappa = s.bending->strains(local, i);
+    const Eigen::Matrix<double, 11, 11> bending_dual = w[0] * kappa[0].h + w[1] * kappa[1].h;
+    const Eigen::Matrix<double, 11, 11> bending_products = s.bending->strain_hessian_sum(local, i, w);
+    const double scale_b = bending_dual.lpNorm<Eigen::Infinity>();
+    EXPECT_GT(scale_b, 1e-3);
+    EXPECT_LE((bending_products - bending_dual).lpNorm<Eigen::Infinity>(), 1e-12 * scale_b) << "stencil " << i;
+    const auto twist = s.twisting->strains(local, i);
+    const Eigen::Matrix<double, 1, 1> v(0.8 - 0.03 * i);
+    const Eigen::Matrix<double, 11, 11> twisting_dual = v[0] * twist[0].h;
+    const Eigen::Matrix<double, 11, 11> twisting_products = s.twisting->strain_hessian_sum(local, i, v);
+    const double scale_t = twisting_dual.lpNorm<Eigen::Infinity>();
+    EXPECT_GT(scale_t, 1e-3);
+    EXPECT_LE((twisting_products - twisting_dual).lpNorm<Eigen::Infinity>(), 1e-12 * scale_t) << "stencil " << i;
+    worst = std::max({worst, (bending_products - bending_dual).lpNorm<Eigen::Infinity>() / scale_b,
+                      (twisting_products - twisting_dual).lpNorm<Eigen::Infinity>() / scale_t});
+  }
+  std::printf("cross-edge product Hessians vs dual path: largest relative difference %.2e\n", worst);
+  // Through the terms: the same energy and gradient bit for bit, the Hessian to round-off.
+  Vector p = s.p;
+  p.array() *= 1.0 + 0.2 * uniform_noise(static_cast<int>(p.size()), 10).array();
+  for (auto* term : std::initializer_list<EnergyTerm*>{s.bending, s.twisting}) {
+    HessianPattern pattern;
+    term->hessian_pattern(pattern);
+    std::vector<double> products(pattern.size()), dual(pattern.size());
+    auto assemble = [&](std::vector<double>& h, Vector& g) {
+      double value = 0.0;
+      g = Vector::Zero(x.size());
+      EnergyRequest request;
+      request.value = &value;
+      request.gradient = &g;
+      request.hessian_values = h.data();
+      term->evaluate(x, p, request);
+      return value;
+    };
+    Vector g_products, g_dual;
+    const double e_products = assemble(products, g_products);
+    if (auto* b = dynamic_cast<RodBendingTerm*>(term)) b->set_product_hessian(false);
+    if (auto* t = dynamic_cast<RodTwistingTerm*>(term)) t->set_product_hessian(false);
+    const double e_dual = assemble(dual, g_dual);
+    EXPECT_EQ(e_products, e_dual) << term->name();
+    EXPECT_EQ((g_products - g_dual).lpNorm<Eigen::Infinity>(), 0.0) << term->name();
+    const Eigen::Map<const Eigen::VectorXd> hp(products.data(), static_cast<Eigen::Index>(products.size())),
+        hd(dual.data(), static_cast<Eigen::Index>(dual.size()));
+    EXPECT_LE((hp - hd).lpNorm<Eigen::Infinity>(), 1e-12 * hd.lpNorm<Eigen::Infinity>()) << term->name();
   }
 }
 

@@ -116,7 +116,7 @@ TEST(RodScene, MisspelledKeysAreRefusedWithFileAndKeyPath) {
   expect_refused(s, "rods[0].line.vertex: unknown key (allowed here: from, to, vertices)");
   s = cantilever;
   s["rods"][0]["point_loads"].push_back({{"vertex", 3}, {"forse", {0, 1, 0}}});
-  expect_refused(s, "rods[0].point_loads[1].forse: unknown key (allowed here: vertex, force)");
+  expect_refused(s, "rods[0].point_loads[1].forse: unknown key (allowed here: vertex, end, force)");
   s = cantilever;
   s["rods"][0]["twisting_moments"] = {{{"edge", 3}, {"moment", 1.0}, {"axis", 2}}};
   expect_refused(s, "rods[0].twisting_moments[0].axis: unknown key (allowed here: edge, moment)");

@@ -15,7 +15,6 @@ void InertiaTerm::set_step(double coefficient, Vector predictor, Vector carried_
     throw std::invalid_argument("InertiaTerm: predictor has the wrong size");
   if (carried_force.size() != 0 && carried_force.size() != mass_->num_dofs())
     throw std::invalid_argument("InertiaTerm: carried force has the wrong size");
-  if (coefficient != coefficient_) ++revision_;
   coefficient_ = coefficient;
   predictor_ = std::move(predictor);
   carried_force_ = std::move(carried_force);

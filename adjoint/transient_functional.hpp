@@ -99,6 +99,7 @@ struct TransientStatistics {
   double stored_hessian_megabytes_peak = 0.0;
   double adjoint_assembly_seconds = 0.0, adjoint_factorization_seconds = 0.0, adjoint_solve_seconds = 0.0;
   double adjoint_products_seconds = 0.0, adjoint_recompute_seconds = 0.0;
+  double adjoint_start_seconds = 0.0;  // Newmark: the terms of g_0 = -dPi_0/dx(x_0) (a Hessian and a mixed product)
   // Of the CG solves preconditioned by a kept factor: the largest relative residual of the
   // factor's plain solve (what the gradient would carry without CG's refinement).
   double max_preconditioner_residual = 0.0;

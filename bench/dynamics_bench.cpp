@@ -231,6 +231,7 @@ bench::Json to_json(const Row& r) {
           {"adjoint_factorization_s", st.adjoint_factorization_seconds},
           {"adjoint_solve_s", st.adjoint_solve_seconds},
           {"adjoint_products_s", st.adjoint_products_seconds},
+          {"adjoint_newmark_start_s", st.adjoint_start_seconds},
           {"max_preconditioner_residual", st.max_preconditioner_residual}};
 }
 

@@ -37,6 +37,12 @@ void InertiaTerm::evaluate(const Vector& x, const Vector& p, const EnergyRequest
   if (request.hessian_values) mass_->hessian_values(p, coefficient_, request.hessian_values);
 }
 
+void InertiaTerm::add_hessian_times(const Vector& x, const Vector& p, const Vector& w, Vector& out,
+                                    HessianMode mode) const {
+  (void)x, (void)mode;  // c M is constant and positive semidefinite: exact and projected coincide
+  if (coefficient_ != 0.0) mass_->add_times(p, w, out, coefficient_);
+}
+
 void InertiaTerm::add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const {
   (void)p;
   const Vector d = x - predictor_;

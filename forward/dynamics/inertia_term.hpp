@@ -27,6 +27,9 @@ class InertiaTerm final : public EnergyTerm {
   // (Newmark's start evaluates g_0 with c = 0) finds the factorization kept for it.
   bool hessian_is_constant() const override { return true; }
   std::uint64_t hessian_revision() const override { return std::bit_cast<std::uint64_t>(coefficient_); }
+  // out += c M w, by the mass operator (no Hessian values on the pattern).
+  void add_hessian_times(const Vector& x, const Vector& p, const Vector& w, Vector& out,
+                         HessianMode mode = HessianMode::exact) const override;
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override;
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override;
   void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,

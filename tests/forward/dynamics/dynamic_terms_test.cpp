@@ -46,6 +46,12 @@ TEST(DynamicTerms, InertiaDerivativesConsistentAndLumped) {
     c.terms.inertia->set_step(37.0, c.rest + random_vector(c.rest.size(), 9, 0.2),
                               random_vector(c.rest.size(), 11, 1.0));
     expect_passes(*c.terms.inertia, x, p);
+    // Its Hessian product (c M w by the mass operator) against the Hessian on the pattern.
+    const Vector w = random_vector(c.rest.size(), 13, 1.0);
+    Vector fast = Vector::Zero(x.size()), reference = Vector::Zero(x.size());
+    c.terms.inertia->add_hessian_times(x, p, w, fast);
+    c.terms.inertia->EnergyTerm::add_hessian_times(x, p, w, reference);
+    EXPECT_LT((fast - reference).norm(), 1e-12 * reference.norm());
   }
 }
 

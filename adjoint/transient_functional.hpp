@@ -28,9 +28,9 @@
 // of its values (the pattern is shared) while their total stays within
 // stored_hessian_megabytes, and the backward step at that state solves with the copy instead of
 // assembling it again: the same matrix bit for bit, one assembly fewer per step. Memory: nnz of
-// the reduced Hessian's upper triangle, 8 bytes each per step (about 11 MB per step for the
-// 58k-tet cantilever of dynamics_bench, against 1.6 MB for its state): the default of 512 MB
-// holds about 46 such steps; steps beyond it are assembled in the backward pass as before.
+// the reduced Hessian's upper triangle, 8 bytes each per step (5.4 MB per step for the 58k-tet
+// cantilever of dynamics_bench, against about 1 MB for its state): the default of 512 MB holds
+// about 95 such steps; the steps beyond it are assembled in the backward pass.
 // Projected or shifted Hessians (indefinite steps) are never kept.
 //
 // With the integrator's NewtonOptions::linear_solver set (e.g. PETSc's KSP,

@@ -157,6 +157,7 @@ void TransientFunctional::keep_step_hessian(int step) {
     return;
   const SparseMatrix& H = newton.hessian();
   if (H.rows() != hessian_.rows() || H.nonZeros() != hessian_.nonZeros() || !H.isCompressed()) return;
+  if (step_hessians_[step].size() != 0) return;  // kept by the forward pass, now recomputed
   const double megabytes = 8.0 * static_cast<double>(H.nonZeros()) / (1024.0 * 1024.0);
   if (step_hessian_megabytes_ + megabytes > options_.stored_hessian_megabytes) return;
   step_hessians_[step] = Eigen::Map<const Vector>(H.valuePtr(), H.nonZeros());

@@ -15,8 +15,8 @@
 //
 // Linear solves reuse factorizations. A backward step's Hessian is solved by conjugate
 // gradients preconditioned with the exact LL^T factor nearest in time: Newton's last
-// factorization of the forward pass (made at some iterate of a known step, at these parameters)
-// or the last one the backward pass made itself (consecutive step Hessians differ by O(h)). CG
+// factorization (made at some iterate of a known step of the forward pass, or earlier) or the
+// last one the backward pass made itself (consecutive step Hessians differ by O(h)). CG
 // refines to linear_relative_tolerance on the exact Hessian of the step, so the kept factor is
 // only a preconditioner and the gradient stays exact; a step is factorized afresh only when CG
 // does not converge in max_cg_iterations (the fresh factor then preconditions the next steps).

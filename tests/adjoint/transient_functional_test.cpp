@@ -162,6 +162,9 @@ TEST(TransientFunctional, CheckpointingGivesTheSameGradient) {
   EXPECT_EQ(s_all.stored_states_peak, problem.steps + 1);
   EXPECT_LE(s.stored_states_peak, 10 + 11);
   EXPECT_EQ(s.recomputed_steps, 90);
+  // The recomputed steps' Hessians are the ones the forward pass kept: neither counted twice.
+  EXPECT_EQ(s.stored_hessians_used, s_all.stored_hessians_used);
+  EXPECT_LE(s.stored_hessian_megabytes_peak, s_all.stored_hessian_megabytes_peak);
 }
 
 TEST(TransientFunctional, FactorizationReuseDoesNotChangeTheGradient) {

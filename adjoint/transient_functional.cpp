@@ -152,8 +152,8 @@ void TransientFunctional::keep_step_hessian(int step) {
   NewtonSolver& newton = integrator_.newton();
   if (options_.stored_hessian_megabytes <= 0.0 || !options_.reuse_factorizations || step < 0 ||
       step >= static_cast<int>(step_hessians_.size()) || newton.options().linear_solver ||
-      newton.assembles_by_parts() || newton.options().after_step || integrator_.model().hessian_is_constant() ||
-      newton.assembled_mode() != HessianMode::exact)
+      newton.assembles_by_parts() || newton.options().after_step ||
+      integrator_.model().hessian_is_constant() || newton.assembled_mode() != HessianMode::exact)
     return;
   const SparseMatrix& H = newton.hessian();
   if (H.rows() != hessian_.rows() || H.nonZeros() != hessian_.nonZeros() || !H.isCompressed()) return;
@@ -289,7 +289,8 @@ void TransientFunctional::backward_step(const DynamicState& from, const DynamicS
     // Every step has the same Hessian (at these parameters): Newton's kept factor solves it.
     auto t0 = Clock::now();
     const FactorizationResult f = newton.factorize_hessian(p_, to.y, HessianMode::exact);
-    if (!f.success) throw EvaluationError("transient adjoint: the step Hessian is singular (" + f.message + ")");
+    if (!f.success)
+      throw EvaluationError("transient adjoint: the step Hessian is singular (" + f.message + ")");
     if (f.kept) {
       ++statistics_.kept_factor_solves;
     } else {
@@ -318,8 +319,8 @@ void TransientFunctional::backward_step(const DynamicState& from, const DynamicS
   Vector inertia_weight;
   if (m.carries_force) inertia_weight = lambda - a.force;
   for (const auto& term : model.terms())
-    term->add_mixed_transpose_times(to.x, p_, term.get() == &inertia && m.carries_force ? inertia_weight : lambda,
-                                    products);
+    term->add_mixed_transpose_times(
+        to.x, p_, term.get() == &inertia && m.carries_force ? inertia_weight : lambda, products);
   gradient_p -= products;
   statistics_.adjoint_products_seconds += seconds_since(t0);
 

@@ -99,7 +99,8 @@ struct TransientStatistics {
   double stored_hessian_megabytes_peak = 0.0;
   double adjoint_assembly_seconds = 0.0, adjoint_factorization_seconds = 0.0, adjoint_solve_seconds = 0.0;
   double adjoint_products_seconds = 0.0, adjoint_recompute_seconds = 0.0;
-  double adjoint_start_seconds = 0.0;  // Newmark: the terms of g_0 = -dPi_0/dx(x_0) (a Hessian and a mixed product)
+  double adjoint_start_seconds =
+      0.0;  // Newmark: the terms of g_0 = -dPi_0/dx(x_0) (a Hessian and a mixed product)
   // Of the CG solves preconditioned by a kept factor: the largest relative residual of the
   // factor's plain solve (what the gradient would carry without CG's refinement).
   double max_preconditioner_residual = 0.0;
@@ -154,8 +155,8 @@ class TransientFunctional final : public ReducedFunctional {
   LowRankHessian low_rank_;  // of the step Hessian being solved
   SparseCholesky factor_;
   bool factor_analyzed_ = false, have_factor_ = false;
-  int factor_step_ = -1;         // the step whose Hessian factor_ holds
-  int newton_factor_step_ = -1;  // the step at whose iterates Newton last factorized (-1: unknown)
+  int factor_step_ = -1;               // the step whose Hessian factor_ holds
+  int newton_factor_step_ = -1;        // the step at whose iterates Newton last factorized (-1: unknown)
   std::vector<Vector> step_hessians_;  // by step: values of the converged exact Hessian (or empty)
   double step_hessian_megabytes_ = 0.0;
   TransientStatistics statistics_;

@@ -68,12 +68,11 @@ struct Scene {
 // The cantilever with its dynamics terms and parameters.
 Scene make_scene(int target_tets, MaterialKind material) {
   Scene scene;
-  scene.bar = bench::make_cantilever(4.0, bench::cantilever_cells(target_tets, 4.0), material,
-                                     [&](Model& model, const Mesh& mesh) {
-                                       scene.terms = add_dynamics_terms(
-                                           model, mesh,
-                                           DynamicsSetup{MassLumping::consistent, Eigen::Vector3d(0, 0, -9.81), true});
-                                     });
+  scene.bar = bench::make_cantilever(
+      4.0, bench::cantilever_cells(target_tets, 4.0), material, [&](Model& model, const Mesh& mesh) {
+        scene.terms = add_dynamics_terms(
+            model, mesh, DynamicsSetup{MassLumping::consistent, Eigen::Vector3d(0, 0, -9.81), true});
+      });
   const int m = scene.bar.mesh.num_elements();
   scene.p = bench::cantilever_parameters(scene.bar, 1e6, 0.3);
   scene.p.segment(scene.terms.density_offset, m).setConstant(1000.0);
@@ -104,14 +103,15 @@ void time_steps(TimeIntegrator& integrator, const Scene& scene, int steps, Row& 
       row.line_search += it.line_search_seconds / steps;
     }
     std::fprintf(stderr, "  %s %s step %d: %.3f s, %d Newton iterations (%d factorizations, %d by CG)\n",
-                 row.material.c_str(), row.scheme.c_str(), s + 1, times.back(), r.iterations, r.factorizations(),
-                 cg_steps);
+                 row.material.c_str(), row.scheme.c_str(), s + 1, times.back(), r.iterations,
+                 r.factorizations(), cg_steps);
   }
   const SparseCholesky& factor = integrator.newton().factorization();
   if (factor.factor_nonzeros() > 0)
-    std::fprintf(stderr, "  factorization %.2f GFlop = %.0f back-solves, %.0f flops per assembled Hessian slot\n",
-                 1e-9 * factor.factorization_flops(), factor.factorization_flops() / (4.0 * factor.factor_nonzeros()),
-                 factor.factorization_flops() / static_cast<double>(integrator.newton().assembler().num_slots()));
+    std::fprintf(
+        stderr, "  factorization %.2f GFlop = %.0f back-solves, %.0f flops per assembled Hessian slot\n",
+        1e-9 * factor.factorization_flops(), factor.factorization_flops() / (4.0 * factor.factor_nonzeros()),
+        factor.factorization_flops() / static_cast<double>(integrator.newton().assembler().num_slots()));
   row.median_step = median(times);
   row.median_cpu = median(cpu);
   row.min_step = *std::min_element(times.begin(), times.end());
@@ -166,18 +166,21 @@ Row run(MaterialKind material, TimeScheme scheme, const Settings& settings) {
 }
 
 void print_tables(const std::vector<Row>& rows) {
-  std::printf("%-12s %-15s %6s %6s %5s %9s %9s %9s %9s %7s %9s %9s %9s %8s\n", "material", "scheme", "tets", "dofs",
-              "steps", "median/s", "min", "max", "cpu med.", "newton", "assembly", "factor", "line s.", "tip drop");
+  std::printf("%-12s %-15s %6s %6s %5s %9s %9s %9s %9s %7s %9s %9s %9s %8s\n", "material", "scheme", "tets",
+              "dofs", "steps", "median/s", "min", "max", "cpu med.", "newton", "assembly", "factor",
+              "line s.", "tip drop");
   for (const Row& r : rows)
-    std::printf("%-12s %-15s %6d %6d %5d %9.3f %9.3f %9.3f %9.3f %7.2f %9.3f %9.3f %9.3f %8.4f\n", r.material.c_str(),
-                r.scheme.c_str(), r.tets, r.dofs, r.steps, r.median_step, r.min_step, r.max_step, r.median_cpu,
-                r.newton_per_step, r.assembly, r.factorization, r.line_search, r.tip_drop);
+    std::printf("%-12s %-15s %6d %6d %5d %9.3f %9.3f %9.3f %9.3f %7.2f %9.3f %9.3f %9.3f %8.4f\n",
+                r.material.c_str(), r.scheme.c_str(), r.tets, r.dofs, r.steps, r.median_step, r.min_step,
+                r.max_step, r.median_cpu, r.newton_per_step, r.assembly, r.factorization, r.line_search,
+                r.tip_drop);
   std::printf(
-      "(seconds per step, wall clock, except cpu med. = median process CPU time per step; assembly/factor/line s.\n"
+      "(seconds per step, wall clock, except cpu med. = median process CPU time per step; "
+      "assembly/factor/line s.\n"
       " are per-step wall-clock averages)\n\n");
   std::printf("%-12s %-15s %8s %8s %8s %5s %6s %5s %6s %5s %5s %6s %7s %7s %7s %7s\n", "material", "scheme",
-              "fwd cpu", "adj cpu", "adj/fwd", "fwd f", "fwd bs", "adj f", "adj bs", "H asm", "H kept", "cg it",
-              "asm s", "fact s", "solve s", "dp s");
+              "fwd cpu", "adj cpu", "adj/fwd", "fwd f", "fwd bs", "adj f", "adj bs", "H asm", "H kept",
+              "cg it", "asm s", "fact s", "solve s", "dp s");
   for (const Row& r : rows) {
     const TransientStatistics& st = r.stats;
     std::printf("%-12s %-15s %8.3f %8.3f %8.3f %5ld %6ld %5ld %6ld %5d %6d %5d %7.3f %7.3f %7.3f %7.3f\n",
@@ -188,10 +191,12 @@ void print_tables(const std::vector<Row>& rows) {
                 st.adjoint_products_seconds);
   }
   std::printf(
-      "(one gradient over all steps: fwd cpu / adj cpu = process CPU seconds of the forward run (value()) and\n"
+      "(one gradient over all steps: fwd cpu / adj cpu = process CPU seconds of the forward run (value()) "
+      "and\n"
       " of the backward pass; adj/fwd their ratio; f = numeric factorizations, bs = back-solved right-hand\n"
       " sides; H asm = step Hessians assembled by the adjoint, H kept = taken from the forward's copies;\n"
-      " cg it = CG iterations; asm/fact/solve/dp s = adjoint wall seconds in Hessian assembly, factorization,\n"
+      " cg it = CG iterations; asm/fact/solve/dp s = adjoint wall seconds in Hessian assembly, "
+      "factorization,\n"
       " solves, parameter-derivative products)\n");
 }
 
@@ -241,7 +246,8 @@ int run(int argc, char** argv) {
   Settings settings;
   std::vector<std::string> materials{"neo_hookean"};
   std::string out = "bench_dynamics.json";
-  bench::Cli cli("dynamics_bench", "Time per implicit step of a cantilever, and its adjoint against its forward run.");
+  bench::Cli cli("dynamics_bench",
+                 "Time per implicit step of a cantilever, and its adjoint against its forward run.");
   cli.tets(settings.tets, 24);
   cli.steps(settings.steps);
   cli.choices("--materials", materials, "materials of the bar", {"neo_hookean", "linear"});
@@ -255,8 +261,8 @@ int run(int argc, char** argv) {
       "the adjoint assembles every step Hessian (default: it takes the forward pass's copies)");
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
-  std::printf("tailor %s: cantilever under gravity, h = 0.01, full space, reuse_factorization %s%s\n", version_string,
-              to_string(settings.reuse_factorization).c_str(),
+  std::printf("tailor %s: cantilever under gravity, h = 0.01, full space, reuse_factorization %s%s\n",
+              version_string, to_string(settings.reuse_factorization).c_str(),
               settings.stored_hessians ? "" : ", adjoint without stored Hessians");
   std::vector<Row> rows;
   for (const std::string& material : materials)

@@ -61,7 +61,8 @@ class DampingTerm : public EnergyTerm {
                                                      Vector& gradient_p) const = 0;
   // out += (d2D/dv2) w, the part on the pattern (without the low-rank part). Returns false when
   // the model has no such product (the default), and the caller goes through the pattern.
-  virtual bool add_dissipation_hessian_times(const Vector& v, const Vector& p, const Vector& w, Vector& out) const {
+  virtual bool add_dissipation_hessian_times(const Vector& v, const Vector& p, const Vector& w,
+                                             Vector& out) const {
     (void)v, (void)p, (void)w, (void)out;
     return false;
   }

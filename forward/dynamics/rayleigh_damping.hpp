@@ -42,7 +42,8 @@ class RayleighDamping final : public DampingTerm {
   void evaluate_dissipation(const Vector& v, const Vector& p, const EnergyRequest& request) const override;
   void dissipation_pattern(HessianPattern& pattern) const override;
   // (alpha M + beta K) w, with the kept K.
-  bool add_dissipation_hessian_times(const Vector& v, const Vector& p, const Vector& w, Vector& out) const override;
+  bool add_dissipation_hessian_times(const Vector& v, const Vector& p, const Vector& w,
+                                     Vector& out) const override;
   void add_dissipation_param_gradient(const Vector& v, const Vector& p, Vector& gradient_p) const override;
   void add_dissipation_mixed_transpose_times(const Vector& v, const Vector& p, const Vector& w,
                                              Vector& gradient_p) const override;

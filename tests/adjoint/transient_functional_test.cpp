@@ -195,7 +195,8 @@ TEST(TransientFunctional, StoredStepHessiansGiveTheSameGradient) {
   assembling.stored_hessian_megabytes = 0.0;
   TransientFunctional stored(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
                              functional_options(false, steps));
-  TransientFunctional assembled(integrator, problem.map, problem.objective, problem.c.rest, problem.v0, assembling);
+  TransientFunctional assembled(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                                assembling);
   Vector a, b;
   stored.value_and_gradient(problem.z0, a);
   assembled.value_and_gradient(problem.z0, b);
@@ -224,7 +225,8 @@ TEST(TransientFunctional, KeptFactorsOnANeoHookeanSwingAreRefinedToTheFreshGradi
     fresh_options.reuse_factorizations = false;
     TransientFunctional reuse(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
                               functional_options(false, steps));
-    TransientFunctional fresh(integrator, problem.map, problem.objective, problem.c.rest, problem.v0, fresh_options);
+    TransientFunctional fresh(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                              fresh_options);
     Vector a, b;
     reuse.value_and_gradient(problem.z0, a);
     fresh.value_and_gradient(problem.z0, b);
@@ -267,8 +269,8 @@ TEST(TransientFunctional, TaylorTestWithKeptFactorsAndStoredHessians) {
   along_gradient.direction = descent / descent.cwiseQuotient(scale).lpNorm<Eigen::Infinity>();
   for (const TaylorTestOptions& options : {TaylorTestOptions{}, along_gradient}) {
     const TaylorTestResult t = taylor_test(f, problem.z0, options);
-    std::printf("reuse: %d CG solves, %d factorizations, %d stored Hessians\n%s", st.cg_solves, st.factorizations,
-                st.stored_hessians_used, t.table().c_str());
+    std::printf("reuse: %d CG solves, %d factorizations, %d stored Hessians\n%s", st.cg_solves,
+                st.factorizations, st.stored_hessians_used, t.table().c_str());
     EXPECT_TRUE(t.passed()) << t.table();
     EXPECT_NEAR(t.rate0, 1.0, 0.1);
     EXPECT_GE(t.rate1, 1.9);
@@ -314,8 +316,8 @@ TEST(TransientFunctional, ConstantHessianIsSolvedWithTheForwardFactor) {
     taylor.initial_step = 1e-3;
     const TaylorTestResult t = taylor_test(f, z0, taylor);
     std::printf("linear, %s: forward %ld factorizations, %ld back-solves; adjoint %ld back-solves\n%s",
-                to_string(scheme).c_str(), st.forward_factorizations, st.forward_back_solves, st.adjoint_back_solves,
-                t.table().c_str());
+                to_string(scheme).c_str(), st.forward_factorizations, st.forward_back_solves,
+                st.adjoint_back_solves, t.table().c_str());
     EXPECT_TRUE(t.passed()) << t.table();
   }
 }

@@ -1,6 +1,8 @@
 #include "adjoint/transient_functional.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "forward/core/timing.hpp"
@@ -104,6 +106,11 @@ void TransientFunctional::forward(const Vector& z) {
   statistics_.steps = options_.steps;
   stored_.clear();
   tail_.clear();
+  step_hessians_.assign(options_.steps + 1, Vector());
+  step_hessian_megabytes_ = 0.0;
+  newton_factor_step_ = -1;
+  const SparseCholesky& newton_factor = integrator_.newton().factorization();
+  const long factorizations0 = newton_factor.numeric_factorizations(), solves0 = newton_factor.back_solves();
   DynamicState state = integrator_.initial_state(x_init_, v_init_, p_);
   value_ = objective_->value(0, state.x, state.v, p_);
   store(state);
@@ -114,9 +121,13 @@ void TransientFunctional::forward(const Vector& z) {
     if (!r.converged())
       throw EvaluationError("time step " + std::to_string(step + 1) + " failed: " + to_string(r.status) +
                             " (" + r.message + ")");
+    if (r.factorizations() > 0) newton_factor_step_ = state.step;
+    keep_step_hessian(state.step);
     value_ += objective_->value(state.step, state.x, state.v, p_);
     store(state);
   }
+  statistics_.forward_factorizations = newton_factor.numeric_factorizations() - factorizations0;
+  statistics_.forward_back_solves = newton_factor.back_solves() - solves0;
   statistics_.forward_seconds = seconds_since(t0);
   counters_.forward_solves += options_.steps;
   counters_.forward_seconds += statistics_.forward_seconds;
@@ -135,27 +146,69 @@ void TransientFunctional::add_objective_gradient(const DynamicState& s, Adjoint&
   objective_->add_gradient(s.step, s.x, s.v, p_, adjoint.x, adjoint.v, gradient_p);
 }
 
-Vector TransientFunctional::solve_step(const Vector& rhs, bool first) {
+void TransientFunctional::keep_step_hessian(int step) {
+  // Newton's last assembly of a converged solve is the Hessian at the returned iterate
+  // (NewtonSolver::hessian()); only an exact one of the step's own settings is the adjoint's.
+  NewtonSolver& newton = integrator_.newton();
+  if (options_.stored_hessian_megabytes <= 0.0 || !options_.reuse_factorizations || step < 0 ||
+      step >= static_cast<int>(step_hessians_.size()) || newton.options().linear_solver ||
+      newton.assembles_by_parts() || newton.options().after_step ||
+      integrator_.model().hessian_is_constant() || newton.assembled_mode() != HessianMode::exact)
+    return;
+  const SparseMatrix& H = newton.hessian();
+  if (H.rows() != hessian_.rows() || H.nonZeros() != hessian_.nonZeros() || !H.isCompressed()) return;
+  if (step_hessians_[step].size() != 0) return;  // kept by the forward pass, now recomputed
+  const double megabytes = 8.0 * static_cast<double>(H.nonZeros()) / (1024.0 * 1024.0);
+  if (step_hessian_megabytes_ + megabytes > options_.stored_hessian_megabytes) return;
+  step_hessians_[step] = Eigen::Map<const Vector>(H.valuePtr(), H.nonZeros());
+  step_hessian_megabytes_ += megabytes;
+  statistics_.stored_hessian_megabytes_peak =
+      std::max(statistics_.stored_hessian_megabytes_peak, step_hessian_megabytes_);
+}
+
+bool TransientFunctional::take_stored_hessian(int step) {
+  if (step < 0 || step >= static_cast<int>(step_hessians_.size())) return false;
+  Vector& values = step_hessians_[step];
+  if (values.size() == 0 || values.size() != hessian_.nonZeros()) return false;
+  Eigen::Map<Vector>(hessian_.valuePtr(), hessian_.nonZeros()) = values;
+  step_hessian_megabytes_ -= 8.0 * static_cast<double>(values.size()) / (1024.0 * 1024.0);
+  Vector().swap(values);  // each is used once: free it for the recomputed segments' copies
+  ++statistics_.stored_hessians_used;
+  return true;
+}
+
+Vector TransientFunctional::solve_step(const Vector& rhs, int step) {
   // Low-rank Hessian parts (LowRankHessian) are not in hessian_: factorize with a Woodbury update.
   if (options_.reuse_factorizations && low_rank_.empty()) {
-    const SparseCholesky* preconditioner = nullptr;
+    // The exact LL^T factor nearest in time preconditions CG: the backward pass's own, or
+    // Newton's last one (made at an iterate of step newton_factor_step_; -1: before this pass).
+    auto usable = [this](const SparseCholesky& f) {
+      return f.has_factor() && !f.is_ldlt() && !f.has_low_rank_update() && f.rows() == hessian_.rows();
+    };
     NewtonSolver& newton = integrator_.newton();
-    if (have_factor_ && !factor_.is_ldlt())
-      preconditioner = &factor_;
-    else if (first && newton.factorization_is_exact() && newton.factorization().has_factor() &&
-             !newton.factorization().is_ldlt())
-      preconditioner = &newton.factorization();  // Newton's last exact factorization at step N
+    const SparseCholesky* own = have_factor_ && usable(factor_) ? &factor_ : nullptr;
+    const SparseCholesky* newtons =
+        newton.factorization_is_exact() && usable(newton.factorization()) ? &newton.factorization() : nullptr;
+    const SparseCholesky* preconditioner = own ? own : newtons;
+    if (own && newtons && newton_factor_step_ >= 0 &&
+        std::abs(newton_factor_step_ - step) < std::abs(factor_step_ - step))
+      preconditioner = newtons;
     if (preconditioner) {
+      const auto t0 = Clock::now();
       Vector v;
       const PcgResult cg = preconditioned_cg(
           hessian_, *preconditioner, rhs, options_.linear_relative_tolerance, options_.max_cg_iterations, v);
+      statistics_.adjoint_solve_seconds += seconds_since(t0);
       if (cg.converged) {
         ++statistics_.cg_solves;
         statistics_.cg_iterations += cg.iterations;
+        statistics_.max_preconditioner_residual =
+            std::max(statistics_.max_preconditioner_residual, cg.initial_relative_residual);
         return v;
       }
     }
   }
+  auto t0 = Clock::now();
   if (!factor_analyzed_) {
     factor_.analyze(hessian_);
     factor_analyzed_ = true;
@@ -164,8 +217,13 @@ Vector TransientFunctional::solve_step(const Vector& rhs, bool first) {
   if (!f.success) throw EvaluationError("transient adjoint: a step Hessian is singular (" + f.message + ")");
   if (!low_rank_.empty()) factor_.set_low_rank_update(low_rank_.factors, low_rank_.core);
   have_factor_ = true;
+  factor_step_ = step;
   ++statistics_.factorizations;
-  return factor_.solve(rhs);
+  statistics_.adjoint_factorization_seconds += seconds_since(t0);
+  t0 = Clock::now();
+  Vector v = factor_.solve(rhs);
+  statistics_.adjoint_solve_seconds += seconds_since(t0);
+  return v;
 }
 
 Vector TransientFunctional::solve_with_linear_solver(LinearSolver& solver, const Vector& rhs, int step) {
@@ -209,26 +267,45 @@ void TransientFunctional::backward_step(const DynamicState& from, const DynamicS
   if (m.carries_force) {
     mass.add_times(p_, a.force, x_total, c);
     mass.add_times(p_, a.force, predictor_bar, -c);
-    force_bar = -a.force;
-    inertia.add_mixed_transpose_times(to.x, p_, a.force, gradient_p);  // c fb^T M_e (x - x~)
+    force_bar = -a.force;  // and c fb^T M_e (x - x~) into gradient_p with the products below
   }
   Vector lambda;
   NewtonSolver& newton = integrator_.newton();
-  if (LinearSolver* solver = newton.options().linear_solver.get()) {
-    newton.assembler().evaluate(to.y, p_, nullptr, nullptr, &hessian_, HessianMode::exact);
+  auto assemble_hessian = [&] {
+    const auto t0 = Clock::now();
+    if (!take_stored_hessian(to.step)) {
+      newton.assembler().evaluate(to.y, p_, nullptr, nullptr, &hessian_, HessianMode::exact);
+      ++statistics_.hessian_assemblies;
+    }
     low_rank_ = newton.assembler().low_rank_hessian(to.y, p_);
+    statistics_.adjoint_assembly_seconds += seconds_since(t0);
+  };
+  if (LinearSolver* solver = newton.options().linear_solver.get()) {
+    assemble_hessian();
+    const auto t0 = Clock::now();
     lambda = elim.expand_direction(solve_with_linear_solver(*solver, elim.reduce(x_total), to.step));
+    statistics_.adjoint_solve_seconds += seconds_since(t0);
   } else if (model.hessian_is_constant()) {
     // Every step has the same Hessian (at these parameters): Newton's kept factor solves it.
+    auto t0 = Clock::now();
     const FactorizationResult f = newton.factorize_hessian(p_, to.y, HessianMode::exact);
-    if (!f.success) throw EvaluationError("transient adjoint: the step Hessian is singular (" + f.message + ")");
-    if (f.kept) ++statistics_.kept_factor_solves; else ++statistics_.factorizations;
+    if (!f.success)
+      throw EvaluationError("transient adjoint: the step Hessian is singular (" + f.message + ")");
+    if (f.kept) {
+      ++statistics_.kept_factor_solves;
+    } else {
+      ++statistics_.factorizations;
+      ++statistics_.hessian_assemblies;
+    }
+    statistics_.adjoint_factorization_seconds += seconds_since(t0);
+    t0 = Clock::now();
     lambda = elim.expand_direction(newton.factorization().solve(elim.reduce(x_total)));
+    statistics_.adjoint_solve_seconds += seconds_since(t0);
   } else {
-    newton.assembler().evaluate(to.y, p_, nullptr, nullptr, &hessian_, HessianMode::exact);
-    low_rank_ = newton.assembler().low_rank_hessian(to.y, p_);
-    lambda = elim.expand_direction(solve_step(elim.reduce(x_total), to.step == options_.steps));
+    assemble_hessian();
+    lambda = elim.expand_direction(solve_step(elim.reduce(x_total), to.step));
   }
+  const auto t0 = Clock::now();
   mass.add_times(p_, lambda, predictor_bar, c);
   Vector start_x_bar = Vector::Zero(n), start_v_bar = Vector::Zero(n);  // through lagged damping coefficients
   if (DampingTerm* damping = integrator_.damping()) {
@@ -236,7 +313,16 @@ void TransientFunctional::backward_step(const DynamicState& from, const DynamicS
     damping->add_step_start_transpose_times(to.x, p_, lambda, start_x_bar, start_v_bar);
   }
   if (m.carries_force) force_bar += lambda;
-  gradient_p -= model.mixed_transpose_times(to.x, p_, lambda);
+  // (d2 Pi/dx dp)^T lambda term by term; Newmark's inertia term also carries -fb (above), so
+  // its product takes lambda - fb in one pass over the mass's elements instead of two.
+  Vector products = Vector::Zero(p_.size());
+  Vector inertia_weight;
+  if (m.carries_force) inertia_weight = lambda - a.force;
+  for (const auto& term : model.terms())
+    term->add_mixed_transpose_times(
+        to.x, p_, term.get() == &inertia && m.carries_force ? inertia_weight : lambda, products);
+  gradient_p -= products;
+  statistics_.adjoint_products_seconds += seconds_since(t0);
 
   Adjoint previous(n);
   previous.x = a.x_previous + m.predictor_x * predictor_bar + m.base_x * base_bar - start_x_bar;
@@ -256,11 +342,21 @@ double TransientFunctional::value_and_gradient(const Vector& z, Vector& gradient
   Vector gradient_p = Vector::Zero(p_.size());
   Adjoint a(n);
   have_factor_ = false;
+  factor_step_ = -1;
   statistics_.factorizations = statistics_.cg_solves = statistics_.cg_iterations = 0;
+  statistics_.kept_factor_solves = 0;
   statistics_.linear_solver_solves = 0;
   statistics_.linear_solver_iterations = 0;
   statistics_.last_linear_solve = {};
   statistics_.recomputed_steps = 0;
+  statistics_.hessian_assemblies = statistics_.stored_hessians_used = 0;
+  statistics_.adjoint_assembly_seconds = statistics_.adjoint_factorization_seconds = 0.0;
+  statistics_.adjoint_solve_seconds = statistics_.adjoint_products_seconds = 0.0;
+  statistics_.adjoint_recompute_seconds = statistics_.max_preconditioner_residual = 0.0;
+  statistics_.adjoint_start_seconds = 0.0;
+  const SparseCholesky& newton_factor = integrator_.newton().factorization();
+  const long factorizations0 = newton_factor.numeric_factorizations() + factor_.numeric_factorizations();
+  const long solves0 = newton_factor.back_solves() + factor_.back_solves();
 
   // Walk back through consecutive pairs of states; `states` holds one segment.
   auto backward_over = [&](const std::vector<const DynamicState*>& states) {
@@ -285,15 +381,19 @@ double TransientFunctional::value_and_gradient(const Vector& z, Vector& gradient
         recomputed.assign(1, stored_[j]);
         recomputed.reserve(k + 1);
         const int end = std::min((j + 1) * k, N);
+        const auto t_recompute = Clock::now();
         for (int step = j * k; step < end; ++step) {
           DynamicState s = recomputed.back();
           const NewtonResult r = integrator_.step(s, p_);
           if (!r.converged())
             throw EvaluationError("recomputation of step " + std::to_string(step + 1) + " failed");
+          if (r.factorizations() > 0) newton_factor_step_ = s.step;
+          keep_step_hessian(s.step);
           recomputed.push_back(std::move(s));
           ++statistics_.recomputed_steps;
           ++statistics_.forward_steps;
         }
+        statistics_.adjoint_recompute_seconds += seconds_since(t_recompute);
         for (std::size_t i = 1; i < recomputed.size(); ++i) seg.push_back(&recomputed[i]);
         const int count = static_cast<int>(stored_.size() + recomputed.size());
         if (count > statistics_.stored_states_peak) {
@@ -307,6 +407,7 @@ double TransientFunctional::value_and_gradient(const Vector& z, Vector& gradient
 
   // Newmark's memory starts at g_0 = -dPi_0/dx(x_0), Pi_0 = E + h D((x - x_0 + h v_0)/h).
   if (integrator_.options().scheme == TimeScheme::newmark) {
+    const auto t_start = Clock::now();
     integrator_.configure_initial_force(x_init_, v_init_);
     const Model& model = integrator_.model();
     Vector damping_times = Vector::Zero(n);
@@ -317,9 +418,14 @@ double TransientFunctional::value_and_gradient(const Vector& z, Vector& gradient
     }
     a.x -= start_x_bar;
     a.v -= start_v_bar;
-    a.x += damping_times - model.hessian_times(x_init_, p_, a.force);
+    a.x += damping_times;
+    // a.x is read only as the gradient in designed initial positions: the Hessian product
+    // (EnergyTerm's default builds each term's pattern and element Hessians, about a forward
+    // step's cost on a large mesh) only then.
+    if (options_.design_initial_positions) a.x -= model.hessian_times(x_init_, p_, a.force);
     a.v -= integrator_.options().time_step * damping_times;
     gradient_p -= model.mixed_transpose_times(x_init_, p_, a.force);
+    statistics_.adjoint_start_seconds = seconds_since(t_start);
   }
 
   Vector extended(num_extended_params());
@@ -328,6 +434,9 @@ double TransientFunctional::value_and_gradient(const Vector& z, Vector& gradient
   if (options_.design_initial_positions) extended.segment(offset, n) = a.x, offset += n;
   if (options_.design_initial_velocities) extended.segment(offset, n) = a.v;
   gradient = parameterization_->jacobian_transpose_times(z, extended);
+  statistics_.adjoint_numeric_factorizations =
+      newton_factor.numeric_factorizations() + factor_.numeric_factorizations() - factorizations0;
+  statistics_.adjoint_back_solves = newton_factor.back_solves() + factor_.back_solves() - solves0;
   statistics_.adjoint_seconds = seconds_since(t0);
   counters_.adjoint_solves += N;
   counters_.adjoint_seconds += statistics_.adjoint_seconds;

@@ -13,11 +13,25 @@
 // step residuals are differentiated exactly, so the gradient is exact up to the Newton and
 // linear tolerances (checked by Taylor tests).
 //
-// Linear solves reuse factorizations: the first backward step is preconditioned by Newton's
-// last factorization when it is exact (as StaticFunctional does); each later step by the last
-// factorization made in the backward pass (consecutive step Hessians differ by O(h)), with
-// conjugate gradients, and a step is factorized afresh only when CG does not converge in
-// max_cg_iterations.
+// Linear solves reuse factorizations. A backward step's Hessian is solved by conjugate
+// gradients preconditioned with the exact LL^T factor nearest in time: Newton's last
+// factorization (made at some iterate of a known step of the forward pass, or earlier) or the
+// last one the backward pass made itself (consecutive step Hessians differ by O(h)). CG
+// refines to linear_relative_tolerance on the exact Hessian of the step, so the kept factor is
+// only a preconditioner and the gradient stays exact; a step is factorized afresh only when CG
+// does not converge in max_cg_iterations (the fresh factor then preconditions the next steps).
+// A constant Hessian (linear materials, inertia, Rayleigh damping with its kept stiffness) is
+// Newton's kept factor itself: no assembly, no factorization, one back-solve per step.
+//
+// Step Hessians from the forward pass: Newton assembles the exact Hessian at the converged state
+// of each step for its convergence test (NewtonSolver::hessian()). The forward pass keeps a copy
+// of its values (the pattern is shared) while their total stays within
+// stored_hessian_megabytes, and the backward step at that state solves with the copy instead of
+// assembling it again: the same matrix bit for bit, one assembly fewer per step. Memory: nnz of
+// the reduced Hessian's upper triangle, 8 bytes each per step (5.4 MB per step for the 58k-tet
+// cantilever of dynamics_bench, against about 1 MB for its state): the default of 512 MB holds
+// about 95 such steps; the steps beyond it are assembled in the backward pass.
+// Projected or shifted Hessians (indefinite steps) are never kept.
 //
 // With the integrator's NewtonOptions::linear_solver set (e.g. PETSc's KSP,
 // forward/solve/linear_solver.hpp) every backward step's exact Hessian is set up on that
@@ -41,6 +55,9 @@ struct TransientFunctionalOptions {
   bool design_initial_positions = false;   // P gets x_0 (num_dofs entries) after p
   bool design_initial_velocities = false;  // P gets v_0 (num_dofs entries) after that
   bool reuse_factorizations = true;        // false: factorize every backward step
+  // Upper bound of the forward pass's copies of converged step Hessians (see above); 0: none,
+  // every backward step assembles its Hessian.
+  double stored_hessian_megabytes = 512.0;
   // Of the CG solves preconditioned by a kept factor, and of every backward solve with the
   // integrator's NewtonOptions::linear_solver. The rule of StaticFunctionalOptions: the
   // gradient's relative error is at most about cond(H) times the adjoint's relative residual,
@@ -69,6 +86,24 @@ struct TransientStatistics {
   LinearSolveStats last_linear_solve;
   double forward_seconds = 0.0;  // forward pass
   double adjoint_seconds = 0.0;  // backward pass, including recomputation
+  // Sparse Cholesky work (numeric factorizations, right-hand sides back-solved) of the forward
+  // pass (Newton) and of the backward pass (its own factor, Newton's as preconditioner or as
+  // the kept factor of a constant Hessian, recomputation's Newton solves included).
+  long forward_factorizations = 0, forward_back_solves = 0;
+  long adjoint_numeric_factorizations = 0, adjoint_back_solves = 0;
+  // Backward pass: step Hessians assembled there and taken from the forward pass's copies, the
+  // copies' peak size, and where the time went (wall seconds: Hessian assembly, numeric
+  // factorization, solves with CG and back-solves, parameter-derivative products and the other
+  // adjoint updates, recomputation of checkpointed segments).
+  int hessian_assemblies = 0, stored_hessians_used = 0;
+  double stored_hessian_megabytes_peak = 0.0;
+  double adjoint_assembly_seconds = 0.0, adjoint_factorization_seconds = 0.0, adjoint_solve_seconds = 0.0;
+  double adjoint_products_seconds = 0.0, adjoint_recompute_seconds = 0.0;
+  double adjoint_start_seconds =
+      0.0;  // Newmark: the terms of g_0 = -dPi_0/dx(x_0) (a Hessian and a mixed product)
+  // Of the CG solves preconditioned by a kept factor: the largest relative residual of the
+  // factor's plain solve (what the gradient would carry without CG's refinement).
+  double max_preconditioner_residual = 0.0;
   double recompute_ratio() const { return steps ? static_cast<double>(recomputed_steps) / steps : 0.0; }
 };
 
@@ -97,7 +132,10 @@ class TransientFunctional final : public ReducedFunctional {
   // The states n0..n1 (inclusive) of the current trajectory, recomputed when necessary.
   std::vector<DynamicState> segment(int n0, int n1);
   void backward_step(const DynamicState& from, const DynamicState& to, Adjoint& adjoint, Vector& gradient_p);
-  Vector solve_step(const Vector& rhs, bool first);
+  Vector solve_step(const Vector& rhs, int step);
+  // The forward pass's copy of the converged Hessian of `step` into hessian_, if it kept one.
+  bool take_stored_hessian(int step);
+  void keep_step_hessian(int step);
   Vector solve_with_linear_solver(LinearSolver& solver, const Vector& rhs, int step);
   void add_objective_gradient(const DynamicState& s, Adjoint& adjoint, Vector& gradient_p) const;
 
@@ -117,6 +155,10 @@ class TransientFunctional final : public ReducedFunctional {
   LowRankHessian low_rank_;  // of the step Hessian being solved
   SparseCholesky factor_;
   bool factor_analyzed_ = false, have_factor_ = false;
+  int factor_step_ = -1;               // the step whose Hessian factor_ holds
+  int newton_factor_step_ = -1;        // the step at whose iterates Newton last factorized (-1: unknown)
+  std::vector<Vector> step_hessians_;  // by step: values of the converged exact Hessian (or empty)
+  double step_hessian_megabytes_ = 0.0;
   TransientStatistics statistics_;
 };
 

@@ -6,7 +6,6 @@ namespace tailor {
 
 void DampingTerm::set_velocity_map(double velocity_scale, Vector base) {
   if (!(velocity_scale > 0.0)) throw std::invalid_argument("DampingTerm: the velocity scale must be > 0");
-  if (velocity_scale != kappa_) ++revision_;
   kappa_ = velocity_scale;
   base_ = std::move(base);
 }
@@ -63,6 +62,19 @@ void DampingTerm::add_low_rank_hessian(const Vector& x, const Vector& p, LowRank
   LowRankHessian inner;
   add_dissipation_low_rank_hessian(velocity(x), p, inner);
   update.append(inner.factors, inner.core, 1.0 / kappa_);
+}
+
+void DampingTerm::add_hessian_times(const Vector& x, const Vector& p, const Vector& w, Vector& out,
+                                    HessianMode mode) const {
+  Vector on_pattern = Vector::Zero(out.size());
+  if (!add_dissipation_hessian_times(velocity(x), p, w, on_pattern)) {
+    EnergyTerm::add_hessian_times(x, p, w, out, mode);
+    return;
+  }
+  out += on_pattern / kappa_;
+  LowRankHessian low_rank;
+  add_low_rank_hessian(x, p, low_rank, mode);
+  low_rank.add_times(w, out);
 }
 
 void DampingTerm::add_dissipation_mixed(const Vector& v, const Vector& p, Triplets& mixed) const {

@@ -13,6 +13,9 @@
 // A damping model implements the dissipation interface below (D, dD/dv, d2D/dv2 on a fixed
 // pattern, dD/dp, d2D/dvdp); it must be convex in v and have D >= 0 (dissipative).
 // RayleighDamping is the first model; example-based damping plugs in the same way.
+#include <bit>
+#include <cstdint>
+
 #include "forward/core/energy_term.hpp"
 
 namespace tailor {
@@ -33,10 +36,16 @@ class DampingTerm : public EnergyTerm {
                                  Vector& gradient_p) const final;
   void add_low_rank_hessian(const Vector& x, const Vector& p, LowRankHessian& update,
                             HessianMode mode = HessianMode::exact) const final;
-  // A quadratic dissipation gives the constant Hessian (d2D/dv2) / kappa; a new kappa is a
-  // new revision.
+  // out += (d2D/dv2) w / kappa (exact and projected coincide), low-rank part included: through
+  // add_dissipation_hessian_times where the model has it, else by the Hessian values on the
+  // pattern (EnergyTerm's default, an element loop and the pattern per call).
+  void add_hessian_times(const Vector& x, const Vector& p, const Vector& w, Vector& out,
+                         HessianMode mode = HessianMode::exact) const final;
+  // A quadratic dissipation gives the constant Hessian (d2D/dv2) / kappa. Its revision is
+  // kappa's bit pattern: a return to an earlier kappa (Newmark's start evaluates g_0 with
+  // kappa = h, its steps use h/2) finds the factorization kept for it.
   bool hessian_is_constant() const final { return dissipation_is_quadratic(); }
-  std::uint64_t hessian_revision() const final { return revision_; }
+  std::uint64_t hessian_revision() const final { return std::bit_cast<std::uint64_t>(kappa_); }
 
   // True when D is quadratic in v with coefficients that depend on p only (Rayleigh).
   virtual bool dissipation_is_quadratic() const { return false; }
@@ -50,6 +59,13 @@ class DampingTerm : public EnergyTerm {
   // gradient_p += (d2D/dvdp)^T w.
   virtual void add_dissipation_mixed_transpose_times(const Vector& v, const Vector& p, const Vector& w,
                                                      Vector& gradient_p) const = 0;
+  // out += (d2D/dv2) w, the part on the pattern (without the low-rank part). Returns false when
+  // the model has no such product (the default), and the caller goes through the pattern.
+  virtual bool add_dissipation_hessian_times(const Vector& v, const Vector& p, const Vector& w,
+                                             Vector& out) const {
+    (void)v, (void)p, (void)w, (void)out;
+    return false;
+  }
   // Triplets (dof, parameter) of d2D/dvdp. Default: column by column through the transpose product.
   virtual void add_dissipation_mixed(const Vector& v, const Vector& p, Triplets& mixed) const;
   // The low-rank part of d2D/dv2 kept off the pattern (see LowRankHessian). Default: none.
@@ -72,7 +88,6 @@ class DampingTerm : public EnergyTerm {
  private:
   std::size_t pattern_size() const;
   double kappa_ = 1.0;
-  std::uint64_t revision_ = 0;
   Vector base_;
   mutable std::size_t pattern_size_ = 0;
   mutable bool pattern_known_ = false;

@@ -15,7 +15,6 @@ void InertiaTerm::set_step(double coefficient, Vector predictor, Vector carried_
     throw std::invalid_argument("InertiaTerm: predictor has the wrong size");
   if (carried_force.size() != 0 && carried_force.size() != mass_->num_dofs())
     throw std::invalid_argument("InertiaTerm: carried force has the wrong size");
-  if (coefficient != coefficient_) ++revision_;
   coefficient_ = coefficient;
   predictor_ = std::move(predictor);
   carried_force_ = std::move(carried_force);
@@ -36,6 +35,12 @@ void InertiaTerm::evaluate(const Vector& x, const Vector& p, const EnergyRequest
     }
   }
   if (request.hessian_values) mass_->hessian_values(p, coefficient_, request.hessian_values);
+}
+
+void InertiaTerm::add_hessian_times(const Vector& x, const Vector& p, const Vector& w, Vector& out,
+                                    HessianMode mode) const {
+  (void)x, (void)mode;  // c M is constant and positive semidefinite: exact and projected coincide
+  if (coefficient_ != 0.0) mass_->add_times(p, w, out, coefficient_);
 }
 
 void InertiaTerm::add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const {

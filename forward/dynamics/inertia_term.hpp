@@ -7,6 +7,8 @@
 // acceleration minus g. (g^T x~ is subtracted, a constant, so that E stays small near the
 // solution: Newton's line search compares energies and a large offset would drown them.) The time integrator
 // sets (c, x~, g) before each step; parameters: the per-element density of the mass operator.
+#include <bit>
+#include <cstdint>
 #include <memory>
 
 #include "forward/core/energy_term.hpp"
@@ -21,9 +23,13 @@ class InertiaTerm final : public EnergyTerm {
   std::string name() const override { return "inertia"; }
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override;
   void hessian_pattern(HessianPattern& pattern) const override { mass_->hessian_pattern(pattern); }
-  // c M(rho): constant in x; a new coefficient c is a new revision.
+  // c M(rho): constant in x. The revision is c's bit pattern: a return to an earlier c
+  // (Newmark's start evaluates g_0 with c = 0) finds the factorization kept for it.
   bool hessian_is_constant() const override { return true; }
-  std::uint64_t hessian_revision() const override { return revision_; }
+  std::uint64_t hessian_revision() const override { return std::bit_cast<std::uint64_t>(coefficient_); }
+  // out += c M w, by the mass operator (no Hessian values on the pattern).
+  void add_hessian_times(const Vector& x, const Vector& p, const Vector& w, Vector& out,
+                         HessianMode mode = HessianMode::exact) const override;
   void add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const override;
   void add_mixed(const Vector& x, const Vector& p, Triplets& mixed) const override;
   void add_mixed_transpose_times(const Vector& x, const Vector& p, const Vector& w,
@@ -40,7 +46,6 @@ class InertiaTerm final : public EnergyTerm {
  private:
   std::shared_ptr<const MassOperator> mass_;
   double coefficient_ = 0.0;
-  std::uint64_t revision_ = 0;
   Vector predictor_, carried_force_;
 };
 

@@ -89,15 +89,22 @@ void RayleighDamping::add_dissipation_param_gradient(const Vector& v, const Vect
   gradient_p += beta * gk;
 }
 
+bool RayleighDamping::add_dissipation_hessian_times(const Vector& v, const Vector& p, const Vector& w,
+                                                    Vector& out) const {
+  (void)v;
+  mass_->add_times(p, w, out, p[alpha_offset_]);
+  out += p[beta_offset_] * (*cached_stiffness(p) * w);
+  return true;
+}
+
 void RayleighDamping::add_dissipation_mixed_transpose_times(const Vector& v, const Vector& p, const Vector& w,
                                                             Vector& gradient_p) const {
   const double alpha = p[alpha_offset_], beta = p[beta_offset_];
   const Vector X_plus_v = rest_ + v;
-  Vector Mv = Vector::Zero(v.size()), Kv = Vector::Zero(v.size());
+  Vector Mv = Vector::Zero(v.size());
   mass_->add_times(p, v, Mv);
-  stiffness_->add_gradient(X_plus_v, p, Kv);
   gradient_p[alpha_offset_] += w.dot(Mv);
-  gradient_p[beta_offset_] += w.dot(Kv);
+  gradient_p[beta_offset_] += w.dot(*cached_stiffness(p) * v);  // K v, the kept K (as the gradient)
   mass_->add_density_gradient(w, v, gradient_p, alpha);
   Vector gk = Vector::Zero(p.size());
   stiffness_->add_mixed_transpose_times(X_plus_v, p, w, gk);

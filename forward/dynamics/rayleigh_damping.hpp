@@ -17,8 +17,9 @@
 // assembled for, so E_lin(X + v) = 1/2 v^T K v and its gradient K v cost one sparse product
 // instead of an element loop. Its pattern and the entry each element slot adds to are computed
 // once, at construction, so a change of those parameters costs one element loop of Hessian
-// values and a scatter, not a triplet assembly. The parameter derivatives (adjoint only) still
-// run the element loop.
+// values and a scatter, not a triplet assembly. The adjoint's products use it too: the Hessian
+// times a vector, (alpha M + beta K) w / kappa, and the K v of the derivatives in alpha and
+// beta; the derivatives in E and nu (adjoint only) still run the element loop.
 //
 // Parameters: alpha = p[alpha_offset] [1/time], beta = p[beta_offset] [time], density through
 // the mass operator, Young's modulus and Poisson ratio at the given offsets (per element).
@@ -40,6 +41,9 @@ class RayleighDamping final : public DampingTerm {
   bool dissipation_is_quadratic() const override { return true; }
   void evaluate_dissipation(const Vector& v, const Vector& p, const EnergyRequest& request) const override;
   void dissipation_pattern(HessianPattern& pattern) const override;
+  // (alpha M + beta K) w, with the kept K.
+  bool add_dissipation_hessian_times(const Vector& v, const Vector& p, const Vector& w,
+                                     Vector& out) const override;
   void add_dissipation_param_gradient(const Vector& v, const Vector& p, Vector& gradient_p) const override;
   void add_dissipation_mixed_transpose_times(const Vector& v, const Vector& p, const Vector& w,
                                              Vector& gradient_p) const override;

@@ -12,6 +12,7 @@ PcgResult preconditioned_cg(const SparseMatrix& upper, const SparseCholesky& pre
   v = preconditioner.solve(rhs);
   Vector r = rhs - H * v;
   result.converged = r.norm() <= relative_tolerance * rhs_norm;
+  result.initial_relative_residual = rhs_norm > 0.0 ? r.norm() / rhs_norm : 0.0;
   int it = 0;
   if (result.converged) {
     // The preconditioner alone solved it (a factor of a nearby matrix): no search direction

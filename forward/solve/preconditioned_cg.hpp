@@ -11,6 +11,7 @@ struct PcgResult {
   int iterations = 0;              // preconditioner applications after the first (1 also when the
                                    // first one met the tolerance and no other was made)
   double relative_residual = 0.0;  // ||rhs - H v|| / ||rhs|| of the returned v
+  double initial_relative_residual = 0.0;  // the same for v = P^-1 rhs, the preconditioner's solve
 };
 
 // `solution` is overwritten. Stops early (not converged) on non-positive curvature.

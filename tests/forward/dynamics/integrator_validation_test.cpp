@@ -254,5 +254,41 @@ TEST(Integrators, ReductionByProjectionReproducesAModalTrajectory) {
   }
 }
 
+TEST(Integrators, NewmarkRestartKeepsTheConstantFactorization) {
+  // A linear damped cantilever has a constant step Hessian. Newmark's start evaluates g_0 with
+  // the inertia and damping coefficients of the start (c = 0, kappa = h), then its steps use
+  // c = 4/h^2, kappa = h/2: a second run from the initial state (an optimizer's next forward
+  // pass at the same design, or the adjoint after it) returns to the same Hessian and keeps its
+  // factorization, while a different time step must factorize.
+  CantileverOptions o = linear_options();
+  o.rayleigh = true, o.alpha = 0.1, o.beta = 1e-3;
+  o.gravity = Eigen::Vector3d(0.0, 0.0, -1.0);
+  Cantilever c(o);
+  TimeIntegratorOptions options;
+  options.scheme = TimeScheme::newmark;
+  options.time_step = 0.02;
+  TimeIntegrator integrator(*c.model, options);
+  auto run = [&](int steps) {
+    DynamicState s = integrator.initial_state(c.rest, Vector::Zero(c.rest.size()), c.p);
+    int factorizations = 0;
+    for (int n = 0; n < steps; ++n) {
+      const NewtonResult r = integrator.step(s, c.p);
+      EXPECT_TRUE(r.converged()) << r.message;
+      factorizations += r.factorizations();
+    }
+    return std::make_pair(factorizations, s.x);
+  };
+  const auto [first, x_first] = run(5);
+  const auto [second, x_second] = run(5);
+  EXPECT_EQ(first, 1);
+  EXPECT_EQ(second, 0);
+  EXPECT_EQ((x_first - x_second).norm(), 0.0);
+  TimeIntegratorOptions other = options;
+  other.time_step = 0.01;
+  TimeIntegrator finer(*c.model, other);
+  DynamicState s = finer.initial_state(c.rest, Vector::Zero(c.rest.size()), c.p);
+  EXPECT_EQ(finer.step(s, c.p).factorizations(), 1);
+}
+
 }  // namespace
 }  // namespace tailor::integrator_validation_test

@@ -8,6 +8,8 @@ import numpy as np
 # The methods of scipy.optimize.minimize that take bounds, and those that use Hessian-vector products.
 _BOUNDED = {"l-bfgs-b", "tnc", "slsqp", "powell", "trust-constr", "nelder-mead", "cobyla"}
 _HESSP = {"newton-cg", "trust-ncg", "trust-krylov", "trust-constr"}
+# Those without bounds: scipy_minimize holds them to the scene's bounds by active-set rounds.
+_NEWTON_WITHOUT_BOUNDS = {"newton-cg", "trust-ncg", "trust-krylov"}
 # Methods whose options take a gradient tolerance named gtol (an infinity norm for L-BFGS-B, BFGS
 # and CG, as tailor's; trust-constr and the trust-region methods use the 2-norm).
 _GTOL = {"l-bfgs-b", "bfgs", "cg", "tnc", "trust-constr", "trust-ncg", "trust-krylov", "trust-exact"}
@@ -124,21 +126,23 @@ def scipy_minimize(functional, x0=None, method="scene", bounds="scene", hessp="a
                    penalize_failures=True, settings="scene", callback=None, options=None, **kwargs):
     """Minimizes functional (a tailor.Functional) with scipy.optimize.minimize.
 
-    x0 defaults to the scene's initial design. method: "scene" picks the method closest to the
-    scene's back-end (scene_method: trust-ncg with the back-end's curvature products for
-    newton_cg, L-BFGS-B otherwise), or any method name minimize takes. bounds: "scene" (the
-    design's min and max, when it has them and the method takes bounds), None, or anything
-    minimize takes. With method="scene" and a method without bounds (trust-ncg), the design's
-    bounds are held by active-set rounds (_with_active_set), as newton_cg holds them. hessp: "auto" hands curvature products to the methods that use them: the
-    scene's (scene_curvature: Gauss-Newton products where newton_cg would use them) when
-    method is "scene", else the Hessian-vector products; "gauss_newton" or "exact" choose;
-    a function or None as minimize takes. settings: "scene" takes the
-    iteration limit and tolerances from the scene's inverse.optimizer section (scene_options);
-    entries of options override them; None leaves SciPy's defaults. With penalize_failures, a
-    point where the forward solve fails (tailor.EvaluationError) is worth +inf with a zero
-    gradient, so that the line search steps back (as tailor's own back-ends do); otherwise the
-    error propagates. callback(z) is called after every iteration. Other keyword arguments go
-    to minimize (tol, ...).
+    x0 defaults to the scene's initial design.
+    method: "scene" picks the method closest to the scene's back-end (scene_method: trust-ncg
+    with the back-end's curvature products for newton_cg, L-BFGS-B otherwise), or any method
+    name minimize takes.
+    bounds: "scene" (the design's min and max, when it has them), None, or anything minimize
+    takes. The methods that take bounds get them; Newton-CG, trust-ncg and trust-krylov, which
+    do not, are held to them by active-set rounds (_with_active_set), as newton_cg is.
+    hessp: "auto" hands curvature products to the methods that use them: with method="scene"
+    the scene's (scene_curvature: Gauss-Newton products where newton_cg would use them), else
+    the Hessian-vector products; "gauss_newton" or "exact" choose; or a function, or None.
+    settings: "scene" takes the iteration limit and tolerances from the scene's
+    inverse.optimizer section (scene_options); entries of options override them; None leaves
+    SciPy's defaults.
+    With penalize_failures, a point where the forward solve fails (tailor.EvaluationError) is
+    worth +inf with a zero gradient, so that the line search steps back (as tailor's own
+    back-ends do); otherwise the error propagates. callback(z) is called after every iteration.
+    Other keyword arguments go to minimize (tol, ...).
 
     Returns minimize's OptimizeResult with SciPy's own message and three more entries: history
     (per iteration: iteration, objective, gradient_norm (projected, infinity norm), seconds),
@@ -197,7 +201,7 @@ def scipy_minimize(functional, x0=None, method="scene", bounds="scene", hessp="a
 
     # tailor's measure projects onto the bounds the result is held to.
     box = bounds if isinstance(bounds, scipy.optimize.Bounds) else None
-    if box is None and from_scene and scene_bounds is not None:
+    if box is None and name in _NEWTON_WITHOUT_BOUNDS and scene_bounds is not None:
         box = scipy.optimize.Bounds(scene_bounds[0], scene_bounds[1])
     start = time.perf_counter()
     history = []
@@ -214,7 +218,7 @@ def scipy_minimize(functional, x0=None, method="scene", bounds="scene", hessp="a
         kwargs["hessp"] = hessp
     if bounds is not None:
         kwargs["bounds"] = bounds
-    if from_scene and bounds is None and scene_bounds is not None:
+    if name in _NEWTON_WITHOUT_BOUNDS and bounds is None and scene_bounds is not None:
         result = _with_active_set(scipy.optimize.minimize, fun, z0, scene_bounds, method, merged, record, kwargs)
     else:
         result = scipy.optimize.minimize(fun, z0, jac=True, method=method, options=merged, callback=record,

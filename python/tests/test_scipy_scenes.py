@@ -52,9 +52,9 @@ def test_two_material_bar_reaches_the_zero_residual_minimum_as_tailor_run(cli, t
     np.testing.assert_allclose(J.design_values(result.x), [1e5, 3e5], rtol=1e-5)
 
 
-def test_a_newton_cg_result_outside_the_bounds_is_polished_within_them():
+def test_bounds_are_held_by_active_set_rounds_for_newton_methods_without_bounds():
     # The bar as a newton_cg scene with max E = 2e5: the unconstrained minimum (E = 1e5, 3e5) is
-    # outside, so trust-ncg leaves the box and trust-constr takes over with the bounds. It
+    # outside, so trust-ncg's first round leaves the box; the second, with E2 fixed on its bound,
     # reaches what L-BFGS-B (which has bounds) reaches.
     document = read_json(scene_path("two_material_bar_inverse.json"))
     document["inverse"]["design"].update({"max": 2e5, "initial": 1.5e5})
@@ -69,3 +69,8 @@ def test_a_newton_cg_result_outside_the_bounds_is_polished_within_them():
     assert J.design_values(bounded.x)[1] == pytest.approx(2e5, rel=1e-12)  # at the cap
     assert result.fun == pytest.approx(bounded.fun, rel=1e-6)
     assert result.tailor_converged, result.tailor_message
+    # trust-krylov named explicitly is held to the scene's bounds the same way; bounds=None frees it.
+    krylov = tailor.scipy_minimize(J, method="trust-krylov", hessp="gauss_newton")
+    assert inside(krylov.x, J.bounds) and krylov.fun == pytest.approx(bounded.fun, rel=1e-6)
+    free = tailor.scipy_minimize(J, method="trust-krylov", bounds=None)
+    assert not inside(free.x, J.bounds) and free.fun < bounded.fun

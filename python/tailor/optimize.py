@@ -66,8 +66,11 @@ def _with_active_set(minimize, fun, z0, box, method, options, record, kwargs, ma
     of minimize over the free variables, the others fixed on the bound they press against (the
     gradient points out of the box). A round whose result leaves the box ends at the last point
     of the segment from its start to that result, projected onto the box, where the objective
-    has not risen (halving), and the next round frees or fixes variables from there. Stops at
-    a round that ends inside the box with the active set unchanged."""
+    has not risen (halving), and the next round frees or fixes variables from there. Stops after
+    a round that ends inside the box with the same variables pressed against their bounds as at
+    its start, at a corner of the box, or after max_rounds."""
+    import scipy.optimize
+
     lower, upper = np.asarray(box[0], dtype=float), np.asarray(box[1], dtype=float)
     z = np.clip(z0, lower, upper)
     hessp = kwargs.get("hessp")
@@ -78,6 +81,11 @@ def _with_active_set(minimize, fun, z0, box, method, options, record, kwargs, ma
         value, gradient = fun(z)
         fixed = ((z <= lower) & (gradient > 0)) | ((z >= upper) & (gradient < 0))
         free = ~fixed
+        if not free.any():  # every variable pressed against its bound: a corner of the box
+            settled = True
+            result = scipy.optimize.OptimizeResult(success=True, nit=0)
+            messages.append("every variable on a bound")
+            break
 
         def full(y, at=z, free=free):
             x = at.copy()
@@ -111,10 +119,10 @@ def _with_active_set(minimize, fun, z0, box, method, options, record, kwargs, ma
             end = trial if t > 1e-12 else z
         z = end
         value, gradient = fun(z)
-        settled = inside and np.array_equal(fixed, ((z <= lower) & (gradient > 0)) | ((z >= upper) & (gradient < 0)))
+        pressed = ((z <= lower) & (gradient > 0)) | ((z >= upper) & (gradient < 0))
+        settled = inside and np.array_equal(fixed, pressed)
         if settled or rounds == max_rounds or not np.isfinite(value):
             break
-    import scipy.optimize
     on_bound = int(np.count_nonzero((z <= lower) | (z >= upper)))
     return scipy.optimize.OptimizeResult(
         x=z, fun=value, jac=gradient, nit=iterations, success=bool(result.success and settled),

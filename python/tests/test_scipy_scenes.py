@@ -74,3 +74,14 @@ def test_bounds_are_held_by_active_set_rounds_for_newton_methods_without_bounds(
     assert inside(krylov.x, J.bounds) and krylov.fun == pytest.approx(bounded.fun, rel=1e-6)
     free = tailor.scipy_minimize(J, method="trust-krylov", bounds=None)
     assert not inside(free.x, J.bounds) and free.fun < bounded.fun
+
+
+def test_active_set_rounds_end_in_a_corner_when_every_bound_is_active():
+    # Both moduli capped at 5e4, below the minimum (1e5, 3e5): the result is the corner.
+    document = read_json(scene_path("two_material_bar_inverse.json"))
+    document["inverse"]["design"].update({"max": 5e4, "initial": 4e4})
+    J = tailor.load(document, directory=str(scene_path(".")), name="bar_corner").functional()
+    result = tailor.scipy_minimize(J, method="trust-ncg")
+    np.testing.assert_array_equal(result.x, J.bounds[1])
+    assert result.success and "every variable on a bound" in result.message, result.message
+    assert result.tailor_converged, result.tailor_message

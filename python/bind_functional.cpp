@@ -81,8 +81,8 @@ class Functional {
   Vector residuals(const Vector& z) {
     check_size(z, "z");
     if (!problem_->functional->has_residuals())
-      throw std::invalid_argument(problem_->scene_source + ": this objective has no residual form (it is not "
-                                                           "least squares)");
+      throw std::invalid_argument(problem_->scene_source +
+                                  ": this objective has no residual form (it is not least squares)");
     Vector r;
     py::gil_scoped_release release;
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -261,7 +261,8 @@ void bind_functional(py::module_& m) {
       .def_property_readonly("has_hessian_vector", &Functional::has_hessian_vector)
       .def("hessian_vector_product", &Functional::hessian_vector_product, py::arg("z"), py::arg("v"))
       .def_property_readonly("has_gauss_newton_vector", &Functional::has_gauss_newton_vector)
-      .def("gauss_newton_vector_product", &Functional::gauss_newton_vector_product, py::arg("z"), py::arg("v"))
+      .def("gauss_newton_vector_product", &Functional::gauss_newton_vector_product, py::arg("z"),
+           py::arg("v"))
       .def("residuals", &Functional::residuals, py::arg("z"))
       .def("objective_terms", &Functional::objective_terms, py::arg("z"))
       .def("state", &Functional::state, py::arg("z"))

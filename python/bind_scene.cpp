@@ -74,14 +74,15 @@ std::shared_ptr<const void> owner(const std::shared_ptr<T>& p) {
 
 // youngs_modulus and poisson_ratio: per-element values replacing the scene's (static scenes).
 py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::object log,
-                   std::optional<Eigen::VectorXd> youngs_modulus, std::optional<Eigen::VectorXd> poisson_ratio) {
+                   std::optional<Eigen::VectorXd> youngs_modulus,
+                   std::optional<Eigen::VectorXd> poisson_ratio) {
   const std::string kind = doc.kind();
   MaterialOverrides overrides;
   if (youngs_modulus) overrides.youngs_modulus = std::move(*youngs_modulus);
   if (poisson_ratio) overrides.poisson_ratio = std::move(*poisson_ratio);
   if (!overrides.empty() && kind != "static")
-    throw std::invalid_argument(doc.file.source + ": per-element youngs_modulus and poisson_ratio apply to static "
-                                "FEM scenes; this is a " + kind + " scene");
+    throw std::invalid_argument(doc.file.source + ": per-element youngs_modulus and poisson_ratio apply to " +
+                                "static FEM scenes; this is a " + kind + " scene");
   PythonStream out(std::move(log), /*check_signals=*/true);
   py::dict fields;
   int code = kFailure;

@@ -47,8 +47,8 @@ void apply_override(const Scene& scene, StaticSetup& setup, const Eigen::VectorX
   const Eigen::Index ne = setup.mesh.num_elements();
   const std::string what = scene.source + ": " + name;
   if (values.size() != ne)
-    throw std::invalid_argument(what + " has " + std::to_string(values.size()) +
-                                " values, the mesh has " + std::to_string(ne) + " elements (one value per element)");
+    throw std::invalid_argument(what + " has " + std::to_string(values.size()) + " values, the mesh has " +
+                                std::to_string(ne) + " elements (one value per element)");
   for (Eigen::Index e = 0; e < ne; ++e) {
     const double v = values[e];
     if (!(std::isfinite(v) && v > lower && v < upper)) {
@@ -81,7 +81,8 @@ SimulateRun simulate_scene(const Scene& scene, const MaterialOverrides& override
   run.setup = setup_static_scene(scene);
   apply_override(scene, run.setup, overrides.youngs_modulus, "youngs_modulus", 0.0,
                  std::numeric_limits<double>::infinity(), run.setup.youngs_modulus);
-  apply_override(scene, run.setup, overrides.poisson_ratio, "poisson_ratio", -1.0, 0.5, run.setup.poisson_ratio);
+  apply_override(scene, run.setup, overrides.poisson_ratio, "poisson_ratio", -1.0, 0.5,
+                 run.setup.poisson_ratio);
   require_supported(scene, run.setup);
   run.timings.setup = seconds_since(t_start);
   if (log) print_setup(*log, scene, run.setup);

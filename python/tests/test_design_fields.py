@@ -17,10 +17,10 @@ def bar():
     return scene, scene.functional()
 
 
-def test_simulate_with_the_moduli_of_a_design_is_the_state_at_that_design(bar):
+def test_simulate_with_the_moduli_of_a_design_is_the_state_at_that_design(bar, tmp_path):
     scene, J = bar
     z = J.x0 + np.array([0.3, -0.2])
-    report = scene.simulate(youngs_modulus=J.youngs_modulus(z))
+    report = scene.simulate(youngs_modulus=J.youngs_modulus(z), out_dir=tmp_path)
     assert report.ok
     u = J.state(z)
     np.testing.assert_allclose(report.fields["displacement"], u, rtol=0, atol=1e-10 * np.abs(u).max())
@@ -28,6 +28,10 @@ def test_simulate_with_the_moduli_of_a_design_is_the_state_at_that_design(bar):
     # The scene's own moduli give another state: the override is what made them equal.
     plain = scene.simulate()
     assert np.abs(plain.fields["displacement"] - u).max() > 1e-3 * np.abs(u).max()
+    # result.vtu holds the moduli it was solved with.
+    meshio = pytest.importorskip("meshio", reason="meshio is not installed (Debian: python3-meshio)")
+    written = meshio.read(tmp_path / "result.vtu")
+    np.testing.assert_array_equal(written.cell_data["youngs_modulus"][0].ravel(), J.youngs_modulus(z))
 
 
 def test_poisson_ratio_override_equals_a_scene_with_that_ratio(bar):

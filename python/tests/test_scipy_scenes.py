@@ -39,6 +39,16 @@ def test_cantilever_handle_newton_cg_scene_with_gauss_newton_products(cli, tmp_p
     assert result.fun == pytest.approx(objective["final"], rel=2e-3)
 
 
+def test_inclusion_recovery_small_reaches_tailor_runs_objective(cli, tmp_path):
+    # An L-BFGS scene (20 material modes, surface observations) where both stop on the
+    # objective change (objective_tolerance 1e-12): measured 3.8e-7 relative apart.
+    objective = run_objective(cli, "inclusion_recovery_small.json", tmp_path)
+    J = tailor.load(str(scene_path("inclusion_recovery_small.json"))).functional()
+    assert tailor.optimize.scene_method(J) == "L-BFGS-B"
+    result = tailor.scipy_minimize(J)
+    assert result.fun == pytest.approx(objective["final"], rel=1e-6)
+
+
 def test_two_material_bar_reaches_the_zero_residual_minimum_as_tailor_run(cli, tmp_path):
     # An L-BFGS scene whose minimum is 0 (noise-free observations): both reach round-off, so
     # the objectives are compared against J(z0), not relative to each other (~1e-18 both).

@@ -1,8 +1,8 @@
 # scipy_minimize with the scene's settings (method="scene": the method closest to its back-end,
 # its curvature products, tolerances and bounds) against `tailor run` on the shipped inverse
-# scenes whose runs take seconds. Reference: the objective in report.json of the tailor
-# executable on the same scene. plate_stripe_inverse.json (L-BFGS) is in test_functional.py;
-# the slower scenes' figures are in docs/python.md.
+# scenes whose run and SciPy's each take seconds (about 10 to 20 s on idle cores). Reference: the
+# objective in report.json of the tailor executable on the same scene. plate_stripe_inverse.json
+# (L-BFGS) is in test_functional.py; the slower scenes' figures are in docs/python.md.
 import numpy as np
 import pytest
 

@@ -68,7 +68,8 @@ def _with_active_set(minimize, fun, z0, box, method, options, record, kwargs, ma
     of the segment from its start to that result, projected onto the box, where the objective
     has not risen (halving), and the next round frees or fixes variables from there. Stops after
     a round that ends inside the box with the same variables pressed against their bounds as at
-    its start, at a corner of the box, or after max_rounds."""
+    its start, at a corner of the box, after max_rounds, or when the rounds together have made
+    options["maxiter"] iterations."""
     import scipy.optimize
 
     lower, upper = np.asarray(box[0], dtype=float), np.asarray(box[1], dtype=float)
@@ -103,7 +104,10 @@ def _with_active_set(minimize, fun, z0, box, method, options, record, kwargs, ma
                 direction[free] = p
                 return hessp(full(y), direction)[free]
             sub["hessp"] = sub_hessp
-        result = minimize(sub_fun, z[free], jac=True, method=method, options=options,
+        round_options = dict(options)
+        if "maxiter" in options:  # the iteration limit is the run's, not each round's
+            round_options["maxiter"] = options["maxiter"] - iterations
+        result = minimize(sub_fun, z[free], jac=True, method=method, options=round_options,
                           callback=lambda y, *args: record(full(y)), **sub)
         iterations += result.nit
         messages.append(result.message)
@@ -121,7 +125,8 @@ def _with_active_set(minimize, fun, z0, box, method, options, record, kwargs, ma
         value, gradient = fun(z)
         pressed = ((z <= lower) & (gradient > 0)) | ((z >= upper) & (gradient < 0))
         settled = inside and np.array_equal(fixed, pressed)
-        if settled or rounds == max_rounds or not np.isfinite(value):
+        out_of_iterations = "maxiter" in options and iterations >= options["maxiter"]
+        if settled or rounds == max_rounds or out_of_iterations or not np.isfinite(value):
             break
     on_bound = int(np.count_nonzero((z <= lower) | (z >= upper)))
     return scipy.optimize.OptimizeResult(

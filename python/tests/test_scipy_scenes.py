@@ -95,3 +95,12 @@ def test_active_set_rounds_end_in_a_corner_when_every_bound_is_active():
     np.testing.assert_array_equal(result.x, J.bounds[1])
     assert result.success and "every variable on a bound" in result.message, result.message
     assert result.tailor_converged, result.tailor_message
+
+
+def test_active_set_rounds_share_the_iteration_limit():
+    document = read_json(scene_path("two_material_bar_inverse.json"))
+    document["inverse"]["design"].update({"max": 2e5, "initial": 1.5e5})
+    J = tailor.load(document, directory=str(scene_path(".")), name="bar_capped").functional()
+    for limit in (1, 3):
+        result = tailor.scipy_minimize(J, method="trust-ncg", options={"maxiter": limit})
+        assert result.nit <= limit and len(result.history) <= limit and not result.success

@@ -64,6 +64,56 @@ class Functional {
     const std::lock_guard<std::mutex> lock(mutex_);
     return problem_->functional->hessian_vector(z, v);
   }
+  // Gauss-Newton products (dr/dz)^T (dr/dz) v of a least-squares objective J = 1/2 |r|^2, as
+  // newton_cg uses them (StaticFunctional::gauss_newton_vector), and the residuals r(z).
+  bool has_gauss_newton_vector() const { return problem_->functional->has_gauss_newton_vector(); }
+  Vector gauss_newton_vector_product(const Vector& z, const Vector& v) {
+    check_size(z, "z");
+    check_size(v, "v");
+    if (!has_gauss_newton_vector())
+      throw std::invalid_argument(problem_->scene_source +
+                                  ": this objective has no Gauss-Newton products (it is not least squares)");
+    if (!v.allFinite()) throw std::invalid_argument(problem_->scene_source + ": v has non-finite entries");
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return problem_->functional->gauss_newton_vector(z, v);
+  }
+  Vector residuals(const Vector& z) {
+    check_size(z, "z");
+    if (!problem_->functional->has_residuals())
+      throw std::invalid_argument(problem_->scene_source +
+                                  ": this objective has no residual form (it is not least squares)");
+    Vector r;
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    problem_->functional->residuals(z, r, nullptr);
+    return r;
+  }
+  // Each objective term's weighted value at z (as report.json's objective.terms of `tailor run`).
+  py::list objective_terms(const Vector& z) {
+    check_size(z, "z");
+    std::vector<double> values;
+    {
+      py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      problem_->functional->value(z);
+      const StaticFunctional& f = *problem_->functional;
+      for (const ObjectiveTermInfo& t : problem_->terms)
+        values.push_back(t.coefficient * t.term->value(f.state(), f.parameters()));
+    }
+    py::list terms;
+    for (std::size_t k = 0; k < problem_->terms.size(); ++k) {
+      const ObjectiveTermInfo& t = problem_->terms[k];
+      py::dict d;
+      d["key"] = t.key;
+      d["type"] = t.type;
+      d["weight"] = t.weight;
+      d["coefficient"] = t.coefficient;
+      d["value"] = values[k];
+      terms.append(d);
+    }
+    return terms;
+  }
   // The equilibrium at z as displacements from the rest positions (num_vertices x dim), and the
   // products with its derivative: vjp(z, dL/du) = (du/dz)^T dL/du (one adjoint solve) and
   // jvp(z, dz) = (du/dz) dz (one tangent solve), as StaticFunctional::state_vjp / state_jvp.
@@ -210,6 +260,11 @@ void bind_functional(py::module_& m) {
       .def("value_and_gradient", &Functional::value_and_gradient, py::arg("z"))
       .def_property_readonly("has_hessian_vector", &Functional::has_hessian_vector)
       .def("hessian_vector_product", &Functional::hessian_vector_product, py::arg("z"), py::arg("v"))
+      .def_property_readonly("has_gauss_newton_vector", &Functional::has_gauss_newton_vector)
+      .def("gauss_newton_vector_product", &Functional::gauss_newton_vector_product, py::arg("z"),
+           py::arg("v"))
+      .def("residuals", &Functional::residuals, py::arg("z"))
+      .def("objective_terms", &Functional::objective_terms, py::arg("z"))
       .def("state", &Functional::state, py::arg("z"))
       .def("vjp", &Functional::vjp, py::arg("z"), py::arg("dL_du"))
       .def("jvp", &Functional::jvp, py::arg("z"), py::arg("dz"))
@@ -224,6 +279,7 @@ void bind_functional(py::module_& m) {
                                d["objective_tolerance"] = o.objective_tolerance;
                                d["step_tolerance"] = o.step_tolerance;
                                d["time_limit"] = o.time_limit_seconds;
+                               d["curvature"] = to_string(o.curvature);
                                return d;
                              })
       .def_property_readonly("x0", [](const Functional& f) { return f.problem().z0; })
@@ -244,6 +300,10 @@ void bind_functional(py::module_& m) {
       .def_property_readonly(
           "rest_positions",
           [](const Functional& f) -> const Eigen::MatrixXd& { return f.problem().setup.mesh.rest_positions; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "poisson_ratio",
+          [](const Functional& f) -> const Eigen::VectorXd& { return f.problem().setup.poisson_ratio; },
           py::return_value_policy::reference_internal)
       .def_property_readonly(
           "elements",

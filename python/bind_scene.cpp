@@ -2,6 +2,7 @@
 // does with the same scene, given as a file or as JSON (the same functions for static and
 // dynamic scenes, the command line's own handler for the other kinds) and returns the exit code
 // and the result fields as NumPy views; the Python layer adds the report.json it wrote.
+#include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
 #include "arrays.hpp"
@@ -71,15 +72,24 @@ std::shared_ptr<const void> owner(const std::shared_ptr<T>& p) {
   return std::static_pointer_cast<const void>(p);
 }
 
-py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::object log) {
+// youngs_modulus and poisson_ratio: per-element values replacing the scene's (static scenes).
+py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::object log,
+                   std::optional<Eigen::VectorXd> youngs_modulus,
+                   std::optional<Eigen::VectorXd> poisson_ratio) {
   const std::string kind = doc.kind();
+  MaterialOverrides overrides;
+  if (youngs_modulus) overrides.youngs_modulus = std::move(*youngs_modulus);
+  if (poisson_ratio) overrides.poisson_ratio = std::move(*poisson_ratio);
+  if (!overrides.empty() && kind != "static")
+    throw std::invalid_argument(doc.file.source + ": per-element youngs_modulus and poisson_ratio apply to " +
+                                "static FEM scenes; this is a " + kind + " scene");
   PythonStream out(std::move(log), /*check_signals=*/true);
   py::dict fields;
   int code = kFailure;
   if (kind == "static") {
     auto run = without_gil([&] {
       const Scene scene = parse(doc);
-      return std::make_shared<SimulateRun>(simulate_scene(scene, out_dir, &out));
+      return std::make_shared<SimulateRun>(simulate_scene(scene, overrides, out_dir, &out));
     });
     const auto keep = owner(run);
     fields["displacement"] = view(keep, run->solution.displacement);
@@ -225,7 +235,8 @@ void bind_scene(py::module_& m) {
       .def_property_readonly("path", [](const SceneDocument& s) { return s.file.path; })
       .def_property_readonly("text", [](const SceneDocument& s) { return dump_json(s.file.document); })
       .def("name", [](const SceneDocument& doc) { return doc.file.name(); })
-      .def("simulate", &simulate, py::arg("out_dir"), py::arg("log") = py::none())
+      .def("simulate", &simulate, py::arg("out_dir"), py::arg("log") = py::none(),
+           py::arg("youngs_modulus") = py::none(), py::arg("poisson_ratio") = py::none())
       .def("modes", &modes, py::arg("out_dir"), py::arg("count") = 10, py::arg("log") = py::none())
       .def("gradcheck", &gradcheck, py::arg("out_dir"), py::arg("seed") = py::none(),
            py::arg("hessian") = false, py::arg("log") = py::none())

@@ -23,11 +23,13 @@ packages=(
 # `install-deps.sh sanitizers` (CI): also clang with its sanitizer and libFuzzer runtimes, LLVM's
 # OpenMP and llvm-symbolizer (for scripts/sanitize.sh and scripts/fuzz.sh), and the optional
 # Python packages whose tests are skipped without them: PyTorch (python/tailor/torch.py), meshio
-# and matplotlib (python/tailor/fields.py), mypy (stubtest of python/tailor/_tailor.pyi); the quick
-# start does not wait for their ~230 packages.
+# and matplotlib (python/tailor/fields.py), mypy (stubtest of python/tailor/_tailor.pyi), nbclient,
+# nbformat and ipykernel (examples/python/inverse_design.ipynb, run headless); the quick start
+# does not wait for their ~260 packages.
 if [[ ${1:-} == sanitizers ]]; then
   packages+=(clang-14 libclang-rt-14-dev libomp-14-dev llvm-14
-            python3-torch python3-meshio python3-matplotlib python3-mypy)
+            python3-torch python3-meshio python3-matplotlib python3-mypy
+            python3-nbclient python3-nbformat python3-ipykernel)
 fi
 
 as_root() {

@@ -1,9 +1,13 @@
 #include "problems/fem/commands.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <ostream>
+#include <sstream>
+#include <stdexcept>
 
 #include "forward/core/timing.hpp"
 #include "problems/output_process.hpp"
@@ -36,12 +40,50 @@ void print_summary(std::ostream& log, const SimulateRun& run) {
       << std::defaultfloat;
 }
 
+// Checks one override against the mesh and its open range (lower, upper), and that no element
+// of a spline material gets one; then replaces the setup's values.
+void apply_override(const Scene& scene, StaticSetup& setup, const Eigen::VectorXd& values, const char* name,
+                    double lower, double upper, Eigen::VectorXd& target) {
+  if (values.size() == 0) return;
+  const Eigen::Index ne = setup.mesh.num_elements();
+  const std::string what = scene.source + ": " + name;
+  if (values.size() != ne)
+    throw std::invalid_argument(what + " has " + std::to_string(values.size()) + " values, the mesh has " +
+                                std::to_string(ne) + " elements (one value per element)");
+  for (Eigen::Index e = 0; e < ne; ++e) {
+    const double v = values[e];
+    if (!(std::isfinite(v) && v > lower && v < upper)) {
+      std::ostringstream message;
+      message << what << "[" << e << "] = " << v << ": expected a finite number > " << lower;
+      if (std::isfinite(upper)) message << " and < " << upper;
+      throw std::invalid_argument(message.str());
+    }
+  }
+  for (Eigen::Index e = 0; e < ne; ++e) {
+    const MaterialBlock& block = setup.materials[static_cast<std::size_t>(setup.element_material[e])];
+    if (block.spline_curves)
+      throw std::invalid_argument(what + ": element " + std::to_string(e) + " is of " +
+                                  scene.materials[static_cast<std::size_t>(setup.element_material[e])].key +
+                                  ", a spline material, whose energy has no " + name + " to replace");
+  }
+  target = values;
+}
+
 }  // namespace
 
 SimulateRun simulate_scene(const Scene& scene, const std::string& out_dir, std::ostream* log) {
+  return simulate_scene(scene, MaterialOverrides{}, out_dir, log);
+}
+
+SimulateRun simulate_scene(const Scene& scene, const MaterialOverrides& overrides, const std::string& out_dir,
+                           std::ostream* log) {
   const auto t_start = Clock::now();
   SimulateRun run;
   run.setup = setup_static_scene(scene);
+  apply_override(scene, run.setup, overrides.youngs_modulus, "youngs_modulus", 0.0,
+                 std::numeric_limits<double>::infinity(), run.setup.youngs_modulus);
+  apply_override(scene, run.setup, overrides.poisson_ratio, "poisson_ratio", -1.0, 0.5,
+                 run.setup.poisson_ratio);
   require_supported(scene, run.setup);
   run.timings.setup = seconds_since(t_start);
   if (log) print_setup(*log, scene, run.setup);

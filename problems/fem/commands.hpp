@@ -25,6 +25,20 @@ struct SimulateRun {
 // (see solution.converged).
 SimulateRun simulate_scene(const Scene& scene, const std::string& out_dir, std::ostream* log = nullptr);
 
+// Per-element material parameters that replace the scene's in one simulate run (the Python
+// module's scene.simulate(youngs_modulus=..., poisson_ratio=...)); an empty vector keeps the
+// scene's values. Young's moduli in the scene's stress unit, > 0; Poisson's ratios in (-1, 0.5).
+struct MaterialOverrides {
+  Eigen::VectorXd youngs_modulus;  // one per mesh element, or empty
+  Eigen::VectorXd poisson_ratio;   // one per mesh element, or empty
+  bool empty() const { return youngs_modulus.size() == 0 && poisson_ratio.size() == 0; }
+};
+// simulate_scene with the overrides applied to the setup before the solve (the report and
+// result.vtu show them). Throws std::invalid_argument for an override of the wrong length, with
+// a value out of range, or on elements of a spline material (whose energy has no E or nu).
+SimulateRun simulate_scene(const Scene& scene, const MaterialOverrides& overrides, const std::string& out_dir,
+                           std::ostream* log = nullptr);
+
 // `tailor check`: derivative checks of every energy term of the scene's model (see
 // check_static_scene); prints each table to `log` when set. Returns true when no check failed.
 bool check_scene(const Scene& scene, unsigned seed, std::ostream* log);

@@ -75,6 +75,12 @@ class Report(dict):
         from .fields import to_meshio
         return to_meshio(self.fields)
 
+    def write(self, path):
+        """Writes the fields with meshio (format from the file name: .vtu, .xdmf, ...), with no
+        out_dir needed (tailor.fields.write)."""
+        from .fields import write
+        write(self.fields, path)
+
     def to_json(self, **kwargs):
         """The report as JSON text, fields included (arrays as nested lists); keyword arguments
         go to json.dumps (indent=1, ...)."""
@@ -97,6 +103,7 @@ class Functional:
 
     def __init__(self, scene):
         self._f = _Functional(scene._doc)
+        self._name, self._source = scene.name, scene.source
 
     size = property(lambda self: self._f.size)
     x0 = property(lambda self: self._f.x0, doc="the initial design z0")
@@ -106,6 +113,9 @@ class Functional:
     design_labels = property(lambda self: self._f.design_labels)
     truth = property(lambda self: self._f.truth, doc="per-element true E when the scene knows it")
     has_hessian_vector = property(lambda self: self._f.has_hessian_vector)
+    has_gauss_newton_vector = property(lambda self: self._f.has_gauss_newton_vector,
+                                       doc="whether the objective is least squares (J = |r|^2 / 2)")
+    poisson_ratio = property(lambda self: self._f.poisson_ratio, doc="nu per element (the scene's)")
     counters = property(lambda self: self._f.counters, doc="evaluations, forward and adjoint solves")
     rest_positions = property(lambda self: self._f.rest_positions, doc="the mesh: num_vertices x dim")
     elements = property(lambda self: self._f.elements, doc="the mesh: num_elements x (dim + 1) vertex ids")
@@ -121,6 +131,48 @@ class Functional:
 
     def hessian_vector_product(self, z, v):
         return self._f.hessian_vector_product(z, v)
+
+    def gauss_newton_vector_product(self, z, v):
+        """(dr/dz)^T (dr/dz) v for a least-squares objective J = |r(z)|^2 / 2: the curvature the
+        newton_cg back-end uses (one tangent and one adjoint back-solve, no third derivatives);
+        positive semidefinite, equal to the Hessian where r = 0."""
+        return self._f.gauss_newton_vector_product(z, v)
+
+    def residuals(self, z):
+        """r(z) of a least-squares objective, J(z) = |r(z)|^2 / 2 (float64 vector)."""
+        return self._f.residuals(z)
+
+    def objective_terms(self, z):
+        """Each objective term at z as report.json's objective.terms: key, type, weight,
+        coefficient and value (weighted; they sum to J(z))."""
+        return self._f.objective_terms(z)
+
+    def report(self, z):
+        """A Report of the design z without running anything but its forward solve: content
+        kind "design", scene, objective (value and terms), design (labels, values), mesh;
+        fields design (z), design_values, youngs_modulus and poisson_ratio (per element),
+        displacement and positions (per vertex), rest_positions and elements. to_meshio(),
+        write(path) and to_json() work on it; exit_code 0 and out_dir None."""
+        z = np.array(z, dtype=np.float64)
+        value = self.value(z)
+        terms = self.objective_terms(z)
+        u = self.state(z)
+        labels = self.design_labels
+        values = self.design_values(z)
+        content = {
+            "kind": "design",
+            "scene": {"name": self._name, "source": self._source},
+            "objective": {"value": value, "terms": terms},
+            "design": {"size": int(z.size), "labels": list(labels),
+                       "values": values.tolist() if values.size == len(labels) else None},
+            "mesh": {"vertices": int(self.rest_positions.shape[0]), "elements": int(self.elements.shape[0]),
+                     "dim": int(self.rest_positions.shape[1])},
+        }
+        fields = {"design": z, "design_values": values, "youngs_modulus": self.youngs_modulus(z),
+                  "poisson_ratio": self.poisson_ratio, "displacement": u,
+                  "positions": self.rest_positions + u, "rest_positions": self.rest_positions,
+                  "elements": self.elements}
+        return Report(content, fields, 0, None)
 
     def state(self, z):
         """The equilibrium at z: displacements from the rest positions, num_vertices x dim
@@ -157,6 +209,22 @@ class Functional:
         with status, passed, rate0, rate1, message, rows and table. seed and min_rate default to
         the scene's inverse.gradcheck; hessian=True tests the Hessian-vector products instead."""
         return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate, hessian=hessian)
+
+
+def _per_element(name, value):
+    """A per-element parameter as a float64 vector (None stays None); the values are checked
+    against the mesh and their range by the bindings."""
+    if value is None:
+        return None
+    try:
+        array = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as error:
+        raise ValueError(f"{name}: expected one number per element, got {type(value).__name__} ({error})") \
+            from None
+    if array.ndim != 1:
+        raise ValueError(f"{name}: expected a vector of one value per element, got an array of shape "
+                         f"{array.shape}")
+    return array
 
 
 class _OutDir:
@@ -203,12 +271,17 @@ class Scene:
     def __repr__(self):
         return f"tailor.Scene({self.source!r}, kind={self.kind!r})"
 
-    def simulate(self, out_dir=None, log=None):
+    def simulate(self, out_dir=None, log=None, youngs_modulus=None, poisson_ratio=None):
         """`tailor simulate`: static equilibrium or time integration; the report as a Report.
         Static scenes' fields: displacement, positions, stresses, youngs_modulus, poisson_ratio,
-        density, rest_positions, elements. log: a file-like object for the solver's output (None: quiet)."""
+        density, rest_positions, elements. log: a file-like object for the solver's output (None: quiet).
+        youngs_modulus, poisson_ratio: per-element values (float64 vectors of one entry per
+        element; E > 0, nu in (-1, 0.5)) replacing the scene's for this solve (static scenes;
+        a ValueError names the first bad entry)."""
+        overrides = {name: _per_element(name, value) for name, value in
+                     (("youngs_modulus", youngs_modulus), ("poisson_ratio", poisson_ratio))}
         with _OutDir(out_dir) as d:
-            return d.report(self._doc.simulate(d.path, log=log))
+            return d.report(self._doc.simulate(d.path, log=log, **overrides))
 
     def modes(self, count=10, out_dir=None, log=None):
         """`tailor modes`: the count lowest vibration modes. Fields: frequencies (Hz),

@@ -114,7 +114,8 @@ class Functional {
     }
     return terms;
   }
-  // The equilibrium at z as displacements from the rest positions (num_vertices x dim), and the
+  // The equilibrium at z as displacements from the rest positions (num_vertices x dim; with
+  // quadratic elements the vertices', the head of the state, and dL/du acts on them), and the
   // products with its derivative: vjp(z, dL/du) = (du/dz)^T dL/du (one adjoint solve) and
   // jvp(z, dz) = (du/dz) dz (one tangent solve), as StaticFunctional::state_vjp / state_jvp.
   Eigen::MatrixXd state(const Vector& z) {
@@ -131,10 +132,10 @@ class Functional {
       throw std::invalid_argument(problem_->scene_source + ": dL_du has shape (" + std::to_string(dL_du.rows()) +
                                   ", " + std::to_string(dL_du.cols()) + "), the state (" +
                                   std::to_string(X.rows()) + ", " + std::to_string(X.cols()) + ")");
-    if (problem_->model->num_dofs() != X.size()) as_vertex_rows(Vector::Zero(problem_->model->num_dofs()));
+    vertex_dofs(problem_->model->num_dofs());  // throws for a state with DOFs besides the mesh's
     if (!dL_du.allFinite())
       throw std::invalid_argument(problem_->scene_source + ": dL_du has non-finite entries");
-    Vector w(dL_du.size());
+    Vector w = Vector::Zero(problem_->model->num_dofs());  // zero on edge nodes (quadratic elements)
     Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(w.data(), X.rows(),
                                                                                        X.cols()) = dL_du;
     py::gil_scoped_release release;
@@ -233,12 +234,18 @@ class Functional {
       throw std::invalid_argument(problem_->scene_source + ": " + name + " has " + std::to_string(z.size()) +
                                   " entries, the design has " + std::to_string(size()));
   }
+  // How many of a state's `model_dofs` DOFs are the vertices' (at its head): all of them, or with
+  // quadratic elements those before the edge nodes'. Throws for states with other DOFs.
+  Eigen::Index vertex_dofs(Eigen::Index model_dofs) const {
+    const Eigen::Index n = problem_->setup.mesh.rest_positions.size();
+    if (model_dofs == n || (problem_->setup.quadratic && model_dofs == problem_->setup.num_dofs())) return n;
+    throw std::invalid_argument(problem_->scene_source + ": the model has " + std::to_string(model_dofs) +
+                                " DOFs beyond the mesh's nodes; state products need a mesh-only state");
+  }
   // Interleaved DOFs (x0 y0 z0 x1 ...) as one row per vertex.
   Eigen::MatrixXd as_vertex_rows(const Vector& x) const {
     const Eigen::MatrixXd& X = problem_->setup.mesh.rest_positions;
-    if (x.size() != X.size())
-      throw std::invalid_argument(problem_->scene_source + ": the model has " + std::to_string(x.size()) +
-                                  " DOFs beyond the mesh's vertices; state products need a mesh-only state");
+    vertex_dofs(x.size());
     return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
         x.data(), X.rows(), X.cols());
   }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "forward/core/assembler.hpp"
 #include "forward/core/symmetric_eigen.hpp"
@@ -94,6 +95,10 @@ std::vector<std::string> unconstrained_rigid_motions(const Mesh& mesh,
   Matrix R = Matrix::Zero(static_cast<Eigen::Index>(constrained_dofs.size()), modes);
   for (std::size_t i = 0; i < constrained_dofs.size(); ++i) {
     const int v = constrained_dofs[i] / dim, k = constrained_dofs[i] % dim;
+    if (constrained_dofs[i] < 0 || v >= mesh.num_vertices())
+      throw std::invalid_argument("unconstrained_rigid_motions: DOF " + std::to_string(constrained_dofs[i]) +
+                                  " is not a DOF of the mesh's " + std::to_string(mesh.num_vertices()) +
+                                  " vertices");
     const Eigen::RowVectorXd X = (mesh.rest_positions.row(v) - centre) / scale;
     const auto row = static_cast<Eigen::Index>(i);
     R(row, k) = 1.0;

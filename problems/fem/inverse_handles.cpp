@@ -93,7 +93,7 @@ std::vector<std::vector<int>> constrain_handles(const Scene& scene, InverseProbl
       for (int k = 0; k < dim; ++k) setup.fixed_dofs.push_back(dim * v + k);
   std::sort(setup.fixed_dofs.begin(), setup.fixed_dofs.end());
 
-  if (const int free = static_cast<int>(unconstrained_rigid_motions(mesh, setup.fixed_dofs).size()); free > 0)
+  if (const int free = static_cast<int>(free_rigid_motions(setup, setup.fixed_dofs).size()); free > 0)
     throw_scene_error(scene, key,
                       "the dirichlet conditions and the handles leave the body free to move rigidly (" +
                           std::to_string(free) + " independent rigid motion" + (free == 1 ? "" : "s") +
@@ -166,7 +166,7 @@ Vector initial_handle_displacements(const InverseProblem& problem, const Handles
   Eigen::MatrixXd displacement = Eigen::MatrixXd::Zero(problem.setup.mesh.num_vertices(), dim);
   if (any_released) {
     std::erase_if(free_setup.fixed_dofs, [&](int d) { return released[static_cast<std::size_t>(d)]; });
-    if (unconstrained_rigid_motions(free_setup.mesh, free_setup.fixed_dofs).empty()) {
+    if (free_rigid_motions(free_setup, free_setup.fixed_dofs).empty()) {
       const StaticSolution solution = solve_static(free_setup);
       if (solution.converged) displacement = solution.displacement;
     }

@@ -235,6 +235,12 @@ StaticSetup setup_static_scene(const Scene& scene) {
   return setup;
 }
 
+std::vector<std::string> free_rigid_motions(const StaticSetup& setup, const std::vector<int>& fixed_dofs) {
+  std::vector<int> vertex_dofs = fixed_dofs;
+  std::erase_if(vertex_dofs, [&](int dof) { return dof >= setup.dim() * setup.mesh.num_vertices(); });
+  return unconstrained_rigid_motions(setup.mesh, vertex_dofs);
+}
+
 void require_linear_elements(const Scene& scene, const std::string& what) {
   if (scene.mesh.order == 1) return;
   throw_scene_error(scene, "mesh.order",
@@ -243,10 +249,7 @@ void require_linear_elements(const Scene& scene, const std::string& what) {
 }
 
 void require_supported(const Scene& scene, const StaticSetup& setup) {
-  // The corners' supports decide: fixed edge nodes come only with both their ends.
-  std::vector<int> corner_dofs = setup.fixed_dofs;
-  std::erase_if(corner_dofs, [&](int dof) { return dof >= setup.dim() * setup.mesh.num_vertices(); });
-  const std::vector<std::string> free = unconstrained_rigid_motions(setup.mesh, corner_dofs);
+  const std::vector<std::string> free = free_rigid_motions(setup, setup.fixed_dofs);
   if (free.empty()) return;
   std::string list;
   for (const std::string& motion : free) list += (list.empty() ? "" : "; ") + motion;

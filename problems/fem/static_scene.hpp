@@ -63,6 +63,11 @@ struct StaticSetup {
   Vector parameters() const;  // p: blocks "youngs_modulus" then "poisson_ratio"
 };
 
+// The rigid motions (named as unconstrained_rigid_motions, forward/reduction/free_space.hpp) that
+// leave every DOF of `fixed_dofs` in place. With quadratic elements the vertices' DOFs decide:
+// an edge node is held only with both its ends.
+std::vector<std::string> free_rigid_motions(const StaticSetup& setup, const std::vector<int>& fixed_dofs);
+
 // Builds the mesh (generated or read) and resolves every selector and load. Throws SceneError
 // for scene problems found against the mesh, MeshError for mesh files.
 StaticSetup setup_static_scene(const Scene& scene);

@@ -85,3 +85,23 @@ def test_torch_adapter_passes_gradcheck(bar):
     expected = np.zeros(bar.rest_positions.shape)
     expected[tip] = 2 * bar.state(z.detach().numpy())[tip]
     np.testing.assert_allclose(z.grad.numpy(), bar.vjp(z.detach().numpy(), expected), rtol=1e-12)
+
+
+def test_quadratic_elements_give_the_vertices_state_and_its_products():
+    # "mesh": {"order": 2}: the state holds the edge nodes too; J.state and the products are the
+    # vertices' (the head of the state), with dL/du zero on the edge nodes.
+    import json
+    with open(scene_path("two_material_bar_inverse.json")) as f:
+        doc = json.load(f)
+    doc["mesh"]["order"] = 2
+    J = tailor.load(doc, directory=str(scene_path("two_material_bar_inverse.json").parent)).functional()
+    z = J.x0 + np.array([0.2, -0.1])
+    dz = np.array([1.0, -0.5])
+    u = J.state(z)
+    assert u.shape == J.rest_positions.shape and np.abs(u).max() > 0
+    jvp = J.jvp(z, dz)
+    h = 1e-5
+    difference = (J.state(z + h * dz) - J.state(z - h * dz)) / (2 * h)
+    assert np.linalg.norm(difference - jvp) < 1e-6 * np.linalg.norm(jvp)
+    w = np.random.default_rng(4).standard_normal(jvp.shape)
+    assert J.vjp(z, w) @ dz == pytest.approx(np.sum(w * jvp), rel=1e-9)

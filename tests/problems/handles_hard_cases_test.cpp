@@ -191,6 +191,9 @@ TEST(HandlesHardCases, RigidMotionLeftFreeIsRejected) {
   EXPECT_EQ(free_rigid_motions(box, dofs_of({0, 1, 2}, 3)), 1);         // collinear: the axis rotation
   EXPECT_EQ(free_rigid_motions(box, dofs_of({0, 1, 3}, 3)), 0);         // three non-collinear
   EXPECT_EQ(free_rigid_motions(box, {0, 1, 2, 9, 11, 18, 19, 27}), 0);  // determinate rollers
+  // A DOF beyond the mesh's vertices (e.g. a quadratic mesh's edge node) is an error, not a read
+  // past the positions.
+  EXPECT_THROW(free_rigid_motions(box, {0, 1, 2, 3 * box.num_vertices()}), std::invalid_argument);
   const Mesh plate = rectangle_triangle_mesh(Eigen::Vector2d(0, 0), Eigen::Vector2d(2, 1), 2, 1);
   EXPECT_EQ(free_rigid_motions(plate, dofs_of({0}, 2)), 1);
   EXPECT_EQ(free_rigid_motions(plate, dofs_of({0, 1}, 2)), 0);  // two distinct vertices

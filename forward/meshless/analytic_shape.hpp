@@ -1,5 +1,5 @@
 #pragma once
-// Analytic solids for the meshless simulator (issue 34, docs/meshless.md): a signed distance
+// Analytic solids for the meshless simulator (docs/meshless.md): a signed distance
 // d(X) (negative inside, zero on the boundary) and a bounding box. The node placement and the
 // clipped quadrature (octree_sampling.hpp) rely on d being 1-Lipschitz with |d(X)| no larger
 // than the distance from X to the boundary, so that a cell whose centre has |d| above its

@@ -19,6 +19,7 @@
 #include "forward/fem/quadratic_loads.hpp"
 #include "forward/mesh/generate.hpp"
 #include "forward/solve/newton.hpp"
+#include "../../support/equilibrium.hpp"
 
 namespace tailor::quadratic_validation_test {
 namespace {
@@ -37,15 +38,7 @@ Vector flat_positions(const Eigen::MatrixXd& positions) {
 }
 
 // The equilibrium of `model` (linear material: one Newton step, checked to converge).
-Vector solve(Model& model, const Vector& p, const Vector& rest) {
-  NewtonOptions options;
-  options.relative_tolerance = 1e-12;
-  NewtonSolver solver(model, options);
-  Vector y = model.elimination().restrict_state(rest);
-  const NewtonResult r = solver.solve(p, y);
-  EXPECT_TRUE(r.converged()) << r.report();
-  return model.elimination().expand(y);
-}
+using tailor::testing::solve_equilibrium;
 
 // Consistent nodal forces of a uniform pressure on straight linear boundary edges (2D): half of
 // -p n l to each end.
@@ -127,7 +120,7 @@ double cylinder_p1_error(int nr, int nt) {
       linear_pressure_forces(mesh, boundary_facets_where(mesh, on_inner), kPressure)));
   const Vector rest = flat_positions(mesh.rest_positions);
   model.set_elimination(Elimination::dirichlet(cylinder_fixed_dofs(mesh.rest_positions), rest));
-  return cylinder_error(mesh.rest_positions, solve(model, uniform_parameters(m, kModulus, kPoisson), rest));
+  return cylinder_error(mesh.rest_positions, solve_equilibrium(model, uniform_parameters(m, kModulus, kPoisson), rest));
 }
 
 // Quadratic: every node (edge nodes included) mapped to the annulus, so the curved boundary is
@@ -148,7 +141,7 @@ double cylinder_p2_error(int nr, int nt) {
   model.add(std::make_unique<ExternalForceTerm>(quadratic_pressure_forces(q, inner, kPressure)));
   const Vector rest = quadratic_rest_state(q);
   model.set_elimination(Elimination::dirichlet(cylinder_fixed_dofs(q.rest_positions), rest));
-  return cylinder_error(q.rest_positions, solve(model, uniform_parameters(m, kModulus, kPoisson), rest));
+  return cylinder_error(q.rest_positions, solve_equilibrium(model, uniform_parameters(m, kModulus, kPoisson), rest));
 }
 
 TEST(ThickCylinder, QuadraticTrianglesConvergeWhereLinearOnesLock) {
@@ -214,7 +207,7 @@ double cook_tip_p1(int n, double E, double nu, double F) {
     if (on_left(mesh.rest_positions.row(v).transpose())) fixed.insert(fixed.end(), {2 * v, 2 * v + 1});
   const Vector rest = flat_positions(mesh.rest_positions);
   model.set_elimination(Elimination::dirichlet(fixed, rest));
-  const Vector x = solve(model, uniform_parameters(m, E, nu), rest);
+  const Vector x = solve_equilibrium(model, uniform_parameters(m, E, nu), rest);
   const int c = node_at(mesh.rest_positions, Eigen::Vector2d(48, 60));
   return x[2 * c + 1] - rest[2 * c + 1];
 }
@@ -233,7 +226,7 @@ double cook_tip_p2(int n, double E, double nu, double F) {
   const Vector rest = quadratic_rest_state(q);
   // The clamp holds the edge nodes of x = 0 too.
   model.set_elimination(Elimination::dirichlet(node_dofs(q, nodes_where(q, on_left)), rest));
-  const Vector x = solve(model, uniform_parameters(m, E, nu), rest);
+  const Vector x = solve_equilibrium(model, uniform_parameters(m, E, nu), rest);
   const int c = node_at(q.rest_positions, Eigen::Vector2d(48, 60));
   return x[2 * c + 1] - rest[2 * c + 1];
 }

@@ -10,6 +10,7 @@
 #include "forward/meshless/mls_shape_functions.hpp"
 #include "forward/meshless/octree_sampling.hpp"
 #include "forward/solve/newton.hpp"
+#include "../../support/equilibrium.hpp"
 
 namespace tailor::meshless_testing {
 
@@ -43,14 +44,6 @@ inline Vector uniform_parameters(int nodes, double youngs_modulus, double poisso
 }
 
 // The equilibrium of `model` from its rest state (checked to converge).
-inline Vector solve(const Model& model, const Vector& p, const Vector& rest) {
-  NewtonOptions options;
-  options.relative_tolerance = 1e-12;
-  NewtonSolver solver(model, options);
-  Vector y = model.elimination().restrict_state(rest);
-  const NewtonResult r = solver.solve(p, y);
-  EXPECT_TRUE(r.converged()) << r.report();
-  return model.elimination().expand(y);
-}
+using tailor::testing::solve_equilibrium;
 
 }  // namespace tailor::meshless_testing

@@ -76,7 +76,7 @@ SphereResult lame_sphere(double h) {
   const MlsEssentialConditions bc = mls_transformation(*s.mls, symmetry);
   model.set_elimination(bc.elimination);
   const Vector rest = s.rest();
-  const Vector x = solve(model, uniform_parameters(n, kModulus, kPoisson), rest);
+  const Vector x = solve_equilibrium(model, uniform_parameters(n, kModulus, kPoisson), rest);
   // The symmetry conditions hold at their collocation points.
   for (int k = 0; k < 3; ++k)
     for (int a : symmetry[static_cast<std::size_t>(k)].nodes)

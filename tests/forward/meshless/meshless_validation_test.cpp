@@ -99,7 +99,7 @@ double patch_error(int quadrature_order, bool with_tractions = true) {
   if (with_tractions)
     model.add(std::make_unique<ExternalForceTerm>(meshless_point_forces(*s.mls, points, weights, tractions)));
   model.set_elimination(mls_transformation(*s.mls, held, targets).elimination);
-  const Vector x = solve(model, uniform_parameters(s.num_nodes(), E, nu), s.rest());
+  const Vector x = solve_equilibrium(model, uniform_parameters(s.num_nodes(), E, nu), s.rest());
   // Largest deviation of F_q from A over the quadrature points, relative to |A - I|.
   double error = 0.0;
   for (int q = 0; q < s.quadrature->num_points(); ++q)
@@ -178,7 +178,7 @@ BeamResult meshless_beam(double h, int order) {
   model.add(std::make_unique<ExternalForceTerm>(f));
   model.set_elimination(mls_transformation(*s.mls, clamped, targets).elimination);
   const Vector rest = s.rest();
-  const Vector x = solve(model, uniform_parameters(s.num_nodes(), kModulus, kPoisson), rest);
+  const Vector x = solve_equilibrium(model, uniform_parameters(s.num_nodes(), kModulus, kPoisson), rest);
   return {s.num_nodes(), f.dot(x - rest) / kForce};
 }
 
@@ -203,7 +203,7 @@ BeamResult fem_beam(int per_unit) {
   Vector p(2 * m);
   p.head(m).setConstant(kModulus);
   p.tail(m).setConstant(kPoisson);
-  const Vector x = solve(model, p, rest);
+  const Vector x = solve_equilibrium(model, p, rest);
   return {n, f.dot(x - rest) / kForce};
 }
 

@@ -29,6 +29,7 @@ subset=(
   "forward_contact_tests|"
   "forward_tori_tests|"                     # implicit torus distance, contact term, CCD, chains
   "forward_rigid_tests|"
+  "forward_meshless_tests|MlsShapeFunctions|OctreeSampling|GaussLegendre|MeshlessElasticTerm|EveryMaterial/MeshlessElasticTermTest|MeshlessMass|MlsTransformation|MeshlessAdjoint"  # shape functions, quadrature, the term's derivative checks
   "forward_dynamics_tests|"
   "forward_damping_tests|"
   "forward_solve_tests|HessianShare"        # assembly by parts: the shares and Newton through them

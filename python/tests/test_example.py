@@ -16,3 +16,16 @@ def test_recover_modulus_example(tmp_path):
                           text=True, env=env, cwd=tmp_path)
     assert done.returncode == 0, done.stdout + done.stderr
     assert "Taylor test: passed" in done.stdout
+
+
+def test_torch_neural_field_example(tmp_path):
+    # examples/python/torch_neural_field.py trains a network's weights through the simulator
+    # (tailor.torch.state: Newton forward, adjoint backward); it exits non-zero unless the
+    # displacement misfit falls 100-fold and E ends closer to the truth than the uniform start.
+    import pytest
+    pytest.importorskip("torch", reason="PyTorch (python3-torch) is not installed")
+    script = SOURCE_DIR / "examples" / "python" / "torch_neural_field.py"
+    env = dict(os.environ, PYTHONPATH=os.path.dirname(os.path.dirname(os.path.abspath(tailor.__file__))))
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "neural field: reached" in done.stdout

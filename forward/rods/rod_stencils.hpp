@@ -5,6 +5,7 @@
 
 #include "forward/rods/discrete_rod.hpp"
 #include "forward/rods/rod_kinematics.hpp"
+#include "forward/rods/rod_stencil_term.hpp"
 
 namespace tailor::rod_detail {
 
@@ -67,6 +68,23 @@ inline void first_order_parts(const std::vector<EdgeFrameOf<Dual2<3>>>& frames2,
       out[j].t[k] = truncate(frames2[j].t[k]);
       out[j].a1[k] = truncate(frames2[j].a1[k]);
     }
+}
+
+// The edge frames a bend-twist term's prepare() computes for a request of `order`
+// (RodStencilTerm): 2, the Dual2 frames; kProductHessians, the Dual2 frames and their first-order
+// parts, and true is returned (the term then forms its frame vectors from `frames2`); otherwise
+// the Dual1 frames.
+inline bool prepare_edge_frames(const DiscreteRod& rod, const Vector& x, int order,
+                                std::vector<EdgeFrameOf<Dual1<3>>>& frames1,
+                                std::vector<EdgeFrameOf<Dual2<3>>>& frames2) {
+  if (order == 2 || order == kProductHessians) {
+    edge_frames_of_rod(rod, x, frames2);
+    if (order == 2) return false;
+    first_order_parts(frames2, frames1);
+    return true;
+  }
+  edge_frames_of_rod(rod, x, frames1);
+  return false;
 }
 
 }  // namespace tailor::rod_detail

@@ -25,16 +25,7 @@ std::array<int, 7> RodTwistingTerm::stencil_parameters(int i) const {
 }
 
 void RodTwistingTerm::prepare(const Vector& x, int order) const {
-  if (order == 2) {
-    rod_detail::edge_frames_of_rod(*rod_, x, frames2_);
-    return;
-  }
-  if (order != rod_detail::kProductHessians) {
-    rod_detail::edge_frames_of_rod(*rod_, x, frames1_);
-    return;
-  }
-  rod_detail::edge_frames_of_rod(*rod_, x, frames2_);
-  rod_detail::first_order_parts(frames2_, frames1_);
+  if (!rod_detail::prepare_edge_frames(*rod_, x, order, frames1_, frames2_)) return;
   const int ne = rod_->num_edges();
   reference_frames_.resize(static_cast<std::size_t>(ne));
 #pragma omp parallel for schedule(static) if (ne > 512)

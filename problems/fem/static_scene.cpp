@@ -186,9 +186,9 @@ void add_elastic_terms(const StaticSetup& setup, Model& model, int youngs_offset
   }
 }
 
-// Calls f(term) for each elastic term of the model of type Term.
-template <int Dim, class Term, class F>
-void for_each_elastic_term(const Model& model, F&& f) {
+// Calls f(term) for each term of the model of type Term.
+template <class Term, class F>
+void for_each_term_of_type(const Model& model, F&& f) {
   for (const auto& term : model.terms())
     if (const auto* elastic = dynamic_cast<const Term*>(term.get())) f(*elastic);
 }
@@ -204,8 +204,8 @@ void postprocess(const StaticSetup& setup, const Model& model, const Vector& p, 
       out.stresses.row(term.elements()[k]) = stresses.row(static_cast<Eigen::Index>(k));
     term.add_gradient(x, p, elastic_gradient);
   };
-  for_each_elastic_term<Dim, ElasticTerm<Dim>>(model, collect);
-  for_each_elastic_term<Dim, QuadraticElasticTerm<Dim>>(model, collect);
+  for_each_term_of_type<ElasticTerm<Dim>>(model, collect);
+  for_each_term_of_type<QuadraticElasticTerm<Dim>>(model, collect);
   out.reaction_force_total = Eigen::VectorXd::Zero(Dim);
   for (int dof : setup.fixed_dofs) out.reaction_force_total[dof % Dim] -= elastic_gradient[dof];
 }

@@ -129,9 +129,10 @@ class Functional {
     check_size(z, "z");
     const Eigen::MatrixXd& X = problem_->setup.mesh.rest_positions;
     if (dL_du.rows() != X.rows() || dL_du.cols() != X.cols())
-      throw std::invalid_argument(problem_->scene_source + ": dL_du has shape (" + std::to_string(dL_du.rows()) +
-                                  ", " + std::to_string(dL_du.cols()) + "), the state (" +
-                                  std::to_string(X.rows()) + ", " + std::to_string(X.cols()) + ")");
+      throw std::invalid_argument(problem_->scene_source + ": dL_du has shape (" +
+                                  std::to_string(dL_du.rows()) + ", " + std::to_string(dL_du.cols()) +
+                                  "), the state (" + std::to_string(X.rows()) + ", " +
+                                  std::to_string(X.cols()) + ")");
     vertex_dofs(problem_->model->num_dofs());  // throws for a state with DOFs besides the mesh's
     if (!dL_du.allFinite())
       throw std::invalid_argument(problem_->scene_source + ": dL_du has non-finite entries");
@@ -188,44 +189,9 @@ class Functional {
     // A design the functional cannot evaluate is the caller's error, as in value(z); a failure at
     // a step of the test is the test's result.
     if (r.status == TaylorStatus::evaluation_failed && r.rows.empty()) throw EvaluationError(r.message);
-    py::list rows;
-    for (const TaylorRow& row : r.rows) {
-      py::dict d;
-      d["step"] = row.step;
-      d["value"] = row.value;
-      d["remainder0"] = row.remainder0;
-      d["remainder1"] = row.remainder1;
-      d["rate0"] = row.rate0;
-      d["rate1"] = row.rate1;
-      d["round_off"] = row.round_off;
-      d["noise"] = row.noise;
-      d["judged"] = row.judged;
-      rows.append(d);
-    }
-    py::dict d;
-    d["status"] = to_string(r.status);
-    d["passed"] = r.passed();
-    d["message"] = r.message;
-    d["value"] = r.value;
-    d["directional_derivative"] = r.directional_derivative;
-    d["rate0"] = r.rate0;
-    d["rate1"] = r.rate1;
-    d["step"] = r.step;
-    d["direction"] = r.direction;
-    d["rows"] = rows;
-    d["table"] = r.table();
-    return d;
+    return taylor_result_dict(r);
   }
-  py::dict counters() const {
-    const FunctionalCounters& c = problem_->functional->counters();
-    py::dict d;
-    d["evaluations"] = c.evaluations;
-    d["forward_solves"] = c.forward_solves;
-    d["adjoint_solves"] = c.adjoint_solves;
-    d["forward_seconds"] = c.forward_seconds;
-    d["adjoint_seconds"] = c.adjoint_seconds;
-    return d;
-  }
+  py::dict counters() const { return counters_dict(problem_->functional->counters()); }
   const InverseProblem& problem() const { return *problem_; }
 
  private:
@@ -257,6 +223,58 @@ class Functional {
 
 }  // namespace
 
+py::dict taylor_result_dict(const TaylorTestResult& r) {
+  py::list rows;
+  for (const TaylorRow& row : r.rows) {
+    py::dict d;
+    d["step"] = row.step;
+    d["value"] = row.value;
+    d["remainder0"] = row.remainder0;
+    d["remainder1"] = row.remainder1;
+    d["rate0"] = row.rate0;
+    d["rate1"] = row.rate1;
+    d["round_off"] = row.round_off;
+    d["noise"] = row.noise;
+    d["judged"] = row.judged;
+    rows.append(d);
+  }
+  py::dict d;
+  d["status"] = to_string(r.status);
+  d["passed"] = r.passed();
+  d["message"] = r.message;
+  d["value"] = r.value;
+  d["directional_derivative"] = r.directional_derivative;
+  d["rate0"] = r.rate0;
+  d["rate1"] = r.rate1;
+  d["step"] = r.step;
+  d["direction"] = r.direction;
+  d["rows"] = rows;
+  d["table"] = r.table();
+  return d;
+}
+
+py::dict counters_dict(const FunctionalCounters& c) {
+  py::dict d;
+  d["evaluations"] = c.evaluations;
+  d["forward_solves"] = c.forward_solves;
+  d["adjoint_solves"] = c.adjoint_solves;
+  d["forward_seconds"] = c.forward_seconds;
+  d["adjoint_seconds"] = c.adjoint_seconds;
+  return d;
+}
+
+py::dict optimizer_dict(const OptimizerOptions& o) {
+  py::dict d;
+  d["backend"] = to_string(o.backend);
+  d["max_iterations"] = o.max_iterations;
+  d["gradient_tolerance"] = o.gradient_tolerance;
+  d["objective_tolerance"] = o.objective_tolerance;
+  d["step_tolerance"] = o.step_tolerance;
+  d["time_limit"] = o.time_limit_seconds;
+  d["curvature"] = to_string(o.curvature);
+  return d;
+}
+
 void bind_functional(py::module_& m) {
   py::class_<Functional>(m, "Functional",
                          "The reduced functional J(z) of a scene's inverse problem (docs/python.md).")
@@ -277,18 +295,7 @@ void bind_functional(py::module_& m) {
       .def("jvp", &Functional::jvp, py::arg("z"), py::arg("dz"))
       .def_property_readonly("bounds", &Functional::bounds)
       .def_property_readonly("optimizer",
-                             [](const Functional& f) {
-                               const OptimizerOptions& o = f.problem().spec.optimizer;
-                               py::dict d;
-                               d["backend"] = to_string(o.backend);
-                               d["max_iterations"] = o.max_iterations;
-                               d["gradient_tolerance"] = o.gradient_tolerance;
-                               d["objective_tolerance"] = o.objective_tolerance;
-                               d["step_tolerance"] = o.step_tolerance;
-                               d["time_limit"] = o.time_limit_seconds;
-                               d["curvature"] = to_string(o.curvature);
-                               return d;
-                             })
+                             [](const Functional& f) { return optimizer_dict(f.problem().spec.optimizer); })
       .def_property_readonly("x0", [](const Functional& f) { return f.problem().z0; })
       .def_property_readonly("design_labels", [](const Functional& f) { return f.problem().design_labels; })
       .def(

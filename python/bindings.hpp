@@ -5,6 +5,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "adjoint/reduced_functional.hpp"
+#include "adjoint/taylor_test.hpp"
+#include "optimizers/optimizer.hpp"
 #include "problems/scene_kinds.hpp"
 #include "python_stream.hpp"
 
@@ -20,6 +23,13 @@ struct SceneDocument {
 
 void bind_scene(pybind11::module_& m);
 void bind_functional(pybind11::module_& m);
+void bind_rod_functional(pybind11::module_& m);
+
+// What the functionals return as dicts: a Taylor test (rows, rates, status, table), the solve
+// counters, and the optimizer section of the scene.
+pybind11::dict taylor_result_dict(const TaylorTestResult& r);
+pybind11::dict counters_dict(const FunctionalCounters& c);
+pybind11::dict optimizer_dict(const OptimizerOptions& o);
 
 // Runs `body` with the GIL released; a pending Python exception (Ctrl-C, a failing write()) raised
 // from inside comes back as that exception.

@@ -33,4 +33,5 @@ PYBIND11_MODULE(_tailor, m) {
   });
   tailor::python::bind_scene(m);
   tailor::python::bind_functional(m);
+  tailor::python::bind_rod_functional(m);
 }

@@ -34,6 +34,7 @@ try:
 
     from ._tailor import EvaluationError, MeshError, SceneError, __version__
     from ._tailor import Functional as _Functional
+    from ._tailor import RodFunctional as _RodFunctional
     from ._tailor import Scene as _Scene
 except ImportError as _error:
     import sys as _sys
@@ -42,7 +43,7 @@ from . import fields
 from .optimize import scipy_minimize
 
 __all__ = [
-    "EvaluationError", "Functional", "MeshError", "Report", "Scene", "SceneError", "__version__",
+    "EvaluationError", "Functional", "MeshError", "Report", "RodFunctional", "Scene", "SceneError", "__version__",
     "fields", "gradcheck", "homogenize", "load", "modes", "run", "scipy_minimize", "simulate",
 ]
 
@@ -211,6 +212,68 @@ class Functional:
         return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate, hessian=hessian)
 
 
+class RodFunctional:
+    """J(z) of a rod scene's inverse problem (docs/rods.md, "Inverse design scenes"), as
+    `tailor run` and `tailor gradcheck` see it: value, gradient, Hessian-vector and (for the
+    shape misfit, a least-squares objective) Gauss-Newton products, taylor_test().
+
+    The state is the rods' vertex positions: state(z) gives their displacements from the drawn
+    positions (rest_positions), one row per vertex of every rod in the scene's order
+    (num_vertices x 3, float64), and vjp(z, dL_du) / jvp(z, dz) act on those rows through the
+    same static adjoint and tangent solve. The edges' twist angles are part of the equilibrium
+    but not of these rows: dL_du acts on positions only. The design is unbounded (bounds None).
+    """
+
+    def __init__(self, scene):
+        self._f = _RodFunctional(scene._doc)
+        self._name, self._source = scene.name, scene.source
+
+    size = property(lambda self: self._f.size)
+    x0 = property(lambda self: self._f.x0, doc="the initial design z0")
+    bounds = property(lambda self: self._f.bounds, doc="None: rod designs are unbounded")
+    optimizer = property(lambda self: self._f.optimizer,
+                         doc="the scene's inverse.optimizer section: backend, max_iterations, tolerances")
+    design_labels = property(lambda self: self._f.design_labels,
+                             doc='per design variable: "radius[3]", "rest_curvature[2][0]", ...')
+    has_hessian_vector = property(lambda self: self._f.has_hessian_vector)
+    has_gauss_newton_vector = property(lambda self: self._f.has_gauss_newton_vector,
+                                       doc="whether the objective is least squares (J = |r|^2 / 2)")
+    counters = property(lambda self: self._f.counters, doc="evaluations, forward and adjoint solves")
+    rest_positions = property(lambda self: self._f.rest_positions,
+                              doc="the drawn vertex positions: num_vertices x 3, the rows of state()")
+
+    def value(self, z):
+        return self._f.value(z)
+
+    def gradient(self, z):
+        return self._f.gradient(z)
+
+    def value_and_gradient(self, z):
+        return self._f.value_and_gradient(z)
+
+    def hessian_vector_product(self, z, v):
+        return self._f.hessian_vector_product(z, v)
+
+    def gauss_newton_vector_product(self, z, v):
+        return self._f.gauss_newton_vector_product(z, v)
+
+    def state(self, z):
+        """The equilibrium at z: vertex displacements from the drawn positions (num_vertices x 3)."""
+        return self._f.state(z)
+
+    def vjp(self, z, dL_du):
+        """(du/dz)^T dL_du for dL/du given per vertex (num_vertices x 3): one adjoint solve."""
+        return self._f.vjp(z, np.asarray(dL_du, dtype=np.float64))
+
+    def jvp(self, z, dz):
+        """(du/dz) dz, num_vertices x 3: one tangent solve."""
+        return self._f.jvp(z, dz)
+
+    def taylor_test(self, z=None, seed=None, min_rate=None, hessian=False):
+        """Taylor test of J at z (default x0), as `tailor gradcheck` on the scene."""
+        return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate, hessian=hessian)
+
+
 def _per_element(name, value):
     """A per-element parameter as a float64 vector (None stays None); the values are checked
     against the mesh and their range by the bindings."""
@@ -319,13 +382,16 @@ class Scene:
         return self._doc.check(seed=seed, log=log) == 0
 
     def functional(self):
-        """The reduced functional of the scene's inverse problem (static FEM scenes with an
-        "inverse" section; other kinds are a SceneError naming the supported one)."""
-        if self.kind != "static":
-            raise SceneError(f"{self.source}: functional() needs a static FEM scene with an \"inverse\" "
-                             f"section; this is a {self.kind} scene (its designs run through run() and "
-                             f"gradcheck(), docs/python.md)")
-        return Functional(self)
+        """The reduced functional of the scene's inverse problem: a Functional for static FEM
+        scenes, a RodFunctional for rod scenes (each with an "inverse" section); other kinds are
+        a SceneError naming the supported ones."""
+        if self.kind == "static":
+            return Functional(self)
+        if self.kind == "rods":
+            return RodFunctional(self)
+        raise SceneError(f"{self.source}: functional() needs a static FEM or a rods scene with an \"inverse\" "
+                         f"section; this is a {self.kind} scene (its designs run through run() and "
+                         f"gradcheck(), docs/python.md)")
 
 
 def load(scene, directory=None, name=None):

@@ -334,6 +334,22 @@ void TransientFunctional::backward_step(const DynamicState& from, const DynamicS
   a = std::move(previous);
 }
 
+Vector TransientFunctional::objective_gradient(const Vector& z, TrajectoryObjectivePtr other) {
+  if (!other) throw std::invalid_argument("TransientFunctional::objective_gradient: no objective");
+  // The forward pass first, with the own objective, so that its value stays the functional's;
+  // the backward pass then reads the other objective's gradients along the kept trajectory.
+  forward(z);
+  struct Swap {
+    TrajectoryObjectivePtr& slot;
+    TrajectoryObjectivePtr kept;
+    ~Swap() { slot = std::move(kept); }
+  } swap{objective_, objective_};
+  objective_ = std::move(other);
+  Vector gradient;
+  value_and_gradient(z, gradient);
+  return gradient;
+}
+
 double TransientFunctional::value_and_gradient(const Vector& z, Vector& gradient) {
   forward(z);
   const auto t0 = Clock::now();

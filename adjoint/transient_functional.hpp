@@ -119,6 +119,11 @@ class TransientFunctional final : public ReducedFunctional {
   double value(const Vector& z) override;
   double value_and_gradient(const Vector& z, Vector& gradient) override;
 
+  // dL/dz of another trajectory objective L at the trajectory of z, by the same backward pass
+  // (the forward pass is reused when z is the design evaluated last). With PositionCotangents
+  // this is the trajectory's vector-Jacobian product. The functional's own objective is kept.
+  Vector objective_gradient(const Vector& z, TrajectoryObjectivePtr other);
+
   // Size of P: |p| + num_dofs per designed initial condition.
   int num_extended_params() const;
   // The stored states of the last forward pass (all of them without checkpointing).

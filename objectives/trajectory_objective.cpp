@@ -127,4 +127,27 @@ void TrajectorySum::add_gradient(int step, const Vector& x, const Vector& v, con
   }
 }
 
+PositionCotangents::PositionCotangents(Matrix weights) : weights_(std::move(weights)) {
+  if (!weights_.allFinite())
+    throw std::invalid_argument("PositionCotangents: the weights have non-finite entries");
+}
+
+double PositionCotangents::value(int step, const Vector& x, const Vector& v, const Vector& p) const {
+  (void)v;
+  (void)p;
+  if (step < 0 || step >= weights_.rows()) return 0.0;
+  return weights_.row(step).dot(x.transpose());
+}
+
+void PositionCotangents::add_gradient(int step, const Vector& x, const Vector& v, const Vector& p, Vector& gx,
+                                      Vector& gv, Vector& gp) const {
+  (void)x;
+  (void)v;
+  (void)p;
+  (void)gv;
+  (void)gp;
+  if (step < 0 || step >= weights_.rows()) return;
+  gx += weights_.row(step).transpose();
+}
+
 }  // namespace tailor

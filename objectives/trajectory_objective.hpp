@@ -82,6 +82,23 @@ class ModeAmplitudes final : public TrajectoryObjective {
   std::vector<AmplitudeKeyframe> keyframes_;
 };
 
+// A linear functional of the positions: J_n = w_n . x_n, with one weight vector per step
+// (full DOF space, interleaved, as x_n), n = 0 ... N. Its design gradient is the vector-Jacobian
+// product of the trajectory with the cotangents w_n (TransientFunctional::objective_gradient).
+class PositionCotangents final : public TrajectoryObjective {
+ public:
+  // weights: (N + 1) rows (one per state), num_dofs columns. Throws std::invalid_argument for
+  // non-finite entries.
+  explicit PositionCotangents(Matrix weights);
+  std::string name() const override { return "position_cotangents"; }
+  double value(int step, const Vector& x, const Vector& v, const Vector& p) const override;
+  void add_gradient(int step, const Vector& x, const Vector& v, const Vector& p, Vector& gx, Vector& gv,
+                    Vector& gp) const override;
+
+ private:
+  Matrix weights_;
+};
+
 // A weighted sum of trajectory objectives.
 class TrajectorySum final : public TrajectoryObjective {
  public:

@@ -35,15 +35,6 @@ SceneDocument from_json(const std::string& text, const std::string& source, cons
   return {scene_from_text(text, source, directory)};
 }
 
-// The static or dynamic scene (docs/scenes.md), named as the command line names it, with its
-// solver.threads applied as the command line does.
-Scene parse(const SceneDocument& doc) {
-  Scene scene = parse_scene(doc.file.node(), doc.file.directory());
-  scene.name = doc.file.name();
-  apply_thread_flags(VerbArguments{}, scene.solver.threads);
-  return scene;
-}
-
 bool is_mesh_scene(const std::string& kind) { return kind == "static" || kind == "dynamic"; }
 
 // The command line's handler for `verb` on a scene of another kind (rods, rigid bodies, cells,
@@ -88,7 +79,7 @@ py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::obj
   int code = kFailure;
   if (kind == "static") {
     auto run = without_gil([&] {
-      const Scene scene = parse(doc);
+      const Scene scene = parse_mesh_scene(doc);
       return std::make_shared<SimulateRun>(simulate_scene(scene, overrides, out_dir, &out));
     });
     const auto keep = owner(run);
@@ -103,7 +94,7 @@ py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::obj
     code = run->solution.converged ? kSuccess : kFailure;
   } else if (kind == "dynamic") {
     code = without_gil([&] {
-      const Scene scene = parse(doc);
+      const Scene scene = parse_mesh_scene(doc);
       return simulate_dynamic_scene(scene, out_dir, &out).completed ? kSuccess : kFailure;
     });
   } else {
@@ -121,7 +112,7 @@ py::tuple modes(const SceneDocument& doc, const std::string& out_dir, int count,
   require_verb(doc, "modes");
   PythonStream out(std::move(log), /*check_signals=*/true);
   auto run = without_gil([&] {
-    const Scene scene = parse(doc);
+    const Scene scene = parse_mesh_scene(doc);
     return std::make_shared<ModesRun>(modes_scene(scene, count, out_dir, &out));
   });
   const auto keep = owner(run);
@@ -147,7 +138,7 @@ py::tuple gradcheck(const SceneDocument& doc, const std::string& out_dir, std::o
       args.hessian = hessian;
       return dispatch(doc, "gradcheck", args, out);
     }
-    const Scene scene = parse(doc);
+    const Scene scene = parse_mesh_scene(doc);
     const GradcheckRun run = kind == "dynamic" && !scene.inverse
                                  ? gradcheck_dynamic_scene(scene, out_dir, seed.value_or(1), &out)
                                  : gradcheck_scene(scene, out_dir, {seed, hessian}, &out);
@@ -168,7 +159,7 @@ py::tuple run(const SceneDocument& doc, const std::string& out_dir, py::object l
   if (is_mesh_scene(kind)) {
     require_verb(doc, "run");
     auto result = without_gil([&] {
-      const Scene scene = parse(doc);
+      const Scene scene = parse_mesh_scene(doc);
       return std::make_shared<InverseRun>(
           run_inverse_scene(scene, out_dir, &out, progress ? &out : nullptr, {checkpoint_every, resume}));
     });
@@ -216,13 +207,22 @@ int check(const SceneDocument& doc, unsigned seed, py::object log) {
       args.seed = seed;
       return dispatch(doc, "check", args, out);
     }
-    return check_scene(parse(doc), seed, &out) ? kSuccess : kFailure;
+    return check_scene(parse_mesh_scene(doc), seed, &out) ? kSuccess : kFailure;
   });
   out.flush();
   return code;
 }
 
 }  // namespace
+
+// The static or dynamic scene (docs/scenes.md), named as the command line names it, with its
+// solver.threads applied as the command line does.
+Scene parse_mesh_scene(const SceneDocument& doc) {
+  Scene scene = parse_scene(doc.file.node(), doc.file.directory());
+  scene.name = doc.file.name();
+  apply_thread_flags(VerbArguments{}, scene.solver.threads);
+  return scene;
+}
 
 void bind_scene(py::module_& m) {
   py::class_<SceneDocument>(m, "Scene", "A scene document (docs/scenes.md), as the command line reads it.")

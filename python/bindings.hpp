@@ -8,6 +8,7 @@
 #include "adjoint/reduced_functional.hpp"
 #include "adjoint/taylor_test.hpp"
 #include "optimizers/optimizer.hpp"
+#include "problems/fem/scene.hpp"
 #include "problems/scene_kinds.hpp"
 #include "python_stream.hpp"
 
@@ -24,6 +25,11 @@ struct SceneDocument {
 void bind_scene(pybind11::module_& m);
 void bind_functional(pybind11::module_& m);
 void bind_rod_functional(pybind11::module_& m);
+void bind_dynamic_functional(pybind11::module_& m);
+
+// The static or dynamic scene (docs/scenes.md), named as the command line names it, with its
+// solver.threads applied as the command line does.
+Scene parse_mesh_scene(const SceneDocument& doc);
 
 // What the functionals return as dicts: a Taylor test (rows, rates, status, table), the solve
 // counters, and the optimizer section of the scene.

@@ -34,4 +34,5 @@ PYBIND11_MODULE(_tailor, m) {
   tailor::python::bind_scene(m);
   tailor::python::bind_functional(m);
   tailor::python::bind_rod_functional(m);
+  tailor::python::bind_dynamic_functional(m);
 }

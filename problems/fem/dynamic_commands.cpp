@@ -54,8 +54,8 @@ void check_output_size(const Scene& scene, const std::filesystem::path& first_fr
   const double total = frame_bytes * static_cast<double>(frames);
   const std::filesystem::space_info space = std::filesystem::space(first_frame.parent_path(), ec);
   const auto gb = [](double bytes) { return format_number(bytes / 1e9, "%.3g") + " GB"; };
-  const std::string estimate = std::to_string(frames) + " frames of " + format_number(frame_bytes / 1e6, "%.3g") +
-                               " MB: " + gb(total);
+  const std::string estimate =
+      std::to_string(frames) + " frames of " + format_number(frame_bytes / 1e6, "%.3g") + " MB: " + gb(total);
   if (!ec && total > static_cast<double>(space.available))
     throw SceneError(scene.source + ": dynamics.steps / output_every: " + estimate + ", more than the " +
                      gb(static_cast<double>(space.available)) +
@@ -136,28 +136,46 @@ DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir
   return run;
 }
 
+std::unique_ptr<DynamicDesign> build_dynamic_design(const Scene& scene) {
+  const DynamicsSpec& spec = *scene.dynamics;
+  if (!spec.objective)
+    throw SceneError(scene.source + ": dynamics.objective: a trajectory design needs a trajectory objective");
+  auto design = std::make_unique<DynamicDesign>();
+  design->scene_model = build_dynamic_scene(scene);
+  DynamicSceneModel& d = design->scene_model;
+  const int m = d.setup.mesh.num_elements();
+  auto objective = trajectory_objective(scene, d);
+  std::vector<ParameterBlock> blocks{{0, exp_map(m)}, {d.terms.density_offset, exp_map(m)}};
+  if (d.rayleigh) blocks.push_back({d.terms.alpha_offset, identity_map(2)});
+  design->parameterization = embed_blocks(d.p, blocks);
+  Vector& z0 = design->z0;
+  z0.resize(design->parameterization->num_design());
+  z0.head(m) = d.p.head(m).array().log().matrix();
+  z0.segment(m, m) = d.p.segment(d.terms.density_offset, m).array().log().matrix();
+  if (d.rayleigh) z0.tail(2) << d.p[d.terms.alpha_offset], d.p[d.terms.beta_offset];
+  for (int e = 0; e < m; ++e) design->labels.push_back("log_youngs_modulus[" + std::to_string(e) + "]");
+  for (int e = 0; e < m; ++e) design->labels.push_back("log_density[" + std::to_string(e) + "]");
+  if (d.rayleigh) design->labels.insert(design->labels.end(), {"rayleigh_alpha", "rayleigh_beta"});
+
+  design->integrator = std::make_unique<TimeIntegrator>(*d.model, d.options);
+  TransientFunctionalOptions options;
+  options.steps = design->steps = spec.steps;
+  design->functional =
+      std::make_unique<TransientFunctional>(*design->integrator, design->parameterization, objective,
+                                            d.initial_positions, d.initial_velocities, options);
+  return design;
+}
+
 GradcheckRun gradcheck_dynamic_scene(const Scene& scene, const std::string& out_dir, unsigned seed,
                                      std::ostream* log) {
   const DynamicsSpec& spec = *scene.dynamics;
   if (!spec.objective)
     throw SceneError(scene.source + ": dynamics.objective: gradcheck needs a trajectory objective");
-  DynamicSceneModel d = build_dynamic_scene(scene);
-  const int m = d.setup.mesh.num_elements();
-  auto objective = trajectory_objective(scene, d);
-  // Design: log E and log density per element, and alpha, beta with Rayleigh damping.
-  std::vector<ParameterBlock> blocks{{0, exp_map(m)}, {d.terms.density_offset, exp_map(m)}};
-  if (d.rayleigh) blocks.push_back({d.terms.alpha_offset, identity_map(2)});
-  const ParameterizationPtr map = embed_blocks(d.p, blocks);
-  Vector z0(map->num_design());
-  z0.head(m) = d.p.head(m).array().log().matrix();
-  z0.segment(m, m) = d.p.segment(d.terms.density_offset, m).array().log().matrix();
-  if (d.rayleigh) z0.tail(2) << d.p[d.terms.alpha_offset], d.p[d.terms.beta_offset];
-
-  TimeIntegrator integrator(*d.model, d.options);
-  TransientFunctionalOptions options;
-  options.steps = spec.steps;
-  TransientFunctional functional(integrator, map, objective, d.initial_positions, d.initial_velocities,
-                                 options);
+  const auto design = build_dynamic_design(scene);
+  const DynamicSceneModel& d = design->scene_model;
+  TransientFunctional& functional = *design->functional;
+  const Vector& z0 = design->z0;
+  const TransientFunctionalOptions options;  // the functional's: its linear tolerance is reported
   TaylorTestOptions taylor;
   taylor.seed = seed;
   GradcheckRun run;

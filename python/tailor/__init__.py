@@ -34,6 +34,7 @@ try:
 
     from ._tailor import EvaluationError, MeshError, SceneError, __version__
     from ._tailor import Functional as _Functional
+    from ._tailor import DynamicFunctional as _DynamicFunctional
     from ._tailor import RodFunctional as _RodFunctional
     from ._tailor import Scene as _Scene
 except ImportError as _error:
@@ -43,7 +44,8 @@ from . import fields
 from .optimize import scipy_minimize
 
 __all__ = [
-    "EvaluationError", "Functional", "MeshError", "Report", "RodFunctional", "Scene", "SceneError", "__version__",
+    "DynamicFunctional", "EvaluationError", "Functional", "MeshError", "Report", "RodFunctional", "Scene",
+    "SceneError", "__version__",
     "fields", "gradcheck", "homogenize", "load", "modes", "run", "scipy_minimize", "simulate",
 ]
 
@@ -274,6 +276,53 @@ class RodFunctional:
         return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate, hessian=hessian)
 
 
+class DynamicFunctional:
+    """J(z) of a dynamic scene's trajectory objective (dynamics.objective, docs/scenes.md), as
+    `tailor gradcheck` tests it: the design is log E and log density per element and, with
+    Rayleigh damping, alpha and beta (design_labels); J and dJ/dz come from the time-dependent
+    adjoint over all the scene's steps.
+
+    The state is the trajectory: state(z) is the displacement of every state n = 0 ... steps from
+    the rest positions, shape (steps + 1, num_vertices, dim) (float64), and vjp(z, dL_dU) the design
+    gradient of any scalar L of it, given dL/dU of the same shape, by one backward pass over the
+    same trajectory. There is no jvp: a tangent through the steps would need a forward-mode pass,
+    which tailor does not have. There are no bounds.
+    """
+
+    def __init__(self, scene):
+        self._f = _DynamicFunctional(scene._doc)
+        self._name, self._source = scene.name, scene.source
+
+    size = property(lambda self: self._f.size)
+    x0 = property(lambda self: self._f.x0, doc="the scene's design: log E, log density, (alpha, beta)")
+    bounds = None
+    design_labels = property(lambda self: self._f.design_labels)
+    counters = property(lambda self: self._f.counters, doc="evaluations, forward and adjoint solves")
+    rest_positions = property(lambda self: self._f.rest_positions, doc="the mesh: num_vertices x dim")
+    elements = property(lambda self: self._f.elements, doc="the mesh: num_elements x (dim + 1) vertex ids")
+
+    def value(self, z):
+        return self._f.value(z)
+
+    def gradient(self, z):
+        return self._f.gradient(z)
+
+    def value_and_gradient(self, z):
+        return self._f.value_and_gradient(z)
+
+    def state(self, z):
+        """The trajectory at z: displacements, (steps + 1, num_vertices, dim)."""
+        return self._f.state(z)
+
+    def vjp(self, z, dL_dU):
+        """(dU/dz)^T dL_dU for dL/dU of the trajectory's shape: one backward pass."""
+        return self._f.vjp(z, np.asarray(dL_dU, dtype=np.float64))
+
+    def taylor_test(self, z=None, seed=None, min_rate=None):
+        """Taylor test of J at z (default x0), as `tailor gradcheck` on the scene."""
+        return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate)
+
+
 def _per_element(name, value):
     """A per-element parameter as a float64 vector (None stays None); the values are checked
     against the mesh and their range by the bindings."""
@@ -383,15 +432,18 @@ class Scene:
 
     def functional(self):
         """The reduced functional of the scene's inverse problem: a Functional for static FEM
-        scenes, a RodFunctional for rod scenes (each with an "inverse" section); other kinds are
-        a SceneError naming the supported ones."""
+        scenes, a RodFunctional for rod scenes (each with an "inverse" section), a
+        DynamicFunctional for dynamic scenes (of their dynamics.objective); other kinds are a
+        SceneError naming the supported ones."""
         if self.kind == "static":
             return Functional(self)
         if self.kind == "rods":
             return RodFunctional(self)
+        if self.kind == "dynamic":
+            return DynamicFunctional(self)
         raise SceneError(f"{self.source}: functional() needs a static FEM or a rods scene with an \"inverse\" "
-                         f"section; this is a {self.kind} scene (its designs run through run() and "
-                         f"gradcheck(), docs/python.md)")
+                         f"section, or a dynamic scene with a dynamics.objective; this is a {self.kind} scene "
+                         f"(its designs run through run() and gradcheck(), docs/python.md)")
 
 
 def load(scene, directory=None, name=None):

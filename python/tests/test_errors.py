@@ -60,9 +60,10 @@ def test_verbs_that_need_an_inverse_section():
 
 
 def test_functional_of_another_kind_names_the_supported_ones():
-    with pytest.raises(tailor.SceneError, match=r"swinging_beam\.json: functional\(\) needs a static FEM or a "
-                       r"rods scene with an \"inverse\" section; this is a dynamic scene"):
-        tailor.load(str(scene_path("swinging_beam.json"))).functional()
+    with pytest.raises(tailor.SceneError, match=r"box_drop\.json: functional\(\) needs a static FEM or a "
+                       r"rods scene with an \"inverse\" section, or a dynamic scene with a dynamics\.objective; "
+                       r"this is a rigid_bodies scene"):
+        tailor.load(str(scene_path("contact/box_drop.json"))).functional()
 
 
 def test_bad_inverse_key_path_in_functional():

@@ -10,6 +10,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <random>
 #include <iostream>
 
 #include "../support/modal_fixtures.hpp"
@@ -165,6 +166,44 @@ TEST(TransientFunctional, CheckpointingGivesTheSameGradient) {
   // The recomputed steps' Hessians are the ones the forward pass kept: neither counted twice.
   EXPECT_EQ(s.stored_hessians_used, s_all.stored_hessians_used);
   EXPECT_LE(s.stored_hessian_megabytes_peak, s_all.stored_hessian_megabytes_peak);
+}
+
+// The trajectory's vector-Jacobian product: objective_gradient with PositionCotangents W gives
+// d/dz sum_n W_n . x_n, checked against central differences of the stored trajectory along a
+// direction (with checkpointing, whose backward pass recomputes states); the functional's own
+// value and gradient are unchanged by it.
+TEST(TransientFunctional, ObjectiveGradientIsTheTrajectorysVectorJacobianProduct) {
+  SwingProblem problem(false);
+  const int steps = 20;
+  TimeIntegrator integrator(*problem.c.model, integrator_options(TimeScheme::newmark));
+  TransientFunctional f(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                        functional_options(false, steps, 5));
+  const int n = problem.c.model->num_dofs();
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  Matrix W(steps + 1, n);
+  for (Eigen::Index i = 0; i < W.size(); ++i) W.data()[i] = normal(rng);
+  Vector dz(problem.z0.size());
+  for (Eigen::Index i = 0; i < dz.size(); ++i) dz[i] = normal(rng);
+  dz.tail(2) *= 1e-3;  // alpha, beta
+  const auto pairing = [&](const Vector& z) {  // sum_n W_n . x_n along a fresh forward pass
+    TransientFunctional g(integrator, problem.map, std::make_shared<PositionCotangents>(W), problem.c.rest,
+                          problem.v0, functional_options(false, steps));
+    return g.value(z);
+  };
+  Vector g0;
+  const double j0 = f.value_and_gradient(problem.z0, g0);
+  const Vector vjp = f.objective_gradient(problem.z0, std::make_shared<PositionCotangents>(W));
+  // h balances the difference's O(h^2) error against the states' Newton tolerance over 2h.
+  const double h = 1e-4;
+  const double difference = (pairing(problem.z0 + h * dz) - pairing(problem.z0 - h * dz)) / (2 * h);
+  EXPECT_NEAR(vjp.dot(dz), difference, 1e-5 * std::abs(difference));
+  // A vjp 1% off would fail the same check.
+  EXPECT_GT(std::abs(1.01 * vjp.dot(dz) - difference), 1e-5 * std::abs(difference));
+  Vector g1;
+  EXPECT_EQ(f.value_and_gradient(problem.z0, g1), j0);
+  EXPECT_LT((g1 - g0).norm(), 1e-12 * g0.norm());
+  EXPECT_THROW(PositionCotangents(Matrix::Constant(2, n, std::nan(""))), std::invalid_argument);
 }
 
 TEST(TransientFunctional, FactorizationReuseDoesNotChangeTheGradient) {

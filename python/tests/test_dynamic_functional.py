@@ -1,0 +1,111 @@
+# The trajectory functional of a dynamic scene from Python (tailor.DynamicFunctional): J and its
+# Taylor test as `tailor gradcheck`; the trajectory as an array; J.vjp against central
+# differences of J.state along a direction, and, with dL/dU the objective's own, equal to the
+# gradient; a loss of the trajectory written in Python passes its Taylor test (first-order
+# remainder at rate 1, second-order at >= 1.9) with J.vjp as gradient, and a wrong gradient fails.
+import numpy as np
+import pytest
+
+import tailor
+from conftest import scene_path
+
+
+@pytest.fixture(scope="module")
+def beam():
+    # scenes/swinging_beam.json (a 4 m beam clamped at x = 0 swinging under gravity, Newmark,
+    # Rayleigh damping), shortened to 20 steps with targets at steps 10 and 20.
+    path = scene_path("swinging_beam.json")
+    doc = tailor.load(str(path)).document
+    doc["dynamics"]["steps"] = 20
+    doc["dynamics"]["objective"]["steps"] = [10, 20]
+    return tailor.load(doc, directory=str(path.parent), name="swinging_beam_short").functional()
+
+
+def tip(beam):
+    return np.flatnonzero(np.abs(beam.rest_positions[:, 0] - 4.0) < 1e-9)
+
+
+def test_functional_of_a_dynamic_scene(beam):
+    assert isinstance(beam, tailor.DynamicFunctional)
+    m = beam.elements.shape[0]
+    assert beam.size == 2 * m + 2  # log E, log density per element; alpha, beta
+    assert beam.design_labels[0] == "log_youngs_modulus[0]" and beam.design_labels[-1] == "rayleigh_beta"
+    assert beam.bounds is None
+
+
+def test_state_is_the_trajectory(beam):
+    U = beam.state(beam.x0)
+    assert U.shape == (21,) + beam.rest_positions.shape and U.dtype == np.float64
+    assert np.abs(U[0]).max() == 0  # starts at rest
+    assert U[-1][tip(beam)][:, 2].mean() < 0  # the tip falls under gravity
+    clamped = beam.rest_positions[:, 0] < 1e-12
+    assert np.abs(U[:, clamped]).max() == 0
+
+
+def test_vjp_matches_central_differences_of_the_state(beam):
+    rng = np.random.default_rng(11)
+    z = beam.x0 + 0.02 * rng.standard_normal(beam.size)
+    dz = rng.standard_normal(beam.size)
+    W = rng.standard_normal(beam.state(z).shape)
+    h = 1e-5
+    difference = np.sum(W * (beam.state(z + h * dz) - beam.state(z - h * dz))) / (2 * h)
+    assert beam.vjp(z, W) @ dz == pytest.approx(difference, rel=1e-6)
+
+
+def test_vjp_of_the_objectives_own_cotangent_is_the_gradient(beam):
+    # J = 1/2 sum over steps 10 and 20 of |x_tip - (X_tip + (0, 0, -0.2))|^2.
+    z = beam.x0
+    U = beam.state(z)
+    dL_dU = np.zeros_like(U)
+    for step in (10, 20):
+        dL_dU[step, tip(beam)] = U[step, tip(beam)] - np.array([0.0, 0.0, -0.2])
+    np.testing.assert_allclose(beam.vjp(z, dL_dU), beam.gradient(z), rtol=1e-9, atol=1e-14 * np.abs(beam.gradient(z)).max())
+    assert beam.value(z) == pytest.approx(0.5 * np.sum(dL_dU**2), rel=1e-12)
+
+
+def test_a_python_loss_of_the_trajectory_passes_its_taylor_test(beam):
+    rng = np.random.default_rng(13)
+    z = beam.x0
+    # The tip's mean height over the whole motion.
+    t = tip(beam)
+
+    def loss(U):
+        return np.mean(U[:, t, 2]) ** 2
+
+    U = beam.state(z)
+    dL_dU = np.zeros_like(U)
+    dL_dU[:, t, 2] = 2 * np.mean(U[:, t, 2]) / (U.shape[0] * t.size)
+    gradient = beam.vjp(z, dL_dU)
+    value = loss(U)
+    dz = rng.standard_normal(beam.size)
+    dz[-2:] *= [0.2, 1e-3]  # alpha and beta on their own scales (beta = 1e-3 must stay positive)
+    steps = [0.05 / 2**k for k in range(5)]
+    losses = [loss(beam.state(z + h * dz)) for h in steps]
+    r0 = [abs(L - value) for L in losses]
+    r1 = [abs(L - value - h * gradient @ dz) for L, h in zip(losses, steps)]
+    rate0 = [np.log2(a / b) for a, b in zip(r0, r0[1:])]
+    rate1 = [np.log2(a / b) for a, b in zip(r1, r1[1:])]
+    assert min(rate0) > 0.8 and max(rate0) < 1.2, rate0
+    assert min(rate1) >= 1.9, rate1
+    r_bad = [abs(L - value - 1.05 * h * gradient @ dz) for L, h in zip(losses, steps)]
+    assert np.log2(r_bad[-2] / r_bad[-1]) < 1.5
+
+
+def test_taylor_test_is_the_scenes_gradcheck(beam):
+    result = beam.taylor_test()
+    assert result["passed"] and result["rate1"] >= 1.9, result["table"]
+
+
+def test_bad_cotangents_are_value_errors(beam):
+    shape = (21,) + beam.rest_positions.shape
+    with pytest.raises(ValueError, match=r"dL_dU has shape \(20, .*\), the trajectory \(21, "):
+        beam.vjp(beam.x0, np.zeros((20,) + beam.rest_positions.shape))
+    with pytest.raises(ValueError, match="non-finite"):
+        beam.vjp(beam.x0, np.full(shape, np.nan))
+
+
+def test_a_dynamic_scene_without_objective_is_refused():
+    doc = tailor.load(str(scene_path("swinging_beam.json"))).document
+    del doc["dynamics"]["objective"]
+    with pytest.raises(tailor.SceneError, match=r"dynamics\.objective: a dynamic scene's functional\(\) needs"):
+        tailor.load(doc, directory=str(scene_path("swinging_beam.json").parent)).functional()

@@ -24,18 +24,7 @@ namespace tailor::python {
 namespace {
 
 class DynamicFunctional {
-  template <class Body>
-  auto locked(Body&& body) {
-    return without_gil([&] {
-      const std::lock_guard<std::mutex> lock(mutex_);
-      return body();
-    });
-  }
-  void check_size(const Vector& z, const char* name) const {
-    if (z.size() != size())
-      throw std::invalid_argument(source_ + ": " + name + " has " + std::to_string(z.size()) +
-                                  " entries, the design has " + std::to_string(size()));
-  }
+  void check_size(const Vector& z, const char* name) const { check_design_size(source_, z, size(), name); }
 
  public:
   explicit DynamicFunctional(const SceneDocument& doc) : source_(doc.file.source) {
@@ -53,11 +42,11 @@ class DynamicFunctional {
 
   double value(const Vector& z) {
     check_size(z, "z");
-    return locked([&] { return f().value(z); });
+    return locked(mutex_, [&] { return f().value(z); });
   }
   std::pair<double, Vector> value_and_gradient(const Vector& z) {
     check_size(z, "z");
-    return locked([&] {
+    return locked(mutex_, [&] {
       Vector g;
       const double v = f().value_and_gradient(z, g);
       return std::make_pair(v, g);
@@ -69,7 +58,7 @@ class DynamicFunctional {
   py::array_t<double> state(const Vector& z) {
     check_size(z, "z");
     const Eigen::Index n = rest().size();
-    const Matrix rows = locked([&] {
+    const Matrix rows = locked(mutex_, [&] {
       f().value(z);
       const std::vector<DynamicState>& states = f().stored_states();
       Matrix out(static_cast<Eigen::Index>(states.size()), n);
@@ -103,7 +92,7 @@ class DynamicFunctional {
       for (Eigen::Index i = 0; i < n; ++i) weights(k, i) = data[k * n + i];
     if (!weights.allFinite()) throw std::invalid_argument(source_ + ": dL_dU has non-finite entries");
     auto cotangents = std::make_shared<PositionCotangents>(std::move(weights));
-    return locked([&] { return f().objective_gradient(z, cotangents); });
+    return locked(mutex_, [&] { return f().objective_gradient(z, cotangents); });
   }
 
   py::dict taylor_test(std::optional<Vector> z, std::optional<unsigned> seed,
@@ -113,7 +102,7 @@ class DynamicFunctional {
     if (seed) options.seed = *seed;
     if (min_rate) options.min_rate = *min_rate;
     const TaylorTestResult r =
-        locked([&] { return tailor::taylor_test(f(), z ? *z : design_->z0, options); });
+        locked(mutex_, [&] { return tailor::taylor_test(f(), z ? *z : design_->z0, options); });
     if (r.status == TaylorStatus::evaluation_failed && r.rows.empty()) throw EvaluationError(r.message);
     return taylor_result_dict(r);
   }

@@ -253,6 +253,12 @@ py::dict taylor_result_dict(const TaylorTestResult& r) {
   return d;
 }
 
+void check_design_size(const std::string& source, const Vector& v, int size, const char* name) {
+  if (v.size() != size)
+    throw std::invalid_argument(source + ": " + name + " has " + std::to_string(v.size()) +
+                                " entries, the design has " + std::to_string(size));
+}
+
 py::dict counters_dict(const FunctionalCounters& c) {
   py::dict d;
   d["evaluations"] = c.evaluations;

@@ -24,18 +24,8 @@ namespace {
 using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 class RodFunctional {
-  // Runs body with the GIL released and the functional locked: Python threads sharing it take turns.
-  template <class Body>
-  auto locked(Body&& body) {
-    return without_gil([&] {
-      const std::lock_guard<std::mutex> lock(mutex_);
-      return body();
-    });
-  }
   void check_size(const Vector& z, const char* name) const {
-    if (z.size() != size())
-      throw std::invalid_argument(problem_->source + ": " + name + " has " + std::to_string(z.size()) +
-                                  " entries, the design has " + std::to_string(size()));
+    check_design_size(problem_->source, z, size(), name);
   }
   Eigen::MatrixXd vertex_rows(const Vector& x) const {
     RowMajor rows(num_vertices(), 3);
@@ -64,12 +54,12 @@ class RodFunctional {
 
   double value(const Vector& z) {
     check_size(z, "z");
-    return locked([&] { return f().value(z); });
+    return locked(mutex_, [&] { return f().value(z); });
   }
   Vector gradient(const Vector& z) { return value_and_gradient(z).second; }
   std::pair<double, Vector> value_and_gradient(const Vector& z) {
     check_size(z, "z");
-    return locked([&] {
+    return locked(mutex_, [&] {
       Vector g;
       const double v = f().value_and_gradient(z, g);
       return std::make_pair(v, g);
@@ -79,7 +69,7 @@ class RodFunctional {
   Vector hessian_vector_product(const Vector& z, const Vector& v) {
     check_size(z, "z");
     check_size(v, "v");
-    return locked([&] { return f().hessian_vector(z, v); });
+    return locked(mutex_, [&] { return f().hessian_vector(z, v); });
   }
   bool has_gauss_newton_vector() const { return f().has_gauss_newton_vector(); }
   Vector gauss_newton_vector_product(const Vector& z, const Vector& v) {
@@ -88,13 +78,13 @@ class RodFunctional {
     if (!has_gauss_newton_vector())
       throw std::invalid_argument(problem_->source +
                                   ": this objective is not least squares (no Gauss-Newton products)");
-    return locked([&] { return f().gauss_newton_vector(z, v); });
+    return locked(mutex_, [&] { return f().gauss_newton_vector(z, v); });
   }
 
   // The equilibrium at z: the vertices' displacements from the drawn positions (num_vertices x 3).
   Eigen::MatrixXd state(const Vector& z) {
     check_size(z, "z");
-    return locked([&] {
+    return locked(mutex_, [&] {
       f().value(z);
       return vertex_rows(f().state() - problem_->model.rest);
     });
@@ -108,7 +98,7 @@ class RodFunctional {
                                   std::to_string(num_vertices()) + ", 3)");
     if (!dL_du.allFinite()) throw std::invalid_argument(problem_->source + ": dL_du has non-finite entries");
     const RowMajor rows = dL_du;
-    return locked([&] {
+    return locked(mutex_, [&] {
       Vector w = Vector::Zero(problem_->model.model->num_dofs());
       for (std::size_t i = 0; i < position_dofs_.size(); ++i) w[position_dofs_[i]] = rows.data()[i];
       return f().state_vjp(z, w);
@@ -119,7 +109,7 @@ class RodFunctional {
     check_size(z, "z");
     check_size(dz, "dz");
     if (!dz.allFinite()) throw std::invalid_argument(problem_->source + ": dz has non-finite entries");
-    return locked([&] { return vertex_rows(f().state_jvp(z, dz)); });
+    return locked(mutex_, [&] { return vertex_rows(f().state_jvp(z, dz)); });
   }
 
   // Rod designs are unbounded (rod_inverse.cpp minimizes without bounds).
@@ -133,7 +123,7 @@ class RodFunctional {
     TaylorTestOptions options;
     options.seed = seed.value_or(problem_->spec.seed);
     if (min_rate) options.min_rate = *min_rate;
-    const TaylorTestResult r = locked([&] {
+    const TaylorTestResult r = locked(mutex_, [&] {
       const Vector& at = z ? *z : problem_->z0;
       return hessian ? taylor_test_hessian(f(), at, options) : tailor::taylor_test(f(), at, options);
     });

@@ -2,6 +2,7 @@
 // The parts of the module tailor._tailor (module.cpp puts them together).
 #include <pybind11/pybind11.h>
 
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -48,5 +49,17 @@ auto without_gil(Body&& body) {
     throw pybind11::error_already_set();
   }
 }
+
+// Runs `body` with the GIL released and `mutex` held: Python threads sharing a functional take turns.
+template <class Body>
+auto locked(std::mutex& mutex, Body&& body) {
+  return without_gil([&] {
+    const std::lock_guard<std::mutex> lock(mutex);
+    return body();
+  });
+}
+
+// Throws std::invalid_argument naming `source` when `v` (called `name`) has not `size` entries.
+void check_design_size(const std::string& source, const Vector& v, int size, const char* name);
 
 }  // namespace tailor::python

@@ -96,32 +96,16 @@ class Report(dict):
         return json.dumps(self, default=plain, **kwargs)
 
 
-class Functional:
-    """J(z) of a scene's inverse problem, as the optimizer back-ends of `tailor run` see it.
-
-    z is the design (the scene's inverse.design: log E per variable with the log map); value,
-    gradient and hessian_vector_product take NumPy vectors of length size. bounds is
-    (lower, upper) or None, x0 the scene's initial design. taylor_test() is `tailor gradcheck`.
-    """
-
-    def __init__(self, scene):
-        self._f = _Functional(scene._doc)
-        self._name, self._source = scene.name, scene.source
+class _FunctionalBase:
+    """What every scene kind's functional offers: J, its gradient, the state and its
+    vector-Jacobian product, the design's size, x0, labels and counters, the rows of the state
+    (the compiled functional is self._f)."""
 
     size = property(lambda self: self._f.size)
     x0 = property(lambda self: self._f.x0, doc="the initial design z0")
-    bounds = property(lambda self: self._f.bounds, doc="(lower, upper) arrays in z, or None")
-    optimizer = property(lambda self: self._f.optimizer,
-                         doc="the scene's inverse.optimizer section: backend, max_iterations, tolerances")
-    design_labels = property(lambda self: self._f.design_labels)
-    truth = property(lambda self: self._f.truth, doc="per-element true E when the scene knows it")
-    has_hessian_vector = property(lambda self: self._f.has_hessian_vector)
-    has_gauss_newton_vector = property(lambda self: self._f.has_gauss_newton_vector,
-                                       doc="whether the objective is least squares (J = |r|^2 / 2)")
-    poisson_ratio = property(lambda self: self._f.poisson_ratio, doc="nu per element (the scene's)")
+    design_labels = property(lambda self: self._f.design_labels, doc="one name per design variable")
     counters = property(lambda self: self._f.counters, doc="evaluations, forward and adjoint solves")
-    rest_positions = property(lambda self: self._f.rest_positions, doc="the mesh: num_vertices x dim")
-    elements = property(lambda self: self._f.elements, doc="the mesh: num_elements x (dim + 1) vertex ids")
+    rest_positions = property(lambda self: self._f.rest_positions, doc="the rows of state(): num_vertices x dim")
 
     def value(self, z):
         return self._f.value(z)
@@ -132,6 +116,26 @@ class Functional:
     def value_and_gradient(self, z):
         return self._f.value_and_gradient(z)
 
+    def state(self, z):
+        """The state at z as the class describes it (float64, a new array)."""
+        return self._f.state(z)
+
+    def vjp(self, z, dL_du):
+        """(du/dz)^T dL_du: the design gradient of any scalar L of the state, given dL/du of the
+        state's shape, by one adjoint solve (or backward pass) at z."""
+        return self._f.vjp(z, np.asarray(dL_du, dtype=np.float64))
+
+
+class _StaticProducts:
+    """What the static equilibria's functionals (FEM and rods) add: Hessian-vector and
+    Gauss-Newton products, the tangent, the Taylor test of both, the optimizer section."""
+
+    optimizer = property(lambda self: self._f.optimizer,
+                         doc="the scene's inverse.optimizer section: backend, max_iterations, tolerances")
+    has_hessian_vector = property(lambda self: self._f.has_hessian_vector)
+    has_gauss_newton_vector = property(lambda self: self._f.has_gauss_newton_vector,
+                                       doc="whether the objective is least squares (J = |r|^2 / 2)")
+
     def hessian_vector_product(self, z, v):
         return self._f.hessian_vector_product(z, v)
 
@@ -140,6 +144,38 @@ class Functional:
         newton_cg back-end uses (one tangent and one adjoint back-solve, no third derivatives);
         positive semidefinite, equal to the Hessian where r = 0."""
         return self._f.gauss_newton_vector_product(z, v)
+
+    def jvp(self, z, dz):
+        """(du/dz) dz: the state's directional derivative along dz, in the rows of state(), by
+        one tangent solve."""
+        return self._f.jvp(z, dz)
+
+    def taylor_test(self, z=None, seed=None, min_rate=None, hessian=False):
+        """Taylor test of J at z (default x0), as `tailor gradcheck` (docs/methods.md): a dict
+        with status, passed, rate0, rate1, message, rows and table. seed and min_rate default to
+        the scene's; hessian=True tests the Hessian-vector products instead."""
+        return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate, hessian=hessian)
+
+
+class Functional(_FunctionalBase, _StaticProducts):
+    """J(z) of a scene's inverse problem, as the optimizer back-ends of `tailor run` see it.
+
+    z is the design (the scene's inverse.design: log E per variable with the log map); value,
+    gradient and hessian_vector_product take NumPy vectors of length size. bounds is
+    (lower, upper) or None, x0 the scene's initial design. taylor_test() is `tailor gradcheck`.
+    The state is the equilibrium: state(z) gives the displacements from the rest positions,
+    num_vertices x dim; vjp(z, dL_du) takes dL/du of that shape (one adjoint solve), jvp(z, dz)
+    returns it (one tangent solve).
+    """
+
+    def __init__(self, scene):
+        self._f = _Functional(scene._doc)
+        self._name, self._source = scene.name, scene.source
+
+    bounds = property(lambda self: self._f.bounds, doc="(lower, upper) arrays in z, or None")
+    truth = property(lambda self: self._f.truth, doc="per-element true E when the scene knows it")
+    poisson_ratio = property(lambda self: self._f.poisson_ratio, doc="nu per element (the scene's)")
+    elements = property(lambda self: self._f.elements, doc="the mesh: num_elements x (dim + 1) vertex ids")
 
     def residuals(self, z):
         """r(z) of a least-squares objective, J(z) = |r(z)|^2 / 2 (float64 vector)."""
@@ -177,21 +213,6 @@ class Functional:
                   "elements": self.elements}
         return Report(content, fields, 0, None)
 
-    def state(self, z):
-        """The equilibrium at z: displacements from the rest positions, num_vertices x dim
-        (float64, a new array)."""
-        return self._f.state(z)
-
-    def vjp(self, z, dL_du):
-        """(du/dz)^T dL_du: the design gradient of any scalar L(u) of the state, given dL/du
-        (num_vertices x dim), by one adjoint solve at the equilibrium of z."""
-        return self._f.vjp(z, np.asarray(dL_du, dtype=np.float64))
-
-    def jvp(self, z, dz):
-        """(du/dz) dz: the state's directional derivative along dz, num_vertices x dim, by one
-        tangent solve."""
-        return self._f.jvp(z, dz)
-
     def fields(self, z):
         """The result fields at design z, as a Report's: displacement (num_vertices x dim),
         youngs_modulus (per element), rest_positions and elements; for tailor.fields.to_meshio,
@@ -207,14 +228,8 @@ class Functional:
         """E per element at z."""
         return self._f.youngs_modulus(z)
 
-    def taylor_test(self, z=None, seed=None, min_rate=None, hessian=False):
-        """Taylor test of J at z (default x0), as `tailor gradcheck` (docs/methods.md): a dict
-        with status, passed, rate0, rate1, message, rows and table. seed and min_rate default to
-        the scene's inverse.gradcheck; hessian=True tests the Hessian-vector products instead."""
-        return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate, hessian=hessian)
 
-
-class RodFunctional:
+class RodFunctional(_FunctionalBase, _StaticProducts):
     """J(z) of a rod scene's inverse problem (docs/rods.md, "Inverse design scenes"), as
     `tailor run` and `tailor gradcheck` see it: value, gradient, Hessian-vector and (for the
     shape misfit, a least-squares objective) Gauss-Newton products, taylor_test().
@@ -226,57 +241,14 @@ class RodFunctional:
     but not of these rows: dL_du acts on positions only. The design is unbounded (bounds None).
     """
 
+    bounds = None
+
     def __init__(self, scene):
         self._f = _RodFunctional(scene._doc)
         self._name, self._source = scene.name, scene.source
 
-    size = property(lambda self: self._f.size)
-    x0 = property(lambda self: self._f.x0, doc="the initial design z0")
-    bounds = property(lambda self: self._f.bounds, doc="None: rod designs are unbounded")
-    optimizer = property(lambda self: self._f.optimizer,
-                         doc="the scene's inverse.optimizer section: backend, max_iterations, tolerances")
-    design_labels = property(lambda self: self._f.design_labels,
-                             doc='per design variable: "radius[3]", "rest_curvature[2][0]", ...')
-    has_hessian_vector = property(lambda self: self._f.has_hessian_vector)
-    has_gauss_newton_vector = property(lambda self: self._f.has_gauss_newton_vector,
-                                       doc="whether the objective is least squares (J = |r|^2 / 2)")
-    counters = property(lambda self: self._f.counters, doc="evaluations, forward and adjoint solves")
-    rest_positions = property(lambda self: self._f.rest_positions,
-                              doc="the drawn vertex positions: num_vertices x 3, the rows of state()")
 
-    def value(self, z):
-        return self._f.value(z)
-
-    def gradient(self, z):
-        return self._f.gradient(z)
-
-    def value_and_gradient(self, z):
-        return self._f.value_and_gradient(z)
-
-    def hessian_vector_product(self, z, v):
-        return self._f.hessian_vector_product(z, v)
-
-    def gauss_newton_vector_product(self, z, v):
-        return self._f.gauss_newton_vector_product(z, v)
-
-    def state(self, z):
-        """The equilibrium at z: vertex displacements from the drawn positions (num_vertices x 3)."""
-        return self._f.state(z)
-
-    def vjp(self, z, dL_du):
-        """(du/dz)^T dL_du for dL/du given per vertex (num_vertices x 3): one adjoint solve."""
-        return self._f.vjp(z, np.asarray(dL_du, dtype=np.float64))
-
-    def jvp(self, z, dz):
-        """(du/dz) dz, num_vertices x 3: one tangent solve."""
-        return self._f.jvp(z, dz)
-
-    def taylor_test(self, z=None, seed=None, min_rate=None, hessian=False):
-        """Taylor test of J at z (default x0), as `tailor gradcheck` on the scene."""
-        return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate, hessian=hessian)
-
-
-class DynamicFunctional:
+class DynamicFunctional(_FunctionalBase):
     """J(z) of a dynamic scene's trajectory objective (dynamics.objective, docs/scenes.md), as
     `tailor gradcheck` tests it: the design is log E and log density per element and, with
     Rayleigh damping, alpha and beta (design_labels); J and dJ/dz come from the time-dependent
@@ -289,34 +261,12 @@ class DynamicFunctional:
     which tailor does not have. There are no bounds.
     """
 
+    bounds = None
+    elements = property(lambda self: self._f.elements, doc="the mesh: num_elements x (dim + 1) vertex ids")
+
     def __init__(self, scene):
         self._f = _DynamicFunctional(scene._doc)
         self._name, self._source = scene.name, scene.source
-
-    size = property(lambda self: self._f.size)
-    x0 = property(lambda self: self._f.x0, doc="the scene's design: log E, log density, (alpha, beta)")
-    bounds = None
-    design_labels = property(lambda self: self._f.design_labels)
-    counters = property(lambda self: self._f.counters, doc="evaluations, forward and adjoint solves")
-    rest_positions = property(lambda self: self._f.rest_positions, doc="the mesh: num_vertices x dim")
-    elements = property(lambda self: self._f.elements, doc="the mesh: num_elements x (dim + 1) vertex ids")
-
-    def value(self, z):
-        return self._f.value(z)
-
-    def gradient(self, z):
-        return self._f.gradient(z)
-
-    def value_and_gradient(self, z):
-        return self._f.value_and_gradient(z)
-
-    def state(self, z):
-        """The trajectory at z: displacements, (steps + 1, num_vertices, dim)."""
-        return self._f.state(z)
-
-    def vjp(self, z, dL_dU):
-        """(dU/dz)^T dL_dU for dL/dU of the trajectory's shape: one backward pass."""
-        return self._f.vjp(z, np.asarray(dL_dU, dtype=np.float64))
 
     def taylor_test(self, z=None, seed=None, min_rate=None):
         """Taylor test of J at z (default x0), as `tailor gradcheck` on the scene."""

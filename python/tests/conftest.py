@@ -46,3 +46,23 @@ def small_dynamic_scene():
     scene["dynamics"]["steps"] = 10
     scene["dynamics"]["objective"]["steps"] = [5, 10]
     return scene
+
+
+def assert_taylor_of_state_loss(loss, state, z, dz, gradient, first_step):
+    """The Taylor test of a loss of the state, loss(state(z)), whose design gradient at z is
+    `gradient`: over five halvings from first_step the zeroth-order remainder falls at rate 1
+    (the asymptotic regime) and the first-order one at >= 1.9; the same gradient 5% off falls at
+    rate about 1 at the smallest steps (the test sees an error)."""
+    import numpy as np
+
+    value = loss(state(z))
+    steps = [first_step / 2**k for k in range(5)]
+    losses = [loss(state(z + h * dz)) for h in steps]
+    r0 = [abs(L - value) for L in losses]
+    r1 = [abs(L - value - h * gradient @ dz) for L, h in zip(losses, steps)]
+    rate0 = [np.log2(a / b) for a, b in zip(r0, r0[1:])]
+    rate1 = [np.log2(a / b) for a, b in zip(r1, r1[1:])]
+    assert min(rate0) > 0.8 and max(rate0) < 1.2, rate0
+    assert min(rate1) >= 1.9, rate1
+    r_bad = [abs(L - value - 1.05 * h * gradient @ dz) for L, h in zip(losses, steps)]
+    assert np.log2(r_bad[-2] / r_bad[-1]) < 1.5

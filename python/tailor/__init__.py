@@ -40,6 +40,7 @@ except ImportError as _error:
     raise ImportError(_interpreter_message(_sys.version_info, _sys.executable) + f" [{_error}]") from _error
 from . import fields
 from .optimize import scipy_minimize
+from .studio import studio
 
 __all__ = [
     "EvaluationError", "Functional", "MeshError", "Report", "Scene", "SceneError", "__version__",

@@ -109,7 +109,7 @@ struct Verb {
   bool writes_output = true;
   // A verb that is not dispatched on a scene kind (its argument need not be a scene file, e.g.
   // `studio` takes a folder too) runs this instead; empty for the others.
-  std::function<int(const VerbArguments& args, std::ostream& out)> run;
+  std::function<int(const VerbArguments& args, std::ostream& out)> run = nullptr;
 };
 
 // One verb a kind supports.

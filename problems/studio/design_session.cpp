@@ -76,6 +76,8 @@ const DesignState& DesignSession::redesign(const std::vector<Eigen::VectorXd>& t
   next.youngs_modulus = design_.youngs_modulus(next.w);
   next.iterations = result.history.empty() ? 0 : result.history.back().iteration;
   next.status = to_string(result.status);
+  next.message = result.message;
+  next.evaluations = result.evaluations;
   try {
     next.displacement = design_.reduced_displacement(design_.functional->solve(next.w));
     next.reduced_errors = design_.handle_errors(next.displacement);

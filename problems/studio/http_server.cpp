@@ -2,13 +2,17 @@
 // implementation in libcpp-httplib.so).
 #include "problems/studio/http_server.hpp"
 
-#include <httplib.h>
-
+#include <algorithm>
+#include <fstream>
+#include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "problems/studio/request_guard.hpp"
 #include "problems/studio/served_path.hpp"
 #include "problems/studio/studio_messages.hpp"
+// Last: its system headers define macros that break Eigen's templates when included before them.
+#include <httplib.h>
 
 namespace tailor::studio {
 
@@ -65,8 +69,17 @@ struct StudioServer::Impl {
         response.set_content("refused: " + served.reason + "\n", "text/plain; charset=utf-8");
         return;
       }
-      const std::string type = content_type(*served.file);
-      response.set_file_content(served.file->string(), type);
+      // Streamed in pieces: frame series and large results are megabytes.
+      auto file = std::make_shared<std::ifstream>(*served.file, std::ios::binary);
+      const auto size = static_cast<std::size_t>(std::filesystem::file_size(*served.file));
+      response.set_content_provider(size, content_type(*served.file),
+                                    [file](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+                                      std::vector<char> piece(std::min<std::size_t>(length, 1 << 16));
+                                      file->seekg(static_cast<std::streamoff>(offset));
+                                      file->read(piece.data(), static_cast<std::streamsize>(piece.size()));
+                                      return file->gcount() > 0 &&
+                                             sink.write(piece.data(), static_cast<std::size_t>(file->gcount()));
+                                    });
     });
     server.Post(".*", [this](const httplib::Request& request, httplib::Response& response) {
       std::string rest;

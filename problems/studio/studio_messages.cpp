@@ -73,7 +73,7 @@ json StudioMessages::handle(const std::string& text, const Emit& emit) {
   json message;
   try {
     message = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // a syntax error, or a number out of range
     return error(std::string("the message is not JSON: ") + e.what());
   }
   if (!message.is_object() || !message.contains("type") || !message["type"].is_string())
@@ -148,8 +148,10 @@ json StudioMessages::design_reply(const DesignState& state) const {
           {"targets", targets},
           {"reduced_errors", state.reduced_errors},
           {"iterations", state.iterations},
+          {"evaluations", state.evaluations},
           {"seconds", state.seconds},
-          {"status", state.status}};
+          {"status", state.status},
+          {"message", state.message}};
 }
 
 json StudioMessages::retarget(const json& message, const Emit& emit) {

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "forward/mesh/mesh_io.hpp"
+#include "forward/solve/threads.hpp"
 #include "optimizers/checkpoint.hpp"
 
 namespace tailor::studio {
@@ -56,10 +57,12 @@ Eigen::VectorXd DesignSession::handle_rest_centre(int handle) const {
 const DesignState& DesignSession::redesign(const std::vector<Eigen::VectorXd>& targets,
                                            const std::function<bool(int, double)>& keep_going) {
   const auto start = std::chrono::steady_clock::now();
+  // The thread counts are per thread in OpenMP: the server's worker threads take the process's.
+  set_thread_settings(thread_settings());
   set_handle_targets(design_, targets);  // validates; throws before anything changes
   OptimizerOptions options = design_.optimizer;
   options.progress = nullptr;
-  options.checkpoint_every = 1;
+  options.checkpoint_every = 10;
   options.on_checkpoint = [&](const OptimizerCheckpoint& c) {
     if (keep_going && !keep_going(c.iteration, c.objective)) throw Superseded();
   };
@@ -78,6 +81,7 @@ const DesignState& DesignSession::redesign(const std::vector<Eigen::VectorXd>& t
   next.status = to_string(result.status);
   next.message = result.message;
   next.evaluations = result.evaluations;
+  next.optimizer_seconds = result.seconds;
   try {
     next.displacement = design_.reduced_displacement(design_.functional->solve(next.w));
     next.reduced_errors = design_.handle_errors(next.displacement);

@@ -30,6 +30,7 @@ struct DesignState {
   std::vector<double> reduced_errors;   // per handle, |mean u - ubar| / |ubar|
   int iterations = 0;
   double seconds = 0.0;                 // of the last design
+  double optimizer_seconds = 0.0;       // of its optimization alone
   std::string status, message;         // the optimizer's
   int evaluations = 0;                  // reduced functional evaluations of the last design
   bool superseded = false;              // stopped because a newer request arrived

@@ -150,6 +150,7 @@ json StudioMessages::design_reply(const DesignState& state) const {
           {"iterations", state.iterations},
           {"evaluations", state.evaluations},
           {"seconds", state.seconds},
+          {"optimizer_seconds", state.optimizer_seconds},
           {"status", state.status},
           {"message", state.message}};
 }

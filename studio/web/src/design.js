@@ -112,6 +112,7 @@ export class DesignView {
       if (!drag) return;
       drag = null;
       this.viewer.controlsEnabled = true;
+      this.pending = false; // the release's request is the last of the drag
       this.retarget(performance.now(), true);
     });
   }
@@ -124,7 +125,7 @@ export class DesignView {
       return;
     }
     this.inFlight = true;
-    this.pending = false;
+    if (released === null) this.pending = false;
     try {
       const reply = await send({ type: 'retarget', targets: this.targets });
       if (reply.type === 'design') {

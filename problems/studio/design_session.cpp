@@ -1,6 +1,8 @@
 #include "problems/studio/design_session.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -14,6 +16,10 @@ namespace {
 // Thrown from the optimizer's per-iteration callback to stop a superseded design.
 struct Superseded : std::runtime_error {
   Superseded() : std::runtime_error("superseded by a newer request") {}
+};
+// ... and to end a drag's design once it has settled (see DesignSession::redesign).
+struct Settled : std::runtime_error {
+  Settled() : std::runtime_error("settled: the handle error fell by less than the interactive tolerance") {}
 };
 
 }  // namespace
@@ -62,13 +68,24 @@ const DesignState& DesignSession::redesign(const std::vector<Eigen::VectorXd>& t
   set_handle_targets(design_, targets);  // validates; throws before anything changes
   OptimizerOptions options = design_.optimizer;
   options.progress = nullptr;
-  options.checkpoint_every = 10;
+  options.checkpoint_every = 1;
+  std::vector<double> objectives;
   options.on_checkpoint = [&](const OptimizerCheckpoint& c) {
     if (keep_going && !keep_going(c.iteration, c.objective)) throw Superseded();
+    // sqrt(2 J): the handles' relative error (with the smoothness term), dimensionless.
+    objectives.push_back(std::sqrt(2.0 * std::max(c.objective, 0.0)));
+    const std::size_t n = objectives.size();
+    if (n > kSettleWindow && objectives[n - 1 - kSettleWindow] - objectives[n - 1] <= kSettleTolerance) throw Settled();
   };
-  const OptimizerResult result = minimize(*design_.functional, state_.w, Bounds{}, {}, options);
-  const bool superseded = result.status == OptimizerStatus::failed &&
-                          result.message.find(Superseded().what()) != std::string::npos;
+  OptimizerResult result = minimize(*design_.functional, state_.w, Bounds{}, {}, options);
+  const auto stopped_by = [&](const std::exception& reason) {
+    return result.status == OptimizerStatus::failed && result.message.find(reason.what()) != std::string::npos;
+  };
+  const bool superseded = stopped_by(Superseded());
+  if (stopped_by(Settled())) {
+    result.status = OptimizerStatus::converged;
+    result.message = Settled().what();
+  }
   if (superseded) {
     set_handle_targets(design_, targets_);  // back to the last finished design's targets
     state_.superseded = true;

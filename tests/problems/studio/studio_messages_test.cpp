@@ -2,10 +2,13 @@
 // reduced-design tests: malformed messages get an error and change nothing, a retarget designs
 // again, a newer retarget supersedes an older one, the full-space check and save work. The
 // reference for "designed": targets that are reachable, the full-space response of known
-// designs (as in tests/problems/reduced_design), which the retargeted loop must reach within
-// 1e-3 reduced and 1e-2 in full space.
+// designs (as in tests/problems/reduced_design). A drag's design stops once it has settled
+// (DesignSession::redesign: the handle error moves by < 0.05% over 5 iterations), so it reaches
+// them within 1% reduced and 2% in full space, where the converged loop gets 0.1% and 1%; the
+// two targets differ by ~40%, which a stale design would show.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -90,11 +93,11 @@ TEST_F(StudioDesign, RetargetDesignsAgain) {
   ASSERT_EQ(first["type"], "design") << first.dump();
   EXPECT_FALSE(progress.empty());
   EXPECT_EQ(progress.front()["type"], "progress");
-  EXPECT_LT(first["reduced_errors"][0].get<double>(), 1e-3) << first["message"];
+  EXPECT_LT(first["reduced_errors"][0].get<double>(), 1e-2) << first["message"];
   // A softer design's response: E falls.
   const json second = send({{"type", "retarget"}, {"targets", soft}});
   ASSERT_EQ(second["type"], "design") << second.dump();
-  EXPECT_LT(second["reduced_errors"][0].get<double>(), 1e-3) << second["message"];
+  EXPECT_LT(second["reduced_errors"][0].get<double>(), 1e-2) << second["message"];
   EXPECT_LT(second["youngs_modulus_range"][1].get<double>(), first["youngs_modulus_range"][1].get<double>());
   EXPECT_FLOAT_EQ(second["targets"][0][2].get<float>(), soft[0][2].get<float>());
   // The tip's drawn displacement follows: the surface vertex at (5, 0.5, 0.5) moves as the target.
@@ -104,7 +107,7 @@ TEST_F(StudioDesign, RetargetDesignsAgain) {
     if (scene["positions"][3 * i].get<double>() == 5.0 && scene["positions"][3 * i + 1].get<double>() == 0.5 &&
         scene["positions"][3 * i + 2].get<double>() == 0.5)
       tip_z = scene["displacement"][3 * i + 2].get<double>();
-  EXPECT_NEAR(tip_z, soft[0][2].get<double>(), 1e-3);
+  EXPECT_NEAR(tip_z, soft[0][2].get<double>(), 1e-2 * std::abs(soft[0][2].get<double>()));
 }
 
 TEST_F(StudioDesign, NewerRetargetSupersedesOlder) {
@@ -125,14 +128,16 @@ TEST_F(StudioDesign, FullSpaceCheckAndSave) {
   const json check = send({{"type", "full_check"}});
   ASSERT_EQ(check["type"], "full_check") << check.dump();
   EXPECT_TRUE(check["converged"].get<bool>());
-  EXPECT_LT(check["reduced_errors"][0].get<double>(), 1e-3);
-  EXPECT_LT(check["full_errors"][0].get<double>(), 1e-2);
+  EXPECT_LT(check["reduced_errors"][0].get<double>(), 1e-2);
+  EXPECT_LT(check["full_errors"][0].get<double>(), 2e-2);
   const json saved = send({{"type", "save"}});
   ASSERT_EQ(saved["type"], "saved") << saved.dump();
   EXPECT_TRUE(fs::exists(fs::path(folder_.str()) / "report.json"));
   EXPECT_TRUE(fs::exists(fs::path(folder_.str()) / "result.vtu"));
   const json report = json::parse(std::ifstream(fs::path(folder_.str()) / "report.json"));
   EXPECT_EQ(report["kind"], "reduced_design");
+  EXPECT_LT(report["max_reduced_error"].get<double>(), 1e-3);  // save converges as tailor run
+  EXPECT_LT(report["max_full_error"].get<double>(), 1e-2);
   EXPECT_FLOAT_EQ(report["handles"][0]["target_displacement"][2].get<float>(), target[0][2].get<float>());
 }
 

@@ -6,23 +6,23 @@
 #include <fstream>
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "problems/studio/request_guard.hpp"
 #include "problems/studio/served_path.hpp"
-#include "problems/studio/studio_messages.hpp"
-// Last: its system headers define macros that break Eigen's templates when included before them.
+// Last: it includes <resolv.h>, whose macro _res renames a parameter of Eigen's templates.
 #include <httplib.h>
 
 namespace tailor::studio {
 
 struct StudioServer::Impl {
-  StudioMessages& messages;
+  StudioEndpoints endpoints;
   StudioServerOptions options;
   httplib::Server server;
   int port = 0;
 
-  Impl(StudioMessages& m, StudioServerOptions o) : messages(m), options(std::move(o)) {
+  Impl(StudioEndpoints e, StudioServerOptions o) : endpoints(std::move(e)), options(std::move(o)) {
     if (options.token.empty()) options.token = random_token();
     server.set_payload_max_length(1 << 20);  // messages are small
     server.set_default_headers({{"Cache-Control", "no-store"},
@@ -56,7 +56,7 @@ struct StudioServer::Impl {
         root = options.assets;
         below = rest.substr(7);
       } else if (rest.rfind("files/", 0) == 0) {
-        root = messages.output_folder();
+        root = endpoints.output_folder;
         below = rest.substr(6);
       } else {
         response.status = 404;
@@ -92,11 +92,11 @@ struct StudioServer::Impl {
       // The computation runs while the response streams: progress lines, then the reply.
       response.set_chunked_content_provider(
           "application/x-ndjson", [this, body = request.body](std::size_t, httplib::DataSink& sink) {
-            const auto emit = [&sink](const nlohmann::json& object) {
-              const std::string line = object.dump() + "\n";
+            const auto emit = [&sink](const std::string& text) {
+              const std::string line = text + "\n";
               sink.write(line.data(), line.size());
             };
-            emit(messages.handle(body, emit));
+            emit(endpoints.handle(body, emit));
             sink.done();
             return true;
           });
@@ -104,8 +104,8 @@ struct StudioServer::Impl {
   }
 };
 
-StudioServer::StudioServer(StudioMessages& messages, StudioServerOptions options)
-    : impl_(std::make_unique<Impl>(messages, std::move(options))) {}
+StudioServer::StudioServer(StudioEndpoints endpoints, StudioServerOptions options)
+    : impl_(std::make_unique<Impl>(std::move(endpoints), std::move(options))) {}
 
 StudioServer::~StudioServer() { stop(); }
 

@@ -6,12 +6,19 @@
 // POST /<token>/api/message (a chunked response: progress lines, then the reply, one JSON
 // object per line).
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 
 namespace tailor::studio {
 
-class StudioMessages;
+// What the server answers with, kept free of the design's types so that this file and the one
+// that includes cpp-httplib stay small (studio_messages.hpp's endpoints() fills it).
+struct StudioEndpoints {
+  std::filesystem::path output_folder;  // the one folder whose files are served
+  // Handles one message (JSON text); each progress line goes to `emit`. Returns the reply's text.
+  std::function<std::string(const std::string& text, const std::function<void(const std::string&)>& emit)> handle;
+};
 
 struct StudioServerOptions {
   std::string address = "127.0.0.1";  // loopback only; the Host check accepts loopback names alone
@@ -22,7 +29,7 @@ struct StudioServerOptions {
 
 class StudioServer {
  public:
-  StudioServer(StudioMessages& messages, StudioServerOptions options);
+  StudioServer(StudioEndpoints endpoints, StudioServerOptions options);
   ~StudioServer();
   StudioServer(const StudioServer&) = delete;
   StudioServer& operator=(const StudioServer&) = delete;

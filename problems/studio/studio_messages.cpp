@@ -69,6 +69,14 @@ json output_files(const fs::path& folder) {
 StudioMessages::StudioMessages(std::unique_ptr<DesignSession> design, fs::path output_folder, std::string title)
     : design_(std::move(design)), output_folder_(std::move(output_folder)), title_(std::move(title)) {}
 
+long StudioMessages::arrive(long sequence) {
+  if (sequence <= 0) return ++newest_;
+  long seen = newest_.load();
+  while (seen < sequence && !newest_.compare_exchange_weak(seen, sequence)) {
+  }
+  return sequence;
+}
+
 json StudioMessages::handle(const std::string& text, const Emit& emit) {
   json message;
   try {
@@ -158,7 +166,13 @@ json StudioMessages::design_reply(const DesignState& state) const {
 json StudioMessages::retarget(const json& message, const Emit& emit) {
   const std::vector<Eigen::VectorXd> targets =
       parse_targets(message, design_->design().handles.size(), design_->design().setup.dim());
-  const long request = arrive();
+  long sequence = 0;
+  if (const auto found = message.find("sequence"); found != message.end()) {
+    if (!found->is_number_integer() || found->get<long>() <= 0)
+      throw BadMessage("retarget: \"sequence\" must be a positive integer");
+    sequence = found->get<long>();
+  }
+  const long request = arrive(sequence);
   const std::lock_guard<std::mutex> lock(computing_);
   if (!is_newest(request)) return {{"type", "superseded"}, {"request", request}};
   auto last = std::chrono::steady_clock::now();
@@ -198,6 +212,13 @@ json StudioMessages::save(const Emit& emit) {
           {"report", fs::relative(report, output_folder_).generic_string()},
           {"vtu", "result.vtu"},
           {"files", output_files(output_folder_)}};
+}
+
+StudioEndpoints endpoints(StudioMessages& messages) {
+  return {messages.output_folder(),
+          [&messages](const std::string& text, const std::function<void(const std::string&)>& emit) {
+            return messages.handle(text, [&emit](const json& progress) { emit(progress.dump()); }).dump();
+          }};
 }
 
 }  // namespace tailor::studio

@@ -4,7 +4,8 @@
 // them as lines of one chunked response). docs/studio.md lists the messages:
 //   {"type": "hello"}                       mode, title, the output folder's files
 //   {"type": "scene"}                       the body's surface, handles and the current design
-//   {"type": "retarget", "targets": [[x, y, z], ...]}   design again (progress, then "design")
+//   {"type": "retarget", "targets": [[x, y, z], ...], "sequence": n}   design again (progress,
+//                                           then "design"); "sequence" (optional) orders requests
 //   {"type": "full_check"}                  the current design solved in full space
 //   {"type": "save"}                        report.json and result.vtu into the output folder
 // A malformed message (not JSON, not an object, an unknown type, a wrong field) gets
@@ -20,6 +21,7 @@
 #include <string>
 
 #include "problems/studio/design_session.hpp"
+#include "problems/studio/http_server.hpp"
 
 namespace tailor::studio {
 
@@ -28,10 +30,12 @@ class StudioMessages {
   // `design`: null for a result viewer. `output_folder`: the one folder whose files are served.
   StudioMessages(std::unique_ptr<DesignSession> design, std::filesystem::path output_folder, std::string title);
 
-  // A retarget's number, taken when it arrives (before it waits for a running computation): a
-  // retarget whose number is below the newest stops at its next iteration.
-  long arrive() { return ++newest_; }
-  bool is_newest(long request) const { return request == newest_.load(); }
+  // A retarget's number: its "sequence" when the message has one (the page numbers its
+  // requests, so that two sent at once cannot swap places on their way to here), else the next
+  // number on arrival. A retarget whose number is below the newest stops at its next iteration
+  // (or at once).
+  long arrive(long sequence = 0);
+  bool is_newest(long request) const { return request >= newest_.load(); }
 
   using Emit = std::function<void(const nlohmann::json&)>;
   // Handles the message `text`; progress objects go to `emit` (may be empty).
@@ -53,5 +57,8 @@ class StudioMessages {
   std::mutex computing_;  // the design session is used by one request at a time
   std::atomic<long> newest_{0};
 };
+
+// The server's endpoints over `messages` (which must outlive the server).
+StudioEndpoints endpoints(StudioMessages& messages);
 
 }  // namespace tailor::studio

@@ -52,7 +52,7 @@ int run_studio(const VerbArguments& args, int port, std::ostream& out) {
   StudioServerOptions options;
   options.port = port;
   options.assets = assets;
-  StudioServer server(messages, options);
+  StudioServer server(endpoints(messages), options);
   server.bind();
   out << "tailor studio: " << server.url() << "\n"
       << "(serving " << folder.string() << "; only requests with this URL's token are answered; Ctrl-C stops)"

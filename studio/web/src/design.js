@@ -16,6 +16,7 @@ export class DesignView {
     this.elements = scene.elements;
     this.targets = scene.targets.map((t) => [...t]);
     this.latencies = [];
+    this.releases = []; // the reply to each release: {type, message}
     this.designs = 0;
     this.inFlight = false;
     this.pending = false;
@@ -127,7 +128,9 @@ export class DesignView {
     this.inFlight = true;
     if (released === null) this.pending = false;
     try {
-      const reply = await send({ type: 'retarget', targets: this.targets });
+      this.sequence = (this.sequence || 0) + 1; // orders the requests on the server
+      const reply = await send({ type: 'retarget', targets: this.targets, sequence: this.sequence });
+      if (released !== null) this.releases.push({ type: reply.type, message: reply.message });
       if (reply.type === 'design') {
         this.apply(reply);
         const drawn = await this.viewer.renderedFrame();
@@ -140,6 +143,7 @@ export class DesignView {
         this.showStatus(`error: ${reply.message}`);
       }
     } catch (error) {
+      if (released !== null) this.releases.push({ type: 'error', message: error.message });
       this.showStatus(`error: ${error.message}`);
     } finally {
       this.inFlight = false;

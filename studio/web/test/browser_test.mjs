@@ -79,13 +79,18 @@ async function openPage(browser, url) {
 
 // Drags handle `h`'s sphere by (dx, dy) pixels with the mouse and waits for the redraw after release.
 async function dragHandle(page, h, dx, dy) {
-  const before = await page.evaluate(() => window.studio.design.latencies.length);
+  const before = await page.evaluate(() => window.studio.design.releases.length);
   const at = await page.evaluate((h) => window.studio.viewer.toScreen(window.studio.design.targetPosition(h)), h);
   await page.mouse.move(at.x, at.y);
   await page.mouse.down();
   for (let s = 1; s <= 5; ++s) await page.mouse.move(at.x + (dx * s) / 5, at.y + (dy * s) / 5);
   await page.mouse.up();
-  await page.waitForFunction((n) => window.studio.design.latencies.length > n, { timeout: 120000 }, before);
+  await page.waitForFunction((n) => window.studio.design.releases.length > n, { timeout: 120000 }, before);
+  const reply = await page.evaluate(() => window.studio.design.releases.at(-1));
+  if (reply.type !== 'design') throw new Error(`the drag's design failed: ${reply.type}: ${reply.message}`);
+  // The latency is pushed after the redraw that follows the reply.
+  await page.waitForFunction((n) => window.studio.design.latencies.length >= n, { timeout: 120000 },
+    await page.evaluate(() => window.studio.design.releases.filter((r) => r.type === 'design').length));
   return page.evaluate(() => window.studio.design.latencies.at(-1));
 }
 
@@ -153,15 +158,16 @@ async function bench(browser) {
   const url = await startStudio(resolve(args.bench), ['--out', join(work, 'bench')]);
   const page = await openPage(browser, url);
   const elements = await page.evaluate(() => window.studio.design.elements);
-  const latencies = [], server = [];
+  const latencies = [], server = [], iterations = [];
   for (let i = 0; i < drags; ++i) {
     latencies.push(await dragHandle(page, 0, 0, i % 2 ? -25 : 30));
     server.push(await page.evaluate(() => 1e3 * window.studio.design.lastReply.seconds));
+    iterations.push(await page.evaluate(() => window.studio.design.lastReply.iterations));
   }
   const median = (v) => { const s = [...v].sort((a, b) => a - b); const n = s.length; return n % 2 ? s[(n - 1) / 2] : (s[n / 2 - 1] + s[n / 2]) / 2; };
   const result = { bench: 'studio_latency', scene: args.bench, elements, drags, browser: await browser.version(),
     release_to_redraw_ms: latencies, median_release_to_redraw_ms: median(latencies),
-    server_design_ms: server, median_server_design_ms: median(server), goal_ms: 100 };
+    server_design_ms: server, median_server_design_ms: median(server), iterations, goal_ms: 100 };
   writeFileSync(resolve(args.json || 'bench_studio_latency.json'), JSON.stringify(result, null, 2) + '\n');
   console.log(`${elements} tets, ${drags} drags: median release to redraw ${result.median_release_to_redraw_ms.toFixed(1)} ms ` +
     `(server design ${result.median_server_design_ms.toFixed(1)} ms); goal 100 ms`);

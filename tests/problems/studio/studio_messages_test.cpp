@@ -117,9 +117,14 @@ TEST_F(StudioDesign, NewerRetargetSupersedesOlder) {
   const json reply = messages().handle(R"({"type": "retarget", "targets": [[0, 0, -0.3]]})",
                                        [&](const json&) { messages().arrive(); });
   EXPECT_EQ(reply["type"], "superseded") << reply.dump();
+  // Numbered requests: one that arrives after a newer one is superseded at once.
+  EXPECT_EQ(send({{"type", "retarget"}, {"targets", {{0.0, 0.0, -0.3}}}, {"sequence", 1000}})["type"], "design");
+  EXPECT_EQ(send({{"type", "retarget"}, {"targets", {{0.0, 0.0, -0.3}}}, {"sequence", 999}})["type"], "superseded");
+  EXPECT_EQ(send({{"type", "retarget"}, {"targets", {{0.0, 0.0, -0.3}}}, {"sequence", -1}})["type"], "error");
+  const json restart = send({{"type", "retarget"}, {"targets", start["targets"]}, {"sequence", 1001}});
+  ASSERT_EQ(restart["type"], "design");
   const json scene = send({{"type", "scene"}});
-  EXPECT_EQ(scene["targets"], start["targets"]);  // the last finished design stays
-  EXPECT_EQ(scene["youngs_modulus_range"], start["youngs_modulus_range"]);
+  EXPECT_EQ(scene["targets"], start["targets"]);  // the superseded ones left no trace
 }
 
 TEST_F(StudioDesign, FullSpaceCheckAndSave) {

@@ -2,7 +2,6 @@
 // http_server.hpp): the token, the Host and Origin checks and every path-traversal case, first
 // as pure functions, then through a real server on a loopback port with cpp-httplib's client.
 #include <gtest/gtest.h>
-#include <httplib.h>
 
 #include <filesystem>
 #include <fstream>
@@ -13,6 +12,8 @@
 #include "problems/studio/served_path.hpp"
 #include "problems/studio/studio_messages.hpp"
 #include "tests/support/temp_folder.hpp"
+// Last: it includes <resolv.h>, whose macro _res renames a parameter of Eigen's templates.
+#include <httplib.h>
 
 namespace tailor::studio::studio_security_test {
 namespace fs = std::filesystem;
@@ -143,7 +144,7 @@ class StudioHttp : public ServedFolder {
     messages_ = std::make_unique<StudioMessages>(nullptr, root_path(), "test");
     StudioServerOptions options;
     options.assets = assets_path();
-    server_ = std::make_unique<StudioServer>(*messages_, options);
+    server_ = std::make_unique<StudioServer>(endpoints(*messages_), options);
     port_ = server_->bind();
     thread_ = std::thread([this] { server_->serve(); });
     client_ = std::make_unique<httplib::Client>("127.0.0.1", port_);

@@ -18,6 +18,7 @@ async function start() {
     const scene = await send({ type: 'scene' });
     if (scene.type !== 'scene') throw new Error(scene.message);
     window.studio.design = new DesignView(viewer, scene, status);
+    await window.studio.design.retarget(null); // the design for the scene's own targets
   } else {
     window.studio.results = new ResultViewer(viewer, hello.files, status);
     await window.studio.results.start();

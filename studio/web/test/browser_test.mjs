@@ -99,11 +99,12 @@ async function designTest(browser, shots) {
   const out = join(work, 'design');
   const url = await startStudio(scene, ['--out', out]);
   const page = await openPage(browser, url);
-  check(await page.evaluate(() => window.studio.mode === 'design'), 'the page loads the shipped handle scene in design mode');
+  check(await page.evaluate(() => window.studio.mode === 'design' && window.studio.design.designs === 1),
+    'the page loads the shipped handle scene in design mode and designs for its target');
   const range0 = await page.evaluate(() => [...window.studio.design.range]);
   if (shots) await page.screenshot({ path: join(shots, 'studio_design_initial.png') });
-  // First a design for the scene's own target, then drag the target down.
-  const latency = await dragHandle(page, 0, 0, 30);
+  // The page designs for the scene's own target first; then drag the target down.
+  const latency = await dragHandle(page, 0, 0, 12);
   const state = await page.evaluate(() => ({ range: [...window.studio.design.range], targets: window.studio.design.targets }));
   check(state.range[0] !== range0[0] || state.range[1] !== range0[1],
     `the drag changes the displayed E range: [${range0}] -> [${state.range}] (${latency.toFixed(1)} ms release to redraw)`);

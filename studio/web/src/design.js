@@ -130,7 +130,7 @@ export class DesignView {
     try {
       this.sequence = (this.sequence || 0) + 1; // orders the requests on the server
       const reply = await send({ type: 'retarget', targets: this.targets, sequence: this.sequence });
-      if (released !== null) this.releases.push({ type: reply.type, message: reply.message });
+      if (released !== null) this.releases.push({ type: reply.type, message: reply.message, reply_ms: performance.now() - released });
       if (reply.type === 'design') {
         this.apply(reply);
         const drawn = await this.viewer.renderedFrame();

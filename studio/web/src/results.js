@@ -1,7 +1,7 @@
 // The result viewer: any output folder of tailor. A static result (.vtu) or a frame series
 // (.pvd: play, pause, scrub) drawn as its boundary surface, coloured by the chosen field.
 import { fetchFile } from './api.js';
-import { showColorBar } from './colormap.js';
+import { showColorBar, formatNumber } from './colormap.js';
 import { parseVtu, parsePvd, boundarySurface, scalarValues } from './vtu.js';
 
 export class ResultViewer {
@@ -29,7 +29,7 @@ export class ResultViewer {
   }
 
   async start() {
-    if (this.fileSelect.options.length) await this.open(this.fileSelect.value, true);
+    if (this.fileSelect.options.length) await this.open(this.fileSelect.value);
   }
 
   async grid(path) {
@@ -41,7 +41,7 @@ export class ResultViewer {
     return this.cache.get(path);
   }
 
-  async open(path, first = false) {
+  async open(path) {
     this.stop();
     if (path.endsWith('.pvd')) {
       this.frames = parsePvd(await fetchFile(path), path);
@@ -57,7 +57,7 @@ export class ResultViewer {
       this.current = await this.grid(path);
     }
     this.fillFields();
-    this.fitCamera(first || true);
+    this.fitCamera();
     this.draw();
   }
 
@@ -67,7 +67,15 @@ export class ResultViewer {
     for (const f of this.current.cellFields) this.fieldSelect.add(new Option(`${f.name} (cell)`, `cell:${f.name}`));
     for (const f of this.current.pointFields) this.fieldSelect.add(new Option(`${f.name} (point)`, `point:${f.name}`));
     const values = [...this.fieldSelect.options].map((o) => o.value);
-    const preferred = values.includes(previous) ? previous : values.find((v) => v === 'cell:youngs_modulus') ?? values.find((v) => v === 'point:displacement') ?? values[0];
+    // Young's modulus, else the displacement, else the first field, each only if it varies.
+    const varies = (value) => {
+      const [kind, name] = value.split(/:(.*)/s);
+      const f = (kind === 'cell' ? this.current.cellFields : this.current.pointFields).find((x) => x.name === name);
+      const v = scalarValues(f);
+      return v.some((x) => x !== v[0]);
+    };
+    const order = ['cell:youngs_modulus', 'point:displacement', ...values].filter((v) => values.includes(v));
+    const preferred = values.includes(previous) ? previous : order.find(varies) ?? values[0];
     if (preferred) this.fieldSelect.value = preferred;
   }
 
@@ -124,7 +132,7 @@ export class ResultViewer {
     showColorBar(field ? (field.components > 1 ? `|${name}|` : name) : '', lo, hi);
     this.viewer.render();
     this.framesShown += 1;
-    const frameText = this.frames ? `frame ${this.frame + 1} of ${this.frames.length}, t = ${this.frames[this.frame].time}\n` : '';
+    const frameText = this.frames ? `frame ${this.frame + 1} of ${this.frames.length}, t = ${formatNumber(this.frames[this.frame].time)}\n` : '';
     this.status(`${frameText}${triangles.length / 3} surface triangles, ${grid.types.length} cells`);
   }
 
@@ -132,7 +140,7 @@ export class ResultViewer {
     if (!this.frames) return;
     this.frame = Math.max(0, Math.min(this.frames.length - 1, i));
     document.getElementById('frame').value = String(this.frame);
-    document.getElementById('frame-label').textContent = `t = ${this.frames[this.frame].time}`;
+    document.getElementById('frame-label').textContent = `t = ${formatNumber(this.frames[this.frame].time)}`;
     this.current = await this.grid(this.frames[this.frame].file);
     this.draw();
   }

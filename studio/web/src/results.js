@@ -75,7 +75,9 @@ export class ResultViewer {
       return v.some((x) => x !== v[0]);
     };
     const order = ['cell:youngs_modulus', 'point:displacement', ...values].filter((v) => values.includes(v));
-    const preferred = values.includes(previous) ? previous : order.find(varies) ?? values[0];
+    // A frame series is about motion: its displacement (zero in a first frame at rest).
+    const motion = this.frames && values.includes('point:displacement') ? 'point:displacement' : undefined;
+    const preferred = values.includes(previous) ? previous : motion ?? order.find(varies) ?? values[0];
     if (preferred) this.fieldSelect.value = preferred;
   }
 

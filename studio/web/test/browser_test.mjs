@@ -151,6 +151,8 @@ async function framesTest(browser, shots) {
   // A static result with a field menu: the last frame's file on its own.
   const fields = await page.evaluate(() => [...document.getElementById('field').options].map((o) => o.value));
   check(fields.includes('cell:youngs_modulus') && fields.includes('point:displacement'), `field menu: ${fields.join(', ')}`);
+  const range = await page.evaluate(() => window.studio.results.ranges.get('point:displacement'));
+  check(range && range[1] > 0, `the frames are coloured by |displacement|, up to ${range?.[1]}`);
   await page.close();
 }
 

@@ -161,18 +161,20 @@ async function bench(browser) {
   const url = await startStudio(resolve(args.bench), ['--out', join(work, 'bench')]);
   const page = await openPage(browser, url);
   const elements = await page.evaluate(() => window.studio.design.elements);
-  const latencies = [], server = [], iterations = [], replies = [];
+  const latencies = [], server = [], iterations = [], replies = [], errors = [];
   for (let i = 0; i < drags; ++i) {
     latencies.push(await dragHandle(page, 0, 0, i % 2 ? -25 : 30));
     server.push(await page.evaluate(() => 1e3 * window.studio.design.lastReply.seconds));
     iterations.push(await page.evaluate(() => window.studio.design.lastReply.iterations));
     replies.push(await page.evaluate(() => window.studio.design.releases.at(-1).reply_ms));
+    errors.push(await page.evaluate(() => Math.max(...window.studio.design.lastReply.reduced_errors)));
   }
   const median = (v) => { const s = [...v].sort((a, b) => a - b); const n = s.length; return n % 2 ? s[(n - 1) / 2] : (s[n / 2 - 1] + s[n / 2]) / 2; };
   const result = { bench: 'studio_latency', scene: args.bench, elements, drags, browser: await browser.version(),
     release_to_redraw_ms: latencies, median_release_to_redraw_ms: median(latencies),
     release_to_reply_ms: replies, median_release_to_reply_ms: median(replies),
-    server_design_ms: server, median_server_design_ms: median(server), iterations, goal_ms: 100 };
+    server_design_ms: server, median_server_design_ms: median(server), iterations,
+    reduced_handle_errors: errors, median_reduced_handle_error: median(errors), goal_ms: 100 };
   writeFileSync(resolve(args.json || 'bench_studio_latency.json'), JSON.stringify(result, null, 2) + '\n');
   console.log(`${elements} tets, ${drags} drags: median release to redraw ${result.median_release_to_redraw_ms.toFixed(1)} ms, ` +
     `to the reply ${result.median_release_to_reply_ms.toFixed(1)} ms, server design ${result.median_server_design_ms.toFixed(1)} ms; goal 100 ms`);

@@ -25,6 +25,19 @@ export class ResultViewer {
     this.fieldSelect.addEventListener('change', () => this.draw());
     document.getElementById('play').addEventListener('click', () => this.togglePlay());
     document.getElementById('frame').addEventListener('input', (e) => this.showFrame(Number(e.target.value)));
+    // The plots tailor writes next to its results (convergence, damping decay, E(d) polar
+    // curves, ...), as they are.
+    const plots = document.getElementById('plots');
+    for (const f of this.files.filter((name) => name.endsWith('.png')).sort()) {
+      const figure = document.createElement('figure');
+      const image = document.createElement('img');
+      image.src = 'files/' + f.split('/').map(encodeURIComponent).join('/');
+      image.alt = f;
+      const caption = document.createElement('figcaption');
+      caption.textContent = f;
+      figure.append(image, caption);
+      plots.append(figure);
+    }
     if (!shown.length) status('no .vtu or .pvd file in this folder yet');
   }
 

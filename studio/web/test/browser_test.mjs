@@ -2,7 +2,8 @@
 //  1. the page loads a shipped handle scene (scenes/cantilever_handle_reduced.json);
 //  2. a scripted mouse drag of the handle changes the displayed E range, and the report the
 //     server saves (report.json) carries the new target; the full-space check shows its error;
-//  3. a frame series (scenes/swinging_beam.json's PVD) plays to its last frame;
+//  3. a frame series (scenes/swinging_beam.json's PVD) plays to its last frame, and a static
+//     result (scenes/two_material_bar_inverse.json's) opens coloured by E, with its plots;
 //  4. requests without the token, with a wrong token or from another origin are refused.
 // Screenshots go to --screenshots DIR. Exit 77 (ctest's skip) when chromium or the npm packages
 // are missing. With --bench SCENE --json FILE it instead drags the handle of SCENE --drags N
@@ -156,6 +157,25 @@ async function framesTest(browser, shots) {
   await page.close();
 }
 
+async function staticResultTest(browser, shots) {
+  const out = join(work, 'static');
+  execFileSync(tailor, ['run', join(source, 'scenes/two_material_bar_inverse.json'), '--out', out, '--quiet'], { stdio: 'ignore' });
+  const url = await startStudio(out);
+  const page = await openPage(browser, url);
+  const shown = await page.evaluate(() => ({
+    file: document.getElementById('file').value,
+    field: document.getElementById('field').value,
+    bar: [document.getElementById('colorbar-min').textContent, document.getElementById('colorbar-max').textContent],
+  }));
+  check(shown.file === 'result.vtu' && shown.field === 'cell:youngs_modulus',
+    `a static result opens coloured by Young's modulus (${shown.file}, ${shown.field}, colour bar ${shown.bar.join(' to ')})`);
+  await page.waitForFunction(() => [...document.querySelectorAll('#plots img')].every((i) => i.complete), { timeout: 60000 });
+  const plots = await page.evaluate(() => [...document.querySelectorAll('#plots img')].map((i) => [i.alt, i.naturalWidth]));
+  check(plots.some(([name, width]) => name === 'convergence.png' && width > 0), `the folder's plots are shown: ${plots.map((p) => p[0]).join(', ')}`);
+  if (shots) await page.screenshot({ path: join(shots, 'studio_result_static.png') });
+  await page.close();
+}
+
 async function bench(browser) {
   const drags = Number(args.drags || 10);
   const url = await startStudio(resolve(args.bench), ['--out', join(work, 'bench')]);
@@ -192,6 +212,7 @@ try {
     if (shots) mkdirSync(shots, { recursive: true });
     await designTest(browser, shots);
     await framesTest(browser, shots);
+    await staticResultTest(browser, shots);
   }
 } catch (error) {
   console.log(`FAIL ${error.stack || error}`);

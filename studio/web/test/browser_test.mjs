@@ -37,7 +37,14 @@ try {
 const tailor = resolve(args.tailor || 'build/bin/tailor');
 const source = resolve(args.source || '.');
 const work = mkdtempSync(join(tmpdir(), 'tailor-studio-browser-'));
-const assets = buildStudioAssets(join(work, 'assets'));
+let assets;
+try {
+  assets = buildStudioAssets(join(work, 'assets'));
+} catch (error) {
+  console.log(`skipped: ${error.message}`);
+  rmSync(work, { recursive: true, force: true });
+  process.exit(SKIP);
+}
 const servers = [];
 let failures = 0;
 

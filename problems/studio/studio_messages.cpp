@@ -111,7 +111,8 @@ json StudioMessages::hello() const {
           {"files", output_files(output_folder_)}};
 }
 
-json StudioMessages::scene() const {
+json StudioMessages::scene() {
+  const std::lock_guard<std::mutex> lock(computing_);  // the design's state changes under a retarget
   const SurfaceMesh& surface = design_->surface();
   const Mesh& mesh = design_->design().setup.mesh;
   json positions = json::array();

@@ -45,7 +45,7 @@ class StudioMessages {
 
  private:
   nlohmann::json hello() const;
-  nlohmann::json scene() const;
+  nlohmann::json scene();
   nlohmann::json design_reply(const DesignState& state) const;
   nlohmann::json retarget(const nlohmann::json& message, const Emit& emit);
   nlohmann::json full_check();

@@ -107,6 +107,9 @@ struct Verb {
   // Whether the verb writes files into output_folder(): the command line then claims that folder
   // before the handler runs (problems/output_folder.hpp: created, checked, locked).
   bool writes_output = true;
+  // A verb that is not dispatched on a scene kind (its argument need not be a scene file, e.g.
+  // `studio` takes a folder too) runs this instead; empty for the others.
+  std::function<int(const VerbArguments& args, std::ostream& out)> run = nullptr;
 };
 
 // One verb a kind supports.

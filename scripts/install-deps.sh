@@ -12,6 +12,9 @@ packages=(
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libnlopt-cxx-dev libarpack2-dev libceres-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
   libpng-dev
+  # tailor studio's server (problems/studio, docs/studio.md): Debian's cpp-httplib is a header of
+  # declarations and a shared library, so the studio adds little to the quick start's build.
+  libcpp-httplib-dev
   # The Python module (python/, docs/python.md) and its tests; python3-matplotlib is optional
   # (examples/python plots with it when it is there).
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest
@@ -30,6 +33,10 @@ if [[ ${1:-} == sanitizers ]]; then
   packages+=(clang-14 libclang-rt-14-dev libomp-14-dev llvm-14
             python3-torch python3-meshio python3-matplotlib python3-mypy
             python3-nbclient python3-nbformat python3-ipykernel)
+  # tailor studio's browser test (studio/web/test/browser_test.mjs): headless chromium driven by
+  # npm's puppeteer-core; Node and npm from Debian unless a Node with npm is installed already.
+  packages+=(chromium)
+  command -v npm >/dev/null || packages+=(nodejs npm)
 fi
 
 as_root() {

@@ -2,11 +2,17 @@
 // PETSc back-end, it first starts PETSc and MPI and registers the "petsc" linear solver
 // (problems/cli/petsc_command_line.hpp, docs/petsc.md).
 #include "problems/cli/run_cli.hpp"
+#ifdef TAILOR_HAVE_STUDIO
+#include "problems/studio/studio_verb.hpp"
+#endif
 #ifdef TAILOR_HAVE_PETSC
 #include "problems/cli/petsc_command_line.hpp"
 #endif
 
 int main(int argc, char** argv) {
+#ifdef TAILOR_HAVE_STUDIO
+  tailor::register_verb(tailor::studio::studio_verb());  // docs/studio.md
+#endif
 #ifdef TAILOR_HAVE_PETSC
   return tailor::run_cli_with_petsc(argc, argv);
 #else

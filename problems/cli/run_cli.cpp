@@ -167,6 +167,7 @@ class Cli {
       return kExitBadInput;
     };
     try {
+      if (verb_->run) return verb_->run(args_, out_);
       const SceneFile file = args_.scene ? read_scene_file(*args_.scene) : SceneFile{};
       const SceneKind& kind = args_.scene ? recognise_scene_kind(file.document) : default_scene_kind();
       const KindVerb* entry = kind.find_verb(name);

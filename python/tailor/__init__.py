@@ -42,6 +42,7 @@ except ImportError as _error:
     raise ImportError(_interpreter_message(_sys.version_info, _sys.executable) + f" [{_error}]") from _error
 from . import fields
 from .optimize import scipy_minimize
+from .studio import studio
 
 __all__ = [
     "DynamicFunctional", "EvaluationError", "Functional", "MeshError", "Report", "RodFunctional", "Scene",

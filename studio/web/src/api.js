@@ -1,0 +1,37 @@
+// The studio's message channel: one POST per message to api/message (relative to the page, whose
+// URL carries the token), answered by lines of JSON: progress objects, then the reply.
+export async function send(message, onProgress) {
+  const response = await fetch('api/message', {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify(message),
+  });
+  if (!response.ok) throw new Error(`${response.status}: ${await response.text()}`);
+  const reader = response.body.getReader();
+  const decoder = new TextDecoder();
+  let buffer = '';
+  let last = null;
+  for (;;) {
+    const { value, done } = await reader.read();
+    if (value) buffer += decoder.decode(value, { stream: true });
+    let newline;
+    while ((newline = buffer.indexOf('\n')) >= 0) {
+      const line = buffer.slice(0, newline);
+      buffer = buffer.slice(newline + 1);
+      if (!line) continue;
+      const object = JSON.parse(line);
+      if (object.type === 'progress' && onProgress) onProgress(object);
+      else last = object;
+    }
+    if (done) break;
+  }
+  if (!last) throw new Error('no reply');
+  return last;
+}
+
+// A file of the output folder, as text.
+export async function fetchFile(path) {
+  const response = await fetch('files/' + path.split('/').map(encodeURIComponent).join('/'));
+  if (!response.ok) throw new Error(`${path}: ${response.status}`);
+  return response.text();
+}

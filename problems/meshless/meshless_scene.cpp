@@ -157,8 +157,11 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
           (items[i].has("target") ? Eigen::Vector3d(items[i].at("target").vector(3)) : Eigen::Vector3d(at + items[i].at("displacement").vector(3))).transpose();
     }
     if (inv->has("regularization")) in.regularization = inv->at("regularization").non_negative();
+    // Newton-CG on the functional's Gauss-Newton products: scale-invariant, where L-BFGS's first
+    // step (the gradient of a misfit relative to the size squared) is tiny.
+    in.optimizer.backend = OptimizerBackend::newton_cg;
     in.optimizer.max_iterations = 50;
-    in.optimizer.gradient_tolerance = 1e-10;
+    in.optimizer.gradient_tolerance = 1e-14;
     if (const auto opt = inv->find("optimizer"))
       in.optimizer = parse_optimizer_section(*opt, in.optimizer, {"a meshless scene", true, false, {}});
     if (const auto gc = inv->find("gradcheck")) {

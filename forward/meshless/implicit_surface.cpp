@@ -142,8 +142,13 @@ double ImplicitSurface::value(const Eigen::Vector3d& X) const {
 }
 
 double ImplicitSurface::classifying_distance(const Eigen::Vector3d& X) const {
-  const double magnitude = std::max(0.0, nearest_distance(X) - report_.support_radius);
-  return value(X) <= 0.0 ? -magnitude : magnitude;
+  const double near = nearest_distance(X), f = value(X);
+  // Within the support radius f itself approximates the signed distance (to O(rho^2 curvature));
+  // beyond it, the distance to the samples less the sample spacing bounds the distance to the
+  // surface from below.
+  if (near < report_.support_radius) return f;
+  const double magnitude = std::max(0.0, near - report_.neighbour_distance);
+  return f <= 0.0 ? -magnitude : magnitude;
 }
 
 void ImplicitSurface::check_samples() {

@@ -23,10 +23,13 @@
 //   - normals pointing inwards: f > 0 required at the corners of the enlarged bounding box.
 // Self-intersecting sample sets are not detected.
 //
-// As an AnalyticShape (for octree_sampling.hpp) the inside test is f <= 0, and the signed distance
-// used to classify octree cells is sign(f) * max(0, d_s - rho), d_s the distance to the nearest
-// sample: 1-Lipschitz in magnitude and no larger than the distance to the surface as long as every
-// surface point lies within rho of a sample, so a cell classified as wholly inside or outside is.
+// As an AnalyticShape (for octree_sampling.hpp) the inside test is f <= 0, and the distance
+// that classifies octree cells is f itself within rho of a sample (where f approximates the
+// signed distance up to O(rho^2 curvature)) and sign(f) * max(0, d_s - s) beyond (d_s the
+// distance to the nearest sample: no larger than the distance to the surface as long as every
+// surface point lies within s of a sample). A cell is thus refined only in a band about its
+// half-diagonal wide around the surface; the classification is approximate where the surface
+// curves on the scale of rho.
 #include <memory>
 #include <vector>
 
@@ -58,7 +61,7 @@ class ImplicitSurface {
 
   double value(const Eigen::Vector3d& X) const;             // f(X)
   double nearest_distance(const Eigen::Vector3d& X, int* nearest = nullptr) const;  // d_s(X)
-  double classifying_distance(const Eigen::Vector3d& X) const;  // sign(f) max(0, d_s - rho)
+  double classifying_distance(const Eigen::Vector3d& X) const;  // see above
   const ImplicitSurfaceReport& report() const { return report_; }
   const OrientedPoints& points() const { return points_; }
   // The samples' indices within `radius` of X.

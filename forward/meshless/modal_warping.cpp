@@ -72,13 +72,13 @@ ModalWarpingOperators modal_warping_operators(const MlsShapeFunctions& mls, cons
   return out;
 }
 
-double RayleighDamping::ratio(double eigenvalue) const {
+double ModalRayleighDamping::ratio(double eigenvalue) const {
   const double omega = std::sqrt(eigenvalue);
   return alpha / (2.0 * omega) + beta * omega / 2.0;
 }
 
 WarpedModalSimulator::WarpedModalSimulator(ModalWarpingOperators operators, Eigen::VectorXd eigenvalues,
-                                           RayleighDamping damping, double time_step)
+                                           ModalRayleighDamping damping, double time_step)
     : operators_(std::move(operators)), lambda_(std::move(eigenvalues)) {
   const Eigen::Index r = lambda_.size();
   if (operators_.displacement.cols() != r || operators_.rotation.cols() != r)

@@ -41,7 +41,7 @@ struct ModalWarpingOperators {
 ModalWarpingOperators modal_warping_operators(const MlsShapeFunctions& mls, const Eigen::MatrixXd& modes,
                                               const Eigen::MatrixXd& points);
 
-struct RayleighDamping {
+struct ModalRayleighDamping {
   double alpha = 0.0;  // mass-proportional [1/s]
   double beta = 0.0;   // stiffness-proportional [s]
   double ratio(double eigenvalue) const;  // zeta for lambda = omega^2
@@ -50,7 +50,7 @@ struct RayleighDamping {
 class WarpedModalSimulator {
  public:
   // eigenvalues: lambda_j > 0 of the mass-normalized modes behind `operators`; time_step > 0.
-  WarpedModalSimulator(ModalWarpingOperators operators, Eigen::VectorXd eigenvalues, RayleighDamping damping,
+  WarpedModalSimulator(ModalWarpingOperators operators, Eigen::VectorXd eigenvalues, ModalRayleighDamping damping,
                        double time_step);
 
   int num_modes() const { return static_cast<int>(q_.size()); }

@@ -89,7 +89,7 @@ TEST(ModalWarping, NinetyDegreeRotationIsExactWhereTheLinearModeDistorts) {
 TEST(ModalWarping, RayleighDampedStepMatchesTheDampedOscillator) {
   // One mode, omega = 2 pi (1 Hz), alpha = 0.4 / s, beta = 0.01 s: zeta = 0.4 / (4 pi) + 0.01 pi.
   const double lambda = 4.0 * M_PI * M_PI, omega = 2.0 * M_PI;
-  const RayleighDamping damping{0.4, 0.01};
+  const ModalRayleighDamping damping{0.4, 0.01};
   const double zeta = damping.ratio(lambda);
   EXPECT_NEAR(zeta, 0.4 / (2.0 * omega) + 0.01 * omega / 2.0, 1e-15);
   ModalWarpingOperators ops;

@@ -60,7 +60,7 @@ struct MeshlessSceneSpec {
   int max_newton_iterations = 50;
   // Modes and warped modal dynamics (the `modes` verb).
   int mode_count = 10;
-  RayleighDamping damping;
+  ModalRayleighDamping damping;
   double time_step = 0.01;
   int steps = 0;  // warped modal frames to simulate (0: none)
   std::optional<MeshlessPointForce> modal_force;  // applied during the first half of the steps

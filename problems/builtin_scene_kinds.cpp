@@ -21,6 +21,7 @@
 #include "problems/fem/reduced_design.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
 #include "problems/material_fit/material_fit_scene.hpp"
+#include "problems/meshless/meshless_commands.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
 #include "problems/rods/rod_inverse.hpp"
 #include "problems/rods/rod_scene.hpp"
@@ -259,6 +260,37 @@ int design_damping(const SceneFile& file, const VerbArguments& args, std::ostrea
   return exit_code(run_damping_design_scene(file.node(), output_folder(file, args), &out));
 }
 
+// ---- meshless solids (docs/meshless.md, "Scenes")
+
+MeshlessVerbOptions meshless_options(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  MeshlessVerbOptions o;
+  o.name = file.name();
+  o.directory = file.directory();
+  o.out_dir = output_folder(file, args);
+  o.seed = args.seed;
+  o.hessian = args.hessian;
+  o.count = args.count == 10 ? 0 : args.count;  // the default defers to the scene's modes.count
+  o.progress = args.quiet ? nullptr : &out;
+  return o;
+}
+
+int simulate_meshless(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  return exit_code(simulate_meshless_scene(file.node(), meshless_options(file, args, out), &out));
+}
+
+int modes_meshless(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  return exit_code(modes_meshless_scene(file.node(), meshless_options(file, args, out), &out));
+}
+
+int gradcheck_meshless(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  return exit_code(gradcheck_meshless_scene(file.node(), meshless_options(file, args, out), &out));
+}
+
+int run_meshless(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_checkpoint_flags(args);
+  return exit_code(run_meshless_scene(file.node(), meshless_options(file, args, out), &out));
+}
+
 }  // namespace
 
 std::string output_folder(const SceneFile& file, const VerbArguments& args) {
@@ -368,6 +400,13 @@ std::vector<SceneKind> builtin_scene_kinds() {
        "\"type\": \"periodic_cell\" (docs/homogenization.md)",
        [](const nlohmann::json& d) { return has_type(d, "periodic_cell"); },
        {{"homogenize", homogenize_cell, "the effective elasticity of the cell"}}},
+      {"meshless",
+       "a \"meshless\" section (docs/meshless.md)",
+       [](const nlohmann::json& d) { return has_section(d, "meshless"); },
+       {{"simulate", simulate_meshless, "static equilibrium of a meshless (MLS) solid: report.json, nodes.vtu, samples.vtu"},
+        {"modes", modes_meshless, "modal analysis with Rayleigh damping and warped modal dynamics"},
+        {"gradcheck", gradcheck_meshless, "needs an \"inverse\" section: Taylor test of the design gradient"},
+        {"run", run_meshless, "needs an \"inverse\" section: Young's modulus per node or region"}}},
       {"dynamic",
        "a \"dynamics\" section (docs/dynamics.md)",
        [](const nlohmann::json& d) { return has_section(d, "dynamics"); },

@@ -14,8 +14,12 @@ struct AnalyticShape {
   std::string name;
   std::function<double(const Eigen::Vector3d&)> signed_distance;
   Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();  // bounding box
-  double exact_volume = 0.0;
-  bool inside(const Eigen::Vector3d& X) const { return signed_distance(X) <= 0.0; }
+  double exact_volume = 0.0;  // 0 where unknown (implicit surfaces)
+  // Optional: a value whose sign decides inside (<= 0) more finely than signed_distance, which
+  // then only classifies cells (implicit_surface.hpp); empty for the analytic shapes.
+  std::function<double(const Eigen::Vector3d&)> inside_value;
+  double inside_measure(const Eigen::Vector3d& X) const { return inside_value ? inside_value(X) : signed_distance(X); }
+  bool inside(const Eigen::Vector3d& X) const { return inside_measure(X) <= 0.0; }
 };
 
 // Axis-aligned box [lo, hi]. std::invalid_argument unless lo < hi componentwise.

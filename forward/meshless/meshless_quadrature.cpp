@@ -58,18 +58,33 @@ Vector meshless_point_forces(const MlsShapeFunctions& mls, const Eigen::MatrixXd
 
 SparseMatrix meshless_mass_matrix(const MeshlessQuadrature& quadrature, double density) {
   if (!(density > 0.0)) throw std::invalid_argument("meshless_mass_matrix: the density must be positive");
-  Triplets triplets;
+  // The scalar node-node matrix first, summed in chunks: a point carries up to ~27^2 pairs, so
+  // the triplets of all points at once would take gigabytes on large quadratures.
+  const int n = quadrature.num_nodes;
+  SparseMatrix scalar(n, n);
+  Triplets chunk;
+  const auto flush = [&] {
+    SparseMatrix part(n, n);
+    part.setFromTriplets(chunk.begin(), chunk.end());
+    scalar += part;
+    chunk.clear();
+  };
   for (int q = 0; q < quadrature.num_points(); ++q) {
     const double w = density * quadrature.weights[static_cast<std::size_t>(q)];
     for (int s = quadrature.begin[static_cast<std::size_t>(q)]; s < quadrature.begin[static_cast<std::size_t>(q) + 1]; ++s)
-      for (int t = quadrature.begin[static_cast<std::size_t>(q)]; t < quadrature.begin[static_cast<std::size_t>(q) + 1]; ++t) {
-        const double m = w * quadrature.values[static_cast<std::size_t>(s)] * quadrature.values[static_cast<std::size_t>(t)];
-        for (int k = 0; k < 3; ++k)
-          triplets.emplace_back(3 * quadrature.nodes[static_cast<std::size_t>(s)] + k,
-                                3 * quadrature.nodes[static_cast<std::size_t>(t)] + k, m);
-      }
+      for (int t = quadrature.begin[static_cast<std::size_t>(q)]; t < quadrature.begin[static_cast<std::size_t>(q) + 1]; ++t)
+        chunk.emplace_back(quadrature.nodes[static_cast<std::size_t>(s)], quadrature.nodes[static_cast<std::size_t>(t)],
+                           w * quadrature.values[static_cast<std::size_t>(s)] * quadrature.values[static_cast<std::size_t>(t)]);
+    if (chunk.size() > (std::size_t{1} << 22)) flush();
   }
-  SparseMatrix M(3 * quadrature.num_nodes, 3 * quadrature.num_nodes);
+  flush();
+  Triplets triplets;
+  triplets.reserve(3 * static_cast<std::size_t>(scalar.nonZeros()));
+  for (int a = 0; a < scalar.outerSize(); ++a)
+    for (SparseMatrix::InnerIterator it(scalar, a); it; ++it)
+      for (int k = 0; k < 3; ++k)
+        triplets.emplace_back(3 * static_cast<int>(it.row()) + k, 3 * static_cast<int>(it.col()) + k, it.value());
+  SparseMatrix M(3 * n, 3 * n);
   M.setFromTriplets(triplets.begin(), triplets.end());
   return M;
 }

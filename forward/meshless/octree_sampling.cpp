@@ -111,7 +111,7 @@ OctreeSampling sample_shape(const AnalyticShape& shape, const OctreeSamplingOpti
     for (int j = 0; j <= cells[1]; ++j)
       for (int i = 0; i <= cells[0]; ++i) {
         const Eigen::Vector3d X = shape.lo + h * Eigen::Vector3d(i, j, k);
-        if (shape.signed_distance(X) <= 1e-9 * h) nodes.push_back(X);
+        if (shape.inside_measure(X) <= 1e-9 * h) nodes.push_back(X);
       }
   if (nodes.empty()) throw std::invalid_argument("sample_shape: no node inside " + shape.name + " (spacing too large)");
   for (int k = 0; k < cells[2]; ++k)

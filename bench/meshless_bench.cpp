@@ -1,0 +1,248 @@
+// Meshless pipeline cost against the point count, and the error against the node count
+// (docs/meshless.md, "Bench"). Part 1: a unit ball given by N oriented points (Fibonacci
+// spiral), node spacing h: seconds per precomputation stage (implicit surface with its checks,
+// octree nodes and quadrature, MLS shape functions at the quadrature points, stiffness and mass
+// assembly with the modal analysis of `modes` modes, warping operators at the nodes and at the N
+// samples) and the median time of one warped modal frame (modal step + warped displacements)
+// at the nodes only and at all N samples. Part 2: the cantilever 10 x 1 x 1 (E = 1000, nu = 0.3,
+// end shear 1, linear material) against Timoshenko's deflection as the nodes are refined.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_cli.hpp"
+#include "forward/fem/loads.hpp"
+#include "forward/meshless/essential_conditions.hpp"
+#include "forward/meshless/implicit_surface.hpp"
+#include "forward/meshless/meshless_elastic_term.hpp"
+#include "forward/meshless/modal_warping.hpp"
+#include "forward/meshless/octree_sampling.hpp"
+#include "forward/reduction/modal_analysis.hpp"
+#include "forward/solve/newton.hpp"
+
+namespace tailor::bench::meshless_bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+OrientedPoints fibonacci_ball(int n) {
+  OrientedPoints p;
+  p.source = "fibonacci ball";
+  p.positions.resize(n, 3);
+  p.normals.resize(n, 3);
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / n, r = std::sqrt(1.0 - z * z);
+    p.normals.row(i) << r * std::cos(golden * i), r * std::sin(golden * i), z;
+    p.positions.row(i) = p.normals.row(i);
+  }
+  return p;
+}
+
+struct PointCountResult {
+  int points = 0, nodes = 0, quadrature_points = 0;
+  double volume_error = 0.0;
+  double implicit = 0.0, octree = 0.0, shape_functions = 0.0, modes = 0.0, warping = 0.0, total = 0.0;
+  double frame_nodes = 0.0, frame_samples = 0.0;
+  double frame_nodes_cpu = 0.0, frame_samples_cpu = 0.0;  // process CPU time, robust on a shared machine
+  double cpu_total = 0.0;  // process CPU seconds of the precomputation (the machine may be shared)
+};
+
+PointCountResult precompute(int n, double spacing, int mode_count, int frames) {
+  PointCountResult r;
+  r.points = n;
+  const std::clock_t cpu = std::clock();
+  auto t = Clock::now();
+  auto surface = std::make_shared<ImplicitSurface>(fibonacci_ball(n));
+  r.implicit = since(t);
+  t = Clock::now();
+  const OctreeSampling s = sample_shape(ImplicitSurface::shape(surface), OctreeSamplingOptions{spacing, 2, 2});
+  r.octree = since(t);
+  r.nodes = static_cast<int>(s.nodes.rows());
+  r.quadrature_points = static_cast<int>(s.points.rows());
+  r.volume_error = s.volume() / (4.0 / 3.0 * M_PI) - 1.0;
+  t = Clock::now();
+  auto mls = std::make_shared<MlsShapeFunctions>(s.nodes, s.spacing);
+  auto quadrature = std::make_shared<MeshlessQuadrature>(build_meshless_quadrature(*mls, s.points, s.weights));
+  r.shape_functions = since(t);
+  t = Clock::now();
+  const int nodes = r.nodes;
+  Model model(3 * nodes);
+  model.parameter_layout().add("youngs_modulus", nodes);
+  model.parameter_layout().add("poisson_ratio", nodes);
+  model.add(std::make_unique<MeshlessElasticTerm<3>>(quadrature, make_material<3>(MaterialKind::linear), 0, nodes));
+  Vector p(2 * nodes);
+  p.head(nodes).setConstant(1000.0);
+  p.tail(nodes).setConstant(0.3);
+  const Eigen::MatrixXd nt = s.nodes.transpose();
+  const Vector rest = Eigen::Map<const Vector>(nt.data(), nt.size());
+  ModalAnalysisOptions modal;
+  modal.count = mode_count;
+  const ModalAnalysis m = modal_analysis(model, 3, rest, p, meshless_mass_matrix(*quadrature, 1.0), modal);
+  r.modes = since(t);
+  t = Clock::now();
+  ModalWarpingOperators at_nodes = modal_warping_operators(*mls, m.modes, s.nodes);
+  ModalWarpingOperators at_samples = modal_warping_operators(*mls, m.modes, surface->points().positions);
+  r.warping = since(t);
+  r.total = r.implicit + r.octree + r.shape_functions + r.modes + r.warping;
+  r.cpu_total = static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
+  // Frames: a tip force on the first sample for the first half, then free vibration.
+  for (int which = 0; which < 2; ++which) {
+    WarpedModalSimulator sim(which == 0 ? at_nodes : at_samples, m.eigenvalues, ModalRayleighDamping{0.1, 1e-4}, 1.0 / 60.0);
+    Eigen::VectorXd u;
+    std::vector<double> times, cpu_times;
+    const Eigen::Vector3d force(0, 0, -500.0);
+    for (int k = 0; k < frames; ++k) {
+      t = Clock::now();
+      const std::clock_t c = std::clock();
+      sim.step(k < frames / 2 ? sim.modal_force(0, force) : Eigen::VectorXd::Zero(sim.num_modes()));
+      sim.displacements(u, true);
+      cpu_times.push_back(static_cast<double>(std::clock() - c) / CLOCKS_PER_SEC);
+      times.push_back(since(t));
+    }
+    (which == 0 ? r.frame_nodes : r.frame_samples) = median(times);
+    (which == 0 ? r.frame_nodes_cpu : r.frame_samples_cpu) = median(cpu_times);
+  }
+  return r;
+}
+
+// ---- the cantilever against Timoshenko
+
+struct BeamResult {
+  double spacing = 0.0;
+  int nodes = 0;
+  double deflection = 0.0, error = 0.0, seconds = 0.0;
+};
+
+BeamResult cantilever(double h) {
+  constexpr double L = 10.0, E = 1000.0, nu = 0.3;
+  BeamResult r;
+  r.spacing = h;
+  const auto t = Clock::now();
+  const OctreeSampling s = sample_shape(box_shape(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(L, 1, 1)), OctreeSamplingOptions{h, 3, 0});
+  auto mls = std::make_shared<MlsShapeFunctions>(s.nodes, s.spacing);
+  auto quadrature = std::make_shared<MeshlessQuadrature>(build_meshless_quadrature(*mls, s.points, s.weights));
+  const int n = static_cast<int>(s.nodes.rows());
+  // End face: 2 x 2 Gauss points per cell face, traction (0, 0, -1).
+  std::vector<double> gx, gw;
+  gauss_legendre(2, gx, gw);
+  const int cells = static_cast<int>(std::lround(1.0 / h));
+  Eigen::MatrixXd points(4 * cells * cells, 3), densities(4 * cells * cells, 3);
+  Eigen::VectorXd weights(4 * cells * cells);
+  int k = 0;
+  for (int ci = 0; ci < cells; ++ci)
+    for (int cj = 0; cj < cells; ++cj)
+      for (std::size_t a = 0; a < 2; ++a)
+        for (std::size_t b = 0; b < 2; ++b, ++k) {
+          points.row(k) << L, h * (ci + 0.5 * (1 + gx[a])), h * (cj + 0.5 * (1 + gx[b]));
+          weights[k] = 0.25 * h * h * gw[a] * gw[b];
+          densities.row(k) << 0, 0, -1;
+        }
+  const Vector f = meshless_point_forces(*mls, points, weights, densities);
+  Model model(3 * n);
+  model.parameter_layout().add("youngs_modulus", n);
+  model.parameter_layout().add("poisson_ratio", n);
+  model.add(std::make_unique<MeshlessElasticTerm<3>>(quadrature, make_material<3>(MaterialKind::linear), 0, n));
+  model.add(std::make_unique<ExternalForceTerm>(f));
+  std::vector<int> clamped;
+  for (int a = 0; a < n; ++a)
+    if (s.nodes(a, 0) < 1e-9) clamped.push_back(a);
+  Eigen::MatrixXd targets(static_cast<Eigen::Index>(clamped.size()), 3);
+  for (std::size_t i = 0; i < clamped.size(); ++i) targets.row(static_cast<Eigen::Index>(i)) = s.nodes.row(clamped[i]);
+  model.set_elimination(mls_transformation(*mls, clamped, targets).elimination);
+  const Eigen::MatrixXd nt = s.nodes.transpose();
+  const Vector rest = Eigen::Map<const Vector>(nt.data(), nt.size());
+  Vector p(2 * n);
+  p.head(n).setConstant(E);
+  p.tail(n).setConstant(nu);
+  NewtonSolver solver(model);
+  Vector y = model.elimination().restrict_state(rest);
+  solver.solve(p, y);
+  const Vector x = model.elimination().expand(y);
+  const double I = 1.0 / 12.0, G = E / (2 * (1 + nu));
+  const double exact = std::pow(L, 3) / (3 * E * I) + L / (5.0 / 6.0 * G);
+  r.nodes = n;
+  r.deflection = f.dot(x - rest);
+  r.error = std::abs(r.deflection - exact) / exact;
+  r.seconds = since(t);
+  return r;
+}
+
+}  // namespace
+
+int run(int argc, char** argv) {
+  std::vector<int> counts = {1000, 10000, 50000, 100000};
+  double spacing = 0.2;
+  int modes = 30, frames = 200;
+  std::vector<int> per_unit = {2, 3, 4};
+  std::string out = "bench_meshless.json";
+  bench::Cli cli("meshless_bench", "Meshless precomputation and warped modal frame time against the point count; error against the node count.");
+  cli.integers("--points", counts, "point counts of the sampled ball", 100);
+  cli.number("--spacing", spacing, "node spacing in the unit ball", 0.0);
+  cli.integer("--modes", modes, "modes of the modal analysis and the warped frames", 1);
+  cli.integer("--frames", frames, "timed warped modal frames (the median is reported)", 1);
+  cli.integers("--beam-cells", per_unit, "cantilever: node cells per unit length (h = 1 / value); empty with 0", 0);
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
+  Json json = bench::report("meshless_bench");
+  json["spacing"] = spacing;
+  json["modes"] = modes;
+  std::printf("%8s %6s %8s %9s %9s %9s %9s %9s %9s %9s %9s %11s %11s\n", "points", "nodes", "q-points", "vol.err",
+              "implicit", "octree", "mls", "modes", "warp-ops", "total s", "cpu s", "frame nodes", "frame pts");
+  std::printf("(frames: median wall ms, then median process CPU ms)\n");
+  Json rows = Json::array();
+  for (int n : counts) {
+    const PointCountResult r = precompute(n, spacing, modes, frames);
+    std::printf("%8d %6d %8d %9.2e %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f %6.3f/%6.3f %7.3f/%7.3f\n", r.points, r.nodes,
+                r.quadrature_points, r.volume_error, r.implicit, r.octree, r.shape_functions, r.modes, r.warping, r.total,
+                r.cpu_total, r.frame_nodes * 1e3, r.frame_nodes_cpu * 1e3, r.frame_samples * 1e3, r.frame_samples_cpu * 1e3);
+    rows.push_back({{"points", r.points},
+                    {"nodes", r.nodes},
+                    {"quadrature_points", r.quadrature_points},
+                    {"volume_error", r.volume_error},
+                    {"seconds", {{"implicit_surface", r.implicit},
+                                 {"octree", r.octree},
+                                 {"shape_functions_and_quadrature", r.shape_functions},
+                                 {"assembly_and_modes", r.modes},
+                                 {"warping_operators", r.warping},
+                                 {"total", r.total},
+                                 {"total_cpu", r.cpu_total}}},
+                    {"median_frame_seconds_nodes", r.frame_nodes},
+                    {"median_frame_seconds_all_points", r.frame_samples},
+                    {"median_frame_cpu_seconds_nodes", r.frame_nodes_cpu},
+                    {"median_frame_cpu_seconds_all_points", r.frame_samples_cpu}});
+  }
+  json["point_counts"] = rows;
+  Json beams = Json::array();
+  if (!(per_unit.size() == 1 && per_unit[0] == 0)) {
+    std::printf("\ncantilever 10 x 1 x 1 against Timoshenko\n%8s %6s %12s %10s %7s %9s\n", "h", "nodes", "deflection", "rel.err",
+                "rate", "seconds");
+    std::vector<BeamResult> results;
+    for (int c : per_unit) {
+      if (c <= 0) continue;
+      const BeamResult b = cantilever(1.0 / c);
+      const double rate =
+          results.empty() ? NAN : std::log(results.back().error / b.error) / std::log(results.back().spacing / b.spacing);
+      std::printf("%8.4f %6d %12.6f %10.3e %7.2f %9.3f\n", b.spacing, b.nodes, b.deflection, b.error, rate, b.seconds);
+      results.push_back(b);
+      beams.push_back({{"spacing", b.spacing}, {"nodes", b.nodes}, {"deflection", b.deflection}, {"relative_error", b.error},
+                       {"rate", std::isfinite(rate) ? Json(rate) : Json()}, {"seconds", b.seconds}});
+    }
+  }
+  json["cantilever"] = beams;
+  return bench::write_report(out, json, "meshless_bench") ? 0 : 1;
+}
+
+}  // namespace tailor::bench::meshless_bench

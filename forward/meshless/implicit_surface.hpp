@@ -1,0 +1,82 @@
+#pragma once
+// An inside/outside function from oriented points (docs/meshless.md, "Implicit surface"): a
+// partition of unity of the samples' tangent planes,
+//   f(X) = sum_i w_i(X) (X - p_i) . n_i / sum_i w_i(X),   w_i = W(|X - p_i| / rho),
+// W the C2 Wendland function (1 - r)^4 (4 r + 1) on [0, 1] (the implicit moving-least-squares
+// surface of Shen, O'Brien & Shewchuk 2004 and Kolluri 2005, which is the multi-level partition
+// of unity of Ohtake et al. 2003 at one level with first-order local fits). Where no sample lies
+// within rho, f is the distance to the nearest sample's tangent plane (Hoppe et al. 1992).
+// f < 0 inside.
+//
+// rho = support_factor * s, s the median over the samples of the distance to their 6th nearest
+// neighbour. Before use the samples are checked, each failure a PointInputError naming the file
+// and point (with its line):
+//   - an isolated point (fewer than 3 neighbours within rho);
+//   - inconsistent normals: two samples within rho on the same sheet (each within 0.3 |p_j - p_i|
+//     of the other's tangent plane) whose normals point in opposite directions (n_i . n_j < -0.5);
+//   - an open sample set: a sample whose neighbours (those of an opposite sheet excepted),
+//     projected onto its tangent plane, leave an angular gap above 150 degrees (a boundary of
+//     the sampled surface; at an edge of a closed one the other face closes the fan). Samples
+//     with neighbours whose normals differ by 45 to 120 degrees (sharp edges and corners, where
+//     the fan is legitimately incomplete) are not judged, so an open boundary along a sharp
+//     edge escapes this check (meshes are checked for closure exactly before sampling);
+//   - normals pointing inwards: f > 0 required at the corners of the enlarged bounding box.
+// Self-intersecting sample sets are not detected.
+//
+// As an AnalyticShape (for octree_sampling.hpp) the inside test is f <= 0, and the distance
+// that classifies octree cells is f itself within rho of a sample (where f approximates the
+// signed distance up to O(rho^2 curvature)) and sign(f) * max(0, d_s - s) beyond (d_s the
+// distance to the nearest sample: no larger than the distance to the surface as long as every
+// surface point lies within s of a sample). A cell is thus refined only in a band about its
+// half-diagonal wide around the surface; the classification is approximate where the surface
+// curves on the scale of rho.
+#include <memory>
+#include <vector>
+
+#include "forward/meshless/analytic_shape.hpp"
+#include "forward/meshless/point_cloud_io.hpp"
+
+namespace tailor {
+
+struct ImplicitSurfaceOptions {
+  double support_factor = 2.0;  // rho = support_factor * the median 6th-neighbour distance
+  bool check_samples = true;    // the checks above (isolated, inconsistent, open, inward)
+};
+
+struct ImplicitSurfaceReport {
+  int samples = 0;
+  double neighbour_distance = 0.0;  // s
+  double support_radius = 0.0;      // rho
+  int min_neighbours = 0;           // fewest samples within rho of a sample (itself excluded)
+  double max_boundary_gap = 0.0;    // largest angular gap met by the open-set check [rad]
+};
+
+class ImplicitSurface {
+ public:
+  // PointInputError (see above) on a bad sample set; std::invalid_argument on a bad option.
+  ImplicitSurface(OrientedPoints points, ImplicitSurfaceOptions options = {});
+  ~ImplicitSurface();
+  ImplicitSurface(const ImplicitSurface&) = delete;
+  ImplicitSurface& operator=(const ImplicitSurface&) = delete;
+
+  double value(const Eigen::Vector3d& X) const;             // f(X)
+  double nearest_distance(const Eigen::Vector3d& X, int* nearest = nullptr) const;  // d_s(X)
+  double classifying_distance(const Eigen::Vector3d& X) const;  // see above
+  const ImplicitSurfaceReport& report() const { return report_; }
+  const OrientedPoints& points() const { return points_; }
+  // The samples' indices within `radius` of X.
+  std::vector<int> neighbours(const Eigen::Vector3d& X, double radius) const;
+
+  // The shape for sample_shape(): bounding box of the samples; keeps this object alive.
+  static AnalyticShape shape(std::shared_ptr<const ImplicitSurface> surface);
+
+ private:
+  struct Grid;
+  void check_samples();
+  OrientedPoints points_;
+  ImplicitSurfaceOptions options_;
+  ImplicitSurfaceReport report_;
+  std::unique_ptr<Grid> grid_;
+};
+
+}  // namespace tailor

@@ -1,0 +1,134 @@
+#include "forward/meshless/modal_warping.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace tailor {
+
+namespace {
+
+Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& w) {
+  Eigen::Matrix3d c;
+  c << 0.0, -w[2], w[1], w[2], 0.0, -w[0], -w[1], w[0], 0.0;
+  return c;
+}
+
+// exp(M) of a 2 x 2 matrix by scaling and squaring with a Taylor series (to round-off).
+Eigen::Matrix2d exponential(const Eigen::Matrix2d& M) {
+  int squarings = 0;
+  double norm = M.cwiseAbs().rowwise().sum().maxCoeff();
+  while (norm > 0.25) {
+    norm *= 0.5;
+    ++squarings;
+  }
+  const Eigen::Matrix2d A = M / std::ldexp(1.0, squarings);
+  Eigen::Matrix2d result = Eigen::Matrix2d::Identity(), term = Eigen::Matrix2d::Identity();
+  for (int k = 1; k <= 18; ++k) {
+    term = term * A / k;
+    result += term;
+  }
+  for (int s = 0; s < squarings; ++s) result = result * result;
+  return result;
+}
+
+}  // namespace
+
+Eigen::Matrix3d warping_matrix(const Eigen::Vector3d& w) {
+  const double t = w.norm();
+  const Eigen::Matrix3d K = cross_matrix(w);
+  // (1 - cos t) / t^2 and (t - sin t) / t^3 by their series below t = 1e-3 (cancellation).
+  const double a = t < 1e-3 ? 0.5 - t * t / 24.0 : (1.0 - std::cos(t)) / (t * t);
+  const double b = t < 1e-3 ? 1.0 / 6.0 - t * t / 120.0 : (t - std::sin(t)) / (t * t * t);
+  return Eigen::Matrix3d::Identity() + a * K + b * K * K;
+}
+
+Eigen::Matrix3d rotation_matrix(const Eigen::Vector3d& w) {
+  const double t = w.norm();
+  const Eigen::Matrix3d K = cross_matrix(w);
+  const double s = t < 1e-4 ? 1.0 - t * t / 6.0 : std::sin(t) / t;
+  const double c = t < 1e-4 ? 0.5 - t * t / 24.0 : (1.0 - std::cos(t)) / (t * t);
+  return Eigen::Matrix3d::Identity() + s * K + c * K * K;
+}
+
+ModalWarpingOperators modal_warping_operators(const MlsShapeFunctions& mls, const Eigen::MatrixXd& modes,
+                                              const Eigen::MatrixXd& points) {
+  if (modes.rows() != 3 * mls.num_nodes() || points.cols() != 3)
+    throw std::invalid_argument("modal_warping_operators: modes must be 3n x r and points m x 3");
+  const Eigen::Index m = points.rows(), r = modes.cols();
+  ModalWarpingOperators out;
+  out.displacement = Eigen::MatrixXd::Zero(3 * m, r);
+  out.rotation = Eigen::MatrixXd::Zero(3 * m, r);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const MlsValues v = mls.evaluate(points.row(i).transpose());
+    for (std::size_t k = 0; k < v.nodes.size(); ++k) {
+      const auto Phi = modes.middleRows(3 * static_cast<Eigen::Index>(v.nodes[k]), 3);
+      const Eigen::Vector3d g = v.gradients.row(static_cast<Eigen::Index>(k)).transpose();
+      out.displacement.middleRows(3 * i, 3) += v.values[static_cast<Eigen::Index>(k)] * Phi;
+      // curl u = sum_b grad phi_b x u_b = [grad phi_b]_x u_b.
+      out.rotation.middleRows(3 * i, 3) += 0.5 * cross_matrix(g) * Phi;
+    }
+  }
+  return out;
+}
+
+double ModalRayleighDamping::ratio(double eigenvalue) const {
+  const double omega = std::sqrt(eigenvalue);
+  return alpha / (2.0 * omega) + beta * omega / 2.0;
+}
+
+WarpedModalSimulator::WarpedModalSimulator(ModalWarpingOperators operators, Eigen::VectorXd eigenvalues,
+                                           ModalRayleighDamping damping, double time_step)
+    : operators_(std::move(operators)), lambda_(std::move(eigenvalues)) {
+  const Eigen::Index r = lambda_.size();
+  if (operators_.displacement.cols() != r || operators_.rotation.cols() != r)
+    throw std::invalid_argument("WarpedModalSimulator: one eigenvalue per mode");
+  if (!(time_step > 0.0)) throw std::invalid_argument("WarpedModalSimulator: the time step must be positive");
+  if (!(damping.alpha >= 0.0) || !(damping.beta >= 0.0))
+    throw std::invalid_argument("WarpedModalSimulator: Rayleigh coefficients must be non-negative");
+  q_ = Eigen::VectorXd::Zero(r);
+  v_ = Eigen::VectorXd::Zero(r);
+  for (Eigen::Index j = 0; j < r; ++j) {
+    const double lambda = lambda_[j];
+    if (!(lambda > 0.0)) throw std::invalid_argument("WarpedModalSimulator: mode " + std::to_string(j) + " has eigenvalue <= 0");
+    Eigen::Matrix2d A;
+    A << 0.0, 1.0, -lambda, -(damping.alpha + damping.beta * lambda);
+    const Eigen::Matrix2d T = exponential(A * time_step);
+    transition_.push_back(T);
+    // Constant force f: the particular solution q = f / lambda, so the response to a unit force
+    // is (I - T) [1 / lambda, 0].
+    forcing_.push_back((Eigen::Matrix2d::Identity() - T) * Eigen::Vector2d(1.0 / lambda, 0.0));
+  }
+}
+
+void WarpedModalSimulator::set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+  if (q.size() != q_.size() || v.size() != v_.size()) throw std::invalid_argument("WarpedModalSimulator::set_state: sizes");
+  q_ = q;
+  v_ = v;
+}
+
+Eigen::VectorXd WarpedModalSimulator::modal_force(int point, const Eigen::Vector3d& force) const {
+  const auto L = operators_.displacement.middleRows(3 * static_cast<Eigen::Index>(point), 3);
+  const auto C = operators_.rotation.middleRows(3 * static_cast<Eigen::Index>(point), 3);
+  const Eigen::Vector3d w = C * q_;
+  return L.transpose() * (rotation_matrix(w).transpose() * force);
+}
+
+void WarpedModalSimulator::step(const Eigen::VectorXd& modal_force) {
+  for (Eigen::Index j = 0; j < q_.size(); ++j) {
+    const Eigen::Vector2d s = transition_[static_cast<std::size_t>(j)] * Eigen::Vector2d(q_[j], v_[j]) +
+                              forcing_[static_cast<std::size_t>(j)] * modal_force[j];
+    q_[j] = s[0];
+    v_[j] = s[1];
+  }
+}
+
+void WarpedModalSimulator::displacements(Eigen::VectorXd& u, bool warp) const {
+  u.noalias() = operators_.displacement * q_;
+  if (!warp) return;
+  const Eigen::VectorXd w = operators_.rotation * q_;
+  for (Eigen::Index i = 0; i < u.size() / 3; ++i)
+    u.segment<3>(3 * i) = warping_matrix(w.segment<3>(3 * i)) * u.segment<3>(3 * i).eval();
+}
+
+}  // namespace tailor

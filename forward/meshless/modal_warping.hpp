@@ -1,0 +1,75 @@
+#pragma once
+// Modal warping (Choi & Ko, "Modal warping: real-time simulation of large rotational
+// deformation and manipulation", IEEE TVCG 2005) on meshless modes, with Rayleigh-damped modal
+// dynamics (docs/meshless.md, "Modal warping").
+//
+// Linear modal displacement at an evaluation point X_i (a node, a surface sample):
+//   u_L(X_i) = L_i q,  L_i = sum_b phi_b(X_i) Phi_b   (3 x r; Phi_b: node b's rows of the modes),
+// its rotation vector (half the curl, from the MLS gradients):
+//   w_i = 1/2 curl u_L(X_i) = C_i q,  C_i = 1/2 sum_b [grad phi_b(X_i)]_x Phi_b,
+// and the warped displacement (Choi & Ko eq. 11, the rotation accumulated as the linear
+// displacement grows from 0 to u_L):
+//   u(X_i) = W(w_i) u_L(X_i),  W(w) = int_0^1 exp(s [w]_x) ds
+//          = I + (1 - cos t) / t^2 [w]_x + (t - sin t) / t^3 [w]_x^2,   t = |w|.
+// A linearized rigid rotation u_L = theta e x X is warped into the exact rotation
+// (exp(theta [e]_x) - I) X, for any angle.
+//
+// Dynamics per mass-normalized mode j (Phi^T M Phi = I, eigenvalue lambda_j = omega_j^2):
+//   q_j'' + (alpha + beta lambda_j) q_j' + lambda_j q_j = f_j,
+// Rayleigh damping C = alpha M + beta K, damping ratio zeta_j = alpha / (2 omega_j) + beta omega_j / 2.
+// The step is exact for a force constant over the step (the 2 x 2 matrix exponential per mode),
+// so it is stable and undamped numerically at any step. A force f applied at X_i is rotated into
+// the local frame, f_q = L_i^T R_i^T f with R_i = exp([w_i]_x) (Choi & Ko section 4.2).
+#include <Eigen/Core>
+#include <vector>
+
+#include "forward/core/types.hpp"
+#include "forward/meshless/mls_shape_functions.hpp"
+
+namespace tailor {
+
+// W(w) = int_0^1 exp(s [w]_x) ds and the rotation exp([w]_x) (Rodrigues), accurate near w = 0.
+Eigen::Matrix3d warping_matrix(const Eigen::Vector3d& w);
+Eigen::Matrix3d rotation_matrix(const Eigen::Vector3d& w);
+
+// The per-point operators of `modes` (3n x r, interleaved node coefficients) at points (m x 3).
+struct ModalWarpingOperators {
+  Eigen::MatrixXd displacement;  // 3m x r: rows 3i..3i+2 are L_i
+  Eigen::MatrixXd rotation;      // 3m x r: rows 3i..3i+2 are C_i
+  int num_points() const { return static_cast<int>(displacement.rows() / 3); }
+};
+ModalWarpingOperators modal_warping_operators(const MlsShapeFunctions& mls, const Eigen::MatrixXd& modes,
+                                              const Eigen::MatrixXd& points);
+
+struct ModalRayleighDamping {
+  double alpha = 0.0;  // mass-proportional [1/s]
+  double beta = 0.0;   // stiffness-proportional [s]
+  double ratio(double eigenvalue) const;  // zeta for lambda = omega^2
+};
+
+class WarpedModalSimulator {
+ public:
+  // eigenvalues: lambda_j > 0 of the mass-normalized modes behind `operators`; time_step > 0.
+  WarpedModalSimulator(ModalWarpingOperators operators, Eigen::VectorXd eigenvalues, ModalRayleighDamping damping,
+                       double time_step);
+
+  int num_modes() const { return static_cast<int>(q_.size()); }
+  const Eigen::VectorXd& amplitudes() const { return q_; }
+  const Eigen::VectorXd& velocities() const { return v_; }
+  void set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+
+  // Modal force of a force f at point i in the current configuration: L_i^T R_i^T f.
+  Eigen::VectorXd modal_force(int point, const Eigen::Vector3d& force) const;
+  // One step with the modal force held constant over it.
+  void step(const Eigen::VectorXd& modal_force);
+  // Warped (or, with warp = false, linear) displacements at all points (3m), into `u`.
+  void displacements(Eigen::VectorXd& u, bool warp = true) const;
+
+ private:
+  ModalWarpingOperators operators_;
+  Eigen::VectorXd lambda_, q_, v_;
+  std::vector<Eigen::Matrix2d> transition_;  // per mode: exp(A h)
+  std::vector<Eigen::Vector2d> forcing_;     // per mode: response to a unit constant force
+};
+
+}  // namespace tailor

@@ -1,0 +1,263 @@
+#include "problems/meshless/meshless_commands.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "adjoint/taylor_test.hpp"
+#include "forward/reduction/modal_analysis.hpp"
+#include "forward/solve/newton.hpp"
+#include "problems/json_text.hpp"
+#include "problems/meshless/meshless_scene.hpp"
+#include "problems/meshless/meshless_vtu.hpp"
+#include "problems/optimizer_report.hpp"
+#include "problems/report_file.hpp"
+#include "problems/report_header.hpp"
+#include "problems/scene_error.hpp"
+#include "problems/scene_node.hpp"
+#include "problems/taylor_report.hpp"
+
+namespace tailor {
+
+namespace {
+
+std::unique_ptr<MeshlessScene> load_meshless(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+  MeshlessSceneSpec spec = parse_meshless_scene(root, options.directory);
+  spec.name = options.name;
+  auto scene = build_meshless_scene(spec);
+  if (log)
+    *log << "meshless " << spec.name << ": " << scene->num_nodes() << " nodes, " << scene->quadrature->num_points()
+         << " quadrature points (volume " << scene->sampling.volume() << "), " << scene->samples.rows()
+         << " output samples; largest moment-matrix condition " << scene->quadrature->max_condition << "\n";
+  return scene;
+}
+
+// The covering and conditioning of the quadrature (docs/meshless.md, "Nodes and quadrature").
+nlohmann::ordered_json meshless_discretization_json(const MeshlessScene& S) {
+  int fewest = S.num_nodes();
+  for (int q = 0; q < S.quadrature->num_points(); ++q) fewest = std::min(fewest, S.quadrature->size(q));
+  nlohmann::ordered_json j = {{"nodes", S.num_nodes()},
+                              {"quadrature_points", S.quadrature->num_points()},
+                              {"volume", S.sampling.volume()},
+                              {"cells_inside", S.sampling.cells_inside},
+                              {"cells_cut", S.sampling.cells_cut},
+                              {"leaves_cut", S.sampling.leaves_cut},
+                              {"fewest_covering_nodes", fewest},
+                              {"basis_size", S.mls->basis_size()},
+                              {"largest_condition", S.quadrature->max_condition},
+                              {"seconds", {{"implicit_surface", S.seconds_implicit},
+                                           {"octree", S.seconds_sampling},
+                                           {"shape_functions_and_quadrature", S.seconds_quadrature}}}};
+  if (S.surface) {
+    const ImplicitSurfaceReport& r = S.surface->report();
+    j["implicit_surface"] = {{"samples", r.samples},
+                             {"neighbour_distance", r.neighbour_distance},
+                             {"support_radius", r.support_radius},
+                             {"fewest_neighbours", r.min_neighbours},
+                             {"largest_boundary_gap_degrees", r.max_boundary_gap * 180.0 / M_PI}};
+  }
+  return j;
+}
+
+// The MLS field's displacement at the samples (3 per sample).
+Eigen::VectorXd meshless_sample_displacements(const MeshlessScene& S, const Vector& x) {
+  const Vector u = x - S.rest();
+  Eigen::VectorXd out(3 * S.samples.rows());
+  for (Eigen::Index i = 0; i < S.samples.rows(); ++i) out.segment<3>(3 * i) = S.mls->interpolate(u, S.samples.row(i).transpose());
+  return out;
+}
+
+void write_meshless_fields(const MeshlessScene& S, const Vector& x, const Vector& p, const std::filesystem::path& dir) {
+  const int n = S.num_nodes();
+  Eigen::VectorXd region(n);
+  for (int a = 0; a < n; ++a) region[a] = S.region_of_node[static_cast<std::size_t>(a)];
+  write_points_vtu((dir / "nodes.vtu").string(), S.sampling.nodes,
+                   {{"coefficient_displacement", 3, x - S.rest()}, {"youngs_modulus", 1, p.head(n)}, {"region", 1, region}});
+  write_points_vtu((dir / "samples.vtu").string(), S.samples, {{"displacement", 3, meshless_sample_displacements(S, x)}});
+}
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+bool simulate_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+  const auto scene = load_meshless(root, options, log);
+  const MeshlessScene& S = *scene;
+  NewtonOptions newton;
+  newton.max_iterations = S.spec.max_newton_iterations;
+  NewtonSolver solver(*S.model, newton);
+  Vector y = S.model->elimination().restrict_state(S.rest());
+  const NewtonResult r = solver.solve(S.p, y);
+  const Vector x = S.model->elimination().expand(y);
+  const std::filesystem::path dir(options.out_dir);
+  std::filesystem::create_directories(dir);
+  write_meshless_fields(S, x, S.p, dir);
+  const Eigen::VectorXd u = meshless_sample_displacements(S, x);
+  double largest = 0.0;
+  for (Eigen::Index i = 0; i < u.size() / 3; ++i) largest = std::max(largest, u.segment<3>(3 * i).norm());
+  nlohmann::ordered_json report;
+  report["scene"] = S.spec.name;
+  report["discretization"] = meshless_discretization_json(S);
+  report["converged"] = r.converged();
+  report["newton"] = {{"status", r.message}, {"iterations", r.iterations}, {"final_residual", r.final_residual},
+                      {"seconds", r.total_seconds}};
+  report["max_sample_displacement"] = largest;
+  const std::string path = write_report(options.out_dir, report);
+  if (log)
+    *log << (r.converged() ? "converged" : "NOT converged") << " after " << r.iterations << " Newton iterations; largest sample displacement "
+         << largest << "\nwrote " << path << ", nodes.vtu and samples.vtu\n";
+  return r.converged();
+}
+
+bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+  const auto scene = load_meshless(root, options, log);
+  const MeshlessScene& S = *scene;
+  const MeshlessSceneSpec& spec = S.spec;
+  ModalAnalysisOptions modal;
+  modal.count = options.count > 0 ? options.count : spec.mode_count;
+  const auto t0 = std::chrono::steady_clock::now();
+  const SparseMatrix mass = meshless_mass_matrix(*S.quadrature, spec.density);
+  ModalAnalysis m;
+  try {
+    m = modal_analysis(*S.model, 3, S.rest(), S.p, mass, modal);
+  } catch (const std::exception& e) {
+    throw SceneError(spec.source + ": modal analysis failed: " + e.what());
+  }
+  const double modal_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::filesystem::path dir(options.out_dir);
+  std::filesystem::create_directories(dir);
+  // Evaluation points: the samples, then the point of modes.force.
+  Eigen::MatrixXd points = S.samples;
+  if (spec.modal_force) {
+    points.conservativeResize(points.rows() + 1, 3);
+    points.row(points.rows() - 1) = spec.modal_force->at.transpose();
+  }
+  ModalWarpingOperators ops;
+  try {
+    ops = modal_warping_operators(*S.mls, m.modes, points);
+  } catch (const MeshlessPointError& e) {
+    throw SceneError(spec.source + ": modes.force.at: " + e.what());
+  }
+  std::vector<PointArray> arrays;
+  for (Eigen::Index j = 0; j < m.modes.cols(); ++j)
+    arrays.push_back({"mode_" + std::to_string(j + 1), 3, ops.displacement.col(j).head(3 * S.samples.rows())});
+  write_points_vtu((dir / "modes.vtu").string(), S.samples, arrays);
+
+  nlohmann::ordered_json report;
+  report["scene"] = spec.name;
+  report["discretization"] = meshless_discretization_json(S);
+  report["modal_analysis_seconds"] = modal_seconds;
+  report["frequencies"] = to_json(m.frequencies);
+  Vector ratios(m.eigenvalues.size());
+  for (Eigen::Index j = 0; j < ratios.size(); ++j) ratios[j] = spec.damping.ratio(m.eigenvalues[j]);
+  report["rayleigh"] = {{"alpha", spec.damping.alpha}, {"beta", spec.damping.beta}};
+  report["damping_ratios"] = to_json(ratios);
+  report["rigid_modes"] = m.rigid_modes.cols();
+  if (log) *log << "frequencies [Hz]: " << m.frequencies.transpose() << "\n";
+  if (spec.steps > 0) {
+    if (!spec.modal_force) throw SceneError(spec.source + ": modes.steps: needs modes.force");
+    WarpedModalSimulator sim(ops, m.eigenvalues, spec.damping, spec.time_step);
+    const int at = static_cast<int>(points.rows()) - 1, samples = static_cast<int>(S.samples.rows());
+    std::vector<std::pair<double, std::string>> frames;
+    std::vector<double> step_seconds;
+    std::filesystem::create_directories(dir / "frames");
+    Eigen::VectorXd u, linear;
+    double largest_rotation = 0.0;
+    for (int k = 1; k <= spec.steps; ++k) {
+      const auto s0 = std::chrono::steady_clock::now();
+      const Eigen::VectorXd f = k <= spec.steps / 2 ? sim.modal_force(at, spec.modal_force->force) : Eigen::VectorXd::Zero(sim.num_modes());
+      sim.step(f);
+      sim.displacements(u, true);
+      step_seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count());
+      const Eigen::VectorXd w = ops.rotation * sim.amplitudes();
+      for (Eigen::Index i = 0; i < w.size() / 3; ++i) largest_rotation = std::max(largest_rotation, w.segment<3>(3 * i).norm());
+      if (k % spec.frame_every == 0 || k == spec.steps) {
+        sim.displacements(linear, false);
+        const std::string name = "frames/frame_" + std::to_string(k) + ".vtu";
+        write_points_vtu((dir / name).string(), S.samples,
+                         {{"displacement", 3, u.head(3 * samples)}, {"linear_displacement", 3, linear.head(3 * samples)}});
+        frames.emplace_back(k * spec.time_step, name);
+      }
+    }
+    write_pvd((dir / "result.pvd").string(), frames);
+    report["warped_dynamics"] = {{"steps", spec.steps},
+                                 {"time_step", spec.time_step},
+                                 {"frames", frames.size()},
+                                 {"median_seconds_per_step", median_of(step_seconds)},
+                                 {"largest_rotation_angle", largest_rotation}};
+    if (log)
+      *log << spec.steps << " warped modal steps (" << m.modes.cols() << " modes, " << samples << " samples): median "
+           << median_of(step_seconds) * 1e3 << " ms per step, largest rotation " << largest_rotation << " rad; wrote result.pvd\n";
+  }
+  const std::string path = write_report(options.out_dir, report);
+  if (log) *log << "wrote " << path << " and modes.vtu\n";
+  return true;
+}
+
+bool gradcheck_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+  const auto scene = load_meshless(root, options, log);
+  if (!scene->spec.inverse) throw SceneError(scene->spec.source + ": gradcheck needs an \"inverse\" section");
+  const auto inverse = build_meshless_inverse(*scene);
+  TaylorTestOptions taylor;
+  taylor.seed = options.seed.value_or(scene->spec.inverse->seed);
+  const TaylorTestResult gradient = taylor_test(*inverse->functional, inverse->z0, taylor);
+  if (log) *log << "gradient of the observation misfit in " << inverse->z0.size() << " design variables\n" << gradient.table();
+  std::optional<TaylorTestResult> hessian;
+  if (options.hessian) {
+    hessian = taylor_test_hessian(*inverse->functional, inverse->z0, taylor);
+    if (log) *log << "Hessian-vector products:\n" << hessian->table();
+  }
+  std::filesystem::create_directories(options.out_dir);
+  nlohmann::ordered_json document = taylor_json(gradient);
+  add_report_header(document);
+  document["scene"] = scene->spec.name;
+  document["design_size"] = inverse->z0.size();
+  document["seed"] = taylor.seed;
+  if (hessian) document["hessian"] = taylor_json(*hessian);
+  write_report_file((std::filesystem::path(options.out_dir) / "gradcheck.json").string(), document);
+  const bool passed = gradient.passed() && (!hessian || hessian->passed());
+  if (log) *log << (passed ? "passed" : "FAILED") << ": " << gradient.message << "\n";
+  return passed;
+}
+
+bool run_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+  const auto scene = load_meshless(root, options, log);
+  const MeshlessScene& S = *scene;
+  if (!S.spec.inverse) throw SceneError(S.spec.source + ": run needs an \"inverse\" section");
+  const auto inverse = build_meshless_inverse(S);
+  StaticFunctional& f = *inverse->functional;
+  OptimizerOptions optimizer = S.spec.inverse->optimizer;
+  optimizer.progress = options.progress;
+  const double initial = f.value(inverse->z0);
+  const OptimizerResult result = minimize(f, inverse->z0, Bounds{}, {}, optimizer);
+  const double final_value = f.value(result.z);
+  const std::filesystem::path dir(options.out_dir);
+  std::filesystem::create_directories(dir);
+  write_meshless_fields(S, f.state(), f.parameters(), dir);
+  nlohmann::ordered_json report;
+  report["status"] = to_string(result.status);
+  report["message"] = result.message;
+  report["scene"] = S.spec.name;
+  report["discretization"] = meshless_discretization_json(S);
+  report["backend"] = to_string(optimizer.backend);
+  report["objective_initial"] = initial;
+  report["objective"] = final_value;
+  report["iterations"] = result.history.size();
+  report["seconds"] = result.seconds;
+  report["z"] = to_json(result.z);
+  report["labels"] = inverse->labels;
+  report["history"] = optimizer_history_json(result);
+  const std::string path = write_report(options.out_dir, report);
+  if (log)
+    *log << "status " << to_string(result.status) << " after " << result.history.size() << " iterations: J " << initial << " -> "
+         << final_value << "\nwrote " << path << ", nodes.vtu and samples.vtu\n";
+  return result.converged() || result.status == OptimizerStatus::max_iterations;
+}
+
+}  // namespace tailor

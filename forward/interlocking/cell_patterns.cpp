@@ -42,6 +42,7 @@ RigidCellSpec threefold_cell(const tori::TorusShape& node, const tori::TorusShap
         upright_ring(link, Eigen::Vector3d(spacing * std::cos(angle), spacing * std::sin(angle), 0.0), angle));
   }
   c.lattice << 2.0 * spacing, spacing, 0.0, std::sqrt(3.0) * spacing;
+  c.image_rings = 2;  // the links reach cells two shifts away along the short diagonal
   return c;
 }
 

@@ -39,6 +39,8 @@ void core_distance_bounds(const Eigen::Vector3d& Ta, const Eigen::Vector3d& wa, 
 
 ClearanceReport check_clearance(const PeriodicRigidCell& cell, const Vector& x, int samples) {
   ClearanceReport report;
+  double range = std::numeric_limits<double>::infinity();
+  for (const CellElement& e : cell.spec().elements) range = std::min(range, 0.1 * e.shape.major_radius);
   report.min_lower = std::numeric_limits<double>::infinity();
   const int nb = cell.num_bodies();
   for (int a = 0; a < nb; ++a)
@@ -49,9 +51,11 @@ ClearanceReport check_clearance(const PeriodicRigidCell& cell, const Vector& x, 
       const Eigen::Vector3d Ta = x.segment<3>(6 * a), Tb = x.segment<3>(6 * b);
       const double ra1 = sa.minor_radius_1 > 0.0 ? sa.minor_radius_1 : sa.minor_radius;
       const double rb1 = sb.minor_radius_1 > 0.0 ? sb.minor_radius_1 : sb.minor_radius;
-      if ((Ta - Tb).norm() >= sa.major_radius + std::max(sa.minor_radius, ra1) + sb.major_radius +
-                                  std::max(sb.minor_radius, rb1))
-        continue;
+      // Bounding spheres more than `range` apart certify the pair by themselves (their gap is a
+      // lower bound); closer pairs are sampled.
+      const double sphere_gap = (Ta - Tb).norm() - (sa.major_radius + std::max(sa.minor_radius, ra1) +
+                                                    sb.major_radius + std::max(sb.minor_radius, rb1));
+      if (sphere_gap >= range) continue;
       if (ra1 != sa.minor_radius || rb1 != sb.minor_radius) {
         report.elliptic_skipped = true;
         continue;

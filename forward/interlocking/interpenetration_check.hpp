@@ -34,7 +34,8 @@ void core_distance_bounds(const Eigen::Vector3d& Ta, const Eigen::Vector3d& wa, 
                           const Eigen::Vector3d& wb, double Rb, int samples, double& lower, double& upper);
 
 // Every pair of the cell's bodies that the contact term considers (masters with masters and
-// images) at full state x.
+// images) at full state x whose bounding spheres come within 0.1 x the smallest R (the others
+// are certified apart by the spheres' gap).
 ClearanceReport check_clearance(const PeriodicRigidCell& cell, const Vector& x, int samples = 1 << 15);
 
 }  // namespace tailor::interlocking

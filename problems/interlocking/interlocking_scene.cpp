@@ -119,7 +119,7 @@ InterlockingDesignSpec parse_design(const SceneNode& n, const interlocking::Rigi
   if (d.targets.empty()) n.at("targets").fail("needs at least one target");
   if (auto m = n.find("margin")) d.margin = m->non_negative();
   if (auto r = n.find("reach")) d.reach = r->positive();
-  d.optimizer.backend = OptimizerBackend::ipopt;
+  d.optimizer.backend = OptimizerBackend::nlopt_mma;
   d.optimizer.max_iterations = 50;
   d.optimizer.gradient_tolerance = 1e-10;
   d.optimizer.checkpoint_every = 0;

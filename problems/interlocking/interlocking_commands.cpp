@@ -24,7 +24,6 @@ using nlohmann::ordered_json;
 
 // Every body of the cell (masters and images) as one surface at full state x.
 void write_cell_vtu(const std::string& path, const PeriodicRigidCell& cell, const Vector& x) {
-  std::vector<Eigen::MatrixX3d> parts;
   Eigen::MatrixX3d vertices;
   Eigen::MatrixX3i faces;
   int nv = 0, nf = 0;

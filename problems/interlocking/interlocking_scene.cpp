@@ -149,7 +149,7 @@ std::vector<interlocking::LoadPath> InterlockingBoundarySpec::paths() const {
 }
 
 InterlockingScene parse_interlocking_scene(const SceneNode& root) {
-  root.expect_keys({"name", "interlocking"});
+  root.expect_keys({"name", "description", "interlocking"});
   const SceneNode n = root.at("interlocking");
   n.expect_keys({"cell", "boundary", "design"});
   InterlockingScene scene;

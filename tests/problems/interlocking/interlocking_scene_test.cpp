@@ -41,10 +41,7 @@ class LimitFunction final : public ReducedFunctional {
     z << master_radii(base_), base_.lattice.reshaped();
     return z;
   }
-  double value(const Vector& z) override {
-    Vector g;
-    return evaluate(z, nullptr);
-  }
+  double value(const Vector& z) override { return evaluate(z, nullptr); }
   double value_and_gradient(const Vector& z, Vector& gradient) override { return evaluate(z, &gradient); }
 
  private:

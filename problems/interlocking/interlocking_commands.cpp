@@ -1,5 +1,7 @@
 // The verbs of interlocking scenes: boundary sweep, design gradcheck, design run (see
 // interlocking_scene.hpp).
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -99,6 +101,18 @@ void write_boundary_plot(const std::string& path, const std::string& title, cons
   }
   plot.series.push_back(locked);
   if (!free.x.empty()) plot.series.push_back(free);
+  // A reference circle 5% outside the farthest point: both axes span the same range, and no
+  // point sits on the frame.
+  double reach = 0.0;
+  for (const LineSeries* s : {&locked, &free})
+    for (std::size_t i = 0; i < s->x.size(); ++i) reach = std::max(reach, std::hypot(s->x[i], s->y[i]));
+  LineSeries circle{"radius " + std::to_string(1.05 * reach).substr(0, 6), {190, 190, 190}, {}, {}};
+  for (int k = 0; k <= 96; ++k) {
+    circle.x.push_back(1.05 * reach * std::cos(2.0 * M_PI * k / 96));
+    circle.y.push_back(1.05 * reach * std::sin(2.0 * M_PI * k / 96));
+  }
+  plot.series.push_back(circle);
+  plot.width = plot.height = 640;
   write_line_plot_png(path, plot);
 }
 

@@ -149,7 +149,24 @@ LimitPoint find_limit(const PeriodicRigidCell& cell, const LoadPath& path, const
   LimitPoint out;
   out.angle = path.angle;
   int solves = 0;
-  RampResult first = ramp(cell, path, y_rest, 0.0, options.max_strain, options, solves);
+  // A mixed state's fixed offset is reached first, by the same ramp along F = I + t F_offset,
+  // t in [0, 1] (it must not lock on the way).
+  Vector y_start = y_rest;
+  if (!path.offset.isZero()) {
+    LoadPath to_offset;
+    to_offset.direction = path.offset;
+    const RampResult pre = ramp(cell, to_offset, y_rest, 0.0, 1.0, options, solves);
+    if (pre.locked || pre.stalled) {
+      out.status = "the path's fixed offset is not admissible (" +
+                   (pre.locked ? "locks at t = " + std::to_string(pre.s) : pre.message) + ")";
+      out.y = pre.y;
+      out.deformation = to_offset.deformation(pre.s);
+      out.solves = solves;
+      return out;
+    }
+    y_start = pre.y;
+  }
+  RampResult first = ramp(cell, path, y_start, 0.0, options.max_strain, options, solves);
   if (!first.locked) {
     out.strain = first.s;
     out.y = first.y;

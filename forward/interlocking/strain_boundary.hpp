@@ -14,7 +14,8 @@
 // equilibrium placements do not). The limit converges to the geometric one as d_hat -> 0; a
 // chain's is 2(R - r) - lock_fraction d_hat between centres.
 //
-// Ramp: steps of initial_step in s; each step predicts the masters by the affine map of the
+// A mixed state's F_offset is reached first by the same ramp along I + t F_offset, t in [0, 1]
+// (a path whose offset locks is reported as inadmissible). Ramp: steps of initial_step in s; each step predicts the masters by the affine map of the
 // macro step (about the anchor), and the CCD of the contact term along the straight path from
 // the last equilibrium to the prediction caps the step (so no state is ever intersecting); a
 // Newton failure halves the step. Bisection on the criterion then brackets the limit to

@@ -2,11 +2,11 @@
 // limit_sensitivity.hpp).
 #include "forward/interlocking/limit_sensitivity.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/tori/torus_distance.hpp"
 
 namespace tailor::interlocking {
@@ -43,19 +43,19 @@ CriticalDistance critical_distance(const PeriodicRigidCell& cell, const Vector& 
   return out;
 }
 
-// The pseudo-inverse of a symmetric matrix (eigenvalues below 1e-10 of the largest dropped).
+// The pseudo-inverse of a symmetric matrix (eigenvalues below 1e-10 of the largest dropped), by
+// the eigen-decomposition compiled once in forward/core (no solver instantiated here).
 struct PseudoInverse {
-  explicit PseudoInverse(const Matrix& H) : eig(H) {
-    const Vector& l = eig.eigenvalues();
-    const double cut = 1e-10 * l.cwiseAbs().maxCoeff();
-    inverse = Vector::Zero(l.size());
-    for (int i = 0; i < l.size(); ++i)
-      if (std::abs(l[i]) > cut) inverse[i] = 1.0 / l[i];
+  explicit PseudoInverse(const Matrix& H) {
+    Vector values;
+    symmetric_eigen<Eigen::Dynamic>(H, values, vectors);
+    const double cut = 1e-10 * values.cwiseAbs().maxCoeff();
+    inverse = Vector::Zero(values.size());
+    for (int i = 0; i < values.size(); ++i)
+      if (std::abs(values[i]) > cut) inverse[i] = 1.0 / values[i];
   }
-  Vector solve(const Vector& b) const {
-    return eig.eigenvectors() * (inverse.asDiagonal() * (eig.eigenvectors().transpose() * b));
-  }
-  Eigen::SelfAdjointEigenSolver<Matrix> eig;
+  Vector solve(const Vector& b) const { return vectors * (inverse.asDiagonal() * (vectors.transpose() * b)); }
+  Matrix vectors;
   Vector inverse;
 };
 

@@ -20,6 +20,7 @@
 #include "problems/fem/modes_command.hpp"
 #include "problems/fem/reduced_design.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
+#include "problems/interlocking/interlocking_scene.hpp"
 #include "problems/material_fit/material_fit_scene.hpp"
 #include "problems/meshless/meshless_commands.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
@@ -184,6 +185,32 @@ int gradcheck_rigid(const SceneFile& file, const VerbArguments& args, std::ostre
   return exit_code(
       gradcheck_rigid_scene(load_rigid_scene(file), output_folder(file, args), args.seed.value_or(1), &out)
           .passed());
+}
+
+// ---- periodic interlocking cells (docs/interlocking.md)
+
+InterlockingScene load_interlocking_scene(const SceneFile& file) {
+  InterlockingScene scene = parse_interlocking_scene(file.node());
+  scene.name = file.name();
+  return scene;
+}
+
+int simulate_interlocking(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const InterlockingScene scene = load_interlocking_scene(file);
+  return exit_code(run_interlocking_boundary(scene, scene.cell, output_folder(file, args), &out));
+}
+
+int gradcheck_interlocking(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_hessian_flag(file, args, "interlocking limit designs");
+  const InterlockingScene scene = load_interlocking_scene(file);
+  if (!scene.design) throw SceneError(file.source + ": interlocking: gradcheck needs a \"design\" section");
+  return exit_code(gradcheck_interlocking_design(scene, output_folder(file, args), args.seed.value_or(1), &out));
+}
+
+int run_interlocking(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  const InterlockingScene scene = load_interlocking_scene(file);
+  if (!scene.design) throw SceneError(file.source + ": interlocking: run needs a \"design\" section");
+  return exit_code(run_interlocking_design(scene, output_folder(file, args), &out, args.quiet ? nullptr : &out));
 }
 
 TorusSceneSpec load_torus_scene(const SceneFile& file) {
@@ -384,6 +411,12 @@ std::vector<SceneKind> builtin_scene_kinds() {
          "a hanging chain of tori (implicit or mesh contact), static or implicit Euler steps"},
         {"gradcheck", gradcheck_tori,
          "static, implicit contact: Taylor test of the link centres' gradient in the masses and radii"}}},
+      {"interlocking",
+       "an \"interlocking\" section (docs/interlocking.md)",
+       [](const nlohmann::json& d) { return has_section(d, "interlocking"); },
+       {{"simulate", simulate_interlocking, "the strain-space boundary of a periodic interlocking cell"},
+        {"gradcheck", gradcheck_interlocking, "Taylor test of the limit design functional"},
+        {"run", run_interlocking, "design element radii for target deformation limits, then re-sweep"}}},
       {"rods",
        "a \"rods\" section (docs/rods.md)",
        [](const nlohmann::json& d) { return has_section(d, "rods"); },

@@ -1,0 +1,160 @@
+// Strain-space boundaries of periodic interlocking cells (forward/interlocking) and the design of
+// their limits. Cells: 1 element (a flat ring lattice, spacing 2.5: it locks where neighbours
+// touch and is free in stretch), 4 elements (the threefold mail: a node ring and three links) and
+// 16 elements (its 2 x 2 supercell). For each: the boundary in --directions uniaxial directions
+// (time per sample: median; time per boundary), with the limits, locked and refined counts and
+// the smallest certified clearance. Then the square ring net's limit design (x links' R and r
+// against 1.5x the stretch along x): seconds per design iteration (MMA) and per functional
+// evaluation with its gradient. Writes JSON (--out, default bench_interlocking.json) and prints
+// tables.
+//
+// usage: interlocking_bench [--directions 32] [--cells 1,4,16] [--out FILE]
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <limits>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "bench_cli.hpp"
+#include "forward/core/statistics.hpp"
+#include "forward/interlocking/cell_patterns.hpp"
+#include "forward/interlocking/interpenetration_check.hpp"
+#include "problems/interlocking/limit_design.hpp"
+
+namespace tailor::bench::interlocking_bench {
+
+using namespace tailor::interlocking;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+const tori::TorusShape kRing{1.0, 0.2};
+
+RigidCellSpec cell_of(int elements) {
+  if (elements == 1) {
+    RigidCellSpec c;
+    c.elements = {flat_ring(kRing, Eigen::Vector3d::Zero())};
+    c.lattice << 2.5, 0.0, 0.0, 2.5;
+    return c;
+  }
+  const RigidCellSpec mail = threefold_cell(kRing, kRing, 1.5);
+  return elements == 4 ? mail : supercell(mail, 2, 2);
+}
+
+Json boundary(int elements, int directions) {
+  const PeriodicRigidCell cell(cell_of(elements));
+  LimitOptions options;
+  options.max_strain = 0.5;
+  // Timed: the rest equilibrium and the limit searches (wall and process CPU time; the clearance
+  // check afterwards is not part of a boundary's cost).
+  const auto t0 = Clock::now();
+  const std::clock_t c0 = std::clock();
+  const Vector y_rest = rest_equilibrium(cell);
+  double total = seconds_since(t0), cpu_total = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  std::vector<double> seconds, cpu_seconds, limits;
+  int locked = 0, refined = 0, solves = 0;
+  double clearance = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < directions; ++k) {
+    const auto ts = Clock::now();
+    const std::clock_t cs = std::clock();
+    const LimitPoint p = find_limit(cell, uniaxial_path(M_PI * k / directions), y_rest, options);
+    seconds.push_back(seconds_since(ts));
+    cpu_seconds.push_back(static_cast<double>(std::clock() - cs) / CLOCKS_PER_SEC);
+    total += seconds.back();
+    cpu_total += cpu_seconds.back();
+    limits.push_back(p.strain);
+    locked += p.locked;
+    refined += p.refined;
+    solves += p.solves;
+    clearance = std::min(clearance, check_clearance(cell, cell.full_state(p.y, p.deformation), 1 << 14).min_lower);
+  }
+  const double med = median(seconds), cpu_med = median(cpu_seconds);
+  std::printf("%8d %6d %10d %12.4f %12.4f %12.2f %12.2f %8d %8d %10.1f %12.3e %10.5f %10.5f\n", elements,
+              cell.num_free(), directions, med, cpu_med, total, cpu_total, locked, refined, static_cast<double>(solves) / directions, clearance,
+              *std::min_element(limits.begin(), limits.end()), *std::max_element(limits.begin(), limits.end()));
+  return {{"elements", elements},
+          {"free_dofs", cell.num_free()},
+          {"bodies", cell.num_bodies()},
+          {"directions", directions},
+          {"median_seconds_per_sample", med},
+          {"seconds_per_boundary", total},
+          {"median_cpu_seconds_per_sample", cpu_med},
+          {"cpu_seconds_per_boundary", cpu_total},
+          {"locked", locked},
+          {"refined", refined},
+          {"solves_per_sample", static_cast<double>(solves) / directions},
+          {"min_certified_clearance", clearance},
+          {"limits", array(limits)}};
+}
+
+Json design() {
+  const RigidCellSpec start = square_ring_cell(kRing, kRing, kRing, 1.5);
+  const std::vector<DesignVariable> variables = {{1, true, 0.9, 1.2}, {1, false, 0.15, 0.25}};
+  const double base = (1.6 - 0.0005) / 1.5 - 1.0;
+  const std::vector<LimitTarget> targets = {{uniaxial_path(0.0), 1.5 * base}, {uniaxial_path(0.5 * M_PI), base}};
+  LimitDesignFunctional functional(start, variables, targets, {});
+  // One evaluation with its gradient from a warm start (the continuation of the last limits).
+  const Vector z0 = functional.initial_design();
+  Vector g;
+  functional.value_and_gradient(z0, g);
+  std::vector<double> eval;
+  for (int k = 0; k < 5; ++k) {
+    const auto t = Clock::now();
+    functional.value_and_gradient(z0 + Vector::Constant(z0.size(), 1e-4 * (k + 1)), g);
+    eval.push_back(seconds_since(t));
+  }
+  OptimizerOptions options;
+  options.backend = OptimizerBackend::nlopt_mma;
+  options.max_iterations = 40;
+  options.gradient_tolerance = 1e-10;
+  options.checkpoint_every = 0;
+  const OptimizerResult r =
+      minimize(functional, z0, functional.bounds(), functional.margin_constraints(0.02, 0.3), options);
+  const int iterations = static_cast<int>(r.history.size()) - 1;
+  const double per_iteration = r.seconds / std::max(1, iterations);
+  functional.value(r.z);
+  std::printf("\nlimit design (square net, x links' R and r, target eps_x = 1.5 eps_y = %.5f):\n", 1.5 * base);
+  std::printf("%-12s %10s %12s %14s %16s %12s %12s\n", "status", "iterations", "evaluations", "s/iteration",
+              "s/evaluation", "eps_x", "eps_y");
+  std::printf("%-12s %10d %12d %14.4f %16.4f %12.6f %12.6f\n", to_string(r.status).c_str(), iterations,
+              r.evaluations, per_iteration, median(eval), functional.limits()[0], functional.limits()[1]);
+  return {{"status", to_string(r.status)},
+          {"iterations", iterations},
+          {"evaluations", r.evaluations},
+          {"seconds", r.seconds},
+          {"seconds_per_iteration", per_iteration},
+          {"median_seconds_per_evaluation_with_gradient", median(eval)},
+          {"design", {r.z[0], r.z[1]}},
+          {"limits", array(functional.limits())},
+          {"targets", {targets[0].strain, targets[1].strain}}};
+}
+
+}  // namespace
+
+int run(int argc, char** argv) {
+  int directions = 32;
+  std::vector<int> cells = {1, 4, 16};
+  std::string out = "bench_interlocking.json";
+  bench::Cli cli("interlocking_bench", "Strain-space boundaries of interlocking cells and limit design.");
+  cli.integer("--directions", directions, "uniaxial directions per boundary", 1);
+  cli.integers("--cells", cells, "cells by element count (1, 4 or 16)", 1);
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
+  for (int c : cells)
+    if (c != 1 && c != 4 && c != 16) return cli.usage_error("--cells: 1, 4 or 16");
+  bench::Json json = bench::report("interlocking");
+  std::printf("%8s %6s %10s %12s %12s %12s %12s %8s %8s %10s %12s %10s %10s\n", "elements", "dofs", "directions",
+              "s/sample", "cpu s/sample", "s/boundary", "cpu s/bound.", "locked", "refined", "solves", "clearance", "min limit", "max limit");
+  bench::Json boundaries = bench::Json::array();
+  for (int c : cells) boundaries.push_back(boundary(c, directions));
+  json["boundaries"] = boundaries;
+  json["design"] = design();
+  return bench::write_report(out, json, "interlocking_bench") ? 0 : 1;
+}
+
+}  // namespace tailor::bench::interlocking_bench

@@ -1,0 +1,52 @@
+#pragma once
+// Static equilibrium of a periodic rigid cell at a macro deformation F (docs/interlocking.md):
+//   y*(F) = argmin_y B(x0(F) + S y),   B the torus contact barrier (periodic_cell.hpp).
+// There is no other energy: before the elements lock every intersection-free placement with all
+// gaps >= d_hat is an equilibrium (B = 0), and the Hessian has null modes (a torus spinning
+// about its own axis, elements out of contact). Newton therefore steps with the PSD-projected
+// Hessian plus a Levenberg shift mu I (mu = regularization x (1 + max diagonal)), the step
+// capped by the contact term's CCD along the full-space path x + t S dy (masters and images
+// move together), then backtracked on B (Armijo). Converged when ||S^T dB/dx||_inf <=
+// force_tolerance (units: the force of one pair at d_hat / 2 is 1).
+#include <string>
+
+#include "forward/interlocking/periodic_cell.hpp"
+
+namespace tailor::interlocking {
+
+struct CellSolveOptions {
+  int max_iterations = 200;
+  double force_tolerance = 1e-9;  // [unit pair force]
+  double regularization = 1e-9;   // mu / (1 + max |H_ii|)
+  int max_line_search_steps = 40;
+};
+
+struct CellSolveResult {
+  Vector y;
+  bool converged = false;
+  int iterations = 0;
+  double residual = 0.0;       // ||S^T dB/dx||_inf at y
+  double energy = 0.0;         // B at y
+  std::string message;
+};
+
+// From y_start (which must be intersection-free at F: B finite). Throws nothing; a failure is
+// reported in `converged` / `message`.
+CellSolveResult solve_cell_equilibrium(const PeriodicRigidCell& cell, const Eigen::Matrix2d& F,
+                                       const Vector& y_start, const CellSolveOptions& options = {});
+
+// B, S^T dB/dx and the dense reduced Hessian S^T H S (exact or projected) at x = x0(F) + S y.
+struct ReducedContact {
+  double energy = 0.0;
+  Vector gradient;     // S^T dB/dx
+  Vector full_gradient;  // dB/dx
+  Matrix hessian;      // S^T H S
+  SparseMatrix full_hessian;  // H (both triangles)
+};
+ReducedContact reduced_contact(const PeriodicRigidCell& cell, const Vector& x, bool hessian,
+                               HessianMode mode = HessianMode::exact);
+
+// The smallest pair distance at x (infinity when no pair is within `range`).
+double smallest_distance(const PeriodicRigidCell& cell, const Vector& x, double range);
+
+}  // namespace tailor::interlocking

@@ -1,0 +1,197 @@
+// The periodic rigid cell (see periodic_cell.hpp).
+#include "forward/interlocking/periodic_cell.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "forward/contact/barrier_stiffness.hpp"
+#include "forward/tori/torus.hpp"
+#include "forward/tori/torus_distance.hpp"
+
+namespace tailor::interlocking {
+namespace {
+
+// The shifts of half the lattice within K rings (see periodic_cell.hpp).
+std::vector<Eigen::Vector2i> half_shifts(int rings) {
+  std::vector<Eigen::Vector2i> out;
+  for (int a = 0; a <= rings; ++a)
+    for (int b = -rings; b <= rings; ++b)
+      if (a > 0 || b > 0) out.emplace_back(a, b);
+  return out;
+}
+
+Eigen::Vector3d in_plane(const Eigen::Vector2d& v) { return {v.x(), v.y(), 0.0}; }
+
+}  // namespace
+
+void validate_cell(const RigidCellSpec& spec) {
+  const int n = static_cast<int>(spec.elements.size());
+  if (n == 0) throw std::invalid_argument("periodic cell: no elements");
+  if (!spec.lattice.allFinite() || !(std::abs(spec.lattice.determinant()) > 0.0))
+    throw std::invalid_argument("periodic cell: the lattice vectors are not independent");
+  if (spec.image_rings < 1) throw std::invalid_argument("periodic cell: image_rings must be >= 1");
+  if (spec.anchor < 0 || spec.anchor >= n)
+    throw std::invalid_argument("periodic cell: anchor " + std::to_string(spec.anchor) + " is not an element");
+  if (spec.activation_distance < 0.0 || !std::isfinite(spec.activation_distance))
+    throw std::invalid_argument("periodic cell: activation_distance must be >= 0");
+  double reach = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const CellElement& e = spec.elements[static_cast<std::size_t>(i)];
+    tori::validate_shape(e.shape, "periodic cell: element " + std::to_string(i));
+    if (!e.position.allFinite() || !e.rotation.allFinite())
+      throw std::invalid_argument("periodic cell: element " + std::to_string(i) + " has a non-finite placement");
+    reach = std::max(reach, tori::bounding_radius(e.shape));
+  }
+  // Shifts in ring K + 1 must stay out of reach: every pair of bounding spheres at least
+  // reach_margin of the shortest lattice vector apart.
+  const double shortest = std::min(spec.lattice.col(0).norm(), spec.lattice.col(1).norm());
+  const int K = spec.image_rings + 1;
+  for (int a = -K; a <= K; ++a)
+    for (int b = -K; b <= K; ++b) {
+      if (std::max(std::abs(a), std::abs(b)) != K) continue;
+      const Eigen::Vector3d t = in_plane(spec.lattice * Eigen::Vector2d(a, b));
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          const double gap = (spec.elements[static_cast<std::size_t>(j)].position + t -
+                              spec.elements[static_cast<std::size_t>(i)].position)
+                                 .norm() -
+                             2.0 * reach;
+          if (gap < spec.reach_margin * shortest)
+            throw std::invalid_argument("periodic cell: images " + std::to_string(K) +
+                                        " cells away come within reach; raise image_rings");
+        }
+    }
+}
+
+PeriodicRigidCell::PeriodicRigidCell(RigidCellSpec spec) : spec_(std::move(spec)) {
+  validate_cell(spec_);
+  const int n = num_elements();
+  double min_major = spec_.elements.front().shape.major_radius;
+  for (const CellElement& e : spec_.elements) min_major = std::min(min_major, e.shape.major_radius);
+  d_hat_ = spec_.activation_distance > 0.0 ? spec_.activation_distance : 1e-3 * min_major;
+
+  const std::vector<Eigen::Vector2i> shifts = half_shifts(spec_.image_rings);
+  for (int i = 0; i < n; ++i) {
+    master_.push_back(i);
+    shift_.emplace_back(0, 0);
+  }
+  for (const Eigen::Vector2i& k : shifts)
+    for (int i = 0; i < n; ++i) {
+      master_.push_back(i);
+      shift_.push_back(k);
+    }
+
+  // S: every body's six rows follow its master's free DOFs (the anchor's translation is none).
+  std::vector<int> free_column(static_cast<std::size_t>(6 * n), -1);
+  int columns = 0;
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < 6; ++c)
+      if (!(i == spec_.anchor && c < 3)) free_column[static_cast<std::size_t>(6 * i + c)] = columns++;
+  Triplets triplets;
+  for (int body = 0; body < num_bodies(); ++body)
+    for (int c = 0; c < 6; ++c) {
+      const int col = free_column[static_cast<std::size_t>(6 * master(body) + c)];
+      if (col >= 0) triplets.emplace_back(6 * body + c, col, 1.0);
+    }
+  basis_.resize(6 * num_bodies(), columns);
+  basis_.setFromTriplets(triplets.begin(), triplets.end());
+
+  std::vector<rigid::RigidBody> bodies;
+  std::vector<tori::TorusShape> shapes;
+  const Vector x = offset(Eigen::Matrix2d::Identity()) + basis_ * rest_free_state();
+  for (int body = 0; body < num_bodies(); ++body) {
+    const CellElement& e = spec_.elements[static_cast<std::size_t>(master(body))];
+    // Images are "fixed" for the contact term only: it then skips image-image pairs.
+    bodies.push_back(tori::torus_body("element_" + std::to_string(body), e.shape, 1.0, x.segment<3>(6 * body),
+                                      x.segment<3>(6 * body + 3), body >= n, 8, 4, false));
+    shapes.push_back(e.shape);
+  }
+  system_ = std::make_unique<rigid::RigidBodySystem>(std::move(bodies));
+  tori::TorusContactOptions options;
+  options.activation_distance = d_hat_;
+  options.stiffness = contact::stiffness_for_force(1.0, d_hat_);
+  options.parameter_offset = 0;
+  contact_ = std::make_unique<tori::TorusContactTerm>(*system_, std::move(shapes), options);
+
+  // Overlap at rest is an input error: the barrier would be infinite.
+  const double closest = contact_->min_distance(x, radii_parameters(), d_hat_);
+  if (!(closest > 0.0))
+    throw std::invalid_argument("periodic cell: elements overlap at rest (distance " + std::to_string(closest) + ")");
+}
+
+Elimination PeriodicRigidCell::elimination(const Eigen::Matrix2d& F) const { return Elimination(offset(F), basis_); }
+
+Vector PeriodicRigidCell::offset(const Eigen::Matrix2d& F) const {
+  Vector x0 = Vector::Zero(6 * num_bodies());
+  const Eigen::Vector3d anchor = spec_.elements[static_cast<std::size_t>(spec_.anchor)].position;
+  for (int body = 0; body < num_bodies(); ++body) {
+    const Eigen::Vector2d t = F * (spec_.lattice * shift(body).cast<double>());
+    x0.segment<3>(6 * body) = in_plane(t);
+    if (master(body) == spec_.anchor) x0.segment<3>(6 * body) += anchor;
+  }
+  return x0;
+}
+
+Vector PeriodicRigidCell::full_state(const Vector& y, const Eigen::Matrix2d& F) const {
+  return offset(F) + basis_ * y;
+}
+
+Vector PeriodicRigidCell::rest_free_state() const {
+  Vector q(6 * num_elements());
+  for (int i = 0; i < num_elements(); ++i) {
+    q.segment<3>(6 * i) = spec_.elements[static_cast<std::size_t>(i)].position;
+    q.segment<3>(6 * i + 3) = spec_.elements[static_cast<std::size_t>(i)].rotation;
+  }
+  // The master rows of S select y; the anchor's translation rows are empty.
+  return basis_.topRows(6 * num_elements()).transpose() * q;
+}
+
+Vector PeriodicRigidCell::master_state(const Vector& y) const {
+  return full_state(y, Eigen::Matrix2d::Identity()).head(6 * num_elements());
+}
+
+Vector PeriodicRigidCell::state_derivative_macro(int k, int l) const {
+  Vector dx = Vector::Zero(6 * num_bodies());
+  for (int body = 0; body < num_bodies(); ++body)
+    dx[6 * body + k] = (spec_.lattice * shift(body).cast<double>())[l];
+  return dx;
+}
+
+Vector PeriodicRigidCell::state_derivative_lattice(const Eigen::Matrix2d& F, int k, int l) const {
+  Vector dx = Vector::Zero(6 * num_bodies());
+  for (int body = 0; body < num_bodies(); ++body) {
+    const double s = shift(body).cast<double>()[l];
+    dx.segment<2>(6 * body) = F.col(k) * s;
+  }
+  return dx;
+}
+
+Vector PeriodicRigidCell::radii_parameters() const {
+  Vector p(2 * num_bodies());
+  for (int body = 0; body < num_bodies(); ++body) {
+    const tori::TorusShape& s = spec_.elements[static_cast<std::size_t>(master(body))].shape;
+    p[2 * body] = s.major_radius;
+    p[2 * body + 1] = s.minor_radius;
+  }
+  return p;
+}
+
+SparseMatrix PeriodicRigidCell::radii_map() const {
+  Triplets t;
+  for (int body = 0; body < num_bodies(); ++body) {
+    t.emplace_back(2 * body, 2 * master(body), 1.0);
+    t.emplace_back(2 * body + 1, 2 * master(body) + 1, 1.0);
+  }
+  SparseMatrix P(2 * num_bodies(), 2 * num_elements());
+  P.setFromTriplets(t.begin(), t.end());
+  return P;
+}
+
+std::string PeriodicRigidCell::pair_label(int a, int b) const {
+  const Eigen::Vector2i k = shift(b) - shift(a);
+  return std::to_string(master(a)) + "-" + std::to_string(master(b)) + "(" + std::to_string(k.x()) + "," +
+         std::to_string(k.y()) + ")";
+}
+
+}  // namespace tailor::interlocking

@@ -1,0 +1,232 @@
+// Ramping a macro strain until the cell locks (see strain_boundary.hpp).
+#include "forward/interlocking/strain_boundary.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "forward/interlocking/limit_sensitivity.hpp"
+
+namespace tailor::interlocking {
+namespace {
+
+// y with the masters' translations mapped by the macro step F_new F_old^-1 about the anchor.
+Vector affine_prediction(const PeriodicRigidCell& cell, const Vector& y, const Eigen::Matrix2d& F_old,
+                         const Eigen::Matrix2d& F_new) {
+  const Eigen::Matrix2d A = F_new * F_old.inverse();
+  Vector q = cell.master_state(y);
+  const Eigen::Vector3d anchor = q.segment<3>(6 * cell.spec().anchor);
+  for (int i = 0; i < cell.num_elements(); ++i) {
+    const Eigen::Vector2d r = (q.segment<3>(6 * i) - anchor).head<2>();
+    q.segment<2>(6 * i) = anchor.head<2>() + A * r;
+  }
+  return cell.basis().topRows(6 * cell.num_elements()).transpose() * q;
+}
+
+struct RampResult {
+  bool locked = false;
+  bool stalled = false;
+  double s = 0.0;  // where it stopped: s_to, the first locked strain, or the stall
+  Vector y;
+  double s_unlocked = 0.0;  // the last unlocked equilibrium before a lock
+  Vector y_unlocked;
+  std::string message;
+};
+
+// Equilibria from (y, s_from) towards s_to in CCD-capped steps, stopping at the first state that
+// meets the lock-up criterion.
+RampResult ramp(const PeriodicRigidCell& cell, const LoadPath& path, const Vector& y_from, double s_from, double s_to,
+                const LimitOptions& options, int& solves) {
+  RampResult r;
+  r.s = r.s_unlocked = s_from;
+  r.y = r.y_unlocked = y_from;
+  const double lock_distance = options.lock_fraction * cell.activation_distance();
+  double step = std::min(options.initial_step, s_to - s_from);
+  while (r.s < s_to) {
+    const double s_try = std::min(r.s + step, s_to);
+    const Eigen::Matrix2d F_old = path.deformation(r.s), F_new = path.deformation(s_try);
+    const Vector x_old = cell.full_state(r.y, F_old);
+    // Two predictions: the masters moved affinely, or held; the one CCD lets go further.
+    Vector y_pred = affine_prediction(cell, r.y, F_old, F_new);
+    double alpha = cell.contact().max_step(x_old, cell.full_state(y_pred, F_new) - x_old);
+    if (alpha < 1.0) {
+      const double alpha_held = cell.contact().max_step(x_old, cell.full_state(r.y, F_new) - x_old);
+      if (alpha_held > alpha) {
+        alpha = alpha_held;
+        y_pred = r.y;
+      }
+    }
+    const double s_new = r.s + alpha * (s_try - r.s);
+    if (!(s_new - r.s > options.min_step)) {
+      r.stalled = true;
+      r.message = "the ramp stalled at s = " + std::to_string(r.s) + " (CCD admits no further step)";
+      return r;
+    }
+    const Vector y_guess = r.y + alpha * (y_pred - r.y);  // the straight path is linear in s
+    const CellSolveResult solve = solve_cell_equilibrium(cell, path.deformation(s_new), y_guess, options.solve);
+    ++solves;
+    if (!solve.converged) {
+      step *= 0.5;
+      if (step < options.min_step) {
+        r.stalled = true;
+        r.message = "Newton failed at s = " + std::to_string(s_new) + ": " + solve.message;
+        return r;
+      }
+      continue;
+    }
+    const double d = smallest_distance(cell, cell.full_state(solve.y, path.deformation(s_new)),
+                                       cell.activation_distance());
+    if (d <= lock_distance) {
+      r.locked = true;
+      r.s_unlocked = r.s;
+      r.y_unlocked = r.y;
+      r.s = s_new;
+      r.y = solve.y;
+      return r;
+    }
+    r.s = s_new;
+    r.y = solve.y;
+    if (alpha == 1.0) step = std::min(options.initial_step, 2.0 * step);
+  }
+  return r;
+}
+
+// The pair of least distance at x (bodies), -1 when none within d_hat.
+std::pair<int, int> closest_pair(const PeriodicRigidCell& cell, const Vector& x) {
+  double best = std::numeric_limits<double>::infinity();
+  std::pair<int, int> out{-1, -1};
+  for (const tori::TorusPair& pair :
+       cell.contact().close_pairs(x, cell.radii_parameters(), cell.activation_distance(), false))
+    if (pair.distance.distance < best) {
+      best = pair.distance.distance;
+      out = {pair.a, pair.b};
+    }
+  return out;
+}
+
+}  // namespace
+
+LoadPath principal_path(double angle) {
+  LoadPath p;
+  p.direction = Eigen::Vector2d(std::cos(angle), std::sin(angle)).asDiagonal();
+  p.angle = angle;
+  return p;
+}
+
+LoadPath uniaxial_path(double angle) {
+  LoadPath p;
+  const Eigen::Vector2d d(std::cos(angle), std::sin(angle));
+  p.direction = d * d.transpose();
+  p.angle = angle;
+  return p;
+}
+
+std::vector<ActivePair> active_pairs(const PeriodicRigidCell& cell, const Vector& x) {
+  std::vector<ActivePair> out;
+  for (const tori::TorusPairForce& f : cell.contact().pair_forces(x, cell.radii_parameters())) {
+    ActivePair a;
+    a.body_a = f.a;
+    a.body_b = f.b;
+    a.label = cell.pair_label(f.a, f.b);
+    a.distance = f.distance;
+    a.force_on_b = f.force_on_b;
+    out.push_back(a);
+  }
+  return out;
+}
+
+Vector rest_equilibrium(const PeriodicRigidCell& cell, const CellSolveOptions& options) {
+  const CellSolveResult r =
+      solve_cell_equilibrium(cell, Eigen::Matrix2d::Identity(), cell.rest_free_state(), options);
+  if (!r.converged) throw std::runtime_error("periodic cell: no equilibrium at rest: " + r.message);
+  return r.y;
+}
+
+LimitPoint find_limit(const PeriodicRigidCell& cell, const LoadPath& path, const Vector& y_rest,
+                      const LimitOptions& options) {
+  LimitPoint out;
+  out.angle = path.angle;
+  int solves = 0;
+  // A mixed state's fixed offset is reached first, by the same ramp along F = I + t F_offset,
+  // t in [0, 1] (it must not lock on the way).
+  Vector y_start = y_rest;
+  if (!path.offset.isZero()) {
+    LoadPath to_offset;
+    to_offset.direction = path.offset;
+    const RampResult pre = ramp(cell, to_offset, y_rest, 0.0, 1.0, options, solves);
+    if (pre.locked || pre.stalled) {
+      out.status = "the path's fixed offset is not admissible (" +
+                   (pre.locked ? "locks at t = " + std::to_string(pre.s) : pre.message) + ")";
+      out.y = pre.y;
+      out.deformation = to_offset.deformation(pre.s);
+      out.solves = solves;
+      return out;
+    }
+    y_start = pre.y;
+  }
+  RampResult first = ramp(cell, path, y_start, 0.0, options.max_strain, options, solves);
+  if (!first.locked) {
+    out.strain = first.s;
+    out.y = first.y;
+    out.deformation = path.deformation(first.s);
+    out.status = first.stalled ? first.message : "free up to max_strain";
+    out.solves = solves;
+    const Vector x = cell.full_state(out.y, out.deformation);
+    out.min_distance = smallest_distance(cell, x, std::numeric_limits<double>::infinity());
+    out.active = active_pairs(cell, x);
+    return out;
+  }
+  double s_lo = first.s_unlocked, s_hi = first.s;
+  Vector y_lo = first.y_unlocked, y_hi = first.y;
+  while (s_hi - s_lo > options.tolerance) {
+    const double mid = 0.5 * (s_lo + s_hi);
+    RampResult r = ramp(cell, path, y_lo, s_lo, mid, options, solves);
+    if (r.locked) {
+      s_lo = r.s_unlocked;
+      y_lo = r.y_unlocked;
+      s_hi = r.s;
+      y_hi = r.y;
+    } else if (r.stalled) {
+      break;
+    } else {
+      s_lo = mid;
+      y_lo = r.y;
+    }
+  }
+  out.locked = true;
+  out.bracket = s_hi - s_lo;
+  out.strain = s_hi;
+  out.y = y_hi;
+  const auto [a, b] = closest_pair(cell, cell.full_state(y_hi, path.deformation(s_hi)));
+  out.critical_a = a;
+  out.critical_b = b;
+  if (options.refine && a >= 0) {
+    const RefineResult refined = refine_limit(cell, path, options.lock_fraction * cell.activation_distance(), a, b,
+                                              y_hi, s_hi);
+    // Accept the refined limit only inside the bracket (a far jump is another branch).
+    if (refined.converged && refined.strain >= s_lo - options.tolerance && refined.strain <= s_hi + options.tolerance) {
+      out.refined = true;
+      out.strain = refined.strain;
+      out.y = refined.y;
+    }
+  }
+  out.deformation = path.deformation(out.strain);
+  const Vector x = cell.full_state(out.y, out.deformation);
+  out.min_distance = smallest_distance(cell, x, std::numeric_limits<double>::infinity());
+  out.active = active_pairs(cell, x);
+  out.solves = solves;
+  out.status = "locked";
+  return out;
+}
+
+std::vector<LimitPoint> strain_space_boundary(const PeriodicRigidCell& cell, const std::vector<LoadPath>& paths,
+                                              const LimitOptions& options) {
+  const Vector y_rest = rest_equilibrium(cell, options.solve);
+  std::vector<LimitPoint> out;
+  for (const LoadPath& path : paths) out.push_back(find_limit(cell, path, y_rest, options));
+  return out;
+}
+
+}  // namespace tailor::interlocking

@@ -1,0 +1,99 @@
+// Strain-space boundaries of shipped patterns against references: the square ring net's stretch
+// limits (closed form of its chains), a 2 x 2 supercell against the 1 x 1 cell, the same tiling
+// with other lattice vectors, and the independent clearance check at every limit state.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "forward/interlocking/cell_patterns.hpp"
+#include "forward/interlocking/interpenetration_check.hpp"
+#include "forward/interlocking/strain_boundary.hpp"
+
+namespace tailor::interlocking::boundary_validation_test {
+namespace {
+
+const tori::TorusShape kRing{1.0, 0.2};
+constexpr double kSpacing = 1.5;
+
+std::vector<LoadPath> principal_paths(const std::vector<double>& degrees) {
+  std::vector<LoadPath> out;
+  for (double a : degrees) out.push_back(principal_path(a * M_PI / 180.0));
+  return out;
+}
+
+void expect_apart(const PeriodicRigidCell& cell, const LimitPoint& p) {
+  const ClearanceReport c = check_clearance(cell, cell.full_state(p.y, p.deformation), 1 << 14);
+  EXPECT_TRUE(c.apart()) << "angle " << p.angle << ": certified clearance " << c.min_lower;
+}
+
+// Reference (closed form): along x the net is chains node - x link - node; each pair locks at a
+// centre spacing (R_n - r_n) + (R_l - r_l) - d_hat / 2, so eps_xx = that / s0 - 1; same along y.
+TEST(InterlockingBoundary, SquareRingNetStretchesToItsChainLimits) {
+  const tori::TorusShape link_x{1.1, 0.2};
+  const PeriodicRigidCell cell(square_ring_cell(kRing, link_x, kRing, kSpacing));
+  LimitOptions options;
+  const std::vector<LimitPoint> b = strain_space_boundary(cell, principal_paths({0.0, 90.0}), options);
+  const double d = 0.5 * cell.activation_distance();
+  const double ex = (0.8 + 0.9 - d) / kSpacing - 1.0, ey = (0.8 + 0.8 - d) / kSpacing - 1.0;
+  std::printf("square net: eps_xx limit %.10f (closed form %.10f), eps_yy %.10f (%.10f); %d + %d solves\n",
+              b[0].strain, ex, b[1].strain, ey, b[0].solves, b[1].solves);
+  ASSERT_TRUE(b[0].locked && b[1].locked);
+  EXPECT_NEAR(b[0].strain, ex, 1e-8);
+  EXPECT_NEAR(b[1].strain, ey, 1e-8);
+  for (const LimitPoint& p : b) expect_apart(cell, p);
+}
+
+// The 2 x 2 supercell (12 elements) tiles the plane exactly as the 1 x 1 cell: same limits.
+TEST(InterlockingBoundary, SupercellHasTheSameBoundary) {
+  const RigidCellSpec one = square_ring_cell(kRing, kRing, kRing, kSpacing);
+  const PeriodicRigidCell small(one), big(supercell(one, 2, 2));
+  LimitOptions options;
+  const std::vector<LoadPath> paths = principal_paths({0.0, 45.0, 135.0});
+  const std::vector<LimitPoint> a = strain_space_boundary(small, paths, options);
+  const std::vector<LimitPoint> b = strain_space_boundary(big, paths, options);
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    std::printf("angle %5.1f: 1x1 %.10f (%s), 2x2 %.10f (%s)\n", paths[k].angle * 180 / M_PI, a[k].strain,
+                a[k].status.c_str(), b[k].strain, b[k].status.c_str());
+    EXPECT_EQ(a[k].locked, b[k].locked);
+    EXPECT_NEAR(a[k].strain, b[k].strain, 2.0 * options.tolerance);
+    expect_apart(big, b[k]);
+  }
+}
+
+// Lattice vectors (t1, t1 + t2) and (t1 + t2, t2) describe the same tiling: the same limits.
+TEST(InterlockingBoundary, BoundaryIsInvariantToTheChoiceOfLatticeVectors) {
+  const RigidCellSpec base = square_ring_cell(kRing, kRing, kRing, kSpacing);
+  Eigen::Matrix2i M;
+  M << 1, 1, 0, 1;
+  const PeriodicRigidCell a(base), b(relattice(base, M, 2));
+  LimitOptions options;
+  const std::vector<LoadPath> paths = principal_paths({0.0, 90.0, 200.0});
+  const std::vector<LimitPoint> la = strain_space_boundary(a, paths, options);
+  const std::vector<LimitPoint> lb = strain_space_boundary(b, paths, options);
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    std::printf("angle %5.1f: (t1, t2) %.10f, (t1, t1 + t2) %.10f\n", paths[k].angle * 180 / M_PI, la[k].strain,
+                lb[k].strain);
+    EXPECT_EQ(la[k].locked, lb[k].locked);
+    EXPECT_NEAR(la[k].strain, lb[k].strain, 2.0 * options.tolerance);
+  }
+}
+
+// The threefold mail locks in every direction of a coarse sweep without interpenetration, with
+// the threefold symmetry of its limits in uniaxial stretch (0 and 120 degrees).
+TEST(InterlockingBoundary, ThreefoldMailLocksSymmetrically) {
+  const PeriodicRigidCell cell(threefold_cell(kRing, kRing, kSpacing));
+  LimitOptions options;
+  std::vector<LoadPath> paths = {uniaxial_path(0.0), uniaxial_path(2.0 * M_PI / 3.0), uniaxial_path(M_PI / 6.0)};
+  const std::vector<LimitPoint> b = strain_space_boundary(cell, paths, options);
+  for (const LimitPoint& p : b) {
+    std::printf("threefold uniaxial %5.1f deg: %.10f (%s, %zu active)\n", p.angle * 180 / M_PI, p.strain,
+                p.status.c_str(), p.active.size());
+    EXPECT_TRUE(p.locked);
+    expect_apart(cell, p);
+  }
+  EXPECT_NEAR(b[0].strain, b[1].strain, 2.0 * options.tolerance);
+}
+
+}  // namespace
+}  // namespace tailor::interlocking::boundary_validation_test

@@ -1,0 +1,198 @@
+// Inverse design of interlocking limits: the exact limit derivative (implicit function theorem on
+// the lock-up state) against the Taylor test, in the radii and the lattice vectors; a recovery
+// test; the scene kind's outputs and its refusal of unknown keys.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "adjoint/taylor_test.hpp"
+#include "forward/interlocking/cell_patterns.hpp"
+#include "problems/interlocking/interlocking_scene.hpp"
+#include "problems/scene_error.hpp"
+#include "problems/scene_kinds.hpp"
+
+namespace tailor::interlocking_scene_test {
+namespace {
+
+using namespace interlocking;
+
+const tori::TorusShape kRing{1.0, 0.2};
+
+// s*(z) of one path, z = (all master radii, the lattice matrix column by column), each
+// evaluation continuing the last lock-up state by the augmented Newton.
+class LimitFunction final : public ReducedFunctional {
+ public:
+  LimitFunction(RigidCellSpec base, LoadPath path, double gradient_scale = 1.0)
+      : base_(with_parameters(base, master_radii(base), base.lattice)), path_(path), scale_(gradient_scale) {
+    const PeriodicRigidCell cell(base_);
+    const LimitPoint p = find_limit(cell, path_, rest_equilibrium(cell));
+    EXPECT_TRUE(p.locked && p.refined) << p.status;
+    y_ = p.y;
+    s_ = p.strain;
+    a_ = p.critical_a;
+    b_ = p.critical_b;
+  }
+  int size() const override { return static_cast<int>(master_radii(base_).size()) + 4; }
+  Vector z0() const {
+    Vector z(size());
+    z << master_radii(base_), base_.lattice.reshaped();
+    return z;
+  }
+  double value(const Vector& z) override { return evaluate(z, nullptr); }
+  double value_and_gradient(const Vector& z, Vector& gradient) override { return evaluate(z, &gradient); }
+
+ private:
+  double evaluate(const Vector& z, Vector* gradient) {
+    const int n = size() - 4;
+    const Eigen::Matrix2d L = z.tail<4>().reshaped(2, 2);
+    const PeriodicRigidCell cell(with_parameters(base_, z.head(n), L));
+    const RefineResult r =
+        refine_limit(cell, path_, path_lock() * cell.activation_distance(), a_, b_, y_, s_);
+    if (!r.converged) throw EvaluationError(r.message);
+    if (gradient) {
+      const LimitGradient g = limit_gradient(cell, path_, a_, b_, r.y, r.strain);
+      gradient->resize(size());
+      *gradient << g.radii, g.lattice.reshaped();
+      *gradient *= scale_;
+    }
+    return r.strain;
+  }
+  static double path_lock() { return LimitOptions{}.lock_fraction; }
+  RigidCellSpec base_;
+  LoadPath path_;
+  double scale_;
+  Vector y_;
+  double s_ = 0.0;
+  int a_ = -1, b_ = -1;
+};
+
+TaylorTestOptions taylor_options() {
+  TaylorTestOptions o;
+  o.initial_step = 1e-4;
+  o.seed = 3;
+  return o;
+}
+
+// A threefold mail stretched at 30 degrees locks on four pairs at once (links of two directions):
+// its limit is a genuinely nonlinear function of every radius and lattice entry.
+TEST(InterlockingDesign, LimitDerivativePassesTheTaylorTestInRadiiAndLattice) {
+  LimitFunction limit(threefold_cell(kRing, {1.0, 0.18}, 1.5), uniaxial_path(M_PI / 6.0));
+  const TaylorTestResult r = taylor_test(limit, limit.z0(), taylor_options());
+  std::printf("%s", r.table().c_str());
+  EXPECT_TRUE(r.passed()) << r.message;
+  EXPECT_GE(r.rate1, 1.9);
+  EXPECT_NEAR(r.rate0, 1.0, 0.1);
+  // The same test rejects the gradient scaled by 1.001.
+  LimitFunction wrong(threefold_cell(kRing, {1.0, 0.18}, 1.5), uniaxial_path(M_PI / 6.0), 1.001);
+  EXPECT_FALSE(taylor_test(wrong, wrong.z0(), taylor_options()).passed());
+}
+
+// Principal stretch at 45 degrees in the square net (both chains lock together) and the lattice.
+TEST(InterlockingDesign, SquareNetLimitDerivativeAt45Degrees) {
+  LimitFunction limit(square_ring_cell(kRing, {1.05, 0.2}, kRing, 1.5), principal_path(M_PI / 4.0));
+  const TaylorTestResult r = taylor_test(limit, limit.z0(), taylor_options());
+  std::printf("%s", r.table().c_str());
+  EXPECT_TRUE(r.passed()) << r.message;
+}
+
+// Recovery: the limits of a known design (x links R = 1.1, y links R = 0.95) as targets, designed
+// from R = 1 for both: the optimizer recovers the known radii.
+TEST(InterlockingDesign, RecoversAKnownDesignFromItsLimits) {
+  // The same d_hat in both (its default follows the smallest R, which differs between them).
+  RigidCellSpec known = square_ring_cell(kRing, {1.1, 0.2}, {0.95, 0.2}, 1.5);
+  known.activation_distance = 1e-3;
+  RigidCellSpec start = square_ring_cell(kRing, kRing, kRing, 1.5);
+  start.activation_distance = 1e-3;
+  std::vector<LimitTarget> targets;
+  {
+    const PeriodicRigidCell cell(known);
+    const Vector y = rest_equilibrium(cell);
+    for (double angle : {0.0, 0.5 * M_PI}) {
+      const LimitPoint p = find_limit(cell, uniaxial_path(angle), y);
+      targets.push_back({uniaxial_path(angle), p.strain});
+    }
+  }
+  std::vector<DesignVariable> variables = {{1, true, 0.85, 1.2}, {2, true, 0.85, 1.2}};
+  LimitDesignFunctional functional(start, variables, targets, {});
+  OptimizerOptions options;
+  options.backend = OptimizerBackend::nlopt_mma;
+  options.max_iterations = 60;
+  options.gradient_tolerance = 1e-12;
+  options.checkpoint_every = 0;
+  const OptimizerResult result = minimize(functional, functional.initial_design(), functional.bounds(),
+                                          functional.margin_constraints(0.02, 0.3), options);
+  std::printf("recovered R_x = %.10f, R_y = %.10f (known 1.1, 0.95), objective %.3e, %d evaluations\n",
+              result.z[0], result.z[1], result.objective, result.evaluations);
+  EXPECT_NEAR(result.z[0], 1.1, 1e-6);
+  EXPECT_NEAR(result.z[1], 0.95, 1e-6);
+}
+
+// The margin constraint's gradient (pair distances at the rest placement) against differences.
+TEST(InterlockingDesign, MarginConstraintGradient) {
+  std::vector<DesignVariable> variables = {{0, true, 0.5, 1.5}, {0, false, 0.1, 0.3}, {1, true, 0.5, 1.5}};
+  const LimitDesignFunctional functional(square_ring_cell(kRing, kRing, kRing, 1.5), variables,
+                                         {{uniaxial_path(0.0), 0.1}}, {});
+  const std::vector<Constraint> constraints = functional.margin_constraints(0.02, 0.5);
+  ASSERT_FALSE(constraints.empty());
+  const Vector z = functional.initial_design();
+  for (const Constraint& c : constraints) {
+    Vector g;
+    c.evaluate(z, &g);
+    for (int i = 0; i < z.size(); ++i) {
+      Vector zp = z, zm = z;
+      zp[i] += 1e-6;
+      zm[i] -= 1e-6;
+      const double fd = (c.evaluate(zp, nullptr) - c.evaluate(zm, nullptr)) / 2e-6;
+      EXPECT_NEAR(g[i], fd, 1e-6) << c.name << " variable " << i;
+    }
+  }
+}
+
+const char* kScene = R"({
+  "name": "small",
+  "interlocking": {
+    "cell": {"pattern": "square_rings", "spacing": 1.5, "node": {"major_radius": 1.0, "minor_radius": 0.2},
+             "link": {"major_radius": 1.0, "minor_radius": 0.2}},
+    "boundary": {"loading": "principal", "directions": 4, "max_strain": 0.5}
+  }
+})";
+
+TEST(InterlockingScene, SimulateWritesTheBoundaryPlotAndSamples) {
+  const std::string out = (std::filesystem::temp_directory_path() / "tailor_interlocking_scene_test").string();
+  std::filesystem::remove_all(out);
+  const SceneFile file = scene_from_text(kScene, "small.json");
+  InterlockingScene scene = parse_interlocking_scene(file.node());
+  scene.name = "small";
+  EXPECT_TRUE(run_interlocking_boundary(scene, scene.cell, out, nullptr));
+  for (const char* f : {"report.json", "boundary.png", "sample_0.vtu", "sample_3.vtu"})
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json& samples = report["boundary"]["samples"];
+  ASSERT_EQ(samples.size(), 4u);
+  EXPECT_TRUE(samples[0]["locked"].get<bool>());
+  EXPECT_NEAR(samples[0]["eps_xx"].get<double>(), (1.6 - 0.0005) / 1.5 - 1.0, 1e-9);
+  EXPECT_GT(samples[0]["certified_clearance"].get<double>(), 0.0);
+  EXPECT_FALSE(samples[0]["active_pairs"].empty());
+}
+
+TEST(InterlockingScene, UnknownKeysAndBadCellsAreRefusedWithTheirPath) {
+  std::string text = kScene;
+  text.replace(text.find("\"max_strain\""), 12, "\"max_stran\"");
+  try {
+    parse_interlocking_scene(scene_from_text(text, "bad.json").node());
+    FAIL() << "accepted an unknown key";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("interlocking.boundary.max_stran"), std::string::npos) << e.what();
+  }
+  std::string overlap = kScene;
+  overlap.replace(overlap.find("\"spacing\": 1.5"), 14, "\"spacing\": 1.1");  // nodes 2.2 apart overlap
+  EXPECT_THROW(parse_interlocking_scene(scene_from_text(overlap, "overlap.json").node()), SceneError);
+}
+
+}  // namespace
+}  // namespace tailor::interlocking_scene_test

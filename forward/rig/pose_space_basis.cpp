@@ -65,7 +65,7 @@ Matrix example_pose_basis(const Rig& rig, const RiggedBody& body, const Vector& 
     return full;
   };
 
-  std::vector<Vector> candidates;
+  std::vector<Vector> candidates, derivatives;
   for (int i = 0; i < options.linear_modes; ++i) candidates.push_back(expand(modes.modes.col(i)));
   if (options.derivative_modes > 0) {
     // Modal derivatives under the constraints: psi_ij = -N (N^T K N)^-1 N^T H(phi_i) phi_j
@@ -87,9 +87,26 @@ Matrix example_pose_basis(const Rig& rig, const RiggedBody& body, const Vector& 
         Vector h_free(nf);
         for (int k = 0; k < nf; ++k) h_free[k] = h[free[k]];
         const Vector z = cholesky.solve(-(null_space.transpose() * h_free));
-        candidates.push_back(expand(null_space * z));
+        derivatives.push_back(expand(null_space * z));
       }
   }
+  if (options.inertial_responses) {
+    // Quasi-static responses to the rig's inertial loads: f_inert = -M sum_b B_b vec12(T_b''), so
+    // N (N^T K N)^-1 N^T M B_b spans the static response to any bone acceleration.
+    const SparseMatrix null_space = constraint_null_space(c_free);
+    const SparseMatrix projected = SparseMatrix(null_space.transpose() * k_free * null_space);
+    SparseCholesky cholesky;
+    const FactorizationResult fr = cholesky.factorize(SparseMatrix(projected.triangularView<Eigen::Upper>()));
+    if (!fr.success) throw std::runtime_error("pose-space basis: stiffness factorization failed: " + fr.message);
+    for (int b = 0; b < rig.num_bones(); ++b) {
+      const Matrix load = mass * rig.skinning_basis(b);
+      Matrix load_free(nf, load.cols());
+      for (int k = 0; k < nf; ++k) load_free.row(k) = load.row(free[k]);
+      const Matrix z = cholesky.solve_columns(null_space.transpose() * load_free);
+      for (int col = 0; col < z.cols(); ++col) candidates.push_back(expand(null_space * z.col(col)));
+    }
+  }
+  candidates.insert(candidates.end(), derivatives.begin(), derivatives.end());
   Matrix stacked(n, static_cast<int>(candidates.size()));
   for (std::size_t k = 0; k < candidates.size(); ++k) stacked.col(static_cast<int>(k)) = candidates[k];
   const Matrix basis = mass_orthonormal_basis(stacked, mass);

@@ -3,8 +3,9 @@
 // docs/methods.md section 17).
 //  - At each example pose p_i the body's rest shape is X(p_i); its basis U_i holds the lowest
 //    vibration modes of the fixed-region-constrained mesh (with the pose's contacts as bilateral
-//    constraints C phi = 0, constrained_modes.hpp) and the modal derivatives of the lowest ones,
-//    mass-orthonormalized and truncated to r columns.
+//    constraints C phi = 0, constrained_modes.hpp), the static responses to the rig's
+//    inertial loads (K^-1 M B_b per bone, the shapes a bone's acceleration pushes the body into
+//    quasi-statically) and the modal derivatives of the lowest modes, mass-orthonormalized in that order and truncated to r columns.
 //  - Orthogonal Procrustes aligns every U_i to U_0: R_i = V W^T with U_i^T M U_0 = V S W^T
 //    minimizes |U_i R - U_0|_M over orthogonal R, so that blending combines like with like.
 //  - At run time U(p) = (sum_i w_i(p) U_i R_i) L^-T with L L^T = sum_ij w_i w_j (U_i R_i)^T M (U_j R_j),
@@ -22,7 +23,8 @@ Matrix procrustes_rotation(const Matrix& basis, const Matrix& reference, const S
 struct ExamplePoseBasisOptions {
   int linear_modes = 10;      // lowest constrained vibration modes
   int derivative_modes = 4;   // modes whose pairwise modal derivatives are added
-  int size = 20;              // r: columns kept (modes first, then derivatives)
+  bool inertial_responses = true;  // static responses to the rig's inertial loads K^-1 M B_b
+  int size = 20;              // r: columns kept (modes first, then responses, then derivatives)
 };
 
 // The basis U_i (3n x r, zero on fixed vertices, U^T M U = I) at rest shape X(pose).

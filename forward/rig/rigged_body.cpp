@@ -1,6 +1,7 @@
 #include "forward/rig/rigged_body.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "forward/core/elimination.hpp"
@@ -102,10 +103,12 @@ bool MovingRestDynamics::step(const PoseTrajectory& trajectory, const MovingRest
   std::vector<int> free_index(static_cast<std::size_t>(n), -1);
   for (int k = 0; k < nf; ++k) free_index[static_cast<std::size_t>(free_dofs_[k])] = k;
 
+  double magnitude = 0.0;  // of the potential's parts: its round-off level
   auto potential = [&](const Vector& u) {
     const Vector d = u - predicted;
-    const double e = elastic.value(rest + u, params_);
-    return c / (2 * h * h) * d.dot(mass_ * d) + e - force.dot(u);
+    const double e = elastic.value(rest + u, params_), kinetic = c / (2 * h * h) * d.dot(mass_ * d), work = force.dot(u);
+    magnitude = std::abs(e) + kinetic + std::abs(work);
+    return kinetic + e - work;
   };
   auto free_part = [&](const Vector& full) {
     Vector y(nf);
@@ -156,7 +159,8 @@ bool MovingRestDynamics::step(const PoseTrajectory& trajectory, const MovingRest
     Vector du = Vector::Zero(n);
     for (int k = 0; k < nf; ++k) du[free_dofs_[k]] = dy[k];
     double alpha = 1.0, trial = potential(u + du);
-    while (!(std::isfinite(trial) && trial <= value + 1e-4 * alpha * gf.dot(dy)) && alpha > 1e-8) {
+    const double slack = 64 * std::numeric_limits<double>::epsilon() * magnitude;
+    while (!(std::isfinite(trial) && trial <= value + 1e-4 * alpha * gf.dot(dy) + slack) && alpha > 1e-8) {
       alpha *= 0.5;
       trial = potential(u + alpha * du);
     }

@@ -131,6 +131,8 @@ Matrix contact_constraints_at(const Rig& rig, const Vector& pose, const std::vec
     double best = distance;
     for (int b : surface_vertices) {
       if (b == a || bone_of(b) == bone_of(a)) continue;
+      // Neighbours in the bind pose are not contacts: only pairs the pose brought together.
+      if ((rig.rest_positions().row(a) - rig.rest_positions().row(b)).norm() <= 2.0 * distance) continue;
       const double d = (x.segment<3>(3 * a) - x.segment<3>(3 * b)).norm();
       if (d < best) best = d, nearest = b;
     }

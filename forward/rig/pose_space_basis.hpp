@@ -35,7 +35,8 @@ Matrix example_pose_basis(const Rig& rig, const RiggedBody& body, const Vector& 
                           const Matrix& contact_constraints, const ExamplePoseBasisOptions& options);
 
 // Rows of normal-contact constraints n . (u_a - u_b) = 0 between vertex pairs of the rig shape
-// X(pose) closer than `distance` that belong to different bones (largest skinning weight),
+// X(pose) closer than `distance` that belong to different bones (largest skinning weight) and
+// were more than 2 distance apart in the bind pose (neighbours there are not contacts),
 // n = (x_a - x_b) / |x_a - x_b|; each vertex paired with its nearest such vertex, each pair once. m x 3n.
 Matrix contact_constraints_at(const Rig& rig, const Vector& pose, const std::vector<int>& surface_vertices,
                               double distance);

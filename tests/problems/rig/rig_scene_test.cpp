@@ -78,7 +78,7 @@ TEST(RigScene, RunsInFullSpaceAndReducedAndWritesItsOutputs) {
 TEST(RigScene, ErrorsNameTheKeyPath) {
   nlohmann::json d = small_scene(true);
   d["rig_dynamics"]["reduction"]["sise"] = 3;
-  EXPECT_NE(parse_error(d).find("arm.json: rig_dynamics.reduction: unknown key"), std::string::npos) << parse_error(d);
+  EXPECT_NE(parse_error(d).find("arm.json: rig_dynamics.reduction.sise: unknown key"), std::string::npos) << parse_error(d);
   d = small_scene(false);
   d["rig_dynamics"]["rig"]["weights"].erase(0);
   EXPECT_NE(parse_error(d).find("rig_dynamics.rig.weights: needs one row per mesh vertex"), std::string::npos)

@@ -230,9 +230,14 @@ bool PoseSpaceDynamics::step(const PoseTrajectory& trajectory, const ReducedRigS
     Matrix jacobian = orthonormalizer.transpose() * stiffness_z * orthonormalizer;
     jacobian.diagonal().array() += c / (h * h);
     const Eigen::LDLT<Matrix> ldlt(jacobian);
-    q -= ldlt.solve(residual);
+    const Vector dq = ldlt.solve(residual);
+    q -= dq;
     ++iterations;
-    if (dynamics_.max_newton_iterations == 1) converged = true;  // the linearly implicit scheme
+    // The linearly implicit scheme takes one step; otherwise a step at round-off ends Newton too.
+    if (dynamics_.max_newton_iterations == 1 || dq.norm() <= 1e-13 * (1.0 + q.norm())) {
+      converged = true;
+      break;
+    }
   }
   if (!converged || !q.allFinite()) {
     message = "pose-space dynamics: Newton did not converge at t = " + std::to_string(t1);

@@ -26,6 +26,7 @@
 #include "problems/metamaterial/metamaterial_scene.hpp"
 #include "problems/rods/rod_inverse.hpp"
 #include "problems/rods/rod_scene.hpp"
+#include "problems/rig/rig_scene.hpp"
 #include "problems/scene_kinds.hpp"
 #include "problems/scene_node.hpp"
 
@@ -318,6 +319,15 @@ int run_meshless(const SceneFile& file, const VerbArguments& args, std::ostream&
   return exit_code(run_meshless_scene(file.node(), meshless_options(file, args, out), &out));
 }
 
+// ---- rigged bodies (docs/pose_space.md)
+
+int simulate_rig(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_checkpoint_flags(args);
+  RigSceneSpec spec = parse_rig_scene(file.node(), file.directory());
+  spec.name = file.name();
+  return exit_code(run_rig_scene(spec, output_folder(file, args), &out).completed);
+}
+
 }  // namespace
 
 std::string output_folder(const SceneFile& file, const VerbArguments& args) {
@@ -394,6 +404,10 @@ std::vector<SceneKind> builtin_scene_kinds() {
        "\"type\": \"material_fit\" (docs/materials.md)",
        [](const nlohmann::json& d) { return has_type(d, "material_fit"); },
        {{"run", fit_material, "fit a principal-stretch spline material to the scene's curves"}}},
+      {"rig_dynamics",
+       "a \"rig_dynamics\" section (docs/pose_space.md)",
+       [](const nlohmann::json& d) { return has_section(d, "rig_dynamics"); },
+       {{"simulate", simulate_rig, "a rigged arm's dynamics on its moving rest shape (full or pose-space reduced)"}}},
       {"damping_design",
        "a \"damping_design\" section (docs/dynamics.md)",
        [](const nlohmann::json& d) { return has_section(d, "damping_design"); },

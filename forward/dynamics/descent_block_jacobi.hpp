@@ -43,6 +43,8 @@ class BlockJacobiPass {
   int num_free() const { return model_.elimination().num_free(); }
   int num_blocks() const { return static_cast<int>(block_free_.size()) / block_size_; }
   int block_size() const { return block_size_; }
+  // block_size free indices per block (-1: padding), the layout of DescentEvaluation::block_inverse.
+  const std::vector<int>& block_free() const { return block_free_; }
 
   // Energy, reduced gradient and (when with_preconditioner) D^-1 at (y, p) into `out`.
   void evaluate(const Vector& y, const Vector& p, DescentEvaluation& out, bool with_preconditioner);

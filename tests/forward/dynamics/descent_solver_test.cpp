@@ -190,18 +190,10 @@ TEST(DescentSolver, ChebyshevAccelerationNeedsFewerPasses) {
     o.relative_tolerance = 1e-6;
     o.max_iterations = 20000;
     o.rho = rho;
-    o.keep_history = std::getenv("TAILOR_DEBUG") != nullptr;
     DescentTimeStepper stepper(integrator, o);
     DynamicState s = start;
     const DescentResult r = stepper.step(s, c.p);
     EXPECT_TRUE(r.converged()) << r.message;
-    if (std::getenv("TAILOR_DEBUG")) {
-      int k = 0;
-      for (const auto& it : r.history) {
-        if (!it.accepted || k % 500 == 0) std::printf("%d %.17g %.3e alpha %.3e omega %.3f %d\n", k, it.energy, it.residual, it.step_length, it.omega, it.accepted);
-        ++k;
-      }
-    }
     return r.iterations;
   };
   const int plain = passes(0.0), accelerated = passes(std::nullopt);

@@ -2,10 +2,12 @@
 
 #include <filesystem>
 #include <iomanip>
+#include <optional>
 #include <ostream>
 
 #include "adjoint/taylor_test.hpp"
 #include "adjoint/transient_functional.hpp"
+#include "forward/dynamics/descent_time_stepper.hpp"
 #include "forward/core/format_number.hpp"
 #include "forward/core/timing.hpp"
 #include "problems/fem/physics_warnings.hpp"
@@ -75,7 +77,14 @@ DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir
   const Vector& p = d.p;
   TimeIntegrator integrator(*d.model, d.options);
   DynamicState state = integrator.initial_state(d.initial_positions, d.initial_velocities, p);
+  std::optional<DescentTimeStepper> descent;
+  if (spec.solver_method == "descent") try {
+      descent.emplace(integrator, spec.descent);
+    } catch (const std::invalid_argument& e) {
+      throw SceneError(scene.source + ": dynamics.solver.method: " + e.what());
+    }
   DynamicRun run;
+  int descent_unconverged = 0;  // descent steps stopped by the budget or round-off
   run.timings.setup = seconds_since(t_start);
   if (log)
     *log << "dynamic scene '" << scene.name << "': " << setup.mesh.num_elements() << " elements, "
@@ -97,33 +106,52 @@ DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir
     run.frames.emplace_back(s.time, writes ? write_dynamic_frame(frames, setup, d.rest, s) : std::string());
     run.timings.output += seconds_since(t0);
   };
-  auto record = [&](const DynamicState& s, const NewtonResult* r, double seconds) {
+  auto record = [&](const DynamicState& s, double residual, int iterations, double seconds) {
     run.records.push_back({s.step, s.time, integrator.kinetic_energy(s.v, p),
-                           integrator.potential_energy(s.x, p), seconds, r ? r->final_residual : 0.0,
-                           r ? r->iterations : 0});
+                           integrator.potential_energy(s.x, p), seconds, residual, iterations});
   };
-  record(state, nullptr, 0.0);
+  record(state, 0.0, 0, 0.0);
   write_frame(state);
   if (writes) check_output_size(scene, out / run.frames.front().second, log);
   run.completed = true;
   run.message = "all steps converged";
   for (int n = 0; n < spec.steps; ++n) {
     const auto t0 = Clock::now();
-    const NewtonResult r = integrator.step(state, p);
-    if (!r.converged()) {
-      run.completed = false;
-      run.message =
-          "step " + std::to_string(n + 1) + " failed: " + to_string(r.status) + " (" + r.message + ")";
-      break;
+    int iterations = 0;
+    if (descent) {
+      // A step stopped by the iteration budget is taken: its residual is in the report.
+      const DescentResult r = descent->step(state, p);
+      if (!r.usable()) {
+        run.completed = false;
+        run.message =
+            "step " + std::to_string(n + 1) + " failed: " + to_string(r.status) + " (" + r.message + ")";
+        break;
+      }
+      iterations = r.iterations;
+      if (!r.converged()) ++descent_unconverged;
+      record(state, r.final_residual, r.iterations, seconds_since(t0));
+    } else {
+      const NewtonResult r = integrator.step(state, p);
+      if (!r.converged()) {
+        run.completed = false;
+        run.message =
+            "step " + std::to_string(n + 1) + " failed: " + to_string(r.status) + " (" + r.message + ")";
+        break;
+      }
+      iterations = r.iterations;
+      record(state, r.final_residual, r.iterations, seconds_since(t0));
     }
-    record(state, &r, seconds_since(t0));
     if (state.step % spec.output_every == 0 || state.step == spec.steps) write_frame(state);
     if (log && (state.step % std::max(1, spec.steps / 10) == 0 || state.step == spec.steps))
-      *log << "  step " << state.step << "/" << spec.steps << "  t " << state.time << "  Newton "
-           << r.iterations << "  E " << std::scientific << std::setprecision(4)
+      *log << "  step " << state.step << "/" << spec.steps << "  t " << state.time
+           << (descent ? "  descent " : "  Newton ") << iterations << "  E " << std::scientific << std::setprecision(4)
            << run.records.back().kinetic + run.records.back().potential << std::defaultfloat << "\n";
   }
   run.steps_done = state.step;
+  if (run.completed && descent_unconverged > 0)
+    run.message = "all steps done; " + std::to_string(descent_unconverged) +
+                  " descent steps stopped before the tolerance (by the iteration budget or the energy's "
+                  "round-off), their residuals are in the report";
 
   run.series_path = (out / "result.pvd").string();
   if (writes) write_dynamic_series(run.series_path, run);
@@ -140,6 +168,14 @@ std::unique_ptr<DynamicDesign> build_dynamic_design(const Scene& scene) {
   const DynamicsSpec& spec = *scene.dynamics;
   if (!spec.objective)
     throw SceneError(scene.source + ": dynamics.objective: a trajectory design needs a trajectory objective");
+  // The transient adjoint differentiates the step equations at their solutions, which descent
+  // reaches only to its tolerance; re-solving every step by Newton would make the trajectory
+  // Newton's, so the scene's method would not be what is differentiated.
+  if (spec.solver_method == "descent")
+    throw SceneError(scene.source +
+                     ": dynamics.solver.method: the transient adjoint needs each step solved by Newton (it "
+                     "differentiates the step equations at their exact solutions, and descent stops at its "
+                     "tolerance or iteration budget); use \"method\": \"newton\" for gradcheck and functional()");
   auto design = std::make_unique<DynamicDesign>();
   design->scene_model = build_dynamic_scene(scene);
   DynamicSceneModel& d = design->scene_model;

@@ -58,14 +58,16 @@ void write_dynamic_report_json(const std::string& path, const Scene& scene, cons
                         {"steps_done", run.steps_done},
                         {"mass", spec.lumping == MassLumping::lumped ? "lumped" : "consistent"},
                         {"rayleigh_alpha", spec.rayleigh_alpha},
-                        {"rayleigh_beta", spec.rayleigh_beta}};
+                        {"rayleigh_beta", spec.rayleigh_beta},
+                        {"solver", spec.solver_method}};
   Json steps = Json::array();
   double step_seconds = 0.0;
   for (const DynamicStepRecord& r : run.records) {
     step_seconds += r.seconds;
     steps.push_back({{"step", r.step},
                      {"time", r.time},
-                     {"newton_iterations", r.newton_iterations},
+                     {spec.solver_method == "descent" ? "descent_iterations" : "newton_iterations",
+                      r.newton_iterations},
                      {"final_residual", r.residual},
                      {"kinetic_energy", r.kinetic},
                      {"potential_energy", r.potential},

@@ -16,8 +16,8 @@ struct DynamicStepRecord {
   int step = 0;
   double time = 0.0, kinetic = 0.0, potential = 0.0;
   double seconds = 0.0;   // of this step's solve
-  double residual = 0.0;  // Newton's final residual (0 for the initial state)
-  int newton_iterations = 0;
+  double residual = 0.0;  // the solver's final residual (0 for the initial state)
+  int newton_iterations = 0;  // or descent's iterations with dynamics.solver.method "descent"
 };
 
 // Wall-clock seconds of the parts of a dynamic run (the steps' own sum is in the report).

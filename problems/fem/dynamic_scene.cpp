@@ -7,8 +7,8 @@
 namespace tailor {
 
 DynamicsSpec parse_dynamics_section(const SceneNode& node, const std::string& directory) {
-  node.expect_keys(
-      {"scheme", "time_step", "steps", "mass", "rayleigh", "output_every", "initial_velocity", "objective"});
+  node.expect_keys({"scheme", "time_step", "steps", "mass", "rayleigh", "output_every", "initial_velocity", "objective",
+                    "solver"});
   DynamicsSpec d;
   if (auto v = node.find("scheme"))
     d.scheme = parse_time_scheme(v->choice({"implicit_euler", "newmark", "bdf2"}));
@@ -40,6 +40,24 @@ DynamicsSpec parse_dynamics_section(const SceneNode& node, const std::string& di
     }
     t.target = o->at("target").vector();
     d.objective = t;
+  }
+  if (auto solver = node.find("solver")) {
+    solver->expect_keys({"method", "max_iterations", "relative_tolerance", "step_length", "rho",
+                         "rho_estimation_iterations"});
+    if (auto v = solver->find("method")) d.solver_method = v->choice({"newton", "descent"});
+    for (const char* key : {"max_iterations", "relative_tolerance", "step_length", "rho", "rho_estimation_iterations"})
+      if (d.solver_method != "descent" && solver->find(key))
+        solver->at(key).fail("applies to \"method\": \"descent\" only (Newton's settings are in the scene's "
+                             "\"solver\" section)");
+    if (auto v = solver->find("max_iterations")) d.descent.max_iterations = v->integer(1);
+    if (auto v = solver->find("relative_tolerance")) d.descent.relative_tolerance = v->open_interval(0.0, 1.0);
+    if (auto v = solver->find("step_length")) d.descent.step_length = v->positive();
+    if (auto v = solver->find("rho")) {
+      const double rho = v->number();
+      if (!(rho >= 0.0 && rho < 1.0)) v->fail("expected a number in [0, 1) (0: no acceleration)");
+      d.descent.rho = rho;
+    }
+    if (auto v = solver->find("rho_estimation_iterations")) d.descent.rho_estimation_iterations = v->integer(2);
   }
   return d;
 }

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "forward/dynamics/descent_solver.hpp"
 #include "forward/dynamics/setup.hpp"
 #include "forward/dynamics/time_integrator.hpp"
 #include "forward/fem/mass.hpp"
@@ -43,6 +44,10 @@ struct DynamicsSpec {
   int output_every = 1;                             // write a frame every this many steps (and the last)
   std::optional<Eigen::VectorXd> initial_velocity;  // uniform, one entry per dimension
   std::optional<TrajectoryTargetSpec> objective;    // for `tailor gradcheck`
+  // dynamics.solver: "newton" (default; the scene's "solver" section) or "descent" with its
+  // options (forward/dynamics/descent_solver.hpp; docs/dynamics.md, "The descent solver").
+  std::string solver_method = "newton";
+  DescentOptions descent;
 };
 
 // The model of a dynamic scene: the static scene's model plus inertia and Rayleigh damping,

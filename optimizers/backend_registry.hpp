@@ -5,6 +5,7 @@
 // (a file may define several); the build lists them (cmake/tailorWriteRegistryList.cmake) in
 // file order. Code above optimizers/ asks the capabilities here instead of naming back-ends, and
 // the optimizer tests run every registered back-end.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,5 +40,11 @@ const BackendEntry& find_backend(OptimizerBackend backend);
 std::vector<const BackendEntry*> registered_backends();
 // The registered back-ends with a capability, for messages: "ipopt, nlopt_mma or nlopt_slsqp".
 std::string backends_with(bool BackendCapabilities::*capability);
+
+// Called once before Ipopt's first solve in the process. Debian's Ipopt solves with the
+// sequential MUMPS, whose symbols a program that also links PETSc's MPI MUMPS (the tailor
+// command line with the PETSc back-end) resolves to the MPI build: that one aborts unless MPI
+// is initialized, so such a program sets a prelude that starts MPI (problems/cli/petsc_command_line.cpp).
+void set_ipopt_prelude(std::function<void()> prelude);
 
 }  // namespace tailor

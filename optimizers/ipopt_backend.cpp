@@ -233,7 +233,16 @@ class IpoptProblem : public Ipopt::TNLP {
 
 }  // namespace
 
+std::function<void()>& ipopt_prelude() {
+  static std::function<void()> prelude;
+  return prelude;
+}
+
 BackendOutcome run_ipopt(Tracker& tracker, const Vector& z0) {
+  if (auto& prelude = ipopt_prelude()) {
+    prelude();
+    prelude = nullptr;
+  }
   const OptimizerOptions& options = tracker.options();
   std::string note;
   bool exact = false;
@@ -300,6 +309,8 @@ BackendOutcome run_ipopt(Tracker& tracker, const Vector& z0) {
 }  // namespace tailor::detail
 
 namespace tailor {
+
+void set_ipopt_prelude(std::function<void()> prelude) { detail::ipopt_prelude() = std::move(prelude); }
 
 // The registry's entries (optimizers/backend_registry.hpp).
 BackendEntry ipopt_backend_entry() {

@@ -14,7 +14,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 subset=(
   # Parsers.
   "forward_mesh_tests|"                     # Gmsh 2/4, Medit, TetGen readers; generators
-  "problems_tests|Scene|SceneValidation|InverseScene|SplineScene|HandlesScene|StaticScene|DynamicScene|ParserRegression"
+  "problems_tests|Scene|SceneValidation|InverseScene|SplineScene|HandlesScene|StaticScene|DynamicScene|DescentScene|ParserRegression"
   "problems_rods_tests|"
   "problems_contact_tests|"
   "problems_homogenization_tests|"
@@ -29,7 +29,13 @@ subset=(
   "forward_contact_tests|"
   "forward_tori_tests|"                     # implicit torus distance, contact term, CCD, chains
   "forward_rigid_tests|"
-  "forward_meshless_tests|MlsShapeFunctions|OctreeSampling|GaussLegendre|MeshlessElasticTerm|EveryMaterial/MeshlessElasticTermTest|MeshlessMass|MlsTransformation|MeshlessAdjoint"  # shape functions, quadrature, the term's derivative checks
+  "forward_meshless_tests|MlsShapeFunctions|OctreeSampling|GaussLegendre|MeshlessElasticTerm|EveryMaterial/MeshlessElasticTermTest|MeshlessMass|MlsTransformation|MeshlessAdjoint|PointInput|ModalWarping|ImplicitSurface"  # shape functions, quadrature, the term's derivative checks, point-file readers, warping
+  "problems_meshless_tests|"                # meshless scenes and their point files
+  "forward_interlocking_tests|"             # periodic rigid cells, the boundary search
+  "problems_interlocking_tests|"           # interlocking scenes, the limit's derivative checks
+  "forward_rig_tests|RigDerivatives|RigInput|PoseSpaceBasis|ConstrainedModes|MovingRestShape"  # rigs, their derivatives, per-pose bases
+  "problems_rig_tests|"                     # rig_dynamics scenes and rig files
+  "studio_tests|"                           # the studio server's messages, token, Host/Origin and path checks
   "forward_dynamics_tests|"
   "forward_damping_tests|"
   "forward_solve_tests|HessianShare"        # assembly by parts: the shares and Newton through them
@@ -43,6 +49,7 @@ excluded=(
   "problems_rods_tests\\.(RodDynamics|RodInverseScene\\.ShippedDesignsReachTheirTargets)"
   "problems_contact_tests\\.(FemContactScene\\.(ShippedSoftBlockSceneCarriesItsLoad|HertzContact)|TorusScene\\.GradcheckOfAnEllipticChain|RigidScene\\.KinematicPlateAndTorqueScene)"
   "forward_dynamics_tests\\.Integrators\\.NewmarkConservesEnergy"
+  "forward_dynamics_tests\\.DescentSolver\\.(AcceptedIterates|ChebyshevAcceleration)"  # thousands of descent passes
   "forward_rods_tests\\.(RodValidation|ClosedRodValidation)\\."
   "forward_rigid_tests\\.FrictionValidation\\."
   "forward_tori_tests\\.TorusChain\\.HundredAndOneLinks"

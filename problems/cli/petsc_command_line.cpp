@@ -7,6 +7,7 @@
 #include <ostream>
 #include <stdexcept>
 
+#include "optimizers/backend_registry.hpp"
 #include "petsc/petsc_linear_solver.hpp"
 #include "problems/cli/run_cli.hpp"
 #include "problems/fem/linear_solver_choice.hpp"
@@ -108,6 +109,8 @@ int run_cli_with_petsc(int argc, char** argv) {
   const bool root = !lazy.session || PetscSession::rank() == 0;
   set_writes_output(root);
   register_linear_solver("petsc", make_petsc_solver);
+  // Ipopt's MUMPS resolves to PETSc's MPI build in this program: MPI must be running first.
+  set_ipopt_prelude([] { lazy_session().start(); });
   std::vector<const char*> tailor_argv;
   for (const std::string& word : words) tailor_argv.push_back(word.c_str());
   // The other ranks compute the same and say nothing (a stream without a buffer drops output).

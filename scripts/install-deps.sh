@@ -12,6 +12,9 @@ packages=(
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libnlopt-cxx-dev libarpack2-dev libceres-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
   libpng-dev
+  # METIS: partitions meshes into domains for the domain-decomposed reduced models
+  # (forward/reduction/domain_partition.cpp, docs/reduction.md).
+  libmetis-dev
   # The Python module (python/, docs/python.md) and its tests; python3-matplotlib is optional
   # (examples/python plots with it when it is there).
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest

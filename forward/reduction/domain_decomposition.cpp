@@ -10,6 +10,7 @@
 #include "forward/reduction/free_space.hpp"
 #include "forward/reduction/generalized_eigen.hpp"
 #include "forward/reduction/modal_analysis.hpp"
+#include "forward/reduction/modal_derivatives.hpp"
 #include "forward/reduction/krylov_recurrence.hpp"
 #include "forward/reduction/mass_orthonormal_basis.hpp"
 #include "forward/solve/sparse_cholesky.hpp"
@@ -128,12 +129,23 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
     if (options.interface_modes == 0 || options.interface_modes >= nb) {
       excitations = Matrix::Identity(nb, nb);
     } else {
-      // The interface traces of the lowest global vibration modes (orthonormalized).
+      // The interface traces of the lowest global modes and the modal derivatives of the
+      // lowest k of them (k + k (k + 1) / 2 >= n), in that order, the first n independent ones.
+      const int n_wanted = options.interface_modes;
       ModalAnalysisOptions modal;
-      modal.count = options.interface_modes;
-      const Matrix global = modal_analysis(model, mesh.dim(), x, p, mass, modal).free_modes;
-      Matrix traces = rows_of(global, B);
-      excitations = Eigen::HouseholderQR<Matrix>(traces).householderQ() * Matrix::Identity(nb, traces.cols());
+      modal.count = std::min(n_wanted, static_cast<int>(m) - 1);
+      const Matrix global = modal_analysis(model, mesh.dim(), x, p, mass, modal).modes;
+      int k = 1;
+      while (k + k * (k + 1) / 2 < n_wanted) ++k;
+      k = std::min<int>(k, static_cast<int>(global.cols()));
+      const Matrix psi = modal_derivatives(model, x, p, global.leftCols(k));
+      Matrix candidates(n, global.cols() + psi.cols());
+      candidates << global.leftCols(k), psi, global.rightCols(global.cols() - k);
+      const Matrix ordered = mass_orthonormal_basis(candidates, mass, 1e-6);
+      const Matrix ordered_free = S.transpose() * ordered.leftCols(std::min<Eigen::Index>(n_wanted, ordered.cols()));
+      Matrix traces = rows_of(ordered_free, B);
+      excitations = Eigen::HouseholderQR<Matrix>(traces).householderQ() *
+                    Matrix::Identity(nb, std::min<Eigen::Index>(traces.cols(), nb));
     }
   }
   Matrix driven = Matrix::Zero(m, excitations.cols());

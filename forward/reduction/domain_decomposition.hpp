@@ -15,11 +15,14 @@
 // the static response of the interiors to the interface motion. The excitation rule:
 //  - interface_modes = 0: E = I, every interface DOF (then, with the load responses, the basis
 //    contains the exact linear static solution: u_i = K_ii^{-1} f_i + Psi u_b);
-//  - interface_modes = n: the interface traces of the n lowest global vibration modes
-//    (K phi = lambda M phi on the whole body), orthonormalized: the smooth interface motions the
-//    whole body prefers. (The interface's own low modes of K_bb e = mu M_bb e are no good: the
-//    stiffness that holds an interface vertex dominates its coupling along the interface, so
-//    they localize at the vertices with the fewest elements, e.g. corners.)
+//  - interface_modes = n: the interface traces of the lowest global vibration modes (K phi =
+//    lambda M phi on the whole body) and of the modal derivatives of the lowest k of them
+//    (k + k (k + 1) / 2 >= n), in that order, M-orthonormalized, the first n, orthonormalized on
+//    the interface: the smooth interface motions the whole body prefers, with their nonlinear
+//    (rotational) parts; for a linear material the derivatives vanish and n modes remain. (The
+//    interface's own low modes of K_bb e = mu M_bb e are no good: the stiffness that holds an
+//    interface vertex dominates its coupling along the interface, so they localize at the
+//    vertices with the fewest elements, e.g. corners.)
 // With one domain there is no interface and the basis is the global modes and modal
 // derivatives (tested). All columns are M-orthonormalized (mass_orthonormal_basis) in the
 // order domain 0, ..., domain k-1, boundary-driven; local columns stay local.

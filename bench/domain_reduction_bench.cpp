@@ -1,6 +1,6 @@
 // Speed against error of local reduced models at equal reduced size r: a global basis (linear
 // modes + modal derivatives), domain decomposition (Craig-Bampton: fixed-interface modes, local
-// modal derivatives, the gravity load's interior responses, boundary-driven modes from the
+// modal derivatives of fixed-interface and boundary-driven modes, the gravity load's interior responses, boundary-driven modes from the
 // interface traces of global modes) and
 // overlapping domains (global modes + derivatives blended by principal-direction weights),
 // each against full-space dynamics of the same model, scheme and time step.
@@ -21,7 +21,8 @@
 // many steps completed (a failed Newton step stops the run). Writes JSON (--out) and a table.
 //
 // usage: domain_reduction_bench [--tets 64000] [--steps 100] [--size 150] [--domains 5]
-//          [--fixed-interface-modes 7] [--derivative-modes 5] [--interface-modes 35]
+//          [--fixed-interface-modes 11] [--derivative-modes 3] [--boundary-derivative-modes 3]
+//          [--interface-modes 30]
 //          [--overlap-layers 2] [--youngs 5e6] [--bases global,domains,overlapping] [--out FILE]
 #include <cstdio>
 #include <stdexcept>
@@ -61,7 +62,8 @@ namespace {
 constexpr double kLength = 4.0, kPoisson = 0.3, kDensity = 1000.0, kGravity = 9.81, kBeta = 1e-3, kStep = 0.01;
 
 struct Settings {
-  int size = 150, domains = 5, fixed_interface_modes = 7, derivative_modes = 5, interface_modes = 35;
+  int size = 150, domains = 5, fixed_interface_modes = 11, derivative_modes = 3, boundary_derivative_modes = 3;
+  int interface_modes = 30;
   int overlap_layers = 2, steps = 100;
   double youngs = 5e6;
 };
@@ -177,6 +179,7 @@ Row run_basis(const std::string& kind, const Scene& scene, const Settings& s, co
     DomainDecompositionOptions options;
     options.fixed_interface_modes = s.fixed_interface_modes;
     options.derivative_modes = s.derivative_modes;
+    options.boundary_derivative_modes = s.boundary_derivative_modes;
     options.interface_modes = s.interface_modes;
     options.loads = scene.gravity_force;  // the static correction of the body load (Craig-Bampton)
     basis = domain_decomposition(model, mesh, scene.elastic.rest, scene.p, scene.mass, domains, options).basis;
@@ -233,6 +236,8 @@ int run(int argc, char** argv) {
   cli.integer("--domains", s.domains, "METIS domains", 1);
   cli.integer("--fixed-interface-modes", s.fixed_interface_modes, "per domain", 0);
   cli.integer("--derivative-modes", s.derivative_modes, "per domain: local derivatives of this many modes", 0);
+  cli.integer("--boundary-derivative-modes", s.boundary_derivative_modes,
+              "per domain: local derivatives of this many boundary-driven modes", 0);
   cli.integer("--interface-modes", s.interface_modes, "interface traces of global modes", 1);
   cli.integer("--overlap-layers", s.overlap_layers, "element rings around each overlapping domain", 0);
   cli.number("--youngs", s.youngs, "Young's modulus", 0.0);

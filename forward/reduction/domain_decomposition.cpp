@@ -3,6 +3,7 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -152,20 +153,34 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
   for (int i = 0; i < nb; ++i) driven.row(B[static_cast<std::size_t>(i)]) = excitations.row(i);
   const Matrix coupling = K * driven;  // K_ib u_b in the interior rows
 
+  // Interior factors; the boundary-driven modes' interior parts.
+  std::vector<std::unique_ptr<InteriorFactor>> factors(static_cast<std::size_t>(domains));
+  for (int d = 0; d < domains; ++d) {
+    const std::vector<int>& I = split.interior[static_cast<std::size_t>(d)];
+    if (I.empty()) continue;
+    factors[static_cast<std::size_t>(d)] = std::make_unique<InteriorFactor>();
+    factors[static_cast<std::size_t>(d)]->factorize(sparse_block(K, I, I), d);
+    if (driven.cols() > 0) {
+      const Matrix response = -factors[static_cast<std::size_t>(d)]->factor.solve_columns(rows_of(coupling, I));
+      for (std::size_t i = 0; i < I.size(); ++i) driven.row(I[i]) = response.row(static_cast<Eigen::Index>(i));
+    }
+  }
+  // Force differentials of the lowest boundary-driven modes, -F_2[psi_a, psi_b] (free space).
+  const int nbd = std::min<int>(options.boundary_derivative_modes, static_cast<int>(driven.cols()));
+  Matrix driven_rhs(m, nbd * (nbd + 1) / 2);
+  for (int a = 0, c = 0; a < nbd; ++a)
+    for (int b = a; b < nbd; ++b, ++c)
+      driven_rhs.col(c) = -(S.transpose() * force_derivative(model, x, p, {Vector(S * driven.col(a)),
+                                                                          Vector(S * driven.col(b))}, step));
+
   std::vector<Matrix> local(static_cast<std::size_t>(domains));
   const Matrix loads_free = options.loads.size() > 0 ? Matrix(S.transpose() * options.loads) : Matrix(m, 0);
   for (int d = 0; d < domains; ++d) {
     const std::vector<int>& I = split.interior[static_cast<std::size_t>(d)];
     const int ni = static_cast<int>(I.size());
     if (ni == 0) continue;
-    InteriorFactor factor;
+    InteriorFactor& factor = *factors[static_cast<std::size_t>(d)];
     const SparseMatrix kii = sparse_block(K, I, I);
-    factor.factorize(kii, d);
-    // Boundary-driven modes, interior part of domain d.
-    if (driven.cols() > 0) {
-      const Matrix response = -factor.factor.solve_columns(rows_of(coupling, I));
-      for (int i = 0; i < ni; ++i) driven.row(I[static_cast<std::size_t>(i)]) = response.row(i);
-    }
     std::vector<Matrix> columns;  // interior-sized
     Matrix modes(ni, 0);
     const int count = std::min(options.fixed_interface_modes, ni - 1);
@@ -195,6 +210,7 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
         }
       columns.push_back(factor.factor.solve_columns(rhs));
     }
+    if (nbd > 0) columns.push_back(factor.factor.solve_columns(rows_of(driven_rhs, I)));
     if (loads_free.cols() > 0) columns.push_back(factor.factor.solve_columns(rows_of(loads_free, I)));
     Eigen::Index total = 0;
     for (const Matrix& c : columns) total += c.cols();

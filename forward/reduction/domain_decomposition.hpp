@@ -9,6 +9,9 @@
 //  - fixed-interface modes: the lowest pairs of K_ii phi = lambda M_ii phi (zero on the interface);
 //  - local modal derivatives of its lowest `derivative_modes` fixed-interface modes,
 //    -K_ii^{-1} [H(phi_a) phi_b]_i (the order-2 Krylov block with the interface held fixed);
+//  - local derivatives of the lowest `boundary_derivative_modes` boundary-driven modes,
+//    -K_ii^{-1} [H(psi_a) psi_b]_i: the interior's second-order response to the interface motion
+//    (a domain carried through a large rotation by its interface deforms quadratically in it);
 //  - interior static responses K_ii^{-1} f_i to given loads.
 // Boundary-driven (constraint) modes: for interface excitations u_b (the columns of E),
 //   psi = [u_b on the interface;  -K_ii^{-1} K_ib u_b in every domain's interior],
@@ -40,6 +43,7 @@ struct DomainDecompositionOptions {
   int fixed_interface_modes = 6;  // per domain (at most its interior DOFs - 1)
   int interface_modes = 0;        // 0 = every interface DOF; n > 0 = n interface modes (see above)
   int derivative_modes = 0;       // per domain: local derivatives of this many lowest fixed-interface modes
+  int boundary_derivative_modes = 0;  // per domain: local derivatives of this many lowest boundary-driven modes
   Matrix loads;                   // num_dofs x c force vectors (may be empty): interior static responses
   double step = 0.0;              // finite-difference step of the derivatives; 0 = 1e-3 * extent
   double drop_tolerance = 1e-8;   // mass_orthonormal_basis's

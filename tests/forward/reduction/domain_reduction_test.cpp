@@ -105,10 +105,11 @@ TEST(DomainDecomposition, LocalColumnsVanishOnTheInterface) {
   DomainDecompositionOptions options;
   options.fixed_interface_modes = 3;
   options.derivative_modes = 2;
+  options.boundary_derivative_modes = 2;
   options.interface_modes = 4;
   const DomainDecomposition dd = domain_decomposition(*body.model, body.mesh, body.rest, body.p, body.mass, domains,
                                                       options);
-  ASSERT_EQ(dd.basis.cols(), 3 * (3 + 3) + 4);
+  ASSERT_EQ(dd.basis.cols(), 3 * (3 + 3 + 3) + 4);
   EXPECT_LT((dd.basis.transpose() * (body.mass * dd.basis) - Matrix::Identity(dd.basis.cols(), dd.basis.cols()))
                 .cwiseAbs()
                 .maxCoeff(),

@@ -25,6 +25,7 @@
 //          [--interface-modes 30]
 //          [--overlap-layers 2] [--youngs 5e6] [--bases global,domains,overlapping] [--no-reference]
 //          [--out FILE]
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -167,7 +168,7 @@ void simulate(const ReducedElasticModel& model, const Matrix& basis, ReducedJaco
   }
   row.steps_per_s = 1.0 / median(wall);
   row.newton_per_step = row.completed > 0 ? static_cast<double>(newton_total) / row.completed : 0.0;
-  row.trajectory_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : 0.0;
+  row.trajectory_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : std::nan("");  // null in JSON
 }
 
 Row run_basis(const std::string& kind, const Scene& scene, const Settings& s, const Eigen::VectorXi& domains,

@@ -52,6 +52,17 @@ if(NOT TARGET tailor_dep_cholmod)
     INTERFACE_LINK_LIBRARIES "${TAILOR_CHOLMOD_LIBRARY};${TAILOR_SUITESPARSECONFIG_LIBRARY};BLAS::BLAS;LAPACK::LAPACK")
 endif()
 
+# METIS 5.1 (graph partitioning of meshes into domains, forward/reduction/domain_partition.cpp):
+# Debian's libmetis-dev ships neither a CMake config nor a .pc file.
+find_path(TAILOR_METIS_INCLUDE_DIR metis.h REQUIRED)
+find_library(TAILOR_METIS_LIBRARY metis REQUIRED)
+if(NOT TARGET tailor_dep_metis)
+  add_library(tailor_dep_metis INTERFACE IMPORTED)
+  set_target_properties(tailor_dep_metis PROPERTIES
+    INTERFACE_INCLUDE_DIRECTORIES "${TAILOR_METIS_INCLUDE_DIR}"
+    INTERFACE_LINK_LIBRARIES "${TAILOR_METIS_LIBRARY}")
+endif()
+
 # Ipopt 3.11 (MUMPS) and ARPACK-NG 3.8: pkg-config is what Debian ships for both.
 pkg_check_modules(IPOPT REQUIRED IMPORTED_TARGET GLOBAL ipopt)
 pkg_check_modules(ARPACK REQUIRED IMPORTED_TARGET GLOBAL arpack)

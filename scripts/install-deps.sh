@@ -15,6 +15,9 @@ packages=(
   # tailor studio's server (problems/studio, docs/studio.md): Debian's cpp-httplib is a header of
   # declarations and a shared library, so the studio adds little to the quick start's build.
   libcpp-httplib-dev
+  # METIS: partitions meshes into domains for the domain-decomposed reduced models
+  # (forward/reduction/domain_partition.cpp, docs/reduction.md).
+  libmetis-dev
   # The Python module (python/, docs/python.md) and its tests; python3-matplotlib is optional
   # (examples/python plots with it when it is there).
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest

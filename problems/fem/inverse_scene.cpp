@@ -129,7 +129,8 @@ void parse_mode_keys(const SceneNode& node, DesignSpec& d) {
 ReductionSpec parse_reduction(const SceneNode& node) {
   node.expect_keys({"displacement_modes", "modal_derivatives", "derivative_modes", "static_responses",
                     "design_responses", "smoothness", "full_space_check", "min_relative_modulus",
-                    "positivity_weight", "refinements", "full_space_tolerance", "cubature"});
+                    "positivity_weight", "refinements", "full_space_tolerance", "cubature", "krylov_order",
+                    "basis", "domains"});
   ReductionSpec r;
   r.key = node.path();
   if (auto k = node.find("displacement_modes")) r.displacement_modes = k->integer(1);
@@ -143,6 +144,21 @@ ReductionSpec parse_reduction(const SceneNode& node) {
   if (auto k = node.find("full_space_tolerance")) r.full_space_tolerance = k->positive();
   if (auto k = node.find("min_relative_modulus")) r.min_relative_modulus = k->open_interval(0.0, 1.0);
   if (auto k = node.find("positivity_weight")) r.positivity_weight = k->non_negative();
+  if (auto k = node.find("krylov_order")) r.krylov_order = k->integer(1);
+  if (r.krylov_order > 4) node.at("krylov_order").fail("at most 4 (the block sizes grow as C(r + k - 1, k))");
+  if (auto k = node.find("basis")) r.basis = k->choice({"global", "domains", "overlapping"});
+  if (auto k = node.find("domains")) {
+    if (r.basis == "global") k->fail("only with \"basis\": \"domains\" or \"overlapping\"");
+    k->expect_keys({"count", "from_regions", "fixed_interface_modes", "derivative_modes", "interface_modes",
+                    "overlap_layers"});
+    auto& d = r.domains;
+    if (auto e = k->find("count")) d.count = e->integer(1);
+    if (auto e = k->find("from_regions")) d.from_regions = e->boolean();
+    if (auto e = k->find("fixed_interface_modes")) d.fixed_interface_modes = e->integer(0);
+    if (auto e = k->find("derivative_modes")) d.derivative_modes = e->integer(0);
+    if (auto e = k->find("interface_modes")) d.interface_modes = e->integer(0);
+    if (auto e = k->find("overlap_layers")) d.overlap_layers = e->integer(0);
+  }
   if (auto k = node.find("cubature")) {
     k->expect_keys({"elements", "training_poses", "tolerance", "candidates"});
     CubatureSpec c;

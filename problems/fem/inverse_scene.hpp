@@ -59,6 +59,16 @@ struct CubatureSpec {
   int candidates = 0;       // elements scored per greedy step (a random subset); 0: every element
 };
 
+// inverse.design.reduction.domains: the domains of a "domains" or "overlapping" basis.
+struct DomainBasisSpec {
+  int count = 4;                  // METIS domains
+  bool from_regions = false;      // or the mesh's element regions
+  int fixed_interface_modes = 6;  // per domain
+  int derivative_modes = 3;       // per domain
+  int interface_modes = 12;       // 0 = every interface DOF
+  int overlap_layers = 2;         // "overlapping" only
+};
+
 struct ReductionSpec {
   int displacement_modes = 6;     // linear vibration modes of the constrained mesh
   bool modal_derivatives = true;  // of the modes and static responses (none for linear materials)
@@ -79,6 +89,14 @@ struct ReductionSpec {
   // Given: the reduced energy is integrated by cubature (any material); absent: the exact
   // polynomial for StVK and linear materials, cubature with the defaults for the others.
   std::optional<CubatureSpec> cubature;
+  // Order k of the Krylov recurrence of the static response (krylov_recurrence.hpp) whose
+  // blocks 2..k are added for nonlinear materials: 2 = the modal derivatives.
+  int krylov_order = 2;
+  // "basis": which displacement basis (docs/reduction.md, "Local reduced models"): "global" (the
+  // candidates above), "domains" (Craig-Bampton per domain, plus the static responses) or
+  // "overlapping" (the global candidates blended by principal-direction weights).
+  std::string basis = "global";
+  DomainBasisSpec domains;
   std::string key;  // "inverse.design.reduction"
 };
 

@@ -14,7 +14,11 @@
 #include "forward/core/timing.hpp"
 #include "forward/fem/mass.hpp"
 #include "forward/fem/material_registry.hpp"
+#include "forward/reduction/domain_decomposition.hpp"
+#include "forward/reduction/domain_partition.hpp"
 #include "forward/reduction/free_space.hpp"
+#include "forward/reduction/krylov_recurrence.hpp"
+#include "forward/reduction/overlapping_domains.hpp"
 #include "forward/reduction/mass_orthonormal_basis.hpp"
 #include "forward/reduction/material_modes.hpp"
 #include "forward/reduction/modal_analysis.hpp"
@@ -234,6 +238,38 @@ double refine_basis(ReducedDesign& design, const Vector& w, const Vector& displa
   return seconds_since(t0);
 }
 
+namespace {
+
+// The "domains" / "overlapping" basis of inverse.design.reduction.basis (docs/reduction.md,
+// "Local reduced models"): Craig-Bampton per domain with the loads' interior responses, plus the
+// global candidates' design responses kept through `global` (so the design sensitivities stay in
+// the span); or the global basis blended by principal-direction weights.
+Matrix local_basis(const ReductionSpec& reduction, const Model& model, const Mesh& mesh, const Vector& x0,
+                   const Vector& p0, const SparseMatrix& mass, const Matrix& global, const Vector& nodal_forces,
+                   const std::vector<Vector>& handle_loads) {
+  const DomainBasisSpec& spec = reduction.domains;
+  const Eigen::VectorXi domains = spec.from_regions ? domains_from_regions(mesh) : partition_elements(mesh, spec.count);
+  if (reduction.basis == "overlapping") {
+    OverlappingDomainOptions options;
+    options.overlap_layers = spec.overlap_layers;
+    const OverlappingDomains od = overlapping_domains(model, mesh, x0, p0, mass, domains, options);
+    return mass_orthonormal_basis(blended_basis(od.weights, global, mesh.dim()), mass, 1e-6);
+  }
+  DomainDecompositionOptions options;
+  options.fixed_interface_modes = spec.fixed_interface_modes;
+  options.derivative_modes = spec.derivative_modes;
+  options.interface_modes = spec.interface_modes;
+  options.loads = Matrix(nodal_forces.size(), static_cast<Eigen::Index>(handle_loads.size()) + 1);
+  for (std::size_t h = 0; h < handle_loads.size(); ++h) options.loads.col(static_cast<Eigen::Index>(h)) = handle_loads[h];
+  options.loads.rightCols(1) = nodal_forces;
+  const Matrix local = domain_decomposition(model, mesh, x0, p0, mass, domains, options).basis;
+  Matrix all(local.rows(), local.cols() + global.cols());
+  all << local, global;
+  return mass_orthonormal_basis(all, mass, 1e-6);
+}
+
+}  // namespace
+
 ReducedDesign build_reduced_design(const Scene& scene) {
   const auto t_begin = Clock::now();
   if (!scene.inverse || !scene.inverse->design.reduction)
@@ -390,7 +426,14 @@ ReducedDesign build_reduced_design(const Scene& scene) {
       for (Eigen::Index c = 0; c < responses.cols(); ++c)
         seeds.col(k + c) = responses.col(c) / std::sqrt(responses.col(c).dot(mass * responses.col(c)));
     }
-    blocks.push_back(modal_derivatives(model, x0, p0, seeds));
+    if (reduction.krylov_order == 2) {
+      blocks.push_back(modal_derivatives(model, x0, p0, seeds));
+    } else if (reduction.krylov_order > 2) {  // blocks 2..k of the static-response recurrence
+      KrylovRecurrenceOptions krylov;
+      krylov.order = reduction.krylov_order;
+      const KrylovRecurrence recurrence = krylov_recurrence(model, x0, p0, mass, seeds, krylov);
+      for (std::size_t j = 1; j < recurrence.blocks.size(); ++j) blocks.push_back(recurrence.blocks[j]);
+    }
     design.timings.modal_derivatives = seconds_since(t);
   }
   Eigen::Index columns = 0;
@@ -403,6 +446,8 @@ ReducedDesign build_reduced_design(const Scene& scene) {
   }
   design.basis_candidates = static_cast<int>(columns);
   design.basis = mass_orthonormal_basis(candidates, mass, 1e-6);
+  if (reduction.basis != "global") design.basis = local_basis(reduction, model, mesh, x0, p0, mass, design.basis,
+                                                                setup.nodal_forces, handle_loads);
 
   design.mass = mass;
   precompute(design);
@@ -582,7 +627,9 @@ ReducedDesignRun run_reduced_design(ReducedDesign& design, const std::string& ou
                            {"refinements", design.spec.refinements},
                            {"full_space_tolerance", design.spec.full_space_tolerance},
                            {"min_relative_modulus", design.spec.min_relative_modulus},
-                           {"positivity_weight", design.spec.positivity_weight}};
+                           {"positivity_weight", design.spec.positivity_weight},
+                           {"krylov_order", design.spec.krylov_order},
+                           {"basis", design.spec.basis}};
     report["sizes"] = {
         {"elements", design.setup.mesh.num_elements()}, {"dofs", design.setup.num_dofs()},
         {"reduced_coordinates", run.reduced_size},      {"basis_candidates", run.basis_candidates},

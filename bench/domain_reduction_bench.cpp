@@ -1,0 +1,319 @@
+// Speed against error of local reduced models at equal reduced size r: a global basis (linear
+// modes + modal derivatives), domain decomposition (Craig-Bampton: fixed-interface modes, local
+// modal derivatives of fixed-interface and boundary-driven modes, the gravity load's interior responses, boundary-driven modes from the
+// interface traces of global modes) and
+// overlapping domains (global modes + derivatives blended by principal-direction weights),
+// each against full-space dynamics of the same model, scheme and time step.
+//
+// Scene: a 4 x 1 x 1 StVK cantilever (E = 5e6 unless --youngs, nu = 0.3, density 1000,
+// consistent mass), clamped at x = 0, at rest when gravity (9.81, downwards) is switched on at
+// t = 0 (the tip falls by ~30% of the length with the default E). Newmark average acceleration,
+// h = 1/100 s, Rayleigh beta = 1e-3 s, --steps steps. The default mesh is the published
+// configuration (Yang et al. 2015, "funnelling the bunny": 64K tets, 5 domains, 150 reduced
+// DOFs, h = 1/100): bench::cantilever_cells(64000) = 63,882 tets.
+//
+// Reduced energies: the domain and overlapping bases use the grouped exact StVK polynomial
+// (local_reduced_stvk.hpp; Newton with the Jacobian every iteration); a global basis of r = 150
+// has a (r + r(r+1)/2)^2 = 1 GB polynomial, so it uses the projected model (cost proportional
+// to the mesh; the Jacobian once per step). Reported per basis: precomputation (wall; every step
+// from the mesh to the reduced model), median steps/s (wall), Newton iterations per step,
+// trajectory error sqrt(sum_n |u_r - u_f|^2_M / sum_n |u_f|^2_M) and peak tip error, and how
+// many steps completed (a failed Newton step stops the run). Writes JSON (--out) and a table.
+//
+// usage: domain_reduction_bench [--tets 64000] [--steps 100] [--size 150] [--domains 5]
+//          [--fixed-interface-modes 11] [--derivative-modes 3] [--boundary-derivative-modes 3]
+//          [--interface-modes 30]
+//          [--overlap-layers 2] [--youngs 5e6] [--bases global,domains,overlapping] [--no-reference]
+//          [--out FILE]
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "bench_cli.hpp"
+#include "cantilever.hpp"
+#include "forward/dynamics/setup.hpp"
+#include "forward/dynamics/time_integrator.hpp"
+#include "forward/fem/mass.hpp"
+#include "forward/reduction/domain_decomposition.hpp"
+#include "forward/reduction/domain_partition.hpp"
+#include "forward/reduction/local_reduced_stvk.hpp"
+#include "forward/reduction/mass_orthonormal_basis.hpp"
+#include "forward/reduction/modal_analysis.hpp"
+#include "forward/reduction/modal_derivatives.hpp"
+#include "forward/reduction/overlapping_domains.hpp"
+#include "forward/reduction/projected_reduced_model.hpp"
+#include "forward/reduction/reduced_dynamics.hpp"
+#include "tailor_version.hpp"
+
+namespace tailor::bench::domain_reduction_bench {
+
+using namespace tailor;
+using bench::Clock;
+using bench::median;
+using bench::seconds_since;
+
+namespace {
+
+constexpr double kLength = 4.0, kPoisson = 0.3, kDensity = 1000.0, kGravity = 9.81, kBeta = 1e-3, kStep = 0.01;
+
+struct Settings {
+  int size = 150, domains = 5, fixed_interface_modes = 11, derivative_modes = 3, boundary_derivative_modes = 3;
+  int interface_modes = 30;
+  int overlap_layers = 2, steps = 100;
+  bool reference = true;  // --no-reference: speed only (the full-space run dominates on large meshes)
+  double youngs = 5e6;
+};
+
+struct Row {
+  std::string basis, energy;
+  int r = 0, groups = 1, largest_group = 0, completed = 0;
+  double precompute_s = 0, steps_per_s = 0, newton_per_step = 0, trajectory_error = 0, peak_tip_error = 0;
+  std::string message;
+};
+
+struct Scene {
+  bench::Cantilever elastic;
+  Vector p;
+  SparseMatrix mass;
+  Vector gravity_force;  // M g
+};
+
+Eigen::Vector3d tip_point(const Vector& u, const std::vector<int>& tip) {
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  for (int v : tip) t += u.segment<3>(3 * v);
+  return t / static_cast<double>(tip.size());
+}
+
+// Full-space Newmark displacements per state (num_dofs x (steps + 1)) and the median step time.
+Matrix full_space_reference(const bench::CantileverCells& cells, const Settings& s, double& step_s) {
+  DynamicTerms terms;
+  bench::Cantilever full =
+      bench::make_cantilever(kLength, cells, MaterialKind::stvk, [&](Model& model, const Mesh& mesh) {
+        terms = add_dynamics_terms(
+            model, mesh, DynamicsSetup{MassLumping::consistent, Eigen::Vector3d(0, 0, -kGravity), true});
+      });
+  const int m = full.mesh.num_elements();
+  Vector p = bench::cantilever_parameters(full, s.youngs, kPoisson);
+  p.segment(terms.density_offset, m).setConstant(kDensity);
+  p[terms.alpha_offset] = 0.0;
+  p[terms.beta_offset] = kBeta;
+  TimeIntegratorOptions options;
+  options.scheme = TimeScheme::newmark;
+  options.time_step = kStep;
+  TimeIntegrator integrator(*full.model, options);
+  DynamicState state = integrator.initial_state(full.rest, Vector::Zero(full.rest.size()), p);
+  Matrix u(full.rest.size(), s.steps + 1);
+  u.col(0).setZero();
+  std::vector<double> wall;
+  for (int n = 0; n < s.steps; ++n) {
+    const auto t0 = Clock::now();
+    const NewtonResult r = integrator.step(state, p);
+    wall.push_back(seconds_since(t0));
+    if (!r.converged()) throw std::runtime_error("full-space step " + std::to_string(n + 1) + ": " + r.message);
+    u.col(n + 1) = state.x - full.rest;
+  }
+  step_s = median(wall);
+  return u;
+}
+
+// Modes + modal derivatives of the lowest m modes with m + m (m + 1) / 2 >= r, M-orthonormal, first r.
+Matrix modes_and_derivatives(const Scene& scene, const ModalAnalysis& modes, int r) {
+  int m = 1;
+  while (m + m * (m + 1) / 2 < r) ++m;
+  const Matrix psi = modal_derivatives(*scene.elastic.model, scene.elastic.rest, scene.p, modes.modes.leftCols(m));
+  Matrix all(modes.modes.rows(), m + psi.cols());
+  all << modes.modes.leftCols(m), psi;
+  const Matrix basis = mass_orthonormal_basis(all, scene.mass);
+  return basis.leftCols(std::min<Eigen::Index>(r, basis.cols()));
+}
+
+// Newmark steps of the reduced model from rest under gravity; errors against the reference.
+void simulate(const ReducedElasticModel& model, const Matrix& basis, ReducedJacobian jacobian, const Scene& scene,
+              const Matrix& reference, int steps, Row& row) {
+  ReducedDynamicsOptions options;
+  options.integrator = ReducedIntegrator::newmark;
+  options.time_step = kStep;
+  options.rayleigh_stiffness = kBeta;
+  options.newton_tolerance = 1e-10;
+  options.jacobian = jacobian;
+  const ReducedDynamics dynamics(model, options, Matrix(), basis.transpose() * scene.gravity_force);
+  ReducedState state = dynamics.initial_state(Vector::Zero(basis.cols()), Vector::Zero(basis.cols()));
+  std::vector<double> wall;
+  double error2 = 0.0, norm2 = 0.0;
+  int newton_total = 0;
+  const std::vector<int>& tip = scene.elastic.tip_vertices;
+  for (int n = 0; n < steps; ++n) {
+    ReducedState next;
+    int newton = 0;
+    const auto t0 = Clock::now();
+    const bool ok = dynamics.step(state, next, newton, row.message);
+    wall.push_back(seconds_since(t0));
+    if (!ok || !next.q.allFinite()) break;
+    newton_total += newton;
+    state = std::move(next);
+    row.completed = n + 1;
+    if (reference.cols() == 0) continue;
+    const Vector u = basis * state.q, e = u - reference.col(n + 1);
+    error2 += e.dot(scene.mass * e);
+    norm2 += reference.col(n + 1).dot(scene.mass * reference.col(n + 1));
+    row.peak_tip_error =
+        std::max(row.peak_tip_error, (tip_point(u, tip) - tip_point(reference.col(n + 1), tip)).norm());
+  }
+  row.steps_per_s = 1.0 / median(wall);
+  row.newton_per_step = row.completed > 0 ? static_cast<double>(newton_total) / row.completed : 0.0;
+  row.trajectory_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : std::nan("");  // null in JSON
+}
+
+Row run_basis(const std::string& kind, const Scene& scene, const Settings& s, const Eigen::VectorXi& domains,
+              const Matrix& reference) {
+  Row row;
+  row.basis = kind;
+  const auto t = Clock::now();
+  const auto& mesh = scene.elastic.mesh;
+  const auto& model = *scene.elastic.model;
+  Matrix basis;
+  if (kind == "domains") {
+    DomainDecompositionOptions options;
+    options.fixed_interface_modes = s.fixed_interface_modes;
+    options.derivative_modes = s.derivative_modes;
+    options.boundary_derivative_modes = s.boundary_derivative_modes;
+    options.interface_modes = s.interface_modes;
+    options.loads = scene.gravity_force;  // the static correction of the body load (Craig-Bampton)
+    basis = domain_decomposition(model, mesh, scene.elastic.rest, scene.p, scene.mass, domains, options).basis;
+  } else {
+    ModalAnalysisOptions modal;
+    const int local = kind == "global" ? s.size : s.size / s.domains;
+    int m = 1;
+    while (m + m * (m + 1) / 2 < local) ++m;
+    modal.count = m;
+    const ModalAnalysis modes = modal_analysis(model, 3, scene.elastic.rest, scene.p, scene.mass, modal);
+    basis = modes_and_derivatives(scene, modes, local);
+    if (kind == "overlapping") {
+      OverlappingDomainOptions options;
+      options.overlap_layers = s.overlap_layers;
+      const OverlappingDomains od =
+          overlapping_domains(model, mesh, scene.elastic.rest, scene.p, scene.mass, domains, options);
+      basis = mass_orthonormal_basis(blended_basis(od.weights, basis, 3), scene.mass, 1e-8);
+    }
+  }
+  row.r = static_cast<int>(basis.cols());
+  if (kind == "global") {
+    row.energy = "projected";
+    const ProjectedReducedModel projected(model, scene.p, scene.elastic.rest, basis);
+    row.precompute_s = seconds_since(t);
+    simulate(projected, basis, ReducedJacobian::once_per_step, scene, reference, s.steps, row);
+  } else {
+    row.energy = "local polynomial";
+    const LocalReducedStvk local(model, mesh, scene.p, basis, 1e-14 * basis.cwiseAbs().maxCoeff());
+    row.groups = local.groups();
+    row.largest_group = local.largest_group();
+    row.precompute_s = seconds_since(t);
+    simulate(local, basis, ReducedJacobian::every_iteration, scene, reference, s.steps, row);
+  }
+  std::printf("  %-12s r = %3d (%s, %d groups of <= %d columns): precompute %.1f s, %.1f steps/s, %.2f Newton/step, "
+              "trajectory error %.3e, peak tip error %.4f, %d/%d steps\n",
+              row.basis.c_str(), row.r, row.energy.c_str(), row.groups, row.largest_group, row.precompute_s,
+              row.steps_per_s, row.newton_per_step, row.trajectory_error, row.peak_tip_error, row.completed, s.steps);
+  std::fflush(stdout);
+  return row;
+}
+
+}  // namespace
+
+int run(int argc, char** argv) {
+  Settings s;
+  int tets = 64000;
+  std::vector<std::string> bases = {"global", "domains", "overlapping"};
+  std::string out = "bench_domain_reduction.json";
+  bench::Cli cli("domain_reduction_bench",
+                 "Global, domain-decomposed and overlapping-domain reduced dynamics at equal size: speed and error.");
+  cli.tets(tets);
+  cli.steps(s.steps);
+  cli.integer("--size", s.size, "reduced size r of the global and overlapping bases", 1);
+  cli.integer("--domains", s.domains, "METIS domains", 1);
+  cli.integer("--fixed-interface-modes", s.fixed_interface_modes, "per domain", 0);
+  cli.integer("--derivative-modes", s.derivative_modes, "per domain: local derivatives of this many modes", 0);
+  cli.integer("--boundary-derivative-modes", s.boundary_derivative_modes,
+              "per domain: local derivatives of this many boundary-driven modes", 0);
+  cli.integer("--interface-modes", s.interface_modes, "interface traces of global modes", 1);
+  cli.integer("--overlap-layers", s.overlap_layers, "element rings around each overlapping domain", 0);
+  cli.number("--youngs", s.youngs, "Young's modulus", 0.0);
+  cli.flag("--no-reference", [&] { s.reference = false; }, "skip the full-space run (no errors reported)");
+  cli.choices("--bases", bases, "bases to run", {"global", "domains", "overlapping"});
+  cli.out(out);
+  if (const auto exit = cli.parse(argc, argv)) return *exit;
+  int threads = 1;
+#ifdef _OPENMP
+  threads = omp_get_max_threads();
+#endif
+  const bench::CantileverCells cells = bench::cantilever_cells(tets, kLength);
+  Scene scene{bench::make_cantilever(kLength, cells, MaterialKind::stvk), {}, {}, {}};
+  const int m = scene.elastic.mesh.num_elements();
+  scene.p = bench::cantilever_parameters(scene.elastic, s.youngs, kPoisson);
+  scene.mass = mass_matrix(scene.elastic.mesh, Eigen::VectorXd::Constant(m, kDensity), MassLumping::consistent);
+  Vector g = Vector::Zero(scene.elastic.rest.size());
+  for (int v = 0; v < scene.elastic.mesh.num_vertices(); ++v) g[3 * v + 2] = -kGravity;
+  scene.gravity_force = scene.mass * g;
+  std::printf("tailor %s, local reduced models: %d tets, %d domains, r = %d, %d Newmark steps of %g s, %d threads\n",
+              version_string, m, s.domains, s.size, s.steps, kStep, threads);
+  double full_step_s = 0.0;
+  auto t = Clock::now();
+  Matrix reference;
+  if (s.reference) {
+    reference = full_space_reference(cells, s, full_step_s);
+    std::printf("  full space: %.2f s, median step %.3f s, tip fall %.3f\n", seconds_since(t), full_step_s,
+                -tip_point(reference.col(s.steps), scene.elastic.tip_vertices).z());
+  }
+  t = Clock::now();
+  const Eigen::VectorXi domains = partition_elements(scene.elastic.mesh, s.domains);
+  const double partition_s = seconds_since(t);
+  std::vector<Row> rows;
+  for (const std::string& kind : bases) rows.push_back(run_basis(kind, scene, s, domains, reference));
+
+  std::printf("\n%-12s %4s %-17s %7s %12s %9s %9s %13s %11s %9s\n", "basis", "r", "energy", "groups",
+              "precompute s", "steps/s", "Newton", "traj. error", "tip error", "steps");
+  for (const Row& row : rows)
+    std::printf("%-12s %4d %-17s %7d %12.1f %9.1f %9.2f %13.3e %11.4f %5d/%d\n", row.basis.c_str(), row.r,
+                row.energy.c_str(), row.groups, row.precompute_s, row.steps_per_s, row.newton_per_step,
+                row.trajectory_error, row.peak_tip_error, row.completed, s.steps);
+  std::printf("(%d tets, METIS partition %.2f s; full-space median step %.3f s; steps/s: median wall time per step)\n",
+              m, partition_s, full_step_s);
+
+  bench::Json json = bench::report("domain_reduction");
+  json["openmp_threads"] = threads;
+  json["hardware_threads"] = std::thread::hardware_concurrency();
+  json["tets"] = m;
+  json["domains"] = s.domains;
+  json["size"] = s.size;
+  json["steps"] = s.steps;
+  json["time_step"] = kStep;
+  json["youngs_modulus"] = s.youngs;
+  json["partition_s"] = partition_s;
+  json["full_space_step_s"] = full_step_s;
+  json["reference"] = s.reference;
+  bench::Json results = bench::Json::array();
+  for (const Row& r : rows)
+    results.push_back({{"basis", r.basis},
+                       {"r", r.r},
+                       {"energy", r.energy},
+                       {"groups", r.groups},
+                       {"largest_group", r.largest_group},
+                       {"precompute_s", r.precompute_s},
+                       {"steps_per_s", r.steps_per_s},
+                       {"newton_per_step", r.newton_per_step},
+                       {"trajectory_error", r.trajectory_error},
+                       {"peak_tip_error", r.peak_tip_error},
+                       {"completed_steps", r.completed},
+                       {"message", r.message}});
+  json["results"] = results;
+  return bench::write_report(out, json, "domain_reduction_bench") ? 0 : 1;
+}
+
+}  // namespace tailor::bench::domain_reduction_bench

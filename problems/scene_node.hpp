@@ -20,8 +20,11 @@ nlohmann::json read_scene_document(const std::string& path);
 
 class SceneNode {
  public:
+  // The node keeps pointers to `value` and `source`: both must outlive it (temporaries are refused).
   SceneNode(const nlohmann::json& value, const std::string& source, std::string path)
       : value_(&value), source_(&source), path_(std::move(path)) {}
+  SceneNode(const nlohmann::json& value, std::string&& source, std::string path) = delete;
+  SceneNode(nlohmann::json&& value, const std::string& source, std::string path) = delete;
 
   const std::string& path() const { return path_; }
   const std::string& source() const { return *source_; }

@@ -47,9 +47,12 @@ nlohmann::json read_json(const std::string& path) {
   return nlohmann::json::parse(in);
 }
 
+// A SceneNode keeps a pointer to its source's name, which must outlive it.
+const std::string kBarSource = "bar.json", kTruthSource = "truth.json";
+
 std::string scene_error(const nlohmann::json& document, const std::string& directory = ".") {
   try {
-    const SceneNode root(document, "bar.json", "");
+    const SceneNode root(document, kBarSource, "");
     build_meshless_scene(parse_meshless_scene(root, directory));
   } catch (const SceneError& e) {
     return e.what();
@@ -82,7 +85,7 @@ TEST(MeshlessScene, ErrorsNameTheFileAndTheKeyOrPoint) {
 
 TEST(MeshlessScene, SimulateWritesTheReportAndPointFiles) {
   const nlohmann::json d = bar_scene();
-  const SceneNode root(d, "bar.json", "");
+  const SceneNode root(d, kBarSource, "");
   MeshlessVerbOptions options;
   options.name = "bar";
   options.out_dir = out_dir("simulate");
@@ -104,7 +107,7 @@ TEST(MeshlessScene, SimulateWritesTheReportAndPointFiles) {
 
 TEST(MeshlessScene, ModesWithWarpedDynamics) {
   const nlohmann::json d = bar_scene();
-  const SceneNode root(d, "bar.json", "");
+  const SceneNode root(d, kBarSource, "");
   MeshlessVerbOptions options;
   options.name = "bar";
   options.out_dir = out_dir("modes");
@@ -126,8 +129,8 @@ TEST(MeshlessScene, GradcheckAndRunRecoverTheTipModulus) {
   MeshlessVerbOptions options;
   options.name = "bar";
   options.out_dir = out_dir("truth");
-  ASSERT_TRUE(simulate_meshless_scene(SceneNode(truth, "truth.json", ""), options, nullptr));
-  const auto built = build_meshless_scene(parse_meshless_scene(SceneNode(truth, "truth.json", ""), "."));
+  ASSERT_TRUE(simulate_meshless_scene(SceneNode(truth, kTruthSource, ""), options, nullptr));
+  const auto built = build_meshless_scene(parse_meshless_scene(SceneNode(truth, kTruthSource, ""), "."));
   nlohmann::json d = bar_scene();
   {
     NewtonSolver solver(*built->model);
@@ -141,7 +144,7 @@ TEST(MeshlessScene, GradcheckAndRunRecoverTheTipModulus) {
       d["inverse"]["observations"].push_back({{"at", {at[0], at[1], at[2]}}, {"displacement", {v[0], v[1], v[2]}}});
     }
   }
-  const SceneNode root(d, "bar.json", "");
+  const SceneNode root(d, kBarSource, "");
   options.out_dir = out_dir("gradcheck");
   std::ostringstream log;
   EXPECT_TRUE(gradcheck_meshless_scene(root, options, &log)) << log.str();

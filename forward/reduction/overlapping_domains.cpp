@@ -1,6 +1,5 @@
 #include "forward/reduction/overlapping_domains.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <algorithm>
 #include <chrono>
@@ -8,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/reduction/domain_decomposition.hpp"
 #include "forward/reduction/domain_partition.hpp"
 #include "forward/reduction/free_space.hpp"
@@ -101,9 +101,12 @@ OverlappingDomains overlapping_domains(const Model& model, const Mesh& mesh, con
     int it = 0;
     for (; it < options.max_iterations; ++it) {
       const Matrix Z = apply(X);
-      const Eigen::SelfAdjointEigenSolver<Matrix> ritz(X.transpose() * Z);
-      const Vector v = ritz.eigenvectors().col(b - 1);
-      mu = ritz.eigenvalues()[b - 1];
+      const Matrix projected = X.transpose() * Z;
+      Vector ritz_values;
+      Matrix ritz_vectors;
+      symmetric_eigen<Eigen::Dynamic>(projected, ritz_values, ritz_vectors);  // ascending
+      const Vector v = ritz_vectors.col(b - 1);
+      mu = ritz_values[b - 1];
       top = X * v;
       const double residual = (Z * v - mu * top).norm();
       X = Eigen::HouseholderQR<Matrix>(Z).householderQ() * Matrix::Identity(ns, b);

@@ -2,7 +2,7 @@
 // One evaluation pass of the descent solver (docs/dynamics.md, "The descent solver"): at the free
 // unknowns y of a model (x = x0 + S y), the total potential E, its reduced gradient S^T dE/dx
 // and the inverse of the block-Jacobi preconditioner D, the diagonal blocks of S^T H S with H the
-// element-wise PSD-projected Hessian (Wang & Yang 2016, section 4; METHODS.md section 15).
+// element-wise PSD-projected Hessian (Wang & Yang 2016, section 4; docs/dynamics.md, "The descent solver").
 //
 // Every term is evaluated once per pass, energy, gradient and (for terms whose Hessian depends
 // on the state) element Hessians together: the FEM terms do it in their element loop

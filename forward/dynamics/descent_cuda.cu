@@ -1,6 +1,6 @@
 // Device kernels of the descent iteration's vector part (forward/dynamics/descent_cuda.hpp).
 // One thread per block of 3 free unknowns: D^-1 g for its block, then the Chebyshev update of
-// Wang & Yang 2016 (METHODS.md section 15) for its entries.
+// Wang & Yang 2016 (docs/dynamics.md, "The descent solver") for its entries.
 #include <cuda_runtime.h>
 
 #include <stdexcept>

@@ -1,8 +1,8 @@
 #pragma once
 // Preconditioned gradient descent with Chebyshev acceleration for one minimisation
 //   y* = argmin_y E(x0 + S y, p)
-// (Wang & Yang 2016, "Descent methods for elastic body simulation on the GPU"; METHODS.md
-// sections 8 and 15), the parallel alternative to NewtonSolver for the incremental potentials
+// (Wang & Yang 2016, "Descent methods for elastic body simulation on the GPU"; docs/dynamics.md,
+// "The descent solver"), the parallel alternative to NewtonSolver for the incremental potentials
 // of implicit time steps (forward/dynamics/descent_time_stepper.hpp). Each iteration is one
 // evaluation pass (BlockJacobiPass: energy, reduced gradient g and the block-Jacobi inverse
 // D^-1 at the trial point) and vector updates:

@@ -14,12 +14,16 @@
 # With TAILOR_UNITY_BUILD off, every file is compiled on its own.
 include_guard(GLOBAL)
 
+# Files per batch. Larger batches parse the headers and instantiate the shared templates fewer
+# times (docs/testing.md, "Build time"); an edit recompiles its whole batch.
+set(TAILOR_BATCH_SIZE 16 CACHE STRING "Source files per batch (TAILOR_UNITY_BUILD)")
+
 set(_tailor_batch_writer ${CMAKE_CURRENT_LIST_DIR}/tailorWriteBatch.cmake)
 
 function(tailor_batch_sources target)
   cmake_parse_arguments(ARG "" "BATCH_SIZE" "SOURCES;ALONE" ${ARGN})
   if(NOT ARG_BATCH_SIZE)
-    set(ARG_BATCH_SIZE 8)
+    set(ARG_BATCH_SIZE ${TAILOR_BATCH_SIZE})
   endif()
   if(NOT TAILOR_UNITY_BUILD)
     target_sources(${target} PRIVATE ${ARG_SOURCES})

@@ -17,6 +17,7 @@ export class DesignView {
     this.targets = scene.targets.map((t) => [...t]);
     this.latencies = [];
     this.releases = []; // the reply to each release: {type, message}
+    this.phases = []; // per release, ms: sent, reply (last byte), parse, apply (buffers), frame (drawn)
     this.designs = 0;
     this.inFlight = false;
     this.pending = false;
@@ -129,14 +130,21 @@ export class DesignView {
     if (released === null) this.pending = false;
     try {
       this.sequence = (this.sequence || 0) + 1; // orders the requests on the server
-      const reply = await send({ type: 'retarget', targets: this.targets, sequence: this.sequence });
+      const sent = performance.now();
+      const timing = {};
+      const reply = await send({ type: 'retarget', targets: this.targets, sequence: this.sequence }, undefined, timing);
       if (released !== null) this.releases.push({ type: reply.type, message: reply.message, reply_ms: performance.now() - released });
       if (reply.type === 'design') {
+        const applying = performance.now();
         this.apply(reply);
+        const applied = performance.now();
         const drawn = await this.viewer.renderedFrame();
         this.designs += 1;
         if (released !== null) {
           this.latencies.push(drawn - released);
+          this.phases.push({ wait_ms: sent - released, server_ms: 1e3 * reply.seconds, headers_ms: timing.headers,
+            body_ms: timing.body, parse_ms: timing.parse_ms, bytes: timing.bytes, apply_ms: applied - applying,
+            frame_ms: drawn - applied });
           this.showStatus();
         }
       } else if (reply.type === 'error') {

@@ -6,7 +6,7 @@
 import { formatNumber } from './colormap.js';
 
 const SVG = 'http://www.w3.org/2000/svg';
-const W = 290, H = 190, M = { left: 46, right: 8, top: 22, bottom: 30 };
+const W = 290, H = 190, M = { left: 54, right: 8, top: 22, bottom: 30 };
 const COLORS = ['#1f5fa8', '#d0402b', '#2a9d4b', '#8a4fb0', '#c98a16', '#444'];
 
 function element(name, attributes, parent) {
@@ -34,11 +34,11 @@ function legend(svg, series, x, y) {
   });
 }
 
-// series: [{ name, x: [], y: [], dash? }]; logY: a logarithmic value axis (non-positive values dropped).
-export function linePlot({ title, xLabel, yLabel, series, logY = false }) {
+// series: [{ name, x: [], y: [], dash? }]; logY: a logarithmic value axis (values <= floor dropped).
+export function linePlot({ title, xLabel, yLabel, series, logY = false, floor = 0 }) {
   const svg = svgRoot(title);
   const ty = (v) => (logY ? Math.log10(v) : v);
-  const keep = (v) => Number.isFinite(v) && (!logY || v > 0);
+  const keep = (v) => Number.isFinite(v) && (!logY || v > floor);
   let x0 = Infinity, x1 = -Infinity, y0 = Infinity, y1 = -Infinity;
   for (const s of series)
     s.x.forEach((x, i) => {
@@ -113,7 +113,7 @@ export function reportPlots(report) {
   }
   const modes = Array.isArray(report.modes) ? report.modes.filter((m) => Number.isFinite(m.designed_rate)) : [];
   if (modes.length) {
-    // Over three decay times of the slowest target: fast modes are gone, slow ones visibly decay.
+    // Over three decay times of the slowest target, on a log axis (a rate is a slope) down to 1e-3.
     const slowest = Math.min(...modes.map((m) => m.target_rate ?? m.designed_rate).filter((r) => r > 0));
     const t = range(121, (i) => (i / 120) * (3 / slowest));
     const series = [];
@@ -125,7 +125,7 @@ export function reportPlots(report) {
       if (Number.isFinite(m.plain_rate))
         series.push({ name: `mode ${m.mode} plain`, x: t, y: t.map((s) => Math.exp(-m.plain_rate * s)), color, dash: '1 2' });
     });
-    plots.push({ kind: 'decay', title: 'damping decay', svg: linePlot({ title: 'damping decay exp(-σt)', xLabel: 't (s)', yLabel: 'amplitude', series }) });
+    plots.push({ kind: 'decay', title: 'damping decay', svg: linePlot({ title: 'damping decay exp(-σt)', xLabel: 't (s)', yLabel: 'amplitude', series, logY: true, floor: 1e-3 }) });
   }
   const cycles = Array.isArray(report.nonlinear_cycles) ? report.nonlinear_cycles : [];
   if (cycles.length > 1) {

@@ -10,6 +10,8 @@ import { pvdFrames, numberedSeries } from './series.js';
 import { lineSegments, countRods, tubeRadius, appendTubes } from './rods.js';
 import { reportPlots } from './plots.js';
 
+const BODY = 'cell:#body'; // the colour-by-body choice: each file's index
+
 export class ResultViewer {
   constructor(viewer, files, status) {
     this.viewer = viewer;
@@ -118,10 +120,11 @@ export class ResultViewer {
   fillFields() {
     const previous = this.fieldSelect.value;
     this.fieldSelect.innerHTML = '';
+    // Several bodies (rigid bodies, tori, parts) can be told apart by colour.
+    if (this.current.length > 1) this.fieldSelect.add(new Option('body (which file)', BODY));
     for (const f of this.fields('cell')) this.fieldSelect.add(new Option(`${f.name} (cell)`, `cell:${f.name}`));
     for (const f of this.fields('point')) this.fieldSelect.add(new Option(`${f.name} (point)`, `point:${f.name}`));
     const values = [...this.fieldSelect.options].map((o) => o.value);
-    // Young's modulus, else the displacement, else the first field, each only if it varies.
     const varies = (value) => {
       const [kind, name] = value.split(/:(.*)/s);
       return this.current.some((grid) => {
@@ -130,10 +133,15 @@ export class ResultViewer {
         return v.some((x) => x !== v[0]);
       });
     };
-    const order = ['cell:youngs_modulus', 'point:displacement', ...values].filter((v) => values.includes(v));
+    // Young's modulus, the displacement, a rod's curvature or strain, then any other field, each
+    // first where it varies; a rod's frame vectors (unit length everywhere) last.
+    const frameVector = (v) => v === 'cell:m1' || v === 'cell:m2';
+    const order = ['cell:youngs_modulus', 'point:displacement', 'point:kappa', 'cell:axial_strain',
+                   ...values.filter((v) => !frameVector(v) && v !== BODY)].filter((v) => values.includes(v));
     // A frame series is about motion: its displacement (zero in a first frame at rest).
     const motion = this.frames && values.includes('point:displacement') ? 'point:displacement' : undefined;
-    const preferred = values.includes(previous) ? previous : motion ?? order.find(varies) ?? values[0];
+    const preferred = values.includes(previous) ? previous
+      : motion ?? order.find(varies) ?? (values.includes(BODY) ? BODY : undefined) ?? order[0] ?? values[0];
     if (preferred) this.fieldSelect.value = preferred;
   }
 
@@ -172,8 +180,9 @@ export class ResultViewer {
     const out = { positions: [], triangles: [], values: [] };
     const glyphs = { positions: [], colors: [] };
     let components = 1, found = false, surfaceTriangles = 0, segments = 0, rods = 0;
-    for (const grid of this.current) {
-      const field = (perTriangle ? grid.cellFields : grid.pointFields).find((f) => f.name === name);
+    for (const [body, grid] of this.current.entries()) {
+      const field = this.fieldSelect.value === BODY ? { name, components: 1, values: new Float64Array(grid.types.length).fill(body) }
+        : (perTriangle ? grid.cellFields : grid.pointFields).find((f) => f.name === name);
       const scalars = field ? scalarValues(field) : null;
       if (field) (found = true), (components = field.components);
       const base = out.positions.length / 3;
@@ -199,7 +208,8 @@ export class ResultViewer {
     const [lo, hi] = found ? this.range(`${kind}:${name}`, values) : [0, 1];
     this.viewer.setSurface(Float32Array.from(out.positions), Uint32Array.from(out.triangles), values, perTriangle, lo, hi);
     this.viewer.setLines(glyphs.positions, glyphs.colors);
-    showColorBar(found ? (components > 1 ? `|${name}|` : name) : '', lo, hi);
+    const barName = this.fieldSelect.value === BODY ? 'body' : components > 1 ? `|${name}|` : name;
+    showColorBar(found ? barName : '', lo, hi);
     this.viewer.render();
     this.framesShown += 1;
     this.drawn = { bodies: this.current.length, surfaceTriangles, rodSegments: segments, rods, frameGlyphs: glyphs.positions.length / 6 };

@@ -45,3 +45,16 @@ export async function fetchFile(path) {
   if (!response.ok) throw new Error(`${path}: ${response.status}`);
   return response.text();
 }
+
+// An array of a reply: numbers as they are, or a base64 string of little-endian IEEE floats
+// (the "float32-base64" form) as a Float32Array.
+export function float32Array(value) {
+  if (typeof value !== 'string') return value;
+  const text = atob(value);
+  const bytes = new Uint8Array(text.length);
+  for (let i = 0; i < text.length; ++i) bytes[i] = text.charCodeAt(i);
+  const view = new DataView(bytes.buffer);
+  const out = new Float32Array(bytes.length / 4);
+  for (let i = 0; i < out.length; ++i) out[i] = view.getFloat32(4 * i, true);
+  return out;
+}

@@ -14,7 +14,7 @@
 // times and writes the release-to-redraw latencies (measured in the page) to FILE.
 //
 // Usage: node browser_test.mjs --tailor build/bin/tailor --source . [--screenshots DIR] [--only viewer]
-//        node browser_test.mjs --tailor build/bin/tailor --source . --bench SCENE --json FILE [--drags N]
+//        node browser_test.mjs --tailor build/bin/tailor --source . --bench SCENE --json FILE [--drags N] [--assets DIR]
 import { spawn, execFileSync } from 'node:child_process';
 import { existsSync, mkdtempSync, mkdirSync, readFileSync, writeFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -43,7 +43,8 @@ const source = resolve(args.source || '.');
 const work = mkdtempSync(join(tmpdir(), 'tailor-studio-browser-'));
 let assets;
 try {
-  assets = buildStudioAssets(join(work, 'assets'));
+  // --assets DIR: a page built elsewhere (e.g. an earlier commit's, to compare latencies).
+  assets = args.assets ? resolve(args.assets) : buildStudioAssets(join(work, 'assets'));
 } catch (error) {
   console.log(`skipped: ${error.message}`);
   rmSync(work, { recursive: true, force: true });

@@ -183,6 +183,7 @@ json StudioMessages::design_reply(const DesignState& state, bool binary) const {
 }
 
 json StudioMessages::retarget(const json& message, const Emit& emit) {
+  const auto arrived = std::chrono::steady_clock::now();
   const std::vector<Eigen::VectorXd> targets =
       parse_targets(message, design_->design().handles.size(), design_->design().setup.dim());
   long sequence = 0;
@@ -196,6 +197,8 @@ json StudioMessages::retarget(const json& message, const Emit& emit) {
   const std::lock_guard<std::mutex> lock(computing_);
   if (!is_newest(request)) return {{"type", "superseded"}, {"request", request}};
   auto last = std::chrono::steady_clock::now();
+  // Waiting for the computation this one supersedes to stop (the page's latency profile).
+  const double queued_seconds = std::chrono::duration<double>(last - arrived).count();
   bool first = true;
   const DesignState& state = design_->redesign(targets, [&](int iteration, double objective) {
     const auto now = std::chrono::steady_clock::now();
@@ -210,6 +213,7 @@ json StudioMessages::retarget(const json& message, const Emit& emit) {
   if (state.superseded) return {{"type", "superseded"}, {"request", request}};
   json reply = design_reply(state, binary);
   reply["request"] = request;
+  reply["queued_seconds"] = queued_seconds;
   return reply;
 }
 

@@ -147,7 +147,7 @@ export class DesignView {
         this.designs += 1;
         if (released !== null) {
           this.latencies.push(drawn - released);
-          this.phases.push({ wait_ms: sent - released, server_ms: 1e3 * reply.seconds, headers_ms: timing.headers,
+          this.phases.push({ wait_ms: sent - released, queued_ms: 1e3 * reply.queued_seconds, server_ms: 1e3 * reply.seconds, headers_ms: timing.headers,
             body_ms: timing.body, parse_ms: timing.parse_ms, bytes: timing.bytes, apply_ms: applied - applying,
             frame_ms: drawn - applied });
           this.showStatus();

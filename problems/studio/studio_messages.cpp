@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "problems/studio/float32_base64.hpp"
+
 namespace tailor::studio {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -23,6 +25,21 @@ json floats(const Vector& values) {
   json out = json::array();
   for (Eigen::Index i = 0; i < values.size(); ++i) out.push_back(static_cast<float>(values[i]));
   return out;
+}
+
+// The message's "arrays": "json" (the default: numbers) or "float32-base64" (the large arrays of
+// the reply as strings, problems/studio/float32_base64.hpp).
+bool binary_arrays(const json& message) {
+  const auto found = message.find("arrays");
+  if (found == message.end()) return false;
+  if (found->is_string() && *found == "json") return false;
+  if (found->is_string() && *found == "float32-base64") return true;
+  throw BadMessage("\"arrays\" must be \"json\" or \"float32-base64\"");
+}
+
+json float_array(const Eigen::VectorXf& values, bool binary) {
+  if (!binary) return floats(values);
+  return encode_float32_base64(std::vector<float>(values.data(), values.data() + values.size()));
 }
 
 std::vector<Eigen::VectorXd> parse_targets(const json& message, std::size_t handles, int dim) {
@@ -92,7 +109,7 @@ json StudioMessages::handle(const std::string& text, const Emit& emit) {
     if (type != "scene" && type != "retarget" && type != "full_check" && type != "save")
       return error("unknown message type \"" + type + "\"");
     if (!design_) return error("\"" + type + "\" needs a handle scene with inverse.design.reduction; this is a result viewer");
-    if (type == "scene") return scene();
+    if (type == "scene") return scene(binary_arrays(message));
     if (type == "retarget") return retarget(message, emit);
     if (type == "full_check") return full_check();
     return save(emit);
@@ -111,7 +128,7 @@ json StudioMessages::hello() const {
           {"files", output_files(output_folder_)}};
 }
 
-json StudioMessages::scene() {
+json StudioMessages::scene(bool binary) {
   const std::lock_guard<std::mutex> lock(computing_);  // the design's state changes under a retarget
   const SurfaceMesh& surface = design_->surface();
   const Mesh& mesh = design_->design().setup.mesh;
@@ -129,7 +146,7 @@ json StudioMessages::scene() {
                        {"force", floats(design_handles[h].force)},
                        {"scene_target", floats(design_handles[h].target)}});
   }
-  json reply = design_reply(design_->state());
+  json reply = design_reply(design_->state(), binary);
   reply["type"] = "scene";
   reply["positions"] = positions;
   reply["triangles"] = triangles;
@@ -138,7 +155,7 @@ json StudioMessages::scene() {
   return reply;
 }
 
-json StudioMessages::design_reply(const DesignState& state) const {
+json StudioMessages::design_reply(const DesignState& state, bool binary) const {
   const SurfaceMesh& surface = design_->surface();
   Eigen::VectorXf surface_modulus(surface.owners.size());
   for (Eigen::Index f = 0; f < surface.owners.size(); ++f)
@@ -151,9 +168,10 @@ json StudioMessages::design_reply(const DesignState& state) const {
   json targets = json::array();
   for (const Eigen::VectorXd& t : design_->targets()) targets.push_back(floats(t));
   return {{"type", "design"},
-          {"youngs_modulus", floats(surface_modulus)},
+          {"arrays", binary ? "float32-base64" : "json"},
+          {"youngs_modulus", float_array(surface_modulus, binary)},
           {"youngs_modulus_range", {state.youngs_modulus.minCoeff(), state.youngs_modulus.maxCoeff()}},
-          {"displacement", floats(displacement)},
+          {"displacement", float_array(displacement, binary)},
           {"targets", targets},
           {"reduced_errors", state.reduced_errors},
           {"iterations", state.iterations},
@@ -165,6 +183,7 @@ json StudioMessages::design_reply(const DesignState& state) const {
 }
 
 json StudioMessages::retarget(const json& message, const Emit& emit) {
+  const auto arrived = std::chrono::steady_clock::now();
   const std::vector<Eigen::VectorXd> targets =
       parse_targets(message, design_->design().handles.size(), design_->design().setup.dim());
   long sequence = 0;
@@ -173,10 +192,13 @@ json StudioMessages::retarget(const json& message, const Emit& emit) {
       throw BadMessage("retarget: \"sequence\" must be a positive integer");
     sequence = found->get<long>();
   }
+  const bool binary = binary_arrays(message);
   const long request = arrive(sequence);
   const std::lock_guard<std::mutex> lock(computing_);
   if (!is_newest(request)) return {{"type", "superseded"}, {"request", request}};
   auto last = std::chrono::steady_clock::now();
+  // Waiting for the computation this one supersedes to stop (the page's latency profile).
+  const double queued_seconds = std::chrono::duration<double>(last - arrived).count();
   bool first = true;
   const DesignState& state = design_->redesign(targets, [&](int iteration, double objective) {
     const auto now = std::chrono::steady_clock::now();
@@ -189,8 +211,9 @@ json StudioMessages::retarget(const json& message, const Emit& emit) {
     return is_newest(request);
   });
   if (state.superseded) return {{"type", "superseded"}, {"request", request}};
-  json reply = design_reply(state);
+  json reply = design_reply(state, binary);
   reply["request"] = request;
+  reply["queued_seconds"] = queued_seconds;
   return reply;
 }
 

@@ -8,6 +8,9 @@
 //                                           then "design"); "sequence" (optional) orders requests
 //   {"type": "full_check"}                  the current design solved in full space
 //   {"type": "save"}                        report.json and result.vtu into the output folder
+// "scene" and "retarget" take "arrays": "float32-base64" for the design's per-triangle E and
+// surface displacement as base64 strings of little-endian floats (float32_base64.hpp) instead of
+// numbers: the page's form, a third shorter and without decimal formatting.
 // A malformed message (not JSON, not an object, an unknown type, a wrong field) gets
 // {"type": "error", "message": ...} and changes nothing. Computations run one at a time; a
 // retarget that arrives while another runs supersedes it (the older one replies
@@ -45,8 +48,8 @@ class StudioMessages {
 
  private:
   nlohmann::json hello() const;
-  nlohmann::json scene();
-  nlohmann::json design_reply(const DesignState& state) const;
+  nlohmann::json scene(bool binary);
+  nlohmann::json design_reply(const DesignState& state, bool binary) const;
   nlohmann::json retarget(const nlohmann::json& message, const Emit& emit);
   nlohmann::json full_check();
   nlohmann::json save(const Emit& emit);

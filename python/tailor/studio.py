@@ -5,6 +5,10 @@ started as a subprocess of the tailor program.
     page = tailor.studio("scenes/cantilever_handle_reduced.json")   # or an output folder
     page            # in Jupyter: the page in an IFrame; elsewhere the URL (a str)
     page.stop()     # ends the server (it also ends with the Python process)
+
+The server ends with the Python process however that ends (a kernel killed or crashed included):
+it is started with `--exit-on-stdin-eof` and its standard input is a pipe that only this process
+writes to, which the operating system closes when the process ends.
 """
 from __future__ import annotations
 
@@ -61,12 +65,15 @@ def studio(path, port: int | None = None, out: str | None = None, executable=Non
     server listens (a handle scene first precomputes its reduced design). `port`: a fixed port
     (default a free one); `out`: a scene's output folder. Raises RuntimeError with the program's
     output when it stops before serving."""
-    command = [_executable(executable), "studio", str(path)]
+    command = [_executable(executable), "studio", str(path), "--exit-on-stdin-eof"]
     if port is not None:
         command += ["--port", str(port)]
     if out is not None:
         command += ["--out", str(out)]
-    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    # stdin: a pipe held open by `process` (close_fds keeps it from other children), so that the
+    # server sees its end when this process ends.
+    process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True, close_fds=True)
     lines: list[str] = []
     found = threading.Event()
 

@@ -4,8 +4,13 @@ const stops = [
   [0.267, 0.005, 0.329], [0.231, 0.322, 0.545], [0.129, 0.569, 0.549], [0.369, 0.788, 0.384], [0.993, 0.906, 0.144],
 ];
 
-// Writes the colour of value t in [0, 1] into out[offset..offset+2].
+// Writes the colour of value t in [0, 1] into out[offset..offset+2]; grey where there is no value
+// (NaN: a body without the chosen field).
 export function colorAt(t, out, offset) {
+  if (Number.isNaN(t)) {
+    out[offset] = out[offset + 1] = out[offset + 2] = 0.72;
+    return;
+  }
   const x = Math.min(1, Math.max(0, Number.isFinite(t) ? t : 0)) * (stops.length - 1);
   const i = Math.min(stops.length - 2, Math.floor(x));
   const f = x - i;

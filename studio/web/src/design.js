@@ -2,7 +2,10 @@
 // at its target (rest centre + target displacement). Dragging a sphere retargets the reduced
 // design (the server designs again and replies with E and the deformed surface); the time from
 // release to the redrawn frame is measured here (window.studio.latencies, in ms).
-import { send } from './api.js';
+import { send, float32Array } from './api.js';
+
+// The design's large arrays come as base64 little-endian floats (docs/studio.md, "Messages").
+export const ARRAYS = 'float32-base64';
 import { showColorBar, formatNumber } from './colormap.js';
 import { THREE } from './viewer.js';
 
@@ -17,6 +20,7 @@ export class DesignView {
     this.targets = scene.targets.map((t) => [...t]);
     this.latencies = [];
     this.releases = []; // the reply to each release: {type, message}
+    this.phases = []; // per release, ms: sent, reply (last byte), parse, apply (buffers), frame (drawn)
     this.designs = 0;
     this.inFlight = false;
     this.pending = false;
@@ -61,6 +65,8 @@ export class DesignView {
 
   // Draws a design reply: the deformed surface coloured by E.
   apply(reply) {
+    reply.displacement = float32Array(reply.displacement);
+    reply.youngs_modulus = float32Array(reply.youngs_modulus);
     const deformed = new Float32Array(this.rest.length);
     for (let i = 0; i < deformed.length; ++i) deformed[i] = this.rest[i] + reply.displacement[i];
     const [lo, hi] = reply.youngs_modulus_range;
@@ -129,14 +135,21 @@ export class DesignView {
     if (released === null) this.pending = false;
     try {
       this.sequence = (this.sequence || 0) + 1; // orders the requests on the server
-      const reply = await send({ type: 'retarget', targets: this.targets, sequence: this.sequence });
+      const sent = performance.now();
+      const timing = {};
+      const reply = await send({ type: 'retarget', targets: this.targets, sequence: this.sequence, arrays: ARRAYS }, undefined, timing);
       if (released !== null) this.releases.push({ type: reply.type, message: reply.message, reply_ms: performance.now() - released });
       if (reply.type === 'design') {
+        const applying = performance.now();
         this.apply(reply);
+        const applied = performance.now();
         const drawn = await this.viewer.renderedFrame();
         this.designs += 1;
         if (released !== null) {
           this.latencies.push(drawn - released);
+          this.phases.push({ wait_ms: sent - released, queued_ms: 1e3 * reply.queued_seconds, server_ms: 1e3 * reply.seconds, headers_ms: timing.headers,
+            body_ms: timing.body, parse_ms: timing.parse_ms, bytes: timing.bytes, apply_ms: applied - applying,
+            frame_ms: drawn - applied });
           this.showStatus();
         }
       } else if (reply.type === 'error') {

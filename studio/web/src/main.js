@@ -2,7 +2,7 @@
 // folder to view) and starts that view. window.studio exposes the state for the browser tests.
 import { send } from './api.js';
 import { Viewer } from './viewer.js';
-import { DesignView } from './design.js';
+import { DesignView, ARRAYS } from './design.js';
 import { ResultViewer } from './results.js';
 
 const statusBox = document.getElementById('status');
@@ -15,7 +15,7 @@ async function start() {
   window.studio = { mode: hello.mode, viewer, ready: false };
   if (hello.mode === 'design') {
     status('loading the scene...');
-    const scene = await send({ type: 'scene' });
+    const scene = await send({ type: 'scene', arrays: ARRAYS });
     if (scene.type !== 'scene') throw new Error(scene.message);
     window.studio.design = new DesignView(viewer, scene, status);
     await window.studio.design.retarget(null); // the design for the scene's own targets

@@ -19,6 +19,9 @@ export class Viewer {
     this.material = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });
     this.mesh = new THREE.Mesh(this.geometry, this.material);
     this.scene.add(this.mesh);
+    // Line glyphs (the rods' material frames), coloured per vertex.
+    this.lines = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ vertexColors: true }));
+    this.scene.add(this.lines);
     this.target = new THREE.Vector3();
     this.orbit = { azimuth: -0.9, elevation: 0.45, distance: 10 };
     this.controlsEnabled = true;
@@ -103,6 +106,30 @@ export class Viewer {
     c.needsUpdate = true;
     this.geometry.computeVertexNormals();
     this.geometry.computeBoundingSphere();
+  }
+
+  // positions, colors: 3 numbers per point, two points per segment (none: no lines).
+  setLines(positions, colors) {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(Float32Array.from(positions), 3));
+    g.setAttribute('color', new THREE.BufferAttribute(Float32Array.from(colors), 3));
+    this.lines.geometry.dispose();
+    this.lines.geometry = g;
+  }
+
+  // The drawn frame's pixels that differ from the background (for the tests).
+  coloredPixels() {
+    this.render();
+    const copy = document.createElement('canvas');
+    copy.width = this.canvas.width;
+    copy.height = this.canvas.height;
+    const context = copy.getContext('2d');
+    context.drawImage(this.canvas, 0, 0);
+    const data = context.getImageData(0, 0, copy.width, copy.height).data;
+    let count = 0;
+    for (let i = 0; i < data.length; i += 4)
+      if (Math.abs(data[i] - 0xf4) + Math.abs(data[i + 1] - 0xf4) + Math.abs(data[i + 2] - 0xf4) > 12) ++count;
+    return count;
   }
 
   render() {

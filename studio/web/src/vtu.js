@@ -1,5 +1,5 @@
 // Reading tailor's output for the viewer: ASCII VTK XML unstructured grids (.vtu, as
-// forward/mesh/write_vtu.cpp writes them) and ParaView collections (.pvd) of frames.
+// forward/mesh/write_vtu.cpp writes them); frame series are read by series.js.
 const TETRA = 10, TRIANGLE = 5;
 
 function numbers(text) {
@@ -79,14 +79,4 @@ export function scalarValues(field) {
     }
   }
   return out;
-}
-
-// The frames of a .pvd file: [{ time, file }] with files relative to the output folder.
-export function parsePvd(text, pvdPath) {
-  const doc = new DOMParser().parseFromString(text, 'application/xml');
-  const folder = pvdPath.includes('/') ? pvdPath.slice(0, pvdPath.lastIndexOf('/') + 1) : '';
-  return [...doc.getElementsByTagName('DataSet')].map((d) => ({
-    time: Number(d.getAttribute('timestep')),
-    file: folder + d.getAttribute('file'),
-  }));
 }

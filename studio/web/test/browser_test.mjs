@@ -4,13 +4,17 @@
 //     server saves (report.json) carries the new target; the full-space check shows its error;
 //  3. a frame series (scenes/swinging_beam.json's PVD) plays to its last frame, and a static
 //     result (scenes/two_material_bar_inverse.json's) opens coloured by E, with its plots;
-//  4. requests without the token, with a wrong token or from another origin are refused.
+//  4. requests without the token, with a wrong token or from another origin are refused;
+//  5. each other kind of output opens and draws (pixels on the canvas, the expected number of
+//     bodies, rods and frame glyphs) with its plots: rods (a frame series and a static result),
+//     tori and rigid bodies (their numbered files as a series), a periodic cell (E(d) polar
+//     curves), an inverse run (convergence) and a damping study (decay envelopes).
 // Screenshots go to --screenshots DIR. Exit 77 (ctest's skip) when chromium or the npm packages
 // are missing. With --bench SCENE --json FILE it instead drags the handle of SCENE --drags N
 // times and writes the release-to-redraw latencies (measured in the page) to FILE.
 //
-// Usage: node browser_test.mjs --tailor build/bin/tailor --source . [--screenshots DIR]
-//        node browser_test.mjs --tailor build/bin/tailor --source . --bench SCENE --json FILE [--drags N]
+// Usage: node browser_test.mjs --tailor build/bin/tailor --source . [--screenshots DIR] [--only viewer]
+//        node browser_test.mjs --tailor build/bin/tailor --source . --bench SCENE --json FILE [--drags N] [--assets DIR]
 import { spawn, execFileSync } from 'node:child_process';
 import { existsSync, mkdtempSync, mkdirSync, readFileSync, writeFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -39,7 +43,8 @@ const source = resolve(args.source || '.');
 const work = mkdtempSync(join(tmpdir(), 'tailor-studio-browser-'));
 let assets;
 try {
-  assets = buildStudioAssets(join(work, 'assets'));
+  // --assets DIR: a page built elsewhere (e.g. an earlier commit's, to compare latencies).
+  assets = args.assets ? resolve(args.assets) : buildStudioAssets(join(work, 'assets'));
 } catch (error) {
   console.log(`skipped: ${error.message}`);
   rmSync(work, { recursive: true, force: true });
@@ -183,6 +188,104 @@ async function staticResultTest(browser, shots) {
   await page.close();
 }
 
+// Runs `tailor VERB SCENE --out DIR` (DIR under the work folder) and returns DIR.
+function tailorOutput(verb, scene, name) {
+  const out = join(work, name);
+  execFileSync(tailor, [verb, scene, '--out', out], { stdio: 'ignore' });
+  return out;
+}
+
+// Opens a folder in the viewer; returns the page and what it drew (bodies, rods, pixels, plots).
+async function viewFolder(browser, out) {
+  const url = await startStudio(out);
+  const page = await openPage(browser, url);
+  return { page, ...(await drawnState(page)) };
+}
+
+async function drawnState(page) {
+  return page.evaluate(() => {
+    const r = window.studio.results;
+    return { drawn: r.drawn, frames: r.frames?.length ?? 0, pixels: window.studio.viewer.coloredPixels(),
+      plots: r.plots.map((p) => p.kind), file: document.getElementById('file').value, field: document.getElementById('field').value,
+      polarPoints: [...document.querySelectorAll('.report-plot.polar polygon')].map((p) => p.points.numberOfItems),
+      convergencePoints: [...document.querySelectorAll('.report-plot.convergence polyline')].map((p) => p.points.numberOfItems) };
+  });
+}
+
+async function playToEnd(page) {
+  const n = await page.evaluate(() => window.studio.results.frames.length);
+  await page.click('#play');
+  await page.waitForFunction((n) => window.studio.results.frame === n - 1 && !window.studio.results.playing, { timeout: 120000 }, n);
+  return drawnState(page);
+}
+
+async function outputKindsTest(browser, shots) {
+  const shot = (page, name) => shots && page.screenshot({ path: join(shots, name) });
+  // Rods, a frame series: one rod of 20 segments, its frame drawn at each segment (m1 and m2).
+  let out = tailorOutput('simulate', join(source, 'scenes/rods/rod_swing.json'), 'rod_swing');
+  let { page, ...state } = await viewFolder(browser, out);
+  check(state.frames === 11 && state.drawn.rods === 1 && state.drawn.rodSegments === 20 && state.drawn.frameGlyphs === 40 && state.pixels > 500,
+    `a rod's frame series draws as a tube with its frames: ${JSON.stringify(state.drawn)}, ${state.frames} frames, ${state.pixels} pixels, field ${state.field}`);
+  state = await playToEnd(page);
+  check(state.drawn.rods === 1 && state.pixels > 500, `the rod's frames play to the last (${state.pixels} pixels)`);
+  check(state.plots.includes('energy'), `a dynamic run's energies are plotted: ${state.plots}`);
+  await shot(page, 'studio_rods_swing.png');
+  await page.close();
+  // Rods, static: as many tubes as the report lists rods.
+  out = tailorOutput('simulate', join(source, 'scenes/rods/rod_frame.json'), 'rod_frame');
+  const rodCount = JSON.parse(readFileSync(join(out, 'report.json'), 'utf8')).scene.rods.length;
+  ({ page, ...state } = await viewFolder(browser, out));
+  check(state.drawn.rods === rodCount && state.drawn.rodSegments === 40 && state.pixels > 500,
+    `a static rod result draws its ${rodCount} rods: ${JSON.stringify(state.drawn)}`);
+  await page.close();
+  // Tori: one file per link and output step, drawn together, every link in every frame.
+  out = tailorOutput('simulate', join(source, 'scenes/contact/torus_chain.json'), 'torus_chain');
+  ({ page, ...state } = await viewFolder(browser, out));
+  check(state.file.startsWith('series:') && state.drawn.bodies === 5 && state.frames === 11 && state.pixels > 2000 && state.field === 'cell:#body',
+    `a torus chain opens as a series of its 5 links, coloured by link: ${JSON.stringify(state.drawn)}, ${state.frames} frames, ${state.pixels} pixels`);
+  state = await playToEnd(page);
+  check(state.drawn.bodies === 5, 'the chain plays with every link in every frame');
+  await shot(page, 'studio_tori.png');
+  await page.close();
+  // Rigid bodies: a box and the ground.
+  out = tailorOutput('simulate', join(source, 'scenes/contact/box_drop.json'), 'box_drop');
+  ({ page, ...state } = await viewFolder(browser, out));
+  check(state.drawn.bodies === 2 && state.frames === 11 && state.pixels > 2000,
+    `a rigid box and its ground open as one series: ${JSON.stringify(state.drawn)}, ${state.frames} frames`);
+  await shot(page, 'studio_rigid.png');
+  await page.close();
+  // A periodic cell: its load cases and the E(d) polar curve of its report (one point per direction).
+  out = tailorOutput('homogenize', join(source, 'scenes/homogenization/layered_square.json'), 'layered_square');
+  const directions = JSON.parse(readFileSync(join(out, 'report.json'), 'utf8')).directional[0].angle_degrees.length;
+  ({ page, ...state } = await viewFolder(browser, out));
+  check(state.plots.includes('polar') && state.polarPoints[0] === directions && state.drawn.surfaceTriangles > 0 && state.pixels > 2000,
+    `a periodic cell draws with its E(d) polar curve (${state.polarPoints} of ${directions} directions, ${state.drawn.surfaceTriangles} triangles)`);
+  await shot(page, 'studio_periodic_cell.png');
+  await page.close();
+  // An inverse run: convergence, one point per iteration of its history.
+  out = tailorOutput('run', join(source, 'scenes/two_material_bar_inverse.json'), 'inverse');
+  const history = JSON.parse(readFileSync(join(out, 'report.json'), 'utf8')).history.length;
+  ({ page, ...state } = await viewFolder(browser, out));
+  check(state.plots.includes('convergence') && state.convergencePoints[0] === history,
+    `an inverse run's convergence is plotted (${state.convergencePoints} points, ${history} iterations)`);
+  await page.close();
+  // A damping study (the shipped plate, fewer cells and steps): decay envelopes per mode.
+  const plate = JSON.parse(readFileSync(join(source, 'problems/damping_design/damping_plate.json'), 'utf8'));
+  Object.assign(plate.damping_design, { steps: 200 });
+  plate.damping_design.plate.cells = [8, 2, 2];
+  plate.damping_design.curve.steps = 200;
+  const plateScene = join(work, 'damping_plate_small.json');
+  writeFileSync(plateScene, JSON.stringify(plate));
+  out = tailorOutput('run', plateScene, 'damping');
+  const modes = JSON.parse(readFileSync(join(out, 'report.json'), 'utf8')).modes.length;
+  ({ page, ...state } = await viewFolder(browser, out));
+  const decayCurves = await page.evaluate(() => document.querySelectorAll('.report-plot.decay polyline').length);
+  check(state.plots.includes('decay') && decayCurves === 3 * modes,
+    `a damping study's decay envelopes are plotted (${decayCurves} curves for ${modes} modes: designed, target, plain)`);
+  await shot(page, 'studio_damping.png');
+  await page.close();
+}
+
 async function bench(browser) {
   const drags = Number(args.drags || 10);
   const url = await startStudio(resolve(args.bench), ['--out', join(work, 'bench')]);
@@ -196,15 +299,21 @@ async function bench(browser) {
     replies.push(await page.evaluate(() => window.studio.design.releases.at(-1).reply_ms));
     errors.push(await page.evaluate(() => Math.max(...window.studio.design.lastReply.reduced_errors)));
   }
+  // Where the time of each release went (ms; body: the request's round trip to the reply's last
+  // byte, server: the design alone, so body - server is encoding, transfer and HTTP).
+  const phases = await page.evaluate(() => window.studio.design.phases);
   const median = (v) => { const s = [...v].sort((a, b) => a - b); const n = s.length; return n % 2 ? s[(n - 1) / 2] : (s[n / 2 - 1] + s[n / 2]) / 2; };
+  const phaseMedians = Object.fromEntries(Object.keys(phases[0] ?? {}).map((k) => [k, median(phases.map((p) => p[k]))]));
   const result = { bench: 'studio_latency', scene: args.bench, elements, drags, browser: await browser.version(),
     release_to_redraw_ms: latencies, median_release_to_redraw_ms: median(latencies),
     release_to_reply_ms: replies, median_release_to_reply_ms: median(replies),
     server_design_ms: server, median_server_design_ms: median(server), iterations,
-    reduced_handle_errors: errors, median_reduced_handle_error: median(errors), goal_ms: 100 };
+    reduced_handle_errors: errors, median_reduced_handle_error: median(errors), phases, median_phases: phaseMedians,
+    load_average: readFileSync('/proc/loadavg', 'utf8').trim(), goal_ms: 100 };
   writeFileSync(resolve(args.json || 'bench_studio_latency.json'), JSON.stringify(result, null, 2) + '\n');
   console.log(`${elements} tets, ${drags} drags: median release to redraw ${result.median_release_to_redraw_ms.toFixed(1)} ms, ` +
     `to the reply ${result.median_release_to_reply_ms.toFixed(1)} ms, server design ${result.median_server_design_ms.toFixed(1)} ms; goal 100 ms`);
+  console.log(`median phases (ms): ${JSON.stringify(phaseMedians)}; load average ${result.load_average}`);
 }
 
 const browser = await puppeteer.launch({
@@ -217,9 +326,11 @@ try {
   else {
     const shots = args.screenshots ? resolve(args.screenshots) : null;
     if (shots) mkdirSync(shots, { recursive: true });
-    await designTest(browser, shots);
+    // --only viewer: the result viewer's tests alone (no handle scene to precompute).
+    if (args.only !== 'viewer') await designTest(browser, shots);
     await framesTest(browser, shots);
     await staticResultTest(browser, shots);
+    await outputKindsTest(browser, shots);
   }
 } catch (error) {
   console.log(`FAIL ${error.stack || error}`);

@@ -8,10 +8,13 @@
 // two targets differ by ~40%, which a stale design would show.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 
+#include "problems/studio/float32_base64.hpp"
 #include "problems/studio/studio_messages.hpp"
 #include "tests/problems/reduced_design/small_handle_scene.hpp"
 #include "tests/support/temp_folder.hpp"
@@ -75,7 +78,9 @@ TEST_F(StudioDesign, MalformedMessagesChangeNothing) {
       R"({"type": "retarget"})", R"({"type": "retarget", "targets": [[0, 0]]})",
       R"({"type": "retarget", "targets": [[0, 0, -0.1], [0, 0, -0.1]]})",
       R"({"type": "retarget", "targets": [[0, "a", -0.1]]})", R"({"type": "retarget", "targets": [[0, 0, 0]]})",
-      R"({"type": "retarget", "targets": [[0, 0, 1e999]]})", R"({"type": "retarget", "targets": {"0": 1}})"};
+      R"({"type": "retarget", "targets": [[0, 0, 1e999]]})", R"({"type": "retarget", "targets": {"0": 1}})",
+      R"({"type": "retarget", "targets": [[0, 0, -0.2]], "arrays": "float64"})",
+      R"({"type": "scene", "arrays": 32})"};
   for (const std::string& text : bad) {
     const json reply = messages().handle(text, nullptr);
     EXPECT_EQ(reply["type"], "error") << text << " -> " << reply.dump();
@@ -153,6 +158,48 @@ TEST(StudioViewer, DesignMessagesRefusedWithoutAScene) {
   for (const char* type : {"scene", "retarget", "full_check", "save"}) {
     const json reply = messages.handle(json{{"type", type}}.dump(), nullptr);
     EXPECT_EQ(reply["type"], "error") << type;
+  }
+}
+
+}  // namespace tailor::studio::studio_messages_test
+
+namespace tailor::studio::studio_messages_test {
+
+// The binary form against hand-encoded RFC 4648 base64 of little-endian IEEE floats:
+// 1.0f = 0x3F800000 -> bytes 00 00 80 3F -> "AACAPw=="; -2.0f = 0xC0000000 -> "AAAAwA==".
+TEST(StudioFloat32Base64, MatchesHandEncodedBytesAndRoundTrips) {
+  EXPECT_EQ(encode_float32_base64({1.0f}), "AACAPw==");
+  EXPECT_EQ(encode_float32_base64({-2.0f}), "AAAAwA==");
+  EXPECT_EQ(encode_float32_base64({1.0f, -2.0f}), "AACAPwAAAMA=");
+  EXPECT_EQ(encode_float32_base64({}), "");
+  const std::vector<float> values = {0.0f, -0.0f, 3.25e-7f, 1.5e30f, -123.456f, 7.0f, 1.0f / 3.0f};
+  for (std::size_t n = 0; n <= values.size(); ++n) {  // every padding length
+    const std::vector<float> part(values.begin(), values.begin() + static_cast<long>(n));
+    const auto back = decode_float32_base64(encode_float32_base64(part));
+    ASSERT_TRUE(back.has_value()) << n;
+    ASSERT_EQ(back->size(), n);
+    for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(std::bit_cast<std::uint32_t>((*back)[i]), std::bit_cast<std::uint32_t>(part[i]));
+  }
+  for (const std::string bad : {"AACAPw=", "AACA Pw==", "AACAP===", "AA==AACA", "AACAPw=A", "AAC"})
+    EXPECT_FALSE(decode_float32_base64(bad).has_value()) << bad;
+}
+
+TEST_F(StudioDesign, BinaryArraysCarryTheSameNumbers) {
+  const json binary = send({{"type", "retarget"}, {"targets", reachable_target(-0.5, 0.1)}, {"arrays", "float32-base64"}});
+  ASSERT_EQ(binary["type"], "design") << binary.dump();
+  EXPECT_EQ(binary["arrays"], "float32-base64");
+  // The current design in both forms: the same floats, bit for bit.
+  const json numbers = send({{"type", "scene"}});
+  const json scene = send({{"type", "scene"}, {"arrays", "float32-base64"}});
+  EXPECT_EQ(numbers["arrays"], "json");
+  for (const char* key : {"youngs_modulus", "displacement"}) {
+    ASSERT_TRUE(binary[key].is_string()) << key;
+    EXPECT_EQ(scene[key], binary[key]) << key;
+    const auto decoded = decode_float32_base64(binary[key].get<std::string>());
+    ASSERT_TRUE(decoded.has_value()) << key;
+    ASSERT_EQ(decoded->size(), numbers[key].size()) << key;
+    for (std::size_t i = 0; i < decoded->size(); ++i)
+      ASSERT_EQ((*decoded)[i], numbers[key][i].get<float>()) << key << "[" << i << "]";
   }
 }
 

@@ -1,0 +1,145 @@
+# The reduced functional of a periodic cell's density design from Python (tailor.CellFunctional):
+# J and its Taylor test as `tailor run` minimizes it; the periodic fluctuations per unit macro
+# strain as arrays; J.jvp against central differences of J.state (through the density filter
+# and the Heaviside projection) and J.vjp as its exact transpose; a loss of the fluctuations
+# written in Python passes its Taylor test with J.vjp as gradient; and the physics against
+# closed forms: a homogeneous cell's effective tensor is its material's, and a two-phase
+# laminate with one Poisson's ratio has the arithmetic (Voigt) mean of C_1111 along its layers and
+# the harmonic (Reuss) means of C_2222 and of the shear modulus across them (exact for layered
+# media, e.g. Milton, The Theory of Composites, section 9.2).
+import numpy as np
+import pytest
+
+import tailor
+from conftest import assert_taylor_of_state_loss
+
+E0, NU, E_MIN = 1.0, 0.3, 0.01
+
+
+def laminate_design(filter_radius, projection):
+    # A square plane-strain cell on a 4 x 20 grid, phase 1 the layer 0 <= y < 0.4 (element rows
+    # end at y = 0.4, so the layer's interfaces are element edges).
+    return {
+        "type": "periodic_cell", "name": "laminate_design",
+        "cell": {"lattice": [[1, 0], [0, 1]], "grid": [4, 20], "split": "crossed"},
+        "plane": "strain",
+        "materials": [{"youngs_modulus": 1, "poisson_ratio": NU}, {"youngs_modulus": 1, "poisson_ratio": NU}],
+        "phases": [{"phase": 1, "slab": {"axis": 1, "from": 0.0, "to": 0.4}}],
+        "design": {
+            "material": {"youngs_modulus": E0, "poisson_ratio": NU, "min_youngs_modulus": E_MIN, "penalty": 3},
+            "filter_radius": filter_radius, "max_volume_fraction": 0.5,
+            "initial_density": [0.3, 0.8], "perturbation": 0.2, "seed": 3, "projection": projection,
+            "objective": {
+                "entries": {"values": [{"row": 0, "col": 0, "value": 0.5}, {"row": 2, "col": 2, "value": 0.05}]},
+                "poisson_ratio": {"target": 0.1, "pairs": [[[1, 0], [0, 1]]]},
+            },
+        },
+    }
+
+
+@pytest.fixture(scope="module")
+def cell():
+    # Filter radius 0.12 (several elements) and projection beta = 2: the chain z -> E is not trivial.
+    return tailor.load(laminate_design(0.12, [2, 8])).functional()
+
+
+@pytest.fixture(scope="module")
+def sharp():
+    # Filter radius 0.01, below the distance between element centroids: rho = z.
+    return tailor.load(laminate_design(0.01, [0])).functional()
+
+
+def plane_strain_tensor(E, nu):
+    lam, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+    return np.array([[lam + 2 * mu, lam, 0], [lam, lam + 2 * mu, 0], [0, 0, mu]])
+
+
+def test_functional_of_a_cell_design_scene(cell):
+    assert isinstance(cell, tailor.CellFunctional)
+    m = cell.elements.shape[0]
+    assert cell.size == m and len(cell.design_labels) == m and cell.design_labels[0] == "density[0]"
+    lower, upper = cell.bounds
+    assert np.all(lower == 0) and np.all(upper == 1)
+    assert np.all((cell.x0 >= 0) & (cell.x0 <= 1))
+    u = cell.state(cell.x0)
+    assert u.shape == (3,) + cell.rest_positions.shape and u.dtype == np.float64
+    fraction, gradient = cell.volume_fraction(cell.x0)
+    assert 0 < fraction < 1 and gradient.shape == (m,) and cell.max_volume_fraction == 0.5
+    assert cell.optimizer["backend"] == "nlopt_mma"
+
+
+def test_jvp_matches_central_differences_and_vjp_is_its_transpose(cell):
+    rng = np.random.default_rng(23)
+    z = np.clip(cell.x0 + 0.05 * rng.standard_normal(cell.size), 0.05, 0.95)
+    dz = rng.standard_normal(cell.size)
+    jvp = cell.jvp(z, dz)
+    h = 1e-5
+    difference = (cell.state(z + h * dz) - cell.state(z - h * dz)) / (2 * h)
+    assert np.linalg.norm(jvp - difference) < 1e-6 * np.linalg.norm(difference)
+    # A tangent 1% off fails the same check.
+    assert np.linalg.norm(1.01 * jvp - difference) > 1e-3 * np.linalg.norm(difference)
+    W = rng.standard_normal(jvp.shape)
+    assert cell.vjp(z, W) @ dz == pytest.approx(np.sum(W * jvp), rel=1e-9)
+
+
+def test_a_python_loss_of_the_fluctuations_passes_its_taylor_test(cell):
+    rng = np.random.default_rng(29)
+    z = np.clip(cell.x0, 0.05, 0.95)
+    target = cell.state(np.clip(z + 0.1 * rng.standard_normal(cell.size), 0, 1))
+
+    def loss(u):
+        return 0.5 * np.sum((u - target) ** 2)
+
+    gradient = cell.vjp(z, cell.state(z) - target)
+    assert_taylor_of_state_loss(loss, cell.state, z, rng.standard_normal(cell.size), gradient, 0.02)
+
+
+def test_taylor_test_of_the_design_objective(cell):
+    result = cell.taylor_test(z=np.clip(cell.x0, 0.05, 0.95))
+    assert result["passed"] and result["rate1"] >= 1.9, result["table"]
+
+
+def test_a_homogeneous_cell_has_its_materials_tensor(sharp):
+    z = np.ones(sharp.size)
+    np.testing.assert_allclose(sharp.stiffness(z), plane_strain_tensor(E0, NU), rtol=1e-10, atol=1e-12)
+    assert np.abs(sharp.state(z)).max() < 1e-12  # no fluctuation in a homogeneous cell
+
+
+def test_a_laminate_has_the_voigt_and_reuss_means(sharp):
+    centroids = sharp.rest_positions[sharp.elements].mean(axis=1)
+    layer = centroids[:, 1] < 0.4
+    z = np.where(layer, 1.0, 0.0)
+    np.testing.assert_allclose(sharp.youngs_modulus(z), np.where(layer, E0, E_MIN), rtol=1e-14)
+    C = sharp.stiffness(z)
+    stiff, soft = plane_strain_tensor(E0, NU), plane_strain_tensor(E_MIN, NU)
+    f = 0.4
+    assert C[0, 0] == pytest.approx(f * stiff[0, 0] + (1 - f) * soft[0, 0], rel=1e-9)  # along: Voigt
+    assert C[1, 1] == pytest.approx(1 / (f / stiff[1, 1] + (1 - f) / soft[1, 1]), rel=1e-9)  # across: Reuss
+    assert C[2, 2] == pytest.approx(1 / (f / stiff[2, 2] + (1 - f) / soft[2, 2]), rel=1e-9)  # shear: Reuss
+    # The layers stretched along x do not fluctuate; sheared, they slide (u~_x varies with y).
+    u = sharp.state(z)
+    assert np.abs(u[0]).max() < 1e-10 and np.abs(u[2][:, 0]).max() > 1e-2
+
+
+def test_torch_adapter_runs_through_the_cell(sharp):
+    torch = pytest.importorskip("torch")
+    from tailor.torch import state
+
+    z = torch.tensor(np.clip(sharp.x0, 0.1, 0.9), dtype=torch.float64, requires_grad=True)
+    assert torch.autograd.gradcheck(lambda z: state(sharp, z)[2, :6], (z,), eps=1e-6, atol=1e-7, rtol=1e-4,
+                                    check_forward_ad=True)
+
+
+def test_bad_cotangents_and_scenes_are_value_errors(sharp):
+    shape = (3,) + sharp.rest_positions.shape
+    with pytest.raises(ValueError, match=r"dL_du has shape \(2, .*\), the state \(3, "):
+        sharp.vjp(sharp.x0, np.zeros((2,) + sharp.rest_positions.shape))
+    with pytest.raises(ValueError, match="non-finite"):
+        sharp.vjp(sharp.x0, np.full(shape, np.nan))
+    with pytest.raises(ValueError, match="z has 3 entries"):
+        sharp.state(np.zeros(3))
+    document = laminate_design(0.01, [0])
+    del document["design"]
+    with pytest.raises(tailor.SceneError, match=r"functional\(\) needs .* a periodic cell with a \"design\" "
+                                                r"section; this is a periodic_cell scene"):
+        tailor.load(document).functional()

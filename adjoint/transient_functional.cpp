@@ -166,14 +166,15 @@ void TransientFunctional::keep_step_hessian(int step) {
       std::max(statistics_.stored_hessian_megabytes_peak, step_hessian_megabytes_);
 }
 
-bool TransientFunctional::take_stored_hessian(int step) {
+bool TransientFunctional::take_stored_hessian(int step, bool release) {
   if (step < 0 || step >= static_cast<int>(step_hessians_.size())) return false;
   Vector& values = step_hessians_[step];
   if (values.size() == 0 || values.size() != hessian_.nonZeros()) return false;
   Eigen::Map<Vector>(hessian_.valuePtr(), hessian_.nonZeros()) = values;
+  ++statistics_.stored_hessians_used;
+  if (!release) return true;  // the tangent pass: the backward pass may still want it
   step_hessian_megabytes_ -= 8.0 * static_cast<double>(values.size()) / (1024.0 * 1024.0);
   Vector().swap(values);  // each is used once: free it for the recomputed segments' copies
-  ++statistics_.stored_hessians_used;
   return true;
 }
 
@@ -247,33 +248,16 @@ Vector TransientFunctional::solve_with_linear_solver(LinearSolver& solver, const
   return v;
 }
 
-void TransientFunctional::backward_step(const DynamicState& from, const DynamicState& to, Adjoint& a,
-                                        Vector& gradient_p) {
-  // Step from -> to solved S^T dPi/dx = 0 with
-  //   dPi/dx = c M (x - x~) - g + dE/dx + dD/dv((x - x^)/kappa)
-  // and produced v = (x - x^)/kappa and (Newmark) f = c M (x - x~) - g. `a` holds the
-  // adjoints of `to`; on return, those of `from` (objective terms not included).
-  integrator_.configure_step(from, p_);
-  const StepMap m = integrator_.step_map(from);
+Vector TransientFunctional::solve_step_hessian(const DynamicState& to, const Vector& rhs, bool release_stored) {
+  // The exact Hessian of the step that produced `to`, at to.y (the terms configured for the
+  // step); rhs and the result in full DOF space, the constrained entries of the result zero.
   const Model& model = integrator_.model();
   const Elimination& elim = model.elimination();
-  InertiaTerm& inertia = integrator_.inertia();
-  const MassOperator& mass = inertia.mass();
-  const double c = m.inertia, kappa = m.velocity_scale;
-  const Eigen::Index n = to.x.size();
-
-  Vector x_total = a.x + a.v / kappa;  // total adjoint of x_{n+1}
-  Vector predictor_bar = Vector::Zero(n), base_bar = -a.v / kappa, force_bar;
-  if (m.carries_force) {
-    mass.add_times(p_, a.force, x_total, c);
-    mass.add_times(p_, a.force, predictor_bar, -c);
-    force_bar = -a.force;  // and c fb^T M_e (x - x~) into gradient_p with the products below
-  }
   Vector lambda;
   NewtonSolver& newton = integrator_.newton();
   auto assemble_hessian = [&] {
     const auto t0 = Clock::now();
-    if (!take_stored_hessian(to.step)) {
+    if (!take_stored_hessian(to.step, release_stored)) {
       newton.assembler().evaluate(to.y, p_, nullptr, nullptr, &hessian_, HessianMode::exact);
       ++statistics_.hessian_assemblies;
     }
@@ -283,7 +267,7 @@ void TransientFunctional::backward_step(const DynamicState& from, const DynamicS
   if (LinearSolver* solver = newton.options().linear_solver.get()) {
     assemble_hessian();
     const auto t0 = Clock::now();
-    lambda = elim.expand_direction(solve_with_linear_solver(*solver, elim.reduce(x_total), to.step));
+    lambda = elim.expand_direction(solve_with_linear_solver(*solver, elim.reduce(rhs), to.step));
     statistics_.adjoint_solve_seconds += seconds_since(t0);
   } else if (model.hessian_is_constant()) {
     // Every step has the same Hessian (at these parameters): Newton's kept factor solves it.
@@ -299,12 +283,37 @@ void TransientFunctional::backward_step(const DynamicState& from, const DynamicS
     }
     statistics_.adjoint_factorization_seconds += seconds_since(t0);
     t0 = Clock::now();
-    lambda = elim.expand_direction(newton.factorization().solve(elim.reduce(x_total)));
+    lambda = elim.expand_direction(newton.factorization().solve(elim.reduce(rhs)));
     statistics_.adjoint_solve_seconds += seconds_since(t0);
   } else {
     assemble_hessian();
-    lambda = elim.expand_direction(solve_step(elim.reduce(x_total), to.step));
+    lambda = elim.expand_direction(solve_step(elim.reduce(rhs), to.step));
   }
+  return lambda;
+}
+
+void TransientFunctional::backward_step(const DynamicState& from, const DynamicState& to, Adjoint& a,
+                                        Vector& gradient_p) {
+  // Step from -> to solved S^T dPi/dx = 0 with
+  //   dPi/dx = c M (x - x~) - g + dE/dx + dD/dv((x - x^)/kappa)
+  // and produced v = (x - x^)/kappa and (Newmark) f = c M (x - x~) - g. `a` holds the
+  // adjoints of `to`; on return, those of `from` (objective terms not included).
+  integrator_.configure_step(from, p_);
+  const StepMap m = integrator_.step_map(from);
+  const Model& model = integrator_.model();
+  InertiaTerm& inertia = integrator_.inertia();
+  const MassOperator& mass = inertia.mass();
+  const double c = m.inertia, kappa = m.velocity_scale;
+  const Eigen::Index n = to.x.size();
+
+  Vector x_total = a.x + a.v / kappa;  // total adjoint of x_{n+1}
+  Vector predictor_bar = Vector::Zero(n), base_bar = -a.v / kappa, force_bar;
+  if (m.carries_force) {
+    mass.add_times(p_, a.force, x_total, c);
+    mass.add_times(p_, a.force, predictor_bar, -c);
+    force_bar = -a.force;  // and c fb^T M_e (x - x~) into gradient_p with the products below
+  }
+  const Vector lambda = solve_step_hessian(to, x_total, true);
   const auto t0 = Clock::now();
   mass.add_times(p_, lambda, predictor_bar, c);
   Vector start_x_bar = Vector::Zero(n), start_v_bar = Vector::Zero(n);  // through lagged damping coefficients

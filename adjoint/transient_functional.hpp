@@ -124,6 +124,13 @@ class TransientFunctional final : public ReducedFunctional {
   // this is the trajectory's vector-Jacobian product. The functional's own objective is kept.
   Vector objective_gradient(const Vector& z, TrajectoryObjectivePtr other);
 
+  // The trajectory's Jacobian-vector product: row n holds dx_n/dz dz (full DOF space) for the
+  // states n = 0 ... N of z's trajectory, by one forward tangent pass over the steps
+  // (transient_tangent.cpp; the transpose of the backward pass above, step by step). The
+  // forward pass is reused when z is the design evaluated last. Refused (std::invalid_argument)
+  // for damping whose coefficients lag the step's start state (ExampleDamping).
+  Matrix trajectory_jvp(const Vector& z, const Vector& dz);
+
   // Size of P: |p| + num_dofs per designed initial condition.
   int num_extended_params() const;
   // The stored states of the last forward pass (all of them without checkpointing).
@@ -138,11 +145,17 @@ class TransientFunctional final : public ReducedFunctional {
   std::vector<DynamicState> segment(int n0, int n1);
   void backward_step(const DynamicState& from, const DynamicState& to, Adjoint& adjoint, Vector& gradient_p);
   Vector solve_step(const Vector& rhs, int step);
-  // The forward pass's copy of the converged Hessian of `step` into hessian_, if it kept one.
-  bool take_stored_hessian(int step);
+  // H_{n+1}^{-1} rhs for the step that produced `to` (its terms configured), full DOF space,
+  // by the solver the backward pass uses (release_stored: free the kept copy of H once used).
+  Vector solve_step_hessian(const DynamicState& to, const Vector& rhs, bool release_stored);
+  // The forward pass's copy of the converged Hessian of `step` into hessian_, if it kept one
+  // (release: drop the copy afterwards).
+  bool take_stored_hessian(int step, bool release = true);
   void keep_step_hessian(int step);
   Vector solve_with_linear_solver(LinearSolver& solver, const Vector& rhs, int step);
   void add_objective_gradient(const DynamicState& s, Adjoint& adjoint, Vector& gradient_p) const;
+  struct Tangent;  // tangents of one DynamicState
+  void tangent_step(const DynamicState& from, const DynamicState& to, const Vector& dp, Tangent& t);
 
   TimeIntegrator& integrator_;
   ParameterizationPtr parameterization_;

@@ -4,8 +4,9 @@
 // adjoint). The state is the trajectory: state(z) gives the displacements of every stored state
 // n = 0 ... N from the rest positions, shape (N + 1, num_vertices, dim), and vjp(z, dL_dU) the
 // design gradient of any scalar L of it, given dL/dU of the same shape, by one backward pass over
-// the same trajectory (TransientFunctional::objective_gradient with PositionCotangents). A
-// tangent (jvp) would need a forward-mode pass through the steps, which tailor does not have.
+// the same trajectory (TransientFunctional::objective_gradient with PositionCotangents), and
+// jvp(z, dz) the trajectory's directional derivative of that shape by one forward tangent pass
+// through the steps (TransientFunctional::trajectory_jvp), its exact transpose.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -95,6 +96,22 @@ class DynamicFunctional {
     return locked(mutex_, [&] { return f().objective_gradient(z, cotangents); });
   }
 
+  // (dU/dz) dz, of the shape of state(z).
+  py::array_t<double> jvp(const Vector& z, const Vector& dz) {
+    check_size(z, "z");
+    check_size(dz, "dz");
+    if (!dz.allFinite()) throw std::invalid_argument(source_ + ": dz has non-finite entries");
+    const Eigen::Index n = rest().size();
+    const Matrix rows = locked(mutex_, [&] { return Matrix(f().trajectory_jvp(z, dz).leftCols(n)); });
+    const Eigen::MatrixXd& X = design_->scene_model.setup.mesh.rest_positions;
+    py::array_t<double> out({static_cast<py::ssize_t>(rows.rows()), static_cast<py::ssize_t>(X.rows()),
+                             static_cast<py::ssize_t>(X.cols())});
+    double* data = out.mutable_data();
+    for (Eigen::Index k = 0; k < rows.rows(); ++k)
+      for (Eigen::Index i = 0; i < n; ++i) data[k * n + i] = rows(k, i);
+    return out;
+  }
+
   py::dict taylor_test(std::optional<Vector> z, std::optional<unsigned> seed,
                        std::optional<double> min_rate) {
     if (z) check_size(*z, "z");
@@ -134,6 +151,7 @@ void bind_dynamic_functional(py::module_& m) {
       .def("value_and_gradient", &DynamicFunctional::value_and_gradient, py::arg("z"))
       .def("state", &DynamicFunctional::state, py::arg("z"))
       .def("vjp", &DynamicFunctional::vjp, py::arg("z"), py::arg("dL_dU"))
+      .def("jvp", &DynamicFunctional::jvp, py::arg("z"), py::arg("dz"))
       .def_property_readonly("x0", [](const DynamicFunctional& f) { return f.design().z0; })
       .def_property_readonly("design_labels", [](const DynamicFunctional& f) { return f.design().labels; })
       .def_property_readonly("counters", &DynamicFunctional::counters)

@@ -35,6 +35,7 @@ try:
     from ._tailor import EvaluationError, MeshError, SceneError, __version__
     from ._tailor import Functional as _Functional
     from ._tailor import DynamicFunctional as _DynamicFunctional
+    from ._tailor import CellFunctional as _CellFunctional
     from ._tailor import RodFunctional as _RodFunctional
     from ._tailor import Scene as _Scene
 except ImportError as _error:
@@ -45,7 +46,7 @@ from .optimize import scipy_minimize
 from .studio import studio
 
 __all__ = [
-    "DynamicFunctional", "EvaluationError", "Functional", "MeshError", "Report", "RodFunctional", "Scene",
+    "CellFunctional", "DynamicFunctional", "EvaluationError", "Functional", "MeshError", "Report", "RodFunctional", "Scene",
     "SceneError", "__version__",
     "fields", "gradcheck", "homogenize", "load", "modes", "run", "scipy_minimize", "simulate",
 ]
@@ -258,8 +259,8 @@ class DynamicFunctional(_FunctionalBase):
     The state is the trajectory: state(z) is the displacement of every state n = 0 ... steps from
     the rest positions, shape (steps + 1, num_vertices, dim) (float64), and vjp(z, dL_dU) the design
     gradient of any scalar L of it, given dL/dU of the same shape, by one backward pass over the
-    same trajectory. There is no jvp: a tangent through the steps would need a forward-mode pass,
-    which tailor does not have. There are no bounds.
+    same trajectory; jvp(z, dz) is the trajectory's directional derivative, of the same shape, by
+    one forward tangent pass through the steps (its exact transpose). There are no bounds.
     """
 
     bounds = None
@@ -269,8 +270,62 @@ class DynamicFunctional(_FunctionalBase):
         self._f = _DynamicFunctional(scene._doc)
         self._name, self._source = scene.name, scene.source
 
+    def jvp(self, z, dz):
+        """(dU/dz) dz: the trajectory's directional derivative along dz, shape (steps + 1,
+        num_vertices, dim), by one forward tangent pass through the steps (each step's Jacobian
+        solved as the backward pass solves it). Refused (ValueError) for example-based damping."""
+        return self._f.jvp(z, dz)
+
     def taylor_test(self, z=None, seed=None, min_rate=None):
         """Taylor test of J at z (default x0), as `tailor gradcheck` on the scene."""
+        return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate)
+
+
+class CellFunctional(_FunctionalBase):
+    """J(z) of a periodic cell's density design (a "periodic_cell" scene with a "design" section,
+    docs/homogenization.md), as `tailor run` minimizes it: z is one density per element in
+    [0, 1] (bounds), filtered, projected with the first projection stage's beta, SIMP moduli,
+    J of the effective tensor C^H. x0 is the scene's initial design (its seed and perturbation).
+    The volume constraint is separate: volume_fraction(z) gives (value, gradient) and
+    max_volume_fraction its bound.
+
+    The state is the cell's periodic fluctuations: state(z)[I] is the displacement u~_I of the
+    cell's vertices under the unit macro strain I (Voigt order: 2D 11, 22, 12; 3D 11, 22, 33, 23,
+    13, 12; engineering shear) beyond the affine part eps_I X, shape (voigt_size, num_vertices,
+    dim) (float64). vjp(z, dL_du) takes dL/du~ of that shape (one adjoint back-solve per load case
+    with one factorization), jvp(z, dz) returns it. stiffness(z) is C^H.
+    """
+
+    elements = property(lambda self: self._f.elements, doc="the mesh: num_elements x (dim + 1) vertex ids")
+    bounds = property(lambda self: self._f.bounds, doc="(zeros, ones): densities in [0, 1]")
+    optimizer = property(lambda self: self._f.optimizer, doc="the scene's design.optimizer section")
+    max_volume_fraction = property(lambda self: self._f.max_volume_fraction,
+                                   doc="the design's bound on volume_fraction(z)")
+
+    def __init__(self, scene):
+        self._f = _CellFunctional(scene._doc)
+        self._name, self._source = scene.name, scene.source
+
+    def jvp(self, z, dz):
+        """(du~/dz) dz: the fluctuations' directional derivative along dz, in the shape of
+        state(z), by one back-solve per load case."""
+        return self._f.jvp(z, dz)
+
+    def stiffness(self, z):
+        """C^H at z: the effective elasticity tensor in Voigt notation (3 x 3 in 2D, 6 x 6 in 3D;
+        in the units of the design material's Young's modulus)."""
+        return self._f.stiffness(z)
+
+    def youngs_modulus(self, z):
+        """E per element at z (after filter, projection and SIMP)."""
+        return self._f.youngs_modulus(z)
+
+    def volume_fraction(self, z):
+        """(volume fraction of the filtered density, its gradient in z)."""
+        return self._f.volume_fraction(z)
+
+    def taylor_test(self, z=None, seed=None, min_rate=None):
+        """Taylor test of J at z (default x0); seed defaults to the design's."""
         return self._f.taylor_test(z=z, seed=seed, min_rate=min_rate)
 
 
@@ -384,17 +439,21 @@ class Scene:
     def functional(self):
         """The reduced functional of the scene's inverse problem: a Functional for static FEM
         scenes, a RodFunctional for rod scenes (each with an "inverse" section), a
-        DynamicFunctional for dynamic scenes (of their dynamics.objective); other kinds are a
-        SceneError naming the supported ones."""
+        DynamicFunctional for dynamic scenes (of their dynamics.objective), a CellFunctional for
+        periodic cells with a "design" section; other kinds are a SceneError naming the
+        supported ones."""
         if self.kind == "static":
             return Functional(self)
         if self.kind == "rods":
             return RodFunctional(self)
         if self.kind == "dynamic":
             return DynamicFunctional(self)
+        if self.kind == "cell_design":
+            return CellFunctional(self)
         raise SceneError(f"{self.source}: functional() needs a static FEM or a rods scene with an \"inverse\" "
-                         f"section, or a dynamic scene with a dynamics.objective; this is a {self.kind} scene "
-                         f"(its designs run through run() and gradcheck(), docs/python.md)")
+                         f"section, a dynamic scene with a dynamics.objective, or a periodic cell with a "
+                         f"\"design\" section; this is a {self.kind} scene (its designs run through run() and "
+                         f"gradcheck(), docs/python.md)")
 
 
 def load(scene, directory=None, name=None):

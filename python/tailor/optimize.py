@@ -18,10 +18,25 @@ _GTOL = {"l-bfgs-b", "bfgs", "cg", "tnc", "trust-constr", "trust-ncg", "trust-kr
 def scene_method(functional):
     """The scipy.optimize.minimize method closest to the scene's back-end (method="scene"):
     "trust-ncg" for newton_cg (a trust-region Newton-CG on curvature products, as tailor's
-    Steihaug-Toint back-end) where the functional has the products it uses, "L-BFGS-B" for the
-    others."""
+    Steihaug-Toint back-end) where the functional has the products it uses, "SLSQP" for a
+    periodic cell's density design (bounds and the volume constraint, as nlopt_mma there),
+    "L-BFGS-B" for the others."""
+    if _volume_constrained(functional):
+        return "SLSQP"
     newton = functional.optimizer["backend"] == "newton_cg" and scene_curvature(functional) is not None
     return "trust-ncg" if newton else "L-BFGS-B"
+
+
+def _volume_constrained(functional):
+    return hasattr(functional, "volume_fraction") and hasattr(functional, "max_volume_fraction")
+
+
+def volume_constraint(functional):
+    """A periodic cell design's volume constraint, volume_fraction(z) <= max_volume_fraction, as
+    minimize's inequality constraint (fun >= 0) with its gradient."""
+    return {"type": "ineq",
+            "fun": lambda z: functional.max_volume_fraction - functional.volume_fraction(z)[0],
+            "jac": lambda z: -functional.volume_fraction(z)[1]}
 
 
 def scene_curvature(functional):
@@ -46,8 +61,9 @@ def scene_options(functional, method, value0):
     options = {"maxiter": settings["max_iterations"]}
     if name in _GTOL:
         options["gtol"] = settings["gradient_tolerance"]
-    if name == "l-bfgs-b":
+    if name in ("l-bfgs-b", "slsqp"):
         options["ftol"] = settings["objective_tolerance"] / max(abs(value0), 1.0)
+    if name == "l-bfgs-b":
         options["maxfun"] = 20 * settings["max_iterations"]
     return options
 
@@ -155,7 +171,9 @@ def scipy_minimize(functional, x0=None, method="scene", bounds="scene", hessp="a
     With penalize_failures, a point where the forward solve fails (tailor.EvaluationError) is
     worth +inf with a zero gradient, so that the line search steps back (as tailor's own
     back-ends do); otherwise the error propagates. callback(z) is called after every iteration.
-    Other keyword arguments go to minimize (tol, ...).
+    Other keyword arguments go to minimize (tol, ...). A periodic cell's density design
+    (tailor.CellFunctional) gets its volume constraint (volume_constraint) unless constraints are
+    given; a method that takes no constraints is refused for it (ValueError).
 
     Returns minimize's OptimizeResult with SciPy's own message and three more entries: history
     (per iteration: iteration, objective, gradient_norm (projected, infinity norm), seconds),
@@ -173,6 +191,11 @@ def scipy_minimize(functional, x0=None, method="scene", bounds="scene", hessp="a
     if from_scene:
         method = scene_method(functional)
     name = method.lower() if isinstance(method, str) else ""
+    if _volume_constrained(functional) and "constraints" not in kwargs:
+        if name not in ("slsqp", "trust-constr", "cobyla"):
+            raise ValueError(f"scipy_minimize: {method!r} takes no constraints, and this cell design has a volume "
+                             f"constraint; use SLSQP, trust-constr or COBYLA, or pass constraints")
+        kwargs["constraints"] = [volume_constraint(functional)]
     scene_bounds = None
     if isinstance(bounds, str) and bounds == "scene":
         scene_bounds = functional.bounds

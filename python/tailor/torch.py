@@ -9,7 +9,8 @@
     loss.backward()                      # z.grad: dL/du chained through the adjoint
 
 state() is an autograd.Function whose forward is J.state(z) and whose backward is J.vjp: one
-adjoint solve at the equilibrium per backward pass, whatever the loss. objective() is J(z)
+adjoint solve at the equilibrium per backward pass, whatever the loss; its forward-mode rule
+(torch.autograd.forward_ad, torch.func.jvp) is J.jvp, one tangent solve. objective() is J(z)
 itself, with J.gradient as its backward. Both run in float64 on the CPU (the simulation's
 precision); results come back in z's dtype and device.
 """
@@ -28,7 +29,7 @@ def _design(z):
 
 
 class StateFunction(torch.autograd.Function):
-    """u(z): forward J.state(z), backward J.vjp(z, grad_u)."""
+    """u(z): forward J.state(z), backward J.vjp(z, grad_u), forward-mode J.jvp(z, dz)."""
 
     @staticmethod
     def forward(ctx, z, functional):
@@ -40,6 +41,11 @@ class StateFunction(torch.autograd.Function):
     def backward(ctx, grad_u):
         gradient = ctx.functional.vjp(ctx.design, grad_u.detach().cpu().numpy().astype(np.float64))
         return torch.from_numpy(gradient).to(dtype=ctx.like.dtype, device=ctx.like.device), None
+
+    @staticmethod
+    def jvp(ctx, dz, _):
+        tangent = ctx.functional.jvp(ctx.design, dz.detach().cpu().numpy().astype(np.float64))
+        return torch.from_numpy(tangent).to(dtype=ctx.like.dtype, device=ctx.like.device)
 
 
 class ObjectiveFunction(torch.autograd.Function):

@@ -1,7 +1,8 @@
 # The trajectory functional of a dynamic scene from Python (tailor.DynamicFunctional): J and its
 # Taylor test as `tailor gradcheck`; the trajectory as an array; J.vjp against central
 # differences of J.state along a direction, and, with dL/dU the objective's own, equal to the
-# gradient; a loss of the trajectory written in Python passes its Taylor test (first-order
+# gradient; J.jvp (the forward tangent pass through the steps) against central differences of
+# the whole trajectory and as the exact transpose of J.vjp, and its forward-mode use in torch; a loss of the trajectory written in Python passes its Taylor test (first-order
 # remainder at rate 1, second-order at >= 1.9) with J.vjp as gradient, and a wrong gradient fails.
 import numpy as np
 import pytest
@@ -78,6 +79,42 @@ def test_a_python_loss_of_the_trajectory_passes_its_taylor_test(beam):
     dz = rng.standard_normal(beam.size)
     dz[-2:] *= [0.2, 1e-3]  # alpha and beta on their own scales (beta = 1e-3 must stay positive)
     assert_taylor_of_state_loss(loss, beam.state, z, dz, beam.vjp(z, dL_dU), 0.05)
+
+
+def test_jvp_matches_central_differences_and_vjp_is_its_transpose(beam):
+    rng = np.random.default_rng(17)
+    z = beam.x0 + 0.02 * rng.standard_normal(beam.size)
+    dz = rng.standard_normal(beam.size)
+    dz[-2:] *= [0.2, 1e-3]  # alpha and beta on their own scales
+    jvp = beam.jvp(z, dz)
+    assert jvp.shape == (21,) + beam.rest_positions.shape and jvp.dtype == np.float64
+    assert np.abs(jvp[0]).max() == 0  # the initial state is not designed
+    h = 1e-5
+    difference = (beam.state(z + h * dz) - beam.state(z - h * dz)) / (2 * h)
+    assert np.linalg.norm(jvp - difference) < 1e-5 * np.linalg.norm(difference)
+    # The check sees a tangent without the damping parameters' terms (their part of dz dropped).
+    partial = dz.copy()
+    partial[-2:] = 0
+    assert np.linalg.norm(beam.jvp(z, partial) - difference) > 1e-3 * np.linalg.norm(difference)
+    W = rng.standard_normal(jvp.shape)
+    assert beam.vjp(z, W) @ dz == pytest.approx(np.sum(W * jvp), rel=1e-9)
+    with pytest.raises(ValueError, match="dz has 3 entries"):
+        beam.jvp(z, np.zeros(3))
+
+
+def test_torch_forward_mode_runs_through_the_trajectory(beam):
+    torch = pytest.importorskip("torch")
+    import torch.autograd.forward_ad as fwAD
+    from tailor.torch import state
+
+    rng = np.random.default_rng(19)
+    z = beam.x0
+    dz = rng.standard_normal(beam.size)
+    dz[-2:] *= [0.2, 1e-3]
+    with fwAD.dual_level():
+        dual = fwAD.make_dual(torch.tensor(z), torch.tensor(dz))
+        tangent = fwAD.unpack_dual(state(beam, dual)).tangent
+    np.testing.assert_allclose(tangent.numpy(), beam.jvp(z, dz), rtol=0, atol=0)
 
 
 def test_taylor_test_is_the_scenes_gradcheck(beam):

@@ -206,6 +206,64 @@ TEST(TransientFunctional, ObjectiveGradientIsTheTrajectorysVectorJacobianProduct
   EXPECT_THROW(PositionCotangents(Matrix::Constant(2, n, std::nan(""))), std::invalid_argument);
 }
 
+// The trajectory's Jacobian-vector product (the forward tangent pass): against central
+// differences of the stored states along a direction in log E, log density, Rayleigh's alpha
+// and beta and the initial velocities, and as the transpose of the vector-Jacobian product,
+// <vjp(W), dz> = <W, jvp(dz)>, for Newmark (the carried force) and BDF2 (two-step history),
+// with and without checkpointing. A tangent without the damping parameters' mixed term (their
+// entries of dz dropped) fails the difference check.
+TEST(TransientFunctional, TrajectoryJvpMatchesDifferencesAndIsTheVjpsTranspose) {
+  SwingProblem problem(true);
+  const int steps = 12;
+  const int n = problem.c.model->num_dofs();
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal;
+  Vector dz(problem.z0.size());
+  for (Eigen::Index i = 0; i < dz.size(); ++i) dz[i] = normal(rng);
+  dz.segment(2 * problem.m, 2) *= 1e-2;  // alpha, beta
+  dz.tail(n) *= 0.1;                     // initial velocities
+  Matrix W(steps + 1, n);
+  for (Eigen::Index i = 0; i < W.size(); ++i) W.data()[i] = normal(rng);
+  for (TimeScheme scheme : {TimeScheme::newmark, TimeScheme::bdf2}) {
+    SCOPED_TRACE(to_string(scheme));
+    TimeIntegrator integrator(*problem.c.model, integrator_options(scheme));
+    TransientFunctional f(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                          functional_options(true, steps));
+    const Matrix jvp = f.trajectory_jvp(problem.z0, dz);
+    ASSERT_EQ(jvp.rows(), steps + 1);
+    const auto trajectory = [&](const Vector& z) {
+      TransientFunctional g(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                            functional_options(true, steps));
+      g.value(z);
+      Matrix x(steps + 1, n);
+      for (int k = 0; k <= steps; ++k) x.row(k) = g.stored_states()[k].x.transpose();
+      return x;
+    };
+    const double h = 1e-4;
+    const Matrix difference = (trajectory(problem.z0 + h * dz) - trajectory(problem.z0 - h * dz)) / (2 * h);
+    const double error = (jvp - difference).norm() / difference.norm();
+    EXPECT_LT(error, 1e-5);
+    Vector without_damping = dz;
+    without_damping.segment(2 * problem.m, 2).setZero();
+    const double error_without =
+        (f.trajectory_jvp(problem.z0, without_damping) - difference).norm() / difference.norm();
+    EXPECT_GT(error_without, 1e-5);
+    const Vector vjp = f.objective_gradient(problem.z0, std::make_shared<PositionCotangents>(W));
+    const double pairing = W.cwiseProduct(jvp).sum();
+    EXPECT_NEAR(vjp.dot(dz), pairing, 1e-9 * std::abs(pairing));
+    std::printf("%s: jvp against differences %.1e (without the damping terms %.1e), <vjp, dz> against "
+                "<W, jvp> %.1e\n",
+                to_string(scheme).c_str(), error, error_without, std::abs(vjp.dot(dz) - pairing) / std::abs(pairing));
+    TransientFunctional checkpointed(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                                     functional_options(true, steps, 4));
+    EXPECT_LT((checkpointed.trajectory_jvp(problem.z0, dz) - jvp).norm(), 1e-8 * jvp.norm());
+  }
+  TimeIntegrator integrator(*problem.c.model, integrator_options(TimeScheme::implicit_euler));
+  TransientFunctional f(integrator, problem.map, problem.objective, problem.c.rest, problem.v0,
+                        functional_options(true, steps));
+  EXPECT_THROW(f.trajectory_jvp(problem.z0, Vector::Zero(3)), std::invalid_argument);
+}
+
 TEST(TransientFunctional, FactorizationReuseDoesNotChangeTheGradient) {
   SwingProblem problem(false);
   TimeIntegrator integrator(*problem.c.model, integrator_options(TimeScheme::newmark));

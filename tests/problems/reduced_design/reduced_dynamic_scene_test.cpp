@@ -146,6 +146,28 @@ TEST(ReducedDynamicScene, SceneErrorsNameTheKeyPath) {
             std::string::npos);
   EXPECT_NE(error_of(R"({"basis": "domains", "domains": {"count": 100000}})").find("dynamics.reduction:"),
             std::string::npos);
+  EXPECT_NE(error_of(R"({"energy": "cubic"})").find("dynamics.reduction.energy"), std::string::npos);
+  EXPECT_EQ(error_of(R"({"displacement_modes": 2})"), "no error");  // the check above can pass
+  // The transient adjoint is full-space: gradcheck of a reduced scene is refused, naming the section.
+  std::string text = cantilever(R"({"displacement_modes": 2})");
+  const std::string every = R"("output_every": 4,)";
+  text.replace(text.find(every), every.size(),
+               R"("output_every": 4, "objective": {"vertices": {"list": [0]}, "target": [0, 0, 0]},)");
+  const Scene with_objective = parse_scene(text, "swing.json", "");
+  TempFolder folder("reduced_dynamic_gradcheck");
+  try {
+    gradcheck_dynamic_scene(with_objective, folder.str(), 1, nullptr);
+    ADD_FAILURE() << "gradcheck of a reduced dynamic scene ran";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("swing.json: dynamics.reduction: gradcheck"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ReducedDynamicScene, ShippedExampleParses) {
+  const Scene scene = read_scene(kScenesDir + "/reduced_swinging_beam.json");
+  ASSERT_TRUE(scene.dynamics && scene.dynamics->reduction);
+  EXPECT_EQ(scene.dynamics->reduction->basis, "overlapping");
+  EXPECT_EQ(scene.dynamics->reduction->domains.count, 3);
 }
 
 }  // namespace

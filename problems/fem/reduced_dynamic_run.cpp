@@ -171,14 +171,20 @@ DynamicRun simulate_reduced_dynamic_scene(const Scene& scene, const std::string&
       (reduction.energy == "auto" && s.stvk && (reduction.basis != "global" || summary.r <= kLargestGlobalPolynomial));
   summary.energy = polynomial ? "polynomial" : "projected";
   t = Clock::now();
+  if (summary.r < 1) reduction_fail(scene, reduction.key, "the reduced basis is empty (every column was dropped)");
   std::unique_ptr<ReducedElasticModel> energy;
-  if (polynomial) {
-    auto local = std::make_unique<LocalReducedStvk>(*s.elastic, mesh, s.p0, basis, 1e-14 * basis.cwiseAbs().maxCoeff());
-    summary.groups = local->groups();
-    summary.largest_group = local->largest_group();
-    energy = std::move(local);
-  } else {
-    energy = std::make_unique<ProjectedReducedModel>(*s.elastic, s.p0, s.x0, basis);
+  try {
+    if (polynomial) {
+      auto local =
+          std::make_unique<LocalReducedStvk>(*s.elastic, mesh, s.p0, basis, 1e-14 * basis.cwiseAbs().maxCoeff());
+      summary.groups = local->groups();
+      summary.largest_group = local->largest_group();
+      energy = std::move(local);
+    } else {
+      energy = std::make_unique<ProjectedReducedModel>(*s.elastic, s.p0, s.x0, basis);
+    }
+  } catch (const std::invalid_argument& e) {  // a material term the polynomial cannot take
+    reduction_fail(scene, reduction.key + ".energy", e.what());
   }
   summary.energy_seconds = seconds_since(t);
 

@@ -11,6 +11,7 @@
 #include "forward/core/format_number.hpp"
 #include "forward/core/timing.hpp"
 #include "problems/fem/physics_warnings.hpp"
+#include "problems/fem/reduced_dynamic_run.hpp"
 #include "problems/fem/scene_selection.hpp"
 #include "problems/output_process.hpp"
 #include "problems/scene_error.hpp"
@@ -70,6 +71,7 @@ void check_output_size(const Scene& scene, const std::filesystem::path& first_fr
 }  // namespace
 
 DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir, std::ostream* log) {
+  if (scene.dynamics->reduction) return simulate_reduced_dynamic_scene(scene, out_dir, log);
   const auto t_start = Clock::now();
   const DynamicsSpec& spec = *scene.dynamics;
   DynamicSceneModel d = build_dynamic_scene(scene);
@@ -176,6 +178,10 @@ std::unique_ptr<DynamicDesign> build_dynamic_design(const Scene& scene) {
                      ": dynamics.solver.method: the transient adjoint needs each step solved by Newton (it "
                      "differentiates the step equations at their exact solutions, and descent stops at its "
                      "tolerance or iteration budget); use \"method\": \"newton\" for gradcheck and functional()");
+  if (spec.reduction)
+    throw SceneError(scene.source + ": " + spec.reduction->key +
+                     ": gradcheck and functional() differentiate the full-space steps (the transient adjoint); "
+                     "remove the reduction section for them");
   auto design = std::make_unique<DynamicDesign>();
   design->scene_model = build_dynamic_scene(scene);
   DynamicSceneModel& d = design->scene_model;

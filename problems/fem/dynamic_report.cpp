@@ -79,6 +79,16 @@ void write_dynamic_report_json(const std::string& path, const Scene& scene, cons
                        {"setup", run.timings.setup},
                        {"steps", step_seconds},
                        {"output", run.timings.output}};
+  if (run.reduction) {
+    const ReducedRunSummary& r = *run.reduction;
+    report["reduction"] = {{"basis", r.basis},
+                           {"reduced_coordinates", r.r},
+                           {"domains", r.domains},
+                           {"energy", r.energy},
+                           {"polynomial_groups", r.groups},
+                           {"largest_group", r.largest_group},
+                           {"precomputation_seconds", {{"basis", r.basis_seconds}, {"energy", r.energy_seconds}}}};
+  }
   report["series"] = "result.pvd";
   report["linear_solver"] = linear_solver_json(run.linear_solver.get());
   write_report_file(path, report);

@@ -3,6 +3,7 @@
 // `output_every` steps (and the last), DIR/result.pvd (a ParaView time series of the frames)
 // and DIR/report.json with per-step energies, Newton iterations and timings (docs/dynamics.md).
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,6 +28,15 @@ struct DynamicTimings {
   double output = 0.0;  // writing the frames
 };
 
+// What a run with dynamics.reduction used (report.json "reduction").
+struct ReducedRunSummary {
+  std::string basis, energy;  // as in dynamics.reduction; energy "polynomial" or "projected"
+  int r = 0;                  // reduced coordinates
+  int domains = 0;            // 0 for the global basis
+  int groups = 0, largest_group = 0;  // the polynomial's element groups and their most columns
+  double basis_seconds = 0.0, energy_seconds = 0.0;  // precomputation: the basis, the reduced energy
+};
+
 struct DynamicRun {
   bool completed = false;  // every step converged
   std::string message;
@@ -37,6 +47,7 @@ struct DynamicRun {
   std::string report_path, series_path;
   LinearSolverPtr linear_solver;  // the steps' (empty: CHOLMOD)
   std::vector<std::string> warnings;  // problems/fem/physics_warnings.hpp
+  std::optional<ReducedRunSummary> reduction;  // set by a reduced run
 };
 
 // Writes frames_dir/frame_NNNNN.vtu of state s (point data displacement from `rest` and

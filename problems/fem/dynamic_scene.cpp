@@ -5,10 +5,54 @@
 #include "problems/scene_node.hpp"
 
 namespace tailor {
+namespace {
+
+// dynamics.reduction (docs/reduction.md, "Reduced dynamic scenes").
+DynamicReductionSpec parse_dynamic_reduction(const SceneNode& node) {
+  node.expect_keys({"basis", "displacement_modes", "static_responses", "derivative_modes", "krylov_order", "energy",
+                    "domains"});
+  DynamicReductionSpec r;
+  r.key = node.path();
+  if (auto k = node.find("basis")) r.basis = k->choice({"global", "domains", "overlapping"});
+  if (auto k = node.find("displacement_modes")) r.displacement_modes = k->integer(1);
+  if (auto k = node.find("static_responses")) r.static_responses = k->boolean();
+  if (auto k = node.find("derivative_modes")) r.derivative_modes = k->integer(0);
+  if (auto k = node.find("krylov_order")) r.krylov_order = k->integer(1);
+  if (r.krylov_order > 4) node.at("krylov_order").fail("at most 4 (the block sizes grow as C(r + k - 1, k))");
+  if (r.basis == "domains")
+    for (const char* key : {"displacement_modes", "static_responses", "derivative_modes", "krylov_order"})
+      if (node.find(key))
+        node.at(key).fail("applies to the \"global\" and \"overlapping\" bases (\"domains\" takes its modes "
+                          "from the \"domains\" keys)");
+  if (auto k = node.find("energy")) r.energy = k->choice({"auto", "polynomial", "projected"});
+  if (auto k = node.find("domains")) {
+    if (r.basis == "global") k->fail("only with \"basis\": \"domains\" or \"overlapping\"");
+    k->expect_keys({"count", "from_regions", "fixed_interface_modes", "derivative_modes",
+                    "boundary_derivative_modes", "interface_modes", "overlap_layers"});
+    DynamicDomainsSpec& d = r.domains;
+    if (auto e = k->find("count")) d.count = e->integer(1);
+    if (auto e = k->find("from_regions")) d.from_regions = e->boolean();
+    if (auto e = k->find("overlap_layers")) d.overlap_layers = e->integer(0);
+    for (const char* key : {"fixed_interface_modes", "derivative_modes", "boundary_derivative_modes", "interface_modes",
+                            "overlap_layers"}) {
+      const bool layers = std::string(key) == "overlap_layers";
+      const bool applies = r.basis == "domains" ? !layers : layers;
+      if (!applies && k->find(key))
+        k->at(key).fail(std::string("does not apply to \"basis\": \"") + r.basis + "\"");
+    }
+    if (auto e = k->find("fixed_interface_modes")) d.fixed_interface_modes = e->integer(0);
+    if (auto e = k->find("derivative_modes")) d.derivative_modes = e->integer(0);
+    if (auto e = k->find("boundary_derivative_modes")) d.boundary_derivative_modes = e->integer(0);
+    if (auto e = k->find("interface_modes")) d.interface_modes = e->integer(0);
+  }
+  return r;
+}
+
+}  // namespace
 
 DynamicsSpec parse_dynamics_section(const SceneNode& node, const std::string& directory) {
   node.expect_keys({"scheme", "time_step", "steps", "mass", "rayleigh", "output_every", "initial_velocity", "objective",
-                    "solver"});
+                    "solver", "reduction"});
   DynamicsSpec d;
   if (auto v = node.find("scheme"))
     d.scheme = parse_time_scheme(v->choice({"implicit_euler", "newmark", "bdf2"}));
@@ -59,6 +103,7 @@ DynamicsSpec parse_dynamics_section(const SceneNode& node, const std::string& di
     }
     if (auto v = solver->find("rho_estimation_iterations")) d.descent.rho_estimation_iterations = v->integer(2);
   }
+  if (auto r = node.find("reduction")) d.reduction = parse_dynamic_reduction(*r);
   return d;
 }
 

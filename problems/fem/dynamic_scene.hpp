@@ -34,6 +34,30 @@ struct TrajectoryTargetSpec {
   std::string key = "dynamics.objective";
 };
 
+// dynamics.reduction.domains: the domains of a "domains" or "overlapping" basis.
+struct DynamicDomainsSpec {
+  int count = 4;                      // METIS domains
+  bool from_regions = false;          // or the mesh's element regions
+  int fixed_interface_modes = 6;      // "domains": per domain
+  int derivative_modes = 3;           // "domains": local derivatives of this many fixed-interface modes
+  int boundary_derivative_modes = 2;  // "domains": local derivatives of this many boundary-driven modes
+  int interface_modes = 12;           // "domains": interface excitations (0 = every interface DOF)
+  int overlap_layers = 2;             // "overlapping": element rings grown around each domain
+};
+
+// dynamics.reduction: the steps run in reduced coordinates, u = Phi q (forward/reduction;
+// problems/fem/reduced_dynamic_run.hpp; docs/reduction.md, "Reduced dynamic scenes").
+struct DynamicReductionSpec {
+  std::string basis = "global";  // "global", "domains" or "overlapping"
+  int displacement_modes = 10;   // global: lowest vibration modes
+  bool static_responses = true;  // global: K^-1 f of the loads (gravity included)
+  int derivative_modes = 3;      // global: modes (with the load response) whose Krylov blocks 2..k are added
+  int krylov_order = 2;          // 1: none; 2: modal derivatives; up to 4 (nonlinear materials only)
+  std::string energy = "auto";   // "polynomial" (StVK, linear), "projected" (any material) or "auto"
+  DynamicDomainsSpec domains;
+  std::string key = "dynamics.reduction";
+};
+
 struct DynamicsSpec {
   TimeScheme scheme = TimeScheme::implicit_euler;
   double time_step = 0.01;  // h [time]
@@ -48,6 +72,7 @@ struct DynamicsSpec {
   // options (forward/dynamics/descent_solver.hpp; docs/dynamics.md, "The descent solver").
   std::string solver_method = "newton";
   DescentOptions descent;
+  std::optional<DynamicReductionSpec> reduction;  // dynamics.reduction: reduced steps
 };
 
 // The model of a dynamic scene: the static scene's model plus inertia and Rayleigh damping,

@@ -289,6 +289,7 @@ DynamicsSpec parse_rod_dynamics(const SceneNode& root, const RodSceneSpec& spec)
   if (node.has("rayleigh")) node.at("rayleigh").fail("Rayleigh damping is not implemented for rod scenes");
   if (node.has("objective"))
     node.at("objective").fail("trajectory objectives are not implemented for rod scenes");
+  if (node.has("reduction")) node.at("reduction").fail("reduced dynamics is for FEM scenes (docs/reduction.md)");
   DynamicsSpec d = parse_dynamics_section(node, ".");
   if (node.has("mass") && node.at("mass").string() != "lumped")
     node.at("mass").fail("rods have a lumped mass only (\"lumped\")");

@@ -38,6 +38,7 @@ subset=(
   "problems_rig_tests|"                     # rig_dynamics scenes and rig files
   "studio_tests|"                           # the studio server's messages, token, Host/Origin and path checks
   "forward_dynamics_tests|"
+  "reduced_design_tests|ReducedDynamicScene"  # dynamics.reduction scenes
   "adjoint_tests|TransientFunctional"        # the transient adjoint and its tangent (forward-mode) pass
   "forward_damping_tests|"
   "forward_solve_tests|HessianShare"        # assembly by parts: the shares and Newton through them

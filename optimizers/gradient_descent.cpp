@@ -8,6 +8,7 @@
 
 #include "optimizers/backend_detail.hpp"
 #include "optimizers/backend_registry.hpp"
+#include "forward/core/format_number.hpp"
 
 namespace tailor::detail {
 
@@ -19,12 +20,6 @@ constexpr int kMaxHalvings = 50;
 // lets the search settle just below 2/L on stiff directions, where each step barely
 // contracts (the iterate zig-zags across the valley); c = 1/2 accepts only a <= 1/L there.
 constexpr double kArmijo = 0.5;
-
-std::string sci(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3e", value);
-  return buffer;
-}
 
 // The first trial step moves the steepest component across the box's largest finite extent
 // (or by 1 when unbounded); later steps start from the last accepted one, doubled, so a good
@@ -60,7 +55,7 @@ BackendOutcome run_gradient_descent(Tracker& tracker, const Vector& z0) {
     const double gradient_norm = tracker.projected_gradient_norm(z, g);
     if (gradient_norm <= options.gradient_tolerance)
       return {OptimizerStatus::converged,
-              "projected gradient norm " + sci(gradient_norm) + " <= gradient_tolerance", z};
+              "projected gradient norm " + format_scientific(gradient_norm) + " <= gradient_tolerance", z};
     if (tracker.stop_requested()) return {OptimizerStatus::failed, "", z};
 
     step *= 2.0;
@@ -88,7 +83,7 @@ BackendOutcome run_gradient_descent(Tracker& tracker, const Vector& z0) {
     if (!accepted)
       return {OptimizerStatus::failed,
               "line search stalled (no sufficient decrease after " + std::to_string(kMaxHalvings) +
-                  " halvings; projected gradient norm " + sci(gradient_norm) + ")",
+                  " halvings; projected gradient norm " + format_scientific(gradient_norm) + ")",
               z};
 
     z = std::move(trial);
@@ -102,7 +97,7 @@ BackendOutcome run_gradient_descent(Tracker& tracker, const Vector& z0) {
   const double gradient_norm = tracker.projected_gradient_norm(z, g);
   if (gradient_norm <= options.gradient_tolerance)
     return {OptimizerStatus::converged,
-            "projected gradient norm " + sci(gradient_norm) + " <= gradient_tolerance", z};
+            "projected gradient norm " + format_scientific(gradient_norm) + " <= gradient_tolerance", z};
   return {OptimizerStatus::max_iterations,
           "reached max_iterations = " + std::to_string(options.max_iterations), z};
 }

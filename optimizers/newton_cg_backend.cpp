@@ -39,6 +39,7 @@
 
 #include "optimizers/backend_detail.hpp"
 #include "optimizers/backend_registry.hpp"
+#include "forward/core/format_number.hpp"
 
 namespace tailor::detail {
 
@@ -59,12 +60,6 @@ constexpr int kMaxCgIterations = 200;     // per Newton iteration
 // 741 / 2364 products.
 constexpr double kMaxForcing = 1e-4;
 constexpr double kRoundOffSlack = 100.0;  // on gradient_tolerance, when the radius collapses
-
-std::string sci(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3e", value);
-  return buffer;
-}
 
 // Curvature products on the free variables: the product of v (zero on the fixed ones) with
 // its fixed components zeroed.
@@ -285,11 +280,11 @@ BackendOutcome run_newton_cg(Tracker& tracker, const Vector& z0) {
   const auto round_off_verdict = [&](double gradient_norm, const std::string& what) -> BackendOutcome {
     if (gradient_norm <= kRoundOffSlack * options.gradient_tolerance)
       return {OptimizerStatus::converged,
-              what + " at projected gradient norm " + sci(gradient_norm) + " (within " +
-                  sci(kRoundOffSlack) + " x gradient_tolerance)" + summary(),
+              what + " at projected gradient norm " + format_scientific(gradient_norm) + " (within " +
+                  format_scientific(kRoundOffSlack) + " x gradient_tolerance)" + summary(),
               z};
     return {OptimizerStatus::failed,
-            what + " at projected gradient norm " + sci(gradient_norm) + " > " + sci(kRoundOffSlack) +
+            what + " at projected gradient norm " + format_scientific(gradient_norm) + " > " + format_scientific(kRoundOffSlack) +
                 " x gradient_tolerance" + summary(),
             z};
   };
@@ -299,7 +294,7 @@ BackendOutcome run_newton_cg(Tracker& tracker, const Vector& z0) {
     const double gradient_norm = tracker.projected_gradient_norm(z, g);
     if (gradient_norm <= options.gradient_tolerance)
       return {OptimizerStatus::converged,
-              "projected gradient norm " + sci(gradient_norm) + " <= gradient_tolerance" + summary(), z};
+              "projected gradient norm " + format_scientific(gradient_norm) + " <= gradient_tolerance" + summary(), z};
     if (tracker.stop_requested()) return {OptimizerStatus::failed, "", z};
     if (tracker.iterations() >= options.max_iterations)
       return {OptimizerStatus::max_iterations,

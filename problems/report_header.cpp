@@ -51,4 +51,14 @@ nlohmann::ordered_json to_json(const Eigen::VectorXd& v) {
   return out;
 }
 
+nlohmann::json matrix_json(const Eigen::MatrixXd& M) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < M.rows(); ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index j = 0; j < M.cols(); ++j) row.push_back(M(i, j));
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
 }  // namespace tailor

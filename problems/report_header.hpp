@@ -22,4 +22,7 @@ nlohmann::ordered_json linear_solver_json(const LinearSolver* solver);
 // A vector as a JSON array of its entries (every report's vectors).
 nlohmann::ordered_json to_json(const Eigen::VectorXd& v);
 
+// A matrix as a JSON array of its rows (effective tensors in the homogenization reports).
+nlohmann::json matrix_json(const Eigen::MatrixXd& M);
+
 }  // namespace tailor

@@ -15,4 +15,7 @@ inline std::string format_number(double value, const char* format = "%g") {
   return text;
 }
 
+// Three significant decimals in exponent form ("1.234e-05"): residuals and norms in progress lines.
+inline std::string format_scientific(double value) { return format_number(value, "%.3e"); }
+
 }  // namespace tailor

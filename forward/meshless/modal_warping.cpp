@@ -1,4 +1,5 @@
 #include "forward/meshless/modal_warping.hpp"
+#include "forward/rigid/rotation.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -7,12 +8,6 @@
 namespace tailor {
 
 namespace {
-
-Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& w) {
-  Eigen::Matrix3d c;
-  c << 0.0, -w[2], w[1], w[2], 0.0, -w[0], -w[1], w[0], 0.0;
-  return c;
-}
 
 // exp(M) of a 2 x 2 matrix by scaling and squaring with a Taylor series (to round-off).
 Eigen::Matrix2d exponential(const Eigen::Matrix2d& M) {
@@ -36,7 +31,7 @@ Eigen::Matrix2d exponential(const Eigen::Matrix2d& M) {
 
 Eigen::Matrix3d warping_matrix(const Eigen::Vector3d& w) {
   const double t = w.norm();
-  const Eigen::Matrix3d K = cross_matrix(w);
+  const Eigen::Matrix3d K = rigid::cross_matrix(w);
   // (1 - cos t) / t^2 and (t - sin t) / t^3 by their series below t = 1e-3 (cancellation).
   const double a = t < 1e-3 ? 0.5 - t * t / 24.0 : (1.0 - std::cos(t)) / (t * t);
   const double b = t < 1e-3 ? 1.0 / 6.0 - t * t / 120.0 : (t - std::sin(t)) / (t * t * t);
@@ -45,7 +40,7 @@ Eigen::Matrix3d warping_matrix(const Eigen::Vector3d& w) {
 
 Eigen::Matrix3d rotation_matrix(const Eigen::Vector3d& w) {
   const double t = w.norm();
-  const Eigen::Matrix3d K = cross_matrix(w);
+  const Eigen::Matrix3d K = rigid::cross_matrix(w);
   const double s = t < 1e-4 ? 1.0 - t * t / 6.0 : std::sin(t) / t;
   const double c = t < 1e-4 ? 0.5 - t * t / 24.0 : (1.0 - std::cos(t)) / (t * t);
   return Eigen::Matrix3d::Identity() + s * K + c * K * K;
@@ -66,7 +61,7 @@ ModalWarpingOperators modal_warping_operators(const MlsShapeFunctions& mls, cons
       const Eigen::Vector3d g = v.gradients.row(static_cast<Eigen::Index>(k)).transpose();
       out.displacement.middleRows(3 * i, 3) += v.values[static_cast<Eigen::Index>(k)] * Phi;
       // curl u = sum_b grad phi_b x u_b = [grad phi_b]_x u_b.
-      out.rotation.middleRows(3 * i, 3) += 0.5 * cross_matrix(g) * Phi;
+      out.rotation.middleRows(3 * i, 3) += 0.5 * rigid::cross_matrix(g) * Phi;
     }
   }
   return out;

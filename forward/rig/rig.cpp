@@ -1,4 +1,5 @@
 #include "forward/rig/rig.hpp"
+#include "forward/rigid/rotation.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -14,12 +15,6 @@ Mat4 translation(const Eigen::Vector3d& d) {
   return t;
 }
 
-Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& a) {
-  Eigen::Matrix3d k;
-  k << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-  return k;
-}
-
 // G(s), G'(s) and G''(s) of one degree of freedom (order 0, 1, 2).
 Mat4 dof_factor(const BoneDof& dof, double s, int order) {
   Mat4 g = Mat4::Zero();
@@ -28,7 +23,7 @@ Mat4 dof_factor(const BoneDof& dof, double s, int order) {
     if (order == 1) g.block<3, 1>(0, 3) = dof.axis;
     return g;  // order 2: zero
   }
-  const Eigen::Matrix3d k = cross_matrix(dof.axis), k2 = k * k;
+  const Eigen::Matrix3d k = rigid::cross_matrix(dof.axis), k2 = k * k;
   const double c = std::cos(s), sn = std::sin(s);
   if (order == 0) {
     g.block<3, 3>(0, 0) = Eigen::Matrix3d::Identity() + sn * k + (1.0 - c) * k2;

@@ -27,6 +27,13 @@ Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& R,
 
 // vee of the skew part of A: 1/2 (A_32 - A_23, A_13 - A_31, A_21 - A_12) (for A = R dR^T, the
 // angular velocity; for A = R Rb^T with Rb a reference rotation, sin(angle) times its axis).
+// The cross-product matrix [a]x: [a]x b = a x b.
+inline Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& a) {
+  Eigen::Matrix3d k;
+  k << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
+  return k;
+}
+
 inline Eigen::Vector3d skew_vee(const Eigen::Matrix3d& A) {
   return 0.5 * Eigen::Vector3d(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
 }

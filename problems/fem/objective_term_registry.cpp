@@ -30,13 +30,13 @@ void check_entry(const ObjectiveTermType& type) {
   }
 }
 
-struct Registry {
+struct ObjectiveTermTable {
   std::mutex mutex;
   std::vector<std::shared_ptr<const ObjectiveTermType>> types;
   // The first `builtin` types are tailor's own (all of them while the constructor runs).
   std::size_t builtin = static_cast<std::size_t>(-1);
 
-  Registry() {
+  ObjectiveTermTable() {
     for (ObjectiveTermType (*entry)() : {
 #define TAILOR_ENTRY(id) &id##_objective_term,
 #include "tailor_builtin_objective_terms.inc"
@@ -56,8 +56,8 @@ struct Registry {
   }
 };
 
-Registry& registry() {
-  static Registry instance;
+ObjectiveTermTable& objective_term_table() {
+  static ObjectiveTermTable instance;
   return instance;
 }
 
@@ -77,13 +77,13 @@ void ObjectiveTermContext::record_truth(const Eigen::VectorXd& youngs_modulus, c
 }
 
 void register_objective_term(ObjectiveTermType type) {
-  Registry& r = registry();
+  ObjectiveTermTable& r = objective_term_table();
   const std::lock_guard<std::mutex> lock(r.mutex);
   r.add(std::move(type));
 }
 
 std::vector<std::string> objective_term_types() {
-  Registry& r = registry();
+  ObjectiveTermTable& r = objective_term_table();
   const std::lock_guard<std::mutex> lock(r.mutex);
   std::vector<std::string> out;
   for (const auto& type : r.types) out.push_back(type->type);
@@ -91,7 +91,7 @@ std::vector<std::string> objective_term_types() {
 }
 
 std::shared_ptr<const ObjectiveTermType> find_objective_term_type(const std::string& type) {
-  Registry& r = registry();
+  ObjectiveTermTable& r = objective_term_table();
   const std::lock_guard<std::mutex> lock(r.mutex);
   for (const auto& t : r.types)
     if (t->type == type) return t;

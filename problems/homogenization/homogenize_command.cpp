@@ -23,16 +23,6 @@ namespace {
 const char* const kVoigt2[] = {"11", "22", "12"};
 const char* const kVoigt3[] = {"11", "22", "33", "23", "13", "12"};
 
-nlohmann::json matrix_json(const Matrix& M) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (int i = 0; i < M.rows(); ++i) {
-    nlohmann::json row = nlohmann::json::array();
-    for (int j = 0; j < M.cols(); ++j) row.push_back(M(i, j));
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 nlohmann::json engineering_constants_json(const Matrix& S, int dim) {
   nlohmann::json out;
   const auto axis = [dim](int k) { return plane_direction(dim, k, (k + 1) % dim, 0.0); };

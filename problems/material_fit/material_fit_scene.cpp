@@ -28,7 +28,7 @@ SplinePreset parse_preset(const SceneNode& node) {
 
 // {"curve": name, "kind": "increasing" | "decreasing" | "convex" | "concave", "range": [lo, hi]}
 // (range optional: the whole curve).
-ShapeConstraint parse_shape(const SceneNode& node) {
+ShapeConstraint parse_shape_constraint(const SceneNode& node) {
   node.expect_keys({"curve", "kind", "range"});
   ShapeConstraint s;
   s.curve = node.at("curve").choice({"uniaxial", "biaxial", "volumetric"});
@@ -110,7 +110,7 @@ MaterialFitSpec parse_material_fit_scene(const SceneNode& root) {
     for (const SceneNode& item : c->items())
       spec.shapes.push_back({item.choice({"uniaxial", "biaxial", "volumetric"}), CurveShape::convex});
   if (auto list = root.find("shape"))
-    for (const SceneNode& item : list->items()) spec.shapes.push_back(parse_shape(item));
+    for (const SceneNode& item : list->items()) spec.shapes.push_back(parse_shape_constraint(item));
   spec.optimizer.backend = OptimizerBackend::ceres_least_squares;
   if (auto o = root.find("optimizer"))
     spec.optimizer = parse_optimizer_section(*o, spec.optimizer, {"a material fit", false, false, {}});

@@ -167,16 +167,6 @@ Vector refine_density(const PeriodicCell& coarse, const Mesh& fine, const Vector
   return out;
 }
 
-nlohmann::json matrix_json(const Matrix& M) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (int i = 0; i < M.rows(); ++i) {
-    nlohmann::json row = nlohmann::json::array();
-    for (int j = 0; j < M.cols(); ++j) row.push_back(M(i, j));
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 nlohmann::json summary_json(const CellObjective& objective, const Matrix& C) {
   const Matrix S = compliance(C);
   const int dim = C.rows() == 3 ? 2 : 3;

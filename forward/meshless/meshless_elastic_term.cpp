@@ -33,6 +33,11 @@ MeshlessElasticTerm<Dim>::MeshlessElasticTerm(std::shared_ptr<const MeshlessQuad
   if (!quadrature_ || quadrature_->num_points() == 0)
     throw std::invalid_argument("MeshlessElasticTerm: no quadrature points");
   const MeshlessQuadrature& Q = *quadrature_;
+  for (int q = 0; q < Q.num_points(); ++q)
+    for (int t = Q.begin[static_cast<std::size_t>(q)] + 1; t < Q.begin[static_cast<std::size_t>(q) + 1]; ++t)
+      if (!(Q.nodes[static_cast<std::size_t>(t - 1)] < Q.nodes[static_cast<std::size_t>(t)]))
+        throw std::invalid_argument("MeshlessElasticTerm: the nodes of quadrature point " + std::to_string(q) +
+                                    " are not increasing");
   std::vector<std::vector<int>> adjacency(static_cast<std::size_t>(Q.num_nodes));
   for (int q = 0; q < Q.num_points(); ++q)
     for (int s = Q.begin[static_cast<std::size_t>(q)]; s < Q.begin[static_cast<std::size_t>(q) + 1]; ++s)
@@ -46,14 +51,6 @@ MeshlessElasticTerm<Dim>::MeshlessElasticTerm(std::shared_ptr<const MeshlessQuad
     adjacency_.insert(adjacency_.end(), row.begin(), row.end());
     adjacency_begin_.push_back(static_cast<int>(adjacency_.size()));
   }
-}
-
-template <int Dim>
-int MeshlessElasticTerm<Dim>::slot(int a, int b) const {
-  const auto first = adjacency_.begin() + adjacency_begin_[static_cast<std::size_t>(a)];
-  const auto last = adjacency_.begin() + adjacency_begin_[static_cast<std::size_t>(a) + 1];
-  const auto it = std::lower_bound(first, last, b);
-  return 9 * static_cast<int>(it - adjacency_.begin());
 }
 
 template <int Dim>
@@ -97,9 +94,15 @@ void MeshlessElasticTerm<Dim>::evaluate(const Vector& x, const Vector& p, const 
       for (int s = 0; s < n; ++s) {
         const Eigen::Matrix<double, 3, 9> C = w * left_contraction(Q.gradients[static_cast<std::size_t>(first + s)], m.tangent);
         const int a = Q.nodes[static_cast<std::size_t>(first + s)];
+        // The point's nodes increase, so their slots in a's adjacency row are found by one
+        // forward walk along it (a binary search per pair took 40% of the evaluation).
+        const int row = adjacency_begin_[static_cast<std::size_t>(a)];
+        int position = row;
         for (int t = 0; t < n; ++t) {
           const Eigen::Vector3d& g = Q.gradients[static_cast<std::size_t>(first + t)];
-          double* block = request.hessian_values + slot(a, Q.nodes[static_cast<std::size_t>(first + t)]);
+          const int b = Q.nodes[static_cast<std::size_t>(first + t)];
+          while (adjacency_[static_cast<std::size_t>(position)] < b) ++position;
+          double* block = request.hessian_values + 9 * position;
           for (int i = 0; i < 3; ++i)
             for (int k = 0; k < 3; ++k) block[3 * i + k] += C(i, k) * g[0] + C(i, k + 3) * g[1] + C(i, k + 6) * g[2];
         }

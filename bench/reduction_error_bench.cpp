@@ -10,8 +10,12 @@
 //
 // Reduced settings (same scheme and h): r = 10, 20, 40 linear modes (--modes), and m = 5, 10
 // linear modes with their modal derivatives (--derivative-modes; m + m (m + 1) / 2 vectors,
-// mass-orthonormalized: r = 20, 65). Gravity enters as the constant reduced force Phi^T M g. Reported per
-// setting:
+// mass-orthonormalized: r = 20, 65). Gravity enters as the constant reduced force Phi^T M g.
+// Linear modal dynamics of the same r linear modes, without and with modal warping (Choi & Ko
+// 2005; forward/meshless/modal_warping.hpp, per-vertex rotations from the tets' curl): each mode
+// a Rayleigh-damped oscillator stepped exactly over h, gravity M g rotated into the vertices'
+// local frames for the warped rows (Phi^T M g unrotated for the linear ones), the displacement
+// of every vertex warped each step. Reported per setting:
 //  - median time per step (wall and process CPU; steps/s = 1 / wall median);
 //  - precomputation: modal analysis (once per mesh for the largest count, shared), modal
 //    derivatives, orthonormalization, StVK coefficients;
@@ -44,6 +48,7 @@
 #include "forward/dynamics/setup.hpp"
 #include "forward/dynamics/time_integrator.hpp"
 #include "forward/fem/mass.hpp"
+#include "forward/meshless/modal_warping.hpp"
 #include "forward/reduction/mass_orthonormal_basis.hpp"
 #include "forward/reduction/modal_analysis.hpp"
 #include "forward/reduction/modal_derivatives.hpp"
@@ -247,6 +252,54 @@ Row run_reduced(const Setting& setting, const ModalAnalysis& modes, const bench:
   return row;
 }
 
+// Linear modal dynamics of the first r modes, warped or not, against the reference. A step is
+// the modal force (rotated gravity when warped), the exact damped-oscillator update and the
+// displacement of every vertex.
+Row run_modal(int r, bool warp, const ModalAnalysis& modes, const bench::Cantilever& elastic, const SparseMatrix& mass,
+              const Vector& gravity_force, double h, int steps, const FullSpaceReference& reference,
+              const std::vector<int>& tip) {
+  Row row;
+  row.tets = elastic.mesh.num_elements();
+  row.basis = warp ? "warped modal" : "linear modal";
+  row.linear_modes = r;
+  row.r = r;
+  auto t = Clock::now();
+  WarpedModalSimulator simulator(fem_modal_warping_operators(elastic.mesh, modes.modes.leftCols(r)),
+                                 modes.eigenvalues.head(r), ModalRayleighDamping{0.0, kBeta}, h);
+  row.coefficients_s = seconds_since(t);
+  row.precompute_s = row.coefficients_s;
+  const Vector linear_force = modes.modes.leftCols(r).transpose() * gravity_force;
+  std::vector<double> step_wall, step_cpu;
+  double error2 = 0.0;
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(gravity_force.size());
+  row.tip_fall.push_back(0.0);
+  for (int s = 0; s < steps; ++s) {
+    const auto t0 = Clock::now();
+    const double c0 = cpu_seconds();
+    simulator.step(warp ? simulator.modal_force(gravity_force) : linear_force);
+    simulator.displacements(u, warp);
+    step_wall.push_back(seconds_since(t0));
+    step_cpu.push_back(cpu_seconds() - c0);
+    const Eigen::Vector3d tip_r = tip_point(u, tip);
+    row.tip_fall.push_back(-tip_r.z());
+    row.peak_tip_error = std::max(row.peak_tip_error, (tip_r - reference.tip[s + 1]).norm());
+    const Vector e = u - reference.u.col(s + 1);
+    error2 += e.dot(mass * e);
+  }
+  row.step_s = median(step_wall);
+  row.step_cpu_s = median(step_cpu);
+  row.steps_per_s = 1.0 / row.step_s;
+  row.trajectory_error = std::sqrt(error2 / reference.norm2);
+  row.peak_tip_error_relative = row.peak_tip_error / reference.tip_peak();
+  std::printf(
+      "  %-17s m = %2d, r = %2d: %8.5f s/step (%.0f steps/s), operators %.2f s, trajectory error %.3e, "
+      "peak tip error %.4f (%.2f%%)\n",
+      row.basis.c_str(), row.linear_modes, row.r, row.step_s, row.steps_per_s, row.precompute_s,
+      row.trajectory_error, row.peak_tip_error, 100 * row.peak_tip_error_relative);
+  std::fflush(stdout);
+  return row;
+}
+
 MeshResult run_mesh(int target_tets, double h, int steps, const std::vector<int>& mode_counts,
                     const std::vector<int>& derivative_mode_counts) {
   MeshResult result;
@@ -300,6 +353,9 @@ MeshResult run_mesh(int target_tets, double h, int steps, const std::vector<int>
   for (const Setting& setting : settings)
     result.rows.push_back(
         run_reduced(setting, modes, elastic, p, mass, gravity_force, h, steps, reference, tip));
+  for (const bool warp : {false, true})
+    for (int k : mode_counts)
+      result.rows.push_back(run_modal(k, warp, modes, elastic, mass, gravity_force, h, steps, reference, tip));
   return result;
 }
 
@@ -317,7 +373,7 @@ void write_plots(const std::string& path, const std::vector<MeshResult>& meshes,
     for (const Row& row : mesh.rows)
       y_min = std::min(y_min, row.trajectory_error), y_max = std::max(y_max, row.trajectory_error);
   for (const MeshResult& mesh : meshes) {
-    for (const std::string basis : {"modes", "modes+derivatives"}) {
+    for (const std::string basis : {"modes", "modes+derivatives", "linear modal", "warped modal"}) {
       LineSeries s{std::to_string(mesh.tets) + " tets, " + basis, colours[c++ % 6], {}, {}};
       for (const Row& row : mesh.rows)
         if (row.basis == basis) s.x.push_back(std::log10(row.step_s)), s.y.push_back(row.trajectory_error);
@@ -414,7 +470,7 @@ int run(int argc, char** argv) {
       "step; r: basis size (free DOFs for full space); modal s: modal analysis of the largest mode count, "
       "shared by all "
       "settings of a mesh; deriv s: modal derivatives + mass-orthonormalization; coeff s: reduced StVK "
-      "coefficients; traj err: sqrt(sum_n |u_r - u_f|^2_M / sum_n |u_f|^2_M) over all steps and vertices; "
+      "coefficients (for the linear and warped modal rows: the warping operators); traj err: sqrt(sum_n |u_r - u_f|^2_M / sum_n |u_f|^2_M) over all steps and vertices; "
       "tip "
       "err: max_n |tip_r - tip_f| for the mean displacement of the end-face vertices, and in %% of the peak "
       "tip "

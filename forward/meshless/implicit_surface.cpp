@@ -186,6 +186,26 @@ void ImplicitSurface::check_samples() {
       if (n.dot(m) > -0.5 && projected.norm() > 0.1 * length) angles.push_back(std::atan2(projected[1], projected[0]));
       if (n.dot(m) > -0.5 && n.dot(m) < std::sqrt(0.5)) feature = true;
     }
+    // A sheet crossing p's: a pair of neighbours off p's tangent plane on both sides of it, on
+    // one plane with each other (same orientation, their difference in their tangent plane) that
+    // is not p's. At an edge of a closed solid the other face lies on one side only (behind p at
+    // a convex edge, in front at a concave one), and so does a thin wall's other side.
+    std::vector<int> above, below;
+    for (int j : near) {
+      const Eigen::Vector3d d = P.row(j).transpose() - p;
+      const Eigen::Vector3d m = N.row(j).transpose();
+      if (std::abs(n.dot(m)) > 0.9) continue;  // parallel to p's sheet
+      if (d.dot(n) > 0.3 * d.norm()) above.push_back(j);
+      if (d.dot(n) < -0.3 * d.norm()) below.push_back(j);
+    }
+    for (int j : above)
+      for (int k : below) {
+        const Eigen::Vector3d m = N.row(j).transpose(), e = P.row(k).transpose() - P.row(j).transpose();
+        if (m.dot(N.row(k).transpose()) > 0.9 && std::abs(e.dot(m)) < 0.3 * e.norm())
+          throw PointInputError(file + ": the sample set intersects itself near " + points_.describe(i) + ": " +
+                                points_.describe(j) + " and " + points_.describe(k) +
+                                " lie on a sheet crossing its tangent plane");
+      }
     // At a corner of a closed solid the fan is legitimately incomplete (the solid angle beyond
     // the corner holds no samples): the check is for smooth boundaries only.
     if (feature || angles.size() < 3) continue;

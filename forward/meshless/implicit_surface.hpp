@@ -20,8 +20,12 @@
 //     with neighbours whose normals differ by 45 to 120 degrees (sharp edges and corners, where
 //     the fan is legitimately incomplete) are not judged, so an open boundary along a sharp
 //     edge escapes this check (meshes are checked for closure exactly before sampling);
+//   - a self-intersecting sample set: two neighbours of a sample, one on each side of its tangent
+//     plane (each at least 0.3 of its distance off it), that lie on one sheet crossing it (normals
+//     within 25 degrees of each other and over 25 degrees from the sample's, their difference
+//     within 0.3 of its length of their tangent plane). At an edge of a closed solid, and at a
+//     thin wall, the other sheet lies on one side only. Crossings at under 25 degrees escape it;
 //   - normals pointing inwards: f > 0 required at the corners of the enlarged bounding box.
-// Self-intersecting sample sets are not detected.
 //
 // As an AnalyticShape (for octree_sampling.hpp) the inside test is f <= 0, and the distance
 // that classifies octree cells is f itself within rho of a sample (where f approximates the

@@ -15,7 +15,8 @@
 // Derivatives are exact: gradient sum_q w_q P_q grad phi_a, Hessian sum_q w_q B_q^T T_q B_q
 // (B_q = dvec(F_q)/dx over the point's nodes, T_q the material's tangent, projected per point
 // in HessianMode::projected), parameter gradient and mixed derivatives through the material's
-// Lame derivatives. Every registered material works. The Hessian pattern has one 3 x 3 block per
+// Lame derivatives. Every registered material works. A point's covering nodes must increase
+// (as MlsShapeFunctions gives them; std::invalid_argument otherwise). The Hessian pattern has one 3 x 3 block per
 // pair of nodes that share a quadrature point; the loop over points is serial.
 #include <memory>
 #include <vector>
@@ -50,7 +51,6 @@ class MeshlessElasticTerm final : public EnergyTerm {
 
  private:
   Eigen::Matrix2d lame_chain(const Vector& p, int q) const;  // d(lambda, mu)/d(E_q, nu_q)
-  int slot(int a, int b) const;                              // first slot of block (a, b)
   std::shared_ptr<const MeshlessQuadrature> quadrature_;
   std::shared_ptr<const Material<Dim>> material_;
   int youngs_offset_, poisson_offset_;

@@ -1,10 +1,11 @@
 #include "forward/meshless/mls_shape_functions.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
+
+#include "forward/core/symmetric_eigen.hpp"
 
 namespace tailor {
 
@@ -122,22 +123,29 @@ MlsValues MlsShapeFunctions::evaluate(const Eigen::Vector3d& X) const {
                              X);
   double scale = 0.0;
   for (int a : out.nodes) scale = std::max(scale, radius_[a]);
-  Eigen::MatrixXd P(m, n);                // p_a in column a
-  Eigen::VectorXd w(n);                   // w_a
-  Eigen::MatrixXd dw(n, 3);               // dw_a / dX
-  for (int t = 0; t < n; ++t) {
-    const int a = out.nodes[static_cast<std::size_t>(t)];
+  // Plain loops over the small m x n arrays: Eigen's dense products and its templated
+  // eigensolver cost more to compile than they save here (m <= 10); the decomposition is
+  // forward/core's compiled-once symmetric_eigen.
+  const std::size_t mm = static_cast<std::size_t>(m), nn = static_cast<std::size_t>(n);
+  std::vector<double> P(mm * nn);  // p_a in column a (column-major, m rows)
+  std::vector<double> w(nn);       // w_a
+  std::vector<double> dw(3 * nn);  // dw_a / dX_k at 3a + k
+  std::vector<double> A(mm * mm, 0.0);
+  for (std::size_t t = 0; t < nn; ++t) {
+    const int a = out.nodes[t];
     const Eigen::Vector3d d = X - nodes_.row(a).transpose();
     const double R = radius_[a];
     double dw_over_r = 0.0;
     w[t] = weight(d.norm() / R, &dw_over_r);
-    dw.row(t) = (dw_over_r / (R * R)) * d.transpose();
-    basis((nodes_.row(a).transpose() - X) / scale, m, P.col(t).data());
+    for (int k = 0; k < 3; ++k) dw[3 * t + static_cast<std::size_t>(k)] = dw_over_r / (R * R) * d[k];
+    double* p = P.data() + mm * t;
+    basis((nodes_.row(a).transpose() - X) / scale, m, p);
+    for (std::size_t j = 0; j < mm; ++j)
+      for (std::size_t i = 0; i < mm; ++i) A[i + mm * j] += w[t] * p[i] * p[j];
   }
-  const Eigen::MatrixXd A = P * w.asDiagonal() * P.transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(A);
-  const Eigen::VectorXd lambda = eigen.eigenvalues();
-  out.condition = lambda[0] > 0.0 ? lambda[m - 1] / lambda[0] : std::numeric_limits<double>::infinity();
+  std::vector<double> lambda(mm), V(mm * mm);
+  symmetric_eigen_detail::decompose(A.data(), m, lambda.data(), V.data());
+  out.condition = lambda[0] > 0.0 ? lambda[mm - 1] / lambda[0] : std::numeric_limits<double>::infinity();
   if (!(out.condition <= options_.max_condition)) {
     std::ostringstream s;
     s << "MLS shape functions: the moment matrix at " << format_point(X) << " (" << n
@@ -145,23 +153,50 @@ MlsValues MlsShapeFunctions::evaluate(const Eigen::Vector3d& X) const {
       << options_.max_condition << " (nodes nearly coplanar or collinear there; increase support_factor)";
     throw MeshlessPointError(s.str(), X);
   }
-  const Eigen::MatrixXd& V = eigen.eigenvectors();
-  auto solve = [&](const Eigen::VectorXd& b) -> Eigen::VectorXd {
-    return V * (V.transpose() * b).cwiseQuotient(lambda);
+  // x = A^-1 b = V diag(1 / lambda) V^T b, in place.
+  std::vector<double> c(mm);
+  auto solve = [&](double* b) {
+    for (std::size_t j = 0; j < mm; ++j) {
+      double sum = 0.0;
+      for (std::size_t i = 0; i < mm; ++i) sum += V[i + mm * j] * b[i];
+      c[j] = sum / lambda[j];
+    }
+    for (std::size_t i = 0; i < mm; ++i) {
+      double sum = 0.0;
+      for (std::size_t j = 0; j < mm; ++j) sum += V[i + mm * j] * c[j];
+      b[i] = sum;
+    }
   };
-  Eigen::VectorXd p0 = Eigen::VectorXd::Zero(m);
-  p0[0] = 1.0;  // p((X - X) / s)
-  const Eigen::VectorXd gamma = solve(p0);
-  const Eigen::VectorXd pg = P.transpose() * gamma;  // p_a^T gamma
-  out.values = w.cwiseProduct(pg);
+  // p_a^T b for every covering node a.
+  auto project = [&](const double* b, std::vector<double>& result) {
+    result.resize(nn);
+    for (std::size_t t = 0; t < nn; ++t) {
+      double sum = 0.0;
+      for (std::size_t i = 0; i < mm; ++i) sum += P[i + mm * t] * b[i];
+      result[t] = sum;
+    }
+  };
+  std::vector<double> gamma(mm, 0.0);
+  gamma[0] = 1.0;  // p((X - X) / s)
+  solve(gamma.data());
+  std::vector<double> pg, pdg;  // p_a^T gamma, p_a^T dgamma_k
+  project(gamma.data(), pg);
+  out.values.resize(n);
+  for (std::size_t t = 0; t < nn; ++t) out.values[static_cast<Eigen::Index>(t)] = w[t] * pg[t];
   out.gradients.resize(n, 3);
+  std::vector<double> rhs(mm);
   for (int k = 0; k < 3; ++k) {
     // d p(Y - X0) / dX at Y = X0 for a fixed shift X0 = X: e_{k+1} / s (the quadratic terms vanish).
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
-    rhs[k + 1] = 1.0 / scale;
-    rhs.noalias() -= P * dw.col(k).cwiseProduct(pg);  // A_k gamma
-    const Eigen::VectorXd dgamma = solve(rhs);
-    out.gradients.col(k) = w.cwiseProduct(P.transpose() * dgamma) + dw.col(k).cwiseProduct(pg);
+    std::fill(rhs.begin(), rhs.end(), 0.0);
+    rhs[static_cast<std::size_t>(k) + 1] = 1.0 / scale;
+    for (std::size_t t = 0; t < nn; ++t) {  // - A_k gamma
+      const double f = dw[3 * t + static_cast<std::size_t>(k)] * pg[t];
+      for (std::size_t i = 0; i < mm; ++i) rhs[i] -= P[i + mm * t] * f;
+    }
+    solve(rhs.data());
+    project(rhs.data(), pdg);
+    for (std::size_t t = 0; t < nn; ++t)
+      out.gradients(static_cast<Eigen::Index>(t), k) = w[t] * pdg[t] + dw[3 * t + static_cast<std::size_t>(k)] * pg[t];
   }
   return out;
 }

@@ -2,6 +2,8 @@
 #include "forward/rigid/rotation.hpp"
 
 #include <cmath>
+
+#include "forward/fem/linear_simplices.hpp"
 #include <stdexcept>
 #include <string>
 
@@ -67,6 +69,37 @@ ModalWarpingOperators modal_warping_operators(const MlsShapeFunctions& mls, cons
   return out;
 }
 
+ModalWarpingOperators fem_modal_warping_operators(const Mesh& mesh, const Eigen::MatrixXd& modes) {
+  if (mesh.dim() != 3) throw std::invalid_argument("fem_modal_warping_operators: the mesh must be tetrahedral");
+  const int n = mesh.num_vertices();
+  if (modes.rows() != 3 * n)
+    throw std::invalid_argument("fem_modal_warping_operators: modes must have 3 x " + std::to_string(n) +
+                                " rows, got " + std::to_string(modes.rows()));
+  const LinearSimplices<3> tets(mesh, {}, "fem_modal_warping_operators");
+  ModalWarpingOperators out;
+  out.displacement = modes;
+  out.rotation = Eigen::MatrixXd::Zero(3 * n, modes.cols());
+  Eigen::VectorXd volume = Eigen::VectorXd::Zero(n);
+  Eigen::MatrixXd curl(3, modes.cols());
+  for (int e = 0; e < tets.size(); ++e) {
+    // 1/2 curl of the P1 field on tet e: 1/2 sum_a grad N_a x u_a.
+    curl.setZero();
+    for (int a = 0; a < 4; ++a) {
+      const Eigen::Vector3d g = tets.gradients[static_cast<std::size_t>(e)].row(a).transpose();
+      curl += 0.5 * cross_matrix(g) * modes.middleRows(3 * tets.vertices[static_cast<std::size_t>(e)][a], 3);
+    }
+    const double v = tets.volumes[static_cast<std::size_t>(e)];
+    for (int a = 0; a < 4; ++a) {
+      const int i = tets.vertices[static_cast<std::size_t>(e)][a];
+      out.rotation.middleRows(3 * i, 3) += v * curl;
+      volume[i] += v;
+    }
+  }
+  for (int i = 0; i < n; ++i)
+    if (volume[i] > 0.0) out.rotation.middleRows(3 * i, 3) /= volume[i];
+  return out;
+}
+
 double ModalRayleighDamping::ratio(double eigenvalue) const {
   const double omega = std::sqrt(eigenvalue);
   return alpha / (2.0 * omega) + beta * omega / 2.0;
@@ -107,6 +140,16 @@ Eigen::VectorXd WarpedModalSimulator::modal_force(int point, const Eigen::Vector
   const auto C = operators_.rotation.middleRows(3 * static_cast<Eigen::Index>(point), 3);
   const Eigen::Vector3d w = C * q_;
   return L.transpose() * (rotation_matrix(w).transpose() * force);
+}
+
+Eigen::VectorXd WarpedModalSimulator::modal_force(const Eigen::VectorXd& forces) const {
+  if (forces.size() != operators_.displacement.rows())
+    throw std::invalid_argument("WarpedModalSimulator::modal_force: one force per point expected");
+  const Eigen::VectorXd w = operators_.rotation * q_;
+  Eigen::VectorXd rotated(forces.size());
+  for (Eigen::Index i = 0; i < forces.size() / 3; ++i)
+    rotated.segment<3>(3 * i) = rotation_matrix(w.segment<3>(3 * i)).transpose() * forces.segment<3>(3 * i);
+  return operators_.displacement.transpose() * rotated;
 }
 
 void WarpedModalSimulator::step(const Eigen::VectorXd& modal_force) {

@@ -25,6 +25,7 @@
 
 #include "forward/core/types.hpp"
 #include "forward/meshless/mls_shape_functions.hpp"
+#include "forward/mesh/mesh.hpp"
 
 namespace tailor {
 
@@ -40,6 +41,14 @@ struct ModalWarpingOperators {
 };
 ModalWarpingOperators modal_warping_operators(const MlsShapeFunctions& mls, const Eigen::MatrixXd& modes,
                                               const Eigen::MatrixXd& points);
+
+// The same operators for P1 (linear tetrahedron) modes (3n x r, interleaved vertex values) at
+// the mesh's vertices: L_i = Phi_i (vertex i's rows), and C_i the volume-weighted average over
+// the tets around vertex i of their constant 1/2 curl, 1/2 sum_a [grad N_a]_x Phi_a (the tet
+// gradient operator; Choi & Ko section 3.2 average the per-element rotations to the nodes the
+// same way). A linear field (a linearized rigid rotation among them) gives every vertex its
+// exact curl. std::invalid_argument for a mesh that is not tetrahedral or for bad sizes.
+ModalWarpingOperators fem_modal_warping_operators(const Mesh& mesh, const Eigen::MatrixXd& modes);
 
 struct ModalRayleighDamping {
   double alpha = 0.0;  // mass-proportional [1/s]
@@ -60,6 +69,8 @@ class WarpedModalSimulator {
 
   // Modal force of a force f at point i in the current configuration: L_i^T R_i^T f.
   Eigen::VectorXd modal_force(int point, const Eigen::Vector3d& force) const;
+  // Modal force of forces at every point (3m, interleaved): sum_i L_i^T R_i^T f_i.
+  Eigen::VectorXd modal_force(const Eigen::VectorXd& forces) const;
   // One step with the modal force held constant over it.
   void step(const Eigen::VectorXd& modal_force);
   // Warped (or, with warp = false, linear) displacements at all points (3m), into `u`.

@@ -109,9 +109,22 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
     }
   if (const auto handles = root.find("handles"))
     for (const SceneNode& h : handles->items()) {
-      h.expect_keys({"box", "displacement"});
+      h.expect_keys({"box", "displacement", "rotation"});
+      if (!h.has("displacement") && !h.has("rotation")) h.fail("a handle needs a displacement, a rotation or both");
       spec.handles.push_back(parse_meshless_box(h.at("box")));
-      spec.handle_displacements.push_back(h.at("displacement").vector(3));
+      spec.handle_displacements.push_back(h.has("displacement") ? Eigen::Vector3d(h.at("displacement").vector(3))
+                                                                : Eigen::Vector3d::Zero());
+      Eigen::Vector3d w = Eigen::Vector3d::Zero();
+      std::optional<Eigen::Vector3d> center;
+      if (const auto rotation = h.find("rotation")) {
+        rotation->expect_keys({"axis", "degrees", "center"});
+        const Eigen::Vector3d axis = rotation->at("axis").vector(3);
+        if (!(axis.norm() > 0.0)) rotation->at("axis").fail("the rotation axis must not be zero");
+        w = rotation->at("degrees").number() * M_PI / 180.0 * axis.normalized();
+        if (rotation->has("center")) center = Eigen::Vector3d(rotation->at("center").vector(3));
+      }
+      spec.handle_rotations.push_back(w);
+      spec.handle_centers.push_back(center);
     }
   if (const auto loads = root.find("loads")) {
     loads->expect_keys({"gravity", "forces"});
@@ -249,21 +262,32 @@ std::unique_ptr<MeshlessScene> build_meshless_scene(const MeshlessSceneSpec& spe
   std::vector<int> constrained;
   std::vector<Eigen::Vector3d> targets;
   std::vector<int> owner(static_cast<std::size_t>(n), -1);
-  const auto hold = [&](const MeshlessBox& box, const Eigen::Vector3d& d, const std::string& key) {
-    int count = 0;
+  // The nodes in `box` not held already go to c + R (X - c) + d (c: `center`, else their centroid).
+  const auto hold = [&](const MeshlessBox& box, const Eigen::Vector3d& d, const Eigen::Vector3d& w,
+                        const std::optional<Eigen::Vector3d>& center, const std::string& key) {
+    const std::size_t first = constrained.size();
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     for (int a = 0; a < n; ++a) {
       const Eigen::Vector3d X = S.sampling.nodes.row(a).transpose();
       if (!box.contains(X) || owner[static_cast<std::size_t>(a)] >= 0) continue;
       owner[static_cast<std::size_t>(a)] = 1;
       constrained.push_back(a);
-      targets.push_back(X + d);
-      ++count;
+      centroid += X;
     }
+    const std::size_t count = constrained.size() - first;
     if (count == 0) throw SceneError(source + ": " + key + ": the box holds no node");
+    const Eigen::Vector3d c = center ? *center : Eigen::Vector3d(centroid / static_cast<double>(count));
+    const Eigen::Matrix3d R = rotation_matrix(w);
+    for (std::size_t i = first; i < constrained.size(); ++i) {
+      const Eigen::Vector3d X = S.sampling.nodes.row(constrained[i]).transpose();
+      targets.push_back(c + R * (X - c) + d);
+    }
   };
-  for (std::size_t i = 0; i < spec.fixed.size(); ++i) hold(spec.fixed[i], Eigen::Vector3d::Zero(), "fixed[" + std::to_string(i) + "].box");
+  for (std::size_t i = 0; i < spec.fixed.size(); ++i)
+    hold(spec.fixed[i], Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), std::nullopt, "fixed[" + std::to_string(i) + "].box");
   for (std::size_t i = 0; i < spec.handles.size(); ++i)
-    hold(spec.handles[i], spec.handle_displacements[i], "handles[" + std::to_string(i) + "].box");
+    hold(spec.handles[i], spec.handle_displacements[i], spec.handle_rotations[i], spec.handle_centers[i],
+         "handles[" + std::to_string(i) + "].box");
   if (!constrained.empty()) {
     Eigen::MatrixXd t(static_cast<Eigen::Index>(targets.size()), 3);
     for (std::size_t i = 0; i < targets.size(); ++i) t.row(static_cast<Eigen::Index>(i)) = targets[i].transpose();

@@ -2,7 +2,7 @@
 // The `meshless` scene kind (docs/meshless.md, "Scenes"): a solid given by oriented points (a
 // point cloud or a sampled surface mesh) or an analytic shape, discretized by MLS shape
 // functions on octree nodes (forward/meshless/), with a material per node or region, clamps and
-// position handles by the transformation method, gravity and point forces, and the `inverse`
+// position and rotation handles by the transformation method, gravity and point forces, and the `inverse`
 // section (Young's modulus per node or per region, observations of the MLS field at points).
 // The parser turns the JSON into the typed spec below; build_meshless_scene makes the model.
 #include <Eigen/Core>
@@ -55,6 +55,10 @@ struct MeshlessSceneSpec {
   std::vector<MeshlessBox> fixed;
   std::vector<MeshlessBox> handles;
   std::vector<Eigen::Vector3d> handle_displacements;
+  // Rotation handles: the nodes in the box go to c + R (X - c) + d, R = exp([w]_x) (identity
+  // without a rotation), c the given centre or else the centroid of the handle's nodes.
+  std::vector<Eigen::Vector3d> handle_rotations;  // w = angle * unit axis [rad]
+  std::vector<std::optional<Eigen::Vector3d>> handle_centers;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   std::vector<MeshlessPointForce> forces;
   int max_newton_iterations = 50;

@@ -88,6 +88,43 @@ TEST(MlsTransformation, RefusesRepeatedNodesAndBadTargets) {
   EXPECT_THROW(mls_transformation(*s.mls, {-1}, Eigen::MatrixXd::Zero(1, 3)), std::invalid_argument);
 }
 
+// The collocation matrix C_BB (phi_b(X_b') of the constrained nodes) is refused when it is
+// singular: a second node at the position of a constrained one gives C_BB two equal rows. The
+// condition estimate (Hager's, of the 1-norm) grows with the support radius, as the face's shape
+// functions flatten: 3.8, 181, 8.3e3 for supports 2, 4, 12 spacings on this face.
+TEST(MlsTransformation, RefusesASingularCollocationMatrix) {
+  const MeshlessSolid s = make_solid(box_shape(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 1)), 0.5, 2, 0);
+  const std::vector<int> face = nodes_on_face(s, 0.0);
+  ASSERT_EQ(face.size(), 9u);
+  std::vector<double> estimates;
+  for (double factor : {2.0, 4.0, 12.0}) {
+    MlsOptions options;
+    options.support_factor = factor;
+    const MlsShapeFunctions mls(s.sampling.nodes, s.sampling.spacing, options);
+    estimates.push_back(mls_transformation(mls, face, positions_of(s, face)).condition_estimate);
+  }
+  EXPECT_GE(estimates[0], 1.0);
+  EXPECT_LT(estimates[0], 10.0);
+  EXPECT_GT(estimates[1], 10.0 * estimates[0]);
+  EXPECT_GT(estimates[2], 10.0 * estimates[1]);
+  // The face's first node twice.
+  Eigen::MatrixXd nodes(s.num_nodes() + 1, 3);
+  nodes << s.sampling.nodes, s.sampling.nodes.row(face[0]);
+  Eigen::VectorXd spacing(s.num_nodes() + 1);
+  spacing << s.sampling.spacing, s.sampling.spacing[face[0]];
+  const MlsShapeFunctions doubled(nodes, spacing);
+  std::vector<int> constrained = face;
+  constrained.push_back(s.num_nodes());
+  Eigen::MatrixXd targets(10, 3);
+  targets << positions_of(s, face), s.sampling.nodes.row(face[0]);
+  try {
+    mls_transformation(doubled, constrained, targets);
+    ADD_FAILURE() << "a singular collocation matrix was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("singular or ill-conditioned"), std::string::npos) << e.what();
+  }
+}
+
 // A bar clamped at x = 0 and loaded by a shear traction on x = L: the naive clamp lets the face
 // move (by a fraction of the tip deflection that is reported), the transformation does not.
 TEST(MlsTransformation, NaiveClampMovesTheFaceTransformationDoesNot) {

@@ -245,6 +245,25 @@ TEST(ImplicitSurface, RefusesInconsistentOpenAndInwardSampleSets) {
   EXPECT_NE(isolated.find("point 3 is isolated"), std::string::npos) << isolated;
 }
 
+// Two spheres sampled whole and overlapping (centres 1 apart, radius 1: the sheets cross at 60
+// degrees along a circle) form a self-intersecting sample set; the same spheres 3 apart do not.
+TEST(ImplicitSurface, RefusesASelfIntersectingSampleSet) {
+  auto pair_of_spheres = [](double separation) {
+    const OrientedPoints one = fibonacci_sphere(1000);
+    OrientedPoints two;
+    two.source = "two spheres";
+    two.positions.resize(2000, 3);
+    two.normals.resize(2000, 3);
+    two.positions << one.positions.rowwise() - Eigen::RowVector3d(0.5 * separation, 0, 0),
+        one.positions.rowwise() + Eigen::RowVector3d(0.5 * separation, 0, 0);
+    two.normals << one.normals, one.normals;
+    return two;
+  };
+  const std::string crossing = error_of([&] { ImplicitSurface s(pair_of_spheres(1.0)); });
+  EXPECT_NE(crossing.find("two spheres: the sample set intersects itself near point"), std::string::npos) << crossing;
+  EXPECT_EQ(error_of([&] { ImplicitSurface s(pair_of_spheres(3.0)); }), "(no error)");
+}
+
 TEST(ImplicitSurface, CubeMeshThroughTheWholePipeline) {
   // OFF cube -> samples -> implicit function -> octree nodes and quadrature: its volume is the
   // cube's within the clipped leaves' error, and the MLS covering holds at every point.

@@ -4,6 +4,8 @@
 // displacement it produced.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -103,6 +105,45 @@ TEST(MeshlessScene, SimulateWritesTheReportAndPointFiles) {
   const std::string text((std::istreambuf_iterator<char>(vtu)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("Name=\"displacement\" NumberOfComponents=\"3\""), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(options.out_dir + "/nodes.vtu"));
+}
+
+// A rotation handle on the end x = 3 of a bar held nowhere else: the neo-Hookean equilibrium
+// is the rigid rotation of the whole bar (zero energy), which MLS reproduces exactly, so every
+// node's field value is c + R (X - c), c the handle nodes' centroid. Bad rotations are named.
+TEST(MeshlessScene, RotationHandleTurnsTheBarRigidly) {
+  nlohmann::json d = bar_scene();
+  d.erase("fixed");
+  d.erase("loads");
+  d.erase("inverse");
+  d["material"]["model"] = "neo_hookean";
+  d["handles"] = nlohmann::json::parse(R"([{"box": {"lo": [3, -1, -1], "hi": [4, 2, 2]},
+                                            "rotation": {"axis": [1, 0, 0], "degrees": 30}}])");
+  const auto scene = build_meshless_scene(parse_meshless_scene(SceneNode(d, kBarSource, ""), "."));
+  NewtonSolver solver(*scene->model);
+  Vector y = scene->model->elimination().restrict_state(scene->rest());
+  ASSERT_TRUE(solver.solve(scene->p, y).converged());
+  const Vector x = scene->model->elimination().expand(y);
+  const Eigen::Vector3d c(3.0, 0.5, 0.5);  // the centroid of the end face's 9 nodes
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(M_PI / 6.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  double error = 0.0, moved = 0.0;
+  for (int a = 0; a < scene->num_nodes(); ++a) {
+    const Eigen::Vector3d X = scene->sampling.nodes.row(a).transpose();
+    const Eigen::Vector3d expected = c + R * (X - c);
+    error = std::max(error, (scene->mls->interpolate(x, X) - expected).norm());
+    moved = std::max(moved, (expected - X).norm());
+  }
+  EXPECT_GT(moved, 0.3);
+  EXPECT_LT(error, 1e-8 * moved);
+
+  d["handles"][0]["rotation"]["axis"] = {0, 0, 0};
+  EXPECT_NE(scene_error(d).find("bar.json: handles[0].rotation.axis: the rotation axis must not be zero"),
+            std::string::npos)
+      << scene_error(d);
+  d["handles"][0]["rotation"] = nlohmann::json::parse(R"({"axis": [1, 0, 0], "angle": 30})");
+  EXPECT_NE(scene_error(d).find("handles[0].rotation.angle"), std::string::npos) << scene_error(d);
+  d["handles"][0].erase("rotation");
+  EXPECT_NE(scene_error(d).find("handles[0]: a handle needs a displacement, a rotation or both"), std::string::npos)
+      << scene_error(d);
 }
 
 TEST(MeshlessScene, ModesWithWarpedDynamics) {

@@ -86,7 +86,7 @@ ModalWarpingOperators fem_modal_warping_operators(const Mesh& mesh, const Eigen:
     curl.setZero();
     for (int a = 0; a < 4; ++a) {
       const Eigen::Vector3d g = tets.gradients[static_cast<std::size_t>(e)].row(a).transpose();
-      curl += 0.5 * cross_matrix(g) * modes.middleRows(3 * tets.vertices[static_cast<std::size_t>(e)][a], 3);
+      curl += 0.5 * rigid::cross_matrix(g) * modes.middleRows(3 * tets.vertices[static_cast<std::size_t>(e)][a], 3);
     }
     const double v = tets.volumes[static_cast<std::size_t>(e)];
     for (int a = 0; a < 4; ++a) {

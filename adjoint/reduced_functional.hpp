@@ -41,6 +41,12 @@ class ReducedFunctional {
   // without the residuals' curvature, positive semidefinite, without forming dr/dz.
   virtual bool has_gauss_newton_vector() const { return false; }
   virtual Vector gauss_newton_vector(const Vector& z, const Vector& v);
+  // A positive estimate of the diagonal of the Gauss-Newton matrix at z, cheap next to a product
+  // (no solves), for preconditioning CG on curvature products (optional: false without one).
+  virtual bool gauss_newton_diagonal(const Vector& z, Vector& diagonal) {
+    (void)z, (void)diagonal;
+    return false;
+  }
 
   // Residual form J = 1/2 ||r||^2 (optional): residuals and their Jacobian dr/dz.
   virtual bool has_residuals() const { return false; }

@@ -1,5 +1,6 @@
 #include "adjoint/static_functional.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -324,6 +325,51 @@ Vector StaticFunctional::gauss_newton_vector(const Vector& z, const Vector& v) {
   const Vector jx = data.dr_dx.transpose() * w;
   const Vector gp = adjoint_gradient_p(jx, data.dr_dp.transpose() * w, nullptr, &data.mixed);
   return parameterization_->jacobian_transpose_times(z, gp);
+}
+
+bool StaticFunctional::gauss_newton_diagonal(const Vector& z, Vector& diagonal) {
+  if (!objective_->is_least_squares()) return false;
+  forward(z);
+  const ProductData& data = product_data(true);
+  const SparseMatrix& h = newton_.hessian();
+  const SparseMatrix& basis = model_.elimination().basis();
+  if (h.rows() != basis.cols() || h.cols() != basis.cols() || h.rows() == 0) return false;
+  // Jacobi sensitivity dx/dp ~ -S diag(H)^-1 S^T E_xp: the response of each DOF to a
+  // parameter's force, without its spread through the rest of the body (the response of a
+  // self-equilibrated element force decays fast, so the local part keeps the element's stress
+  // level and stiffness).
+  Vector inverse_diagonal = h.diagonal();
+  for (Eigen::Index i = 0; i < inverse_diagonal.size(); ++i)
+    inverse_diagonal[i] = inverse_diagonal[i] > 0.0 ? 1.0 / inverse_diagonal[i] : 0.0;
+  const SparseMatrix reduced_mixed = basis.transpose() * data.mixed;
+  const SparseMatrix sensitivity = -(basis * (inverse_diagonal.asDiagonal() * reduced_mixed));
+  const SparseMatrix jacobian = data.dr_dx * sensitivity + data.dr_dp;  // approximate dr/dp
+  Vector d_p = Vector::Zero(p_.size());
+  for (Eigen::Index j = 0; j < jacobian.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(jacobian, j); it; ++it)
+      d_p[it.col()] += it.value() * it.value();
+  // To z: sum_i (dp_i/dz_j)^2 d_i = [phi'^T (d (.) phi' r)]_j r_j for every sign vector r when
+  // each p_i depends on at most one z_j; two sign vectors that disagree reveal a map without.
+  const Eigen::Index n = size();
+  Vector ones = Vector::Ones(n), signs(n);
+  for (Eigen::Index j = 0; j < n; ++j) signs[j] = ((j * 2654435761u) >> 7) % 2 ? 1.0 : -1.0;
+  diagonal = parameterization_->jacobian_transpose_times(
+      z, (d_p.array() * parameterization_->jacobian_times(z, ones).array()).matrix());
+  const Vector check =
+      parameterization_->jacobian_transpose_times(
+          z, (d_p.array() * parameterization_->jacobian_times(z, signs).array()).matrix())
+          .cwiseProduct(signs);
+  const double scale = diagonal.cwiseAbs().maxCoeff();
+  if (!diagonal.allFinite() || !(scale > 0.0) || (diagonal - check).lpNorm<Eigen::Infinity>() > 1e-12 * scale)
+    return false;
+  // A variable the estimate does not see (no data, no regularizer on it) gets the smallest
+  // positive value rather than zero, so that the preconditioner stays positive definite.
+  double smallest = scale;
+  for (Eigen::Index j = 0; j < n; ++j)
+    if (diagonal[j] > 0.0) smallest = std::min(smallest, diagonal[j]);
+  for (Eigen::Index j = 0; j < n; ++j)
+    if (!(diagonal[j] > 0.0)) diagonal[j] = smallest;
+  return true;
 }
 
 Matrix StaticFunctional::state_sensitivity(const Vector& z) {

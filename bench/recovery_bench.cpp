@@ -14,7 +14,7 @@
 // Writes JSON (--out, default bench_recovery.json) and prints a table.
 //
 // usage: recovery_bench [--size 6k|48k] [--backends a,b] [--reuse auto|across|off]
-//                       [--max-iterations N] [--time-limit S] [--out FILE]
+//                       [--exact-hessian yes|no] [--jacobi yes|no] [--max-iterations N] [--time-limit S] [--out FILE]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -44,8 +44,10 @@ constexpr double kTarget = 1e-3;  // relative distance to the best objective
 struct Variant {
   OptimizerBackend backend;
   CurvatureProducts curvature = CurvatureProducts::automatic;
+  bool precondition = false;  // newton_cg: CG preconditioned by the Gauss-Newton diagonal
   std::string label() const {
-    return to_string(backend) + (curvature == CurvatureProducts::exact ? " (exact Hessian)" : "");
+    return to_string(backend) + (curvature == CurvatureProducts::exact ? " (exact Hessian)" : "") +
+           (precondition ? " (Jacobi CG)" : "");
   }
 };
 
@@ -128,6 +130,7 @@ Run run_variant(const Recovery& recovery, const Variant& variant, const std::str
   OptimizerOptions o;
   o.backend = variant.backend;
   o.curvature = variant.curvature;
+  o.precondition_curvature = variant.precondition;
   o.max_iterations = max_iterations;
   o.time_limit_seconds = time_limit;
   o.gradient_tolerance = gradient_tolerance;
@@ -152,7 +155,7 @@ const Sample* time_to_target(const Run& run, double best) {
 }  // namespace
 
 int run(int argc, char** argv) {
-  std::string size = "6k", reuse = "auto", out = "bench_recovery.json";
+  std::string size = "6k", reuse = "auto", exact = "yes", jacobi = "no", out = "bench_recovery.json";
   int max_iterations = 500;
   double time_limit = 120.0;
   // Back-ends whose work is dense in the number of design variables (SLSQP's quasi-Newton
@@ -172,6 +175,9 @@ int run(int argc, char** argv) {
             });
   cli.choice("--reuse", reuse, "factor reuse of the forward solves: auto, across (the rule before), off",
              {"auto", "across", "off"});
+  cli.choice("--exact-hessian", exact, "also run newton_cg with exact Hessian-vector products", {"yes", "no"});
+  cli.choice("--jacobi", jacobi, "also run newton_cg with its CG preconditioned by the Gauss-Newton diagonal",
+             {"yes", "no"});
   cli.integer("--max-iterations", max_iterations, "iterations per back-end", 1);
   cli.number("--time-limit", time_limit, "seconds per back-end", 0.0);
   cli.out(out);
@@ -194,7 +200,9 @@ int run(int argc, char** argv) {
   for (const std::string& name : backends) {
     const OptimizerBackend backend = parse_optimizer_backend(name);
     variants.push_back({backend});
-    if (backend == OptimizerBackend::newton_cg) variants.push_back({backend, CurvatureProducts::exact});
+    if (backend == OptimizerBackend::newton_cg && jacobi == "yes")
+      variants.push_back({backend, CurvatureProducts::automatic, true});
+    if (backend == OptimizerBackend::newton_cg && exact == "yes") variants.push_back({backend, CurvatureProducts::exact});
   }
   std::vector<Run> runs;
   double best = std::numeric_limits<double>::infinity();
@@ -234,10 +242,12 @@ int run(int argc, char** argv) {
     std::printf(" %9.3f %8d %8ld %9.4f | %.2e\n", r.result.seconds, iterations, c.factorizations,
                 r.evaluation_seconds, error);
     if (r.variant.backend == OptimizerBackend::nlopt_lbfgs) lbfgs = &r;
-    if (r.variant.backend == OptimizerBackend::newton_cg && r.variant.curvature == CurvatureProducts::automatic)
+    if (r.variant.backend == OptimizerBackend::newton_cg && r.variant.curvature == CurvatureProducts::automatic &&
+        !r.variant.precondition)
       newton_cg = &r;
     Json row = {{"backend", to_string(r.variant.backend)},
                 {"curvature", to_string(r.variant.curvature)},
+                {"preconditioned", r.variant.precondition},
                 {"status", to_string(r.result.status)},
                 {"message", r.result.message},
                 {"iterations", iterations},

@@ -91,6 +91,9 @@ struct OptimizerOptions {
   bool exact_hessian = false;
   // newton_cg only: see CurvatureProducts.
   CurvatureProducts curvature = CurvatureProducts::automatic;
+  // newton_cg only: precondition its CG with the functional's Gauss-Newton diagonal where it
+  // offers one (ReducedFunctional::gauss_newton_diagonal). Off: measured to cost more products.
+  bool precondition_curvature = false;
   std::ostream* progress = nullptr;  // one line per iteration when set
   // Checkpoints (optimizers/checkpoint.hpp): when on_checkpoint is set, it is called with the
   // run's state after every checkpoint_every-th iteration (0 = never) and once at the end of

@@ -202,6 +202,18 @@ bool Tracker::curvature_product(const Vector& z, const Vector& v, bool gauss_new
   return false;
 }
 
+bool Tracker::gauss_newton_diagonal(const Vector& z, Vector& out) {
+  try {
+    return functional_.gauss_newton_diagonal(z, out) && out.size() == n_ && out.allFinite() && out.minCoeff() > 0.0;
+  } catch (const EvaluationError&) {
+  } catch (const std::exception& e) {
+    fail(e.what());
+  } catch (...) {
+    fail("unknown exception");
+  }
+  return false;
+}
+
 bool Tracker::gradient_difference(const Vector& z, const Vector& g, const Vector& v, Vector& out) {
   const double v_norm = v.lpNorm<Eigen::Infinity>();
   if (v_norm == 0.0) {

@@ -68,6 +68,9 @@ class Tracker {
   // forward and one adjoint solve at z + h v (not an evaluation of the run: not counted, cached
   // or considered for the best point).
   bool gradient_difference(const Vector& z, const Vector& g, const Vector& v, Vector& out);
+  // The functional's estimate of the Gauss-Newton diagonal at z (ReducedFunctional::
+  // gauss_newton_diagonal); false where it has none or it cannot be evaluated.
+  bool gauss_newton_diagonal(const Vector& z, Vector& out);
 
   // Infinity norm of z - P(z - g): the gradient with the components that push against an
   // active bound removed (and, near a bound, cut to the distance to it).

@@ -93,6 +93,8 @@ TEST(BenchCli, BadValuesExitWithTwoNamingTheFlag) {
       {"recovery_bench", "--size 12k", "--size: expected one of 6k, 48k, got '12k'"},
       {"recovery_bench", "--backends newton_cg,lbfgs", "--backends: unknown optimizer back-end 'lbfgs'"},
       {"recovery_bench", "--reuse maybe", "--reuse: expected one of auto, across, off, got 'maybe'"},
+      {"recovery_bench", "--jacobi maybe", "--jacobi: expected one of yes, no, got 'maybe'"},
+      {"recovery_bench", "--exact-hessian 1", "--exact-hessian: expected one of yes, no, got '1'"},
   };
   for (const auto& c : cases) {
     std::string output;

@@ -202,18 +202,32 @@ RodNetworkHomogenization RodNetworkCell::solve() {
   result.factorization_seconds = seconds_since(t0);
 
   t0 = Clock::now();
+  // The full K at rest, once (the terms' pattern slots, as Model::hessian_times reads them), so
+  // that the six products K u below are sparse products and not six Hessian evaluations.
+  std::vector<Triplet> entries;
+  for (const auto& term : model_->terms()) {
+    HessianPattern pattern;
+    term->hessian_pattern(pattern);
+    std::vector<double> values(pattern.size(), 0.0);
+    EnergyRequest request;
+    request.hessian_values = values.data();
+    term->evaluate(rest_, parameters_, request);
+    for (std::size_t k = 0; k < pattern.size(); ++k) entries.emplace_back(pattern[k].row, pattern[k].col, values[k]);
+  }
+  SparseMatrix K(model_->num_dofs(), model_->num_dofs());
+  K.setFromTriplets(entries.begin(), entries.end());
   const int cases = voigt_size(2);
   Matrix rhs(num_free(), cases);
   std::vector<Vector> affine(static_cast<std::size_t>(cases));
   for (int I = 0; I < cases; ++I) {
     affine[I] = macro_offset(unit_macro_strain(2, I)) - rest_;
-    rhs.col(I) = -elimination.reduce(model_->hessian_times(rest_, parameters_, affine[I]));
+    rhs.col(I) = -elimination.reduce(K * affine[I]);
   }
   const Matrix fluctuations = factor_.solve_columns(rhs);
   std::vector<Vector> displacement(static_cast<std::size_t>(cases)), force(static_cast<std::size_t>(cases));
   for (int I = 0; I < cases; ++I) {
     displacement[I] = affine[I] + elimination.expand_direction(fluctuations.col(I));
-    force[I] = model_->hessian_times(rest_, parameters_, displacement[I]);
+    force[I] = K * displacement[I];
     result.states.push_back(rest_ + displacement[I]);
   }
   result.stiffness.resize(cases, cases);

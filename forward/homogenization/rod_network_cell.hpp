@@ -68,7 +68,8 @@ class RodNetworkCell {
   // The 3 unit macro strains (unit_macro_strain(2, I)) as linear cell problems about the
   // stress-free rest state: S^T K S y_I = -S^T K u0_I with K the exact Hessian of the rod
   // energies at rest, u_I = u0_I + S y_I, C_IJ = u_I^T K u_J / |Y| (the energy form, as for the
-  // FEM cells). One CHOLMOD factorization for the three. Throws std::runtime_error when the
+  // FEM cells). One CHOLMOD factorization for the three; K u by one assembled K (solve_seconds
+  // includes its assembly). Throws std::runtime_error when the
   // periodic stiffness is not positive definite (a mechanism).
   RodNetworkHomogenization solve();
 

@@ -13,6 +13,7 @@
 #include "forward/rods/rod_parameters.hpp"
 #include "forward/rods/stretching_term.hpp"
 #include "forward/rods/twisting_term.hpp"
+#include "forward/solve/sparse_cholesky.hpp"
 
 namespace tailor {
 
@@ -166,7 +167,8 @@ RodNetworkCell::RodNetworkCell(RodNetwork network) : network_(std::move(network)
   model_->set_elimination(Elimination(macro_offset(Matrix::Zero(2, 2)), S));
   assembler_ = std::make_unique<ReducedAssembler>(*model_);
   hessian_ = assembler_->hessian_pattern_matrix();
-  factor_.analyze(hessian_);
+  factor_ = std::make_unique<SparseCholesky>();
+  factor_->analyze(hessian_);
 }
 
 RodNetworkCell::~RodNetworkCell() = default;
@@ -194,7 +196,7 @@ RodNetworkHomogenization RodNetworkCell::solve() {
   assembler_->evaluate(y0, parameters_, nullptr, nullptr, &hessian_);
   result.assembly_seconds = seconds_since(t0);
   t0 = Clock::now();
-  const FactorizationResult factorization = factor_.factorize(hessian_);
+  const FactorizationResult factorization = factor_->factorize(hessian_);
   if (!factorization.success || !factorization.positive_definite)
     throw std::runtime_error(
         "RodNetworkCell: the periodic stiffness matrix is not positive definite (a mechanism?) (" +
@@ -223,7 +225,7 @@ RodNetworkHomogenization RodNetworkCell::solve() {
     affine[I] = macro_offset(unit_macro_strain(2, I)) - rest_;
     rhs.col(I) = -elimination.reduce(K * affine[I]);
   }
-  const Matrix fluctuations = factor_.solve_columns(rhs);
+  const Matrix fluctuations = factor_->solve_columns(rhs);
   std::vector<Vector> displacement(static_cast<std::size_t>(cases)), force(static_cast<std::size_t>(cases));
   for (int I = 0; I < cases; ++I) {
     displacement[I] = affine[I] + elimination.expand_direction(fluctuations.col(I));

@@ -25,13 +25,14 @@
 
 #include "forward/core/model.hpp"
 #include "forward/homogenization/rod_network.hpp"
-#include "forward/rods/discrete_rod.hpp"
-#include "forward/rods/rod_parameters.hpp"
-#include "forward/solve/sparse_cholesky.hpp"
 
 namespace tailor {
 
+// Declared only: includers (tests, scenes, bench) need not parse the rods' and CHOLMOD's headers.
+class DiscreteRod;
 class ReducedAssembler;
+class SparseCholesky;
+struct RodParameterBlocks;
 
 struct RodNetworkHomogenization {
   Matrix stiffness;             // C (3 x 3, Voigt (11, 22, 12)) [force / length]
@@ -82,7 +83,7 @@ class RodNetworkCell {
   std::vector<Eigen::Vector3d> rest_positions_;  // per position DOF triple, in DOF order
   std::vector<int> position_dofs_;               // first DOF of each vertex
   SparseMatrix hessian_;
-  SparseCholesky factor_;
+  std::unique_ptr<SparseCholesky> factor_;
   Vector parameters_;
   Vector rest_;
 };

@@ -38,7 +38,7 @@ RodNetwork square_rod_lattice(double cell_size, double radius, double youngs_mod
 // Regular hexagonal honeycomb of wall length l (Gibson & Ashby's h = l, theta = 30 degrees):
 // a_1 = (sqrt(3) l, 0), a_2 = (sqrt(3) l / 2, 3 l / 2), joints (0, 0) and (0, l), the wall
 // between them parallel to x_2.
-RodNetwork honeycomb_rod_lattice(double wall_length, double radius, double youngs_modulus, double shear_modulus,
-                                 int edges_per_bar);
+RodNetwork honeycomb_rod_lattice(double wall_length, double radius, double youngs_modulus,
+                                 double shear_modulus, int edges_per_bar);
 
 }  // namespace tailor

@@ -19,7 +19,8 @@ namespace tailor {
 
 void RodNetwork::validate() const {
   const auto fail = [](const std::string& what) { throw std::invalid_argument("RodNetwork: " + what); };
-  if (!(lattice.determinant() > 0.0)) fail("the lattice vectors must be right-handed and independent (det > 0)");
+  if (!(lattice.determinant() > 0.0))
+    fail("the lattice vectors must be right-handed and independent (det > 0)");
   if (joints.rows() == 0) fail("no joints");
   if (bars.empty()) fail("no bars");
   if (!(youngs_modulus > 0.0) || !(shear_modulus > 0.0) || !std::isfinite(youngs_modulus) ||
@@ -69,8 +70,8 @@ RodNetwork square_rod_lattice(double cell_size, double radius, double youngs_mod
   return n;
 }
 
-RodNetwork honeycomb_rod_lattice(double wall_length, double radius, double youngs_modulus, double shear_modulus,
-                                 int edges_per_bar) {
+RodNetwork honeycomb_rod_lattice(double wall_length, double radius, double youngs_modulus,
+                                 double shear_modulus, int edges_per_bar) {
   const double l = wall_length, s3 = std::sqrt(3.0);
   RodNetwork n;
   n.lattice << s3 * l, 0.5 * s3 * l, 0.0, 1.5 * l;
@@ -98,11 +99,13 @@ RodNetworkCell::RodNetworkCell(RodNetwork network) : network_(std::move(network)
   for (int b = 0; b < num_bars; ++b) {
     Eigen::MatrixX3d points(m + 1, 3);
     const Eigen::Vector3d start = network_.bar_start(b), end = network_.bar_end(b);
-    for (int v = 0; v <= m; ++v) points.row(v) = (start + (end - start) * (static_cast<double>(v) / m)).transpose();
+    for (int v = 0; v <= m; ++v)
+      points.row(v) = (start + (end - start) * (static_cast<double>(v) / m)).transpose();
     // First director along z: m1 out of the plane for every bar, so in-plane bending is about m1.
     rods_.push_back(std::make_shared<DiscreteRod>(points, b * per_bar, b * per_bar + 3 * (m + 1),
                                                   Eigen::Vector3d::UnitZ()));
-    blocks_.push_back(add_rod_parameters(model_->parameter_layout(), *rods_.back(), "bar" + std::to_string(b)));
+    blocks_.push_back(
+        add_rod_parameters(model_->parameter_layout(), *rods_.back(), "bar" + std::to_string(b)));
   }
   RodMaterial material;
   material.youngs_modulus = network_.youngs_modulus;
@@ -123,9 +126,8 @@ RodNetworkCell::RodNetworkCell(RodNetwork network) : network_(std::move(network)
     auto joint = std::make_unique<RodRigidJointTerm>(joint_offset + 3 * j);
     for (int b = 0; b < num_bars; ++b) {
       const double edge_length = rods_[b]->rest_lengths()[0];
-      const Eigen::Vector3d stiffness =
-          rigid_joint_stiffness(material.section, material.youngs_modulus, material.shear_modulus,
-                                material.radius, edge_length);
+      const Eigen::Vector3d stiffness = rigid_joint_stiffness(
+          material.section, material.youngs_modulus, material.shear_modulus, material.radius, edge_length);
       if (network_.bars[b].from == j) joint->add_member(rods_[b], 0, stiffness, rest_);
       if (network_.bars[b].to == j) joint->add_member(rods_[b], m - 1, stiffness, rest_);
     }
@@ -214,7 +216,8 @@ RodNetworkHomogenization RodNetworkCell::solve() {
     EnergyRequest request;
     request.hessian_values = values.data();
     term->evaluate(rest_, parameters_, request);
-    for (std::size_t k = 0; k < pattern.size(); ++k) entries.emplace_back(pattern[k].row, pattern[k].col, values[k]);
+    for (std::size_t k = 0; k < pattern.size(); ++k)
+      entries.emplace_back(pattern[k].row, pattern[k].col, values[k]);
   }
   SparseMatrix K(model_->num_dofs(), model_->num_dofs());
   K.setFromTriplets(entries.begin(), entries.end());

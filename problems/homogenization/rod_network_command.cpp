@@ -64,7 +64,8 @@ HomogenizeRun homogenize_rod_network(const CellScene& scene, const std::string& 
   report["dimension"] = 2;
   report["voigt_order"] = {"11", "22", "12"};
   report["shear_convention"] = "engineering strains (gamma_ij = 2 eps_ij), plain stresses: N = C eps";
-  report["stiffness_units"] = "force per length (membrane); C / depth is the modulus of a sheet of that depth";
+  report["stiffness_units"] =
+      "force per length (membrane); C / depth is the modulus of a sheet of that depth";
   report["membrane_stiffness"] = rows_json(h.stiffness);
   report["compliance"] = rows_json(run.compliance);
   report["symmetry_error"] = h.symmetry_error;
@@ -73,8 +74,8 @@ HomogenizeRun homogenize_rod_network(const CellScene& scene, const std::string& 
     report["depth"] = spec.depth;
     report["stiffness"] = rows_json(h.stiffness / spec.depth);
     report["engineering_constants"] = constants_json(run.compliance, spec.depth);
-    report["relative_density"] = bar_length * M_PI * network.radius * network.radius /
-                                 (network.cell_area() * spec.depth);
+    report["relative_density"] =
+        bar_length * M_PI * network.radius * network.radius / (network.cell_area() * spec.depth);
   }
   nlohmann::json directional = nlohmann::json::array();
   for (const auto& s : samples) {
@@ -103,7 +104,8 @@ HomogenizeRun homogenize_rod_network(const CellScene& scene, const std::string& 
   const std::string report_path = write_report(out_dir, report);
   write_directional_plots(out_dir, scene.name + " (membrane)", samples);
   std::vector<RodOutput> rods;
-  for (std::size_t b = 0; b < cell.rods().size(); ++b) rods.push_back({cell.rods()[b].get(), cell.rod_blocks()[b]});
+  for (std::size_t b = 0; b < cell.rods().size(); ++b)
+    rods.push_back({cell.rods()[b].get(), cell.rod_blocks()[b]});
   const char* const names[3] = {"11", "22", "12"};
   for (int I = 0; I < 3; ++I)
     write_rods_vtu(out_dir + "/load_case_" + names[I] + ".vtu", rods, h.states[static_cast<std::size_t>(I)],

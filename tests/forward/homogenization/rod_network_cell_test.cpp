@@ -104,9 +104,10 @@ TEST(RodNetworkCell, HoneycombMatchesGibsonAshbyInTheSlenderLimit) {
     EXPECT_NEAR(poisson_ratio(S, plane_direction(2, 0, 1, 0.0), plane_direction(2, 0, 1, M_PI / 2)), 1.0,
                 4.0 * axial);
     const double error = std::abs(E1 * bending_discretization(m) / gibson_ashby - 1.0);
-    std::printf("honeycomb a/l = %.3f: E1 / (eq. 4.4 corrected) - 1 = %.1e, error to eq. 4.4 %.3e, nu12 - 1 = %.2e\n",
-                a / l, E1 / corrected - 1.0, error,
-                poisson_ratio(S, plane_direction(2, 0, 1, 0.0), plane_direction(2, 0, 1, M_PI / 2)) - 1.0);
+    std::printf(
+        "honeycomb a/l = %.3f: E1 / (eq. 4.4 corrected) - 1 = %.1e, error to eq. 4.4 %.3e, nu12 - 1 = %.2e\n",
+        a / l, E1 / corrected - 1.0, error,
+        poisson_ratio(S, plane_direction(2, 0, 1, 0.0), plane_direction(2, 0, 1, M_PI / 2)) - 1.0);
     if (previous > 0.0) {
       EXPECT_NEAR(previous / error, 4.0, 0.2) << "a/l = " << a;
     }
@@ -167,7 +168,8 @@ TEST(RodNetworkCell, PeriodicEnergyDerivativesPass) {
   const Vector Hdy = hessian.selfadjointView<Eigen::Upper>() * dy;
   DerivativeCheckOptions options;
   options.initial_step = 1e-2;
-  const DerivativeCheck cg = check_directional_derivative("gradient", energy, Vector::Constant(1, g.dot(dy)), options);
+  const DerivativeCheck cg =
+      check_directional_derivative("gradient", energy, Vector::Constant(1, g.dot(dy)), options);
   EXPECT_TRUE(cg.passed) << cg.message;
   const DerivativeCheck ch = check_directional_derivative("hessian", gradient, Hdy, options);
   EXPECT_TRUE(ch.passed) << ch.message;

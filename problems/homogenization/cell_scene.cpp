@@ -92,11 +92,18 @@ Vector CellScene::poisson_ratio() const {
 
 CellScene parse_cell_scene(const SceneNode& root, const std::string& directory) {
   root.expect_keys({"type", "name", "description", "cell", "plane", "materials", "phases", "directions",
-                    "design", "stress_strain"});
+                    "design", "stress_strain", "rod_network"});
   if (root.at("type").string() != "periodic_cell") root.at("type").fail("expected \"periodic_cell\"");
   CellScene scene;
   scene.source = root.source();
   if (const auto name = root.find("name")) scene.name = name->string();
+  if (const auto rods = root.find("rod_network")) {
+    for (const char* key : {"cell", "materials", "phases", "plane", "stress_strain", "design"})
+      if (root.has(key)) root.at(key).fail("does not apply to a \"rod_network\" cell");
+    scene.rod_network = parse_rod_network_scene(*rods);
+    if (const auto directions = root.find("directions")) scene.directions = directions->integer(4);
+    return scene;
+  }
   const SceneNode cell = root.at("cell");
   cell.expect_keys({"lattice", "origin", "grid", "split", "mesh", "tolerance", "periodic"});
   const Eigen::MatrixXd A = parse_lattice(cell.at("lattice"));

@@ -15,6 +15,8 @@
 //                       "directions": [[1, 0], [0, 1]]},        (nonlinear curves)
 //     "design": {...}                                       (problems/metamaterial)
 //   }
+// or, for a periodic rod network, "rod_network": {...} (rod_network_scene.hpp) in place of
+// "cell", "materials", "phases", "plane", "stress_strain" and "design".
 // Elements start in the phase of their mesh region: region r takes materials[r] (0 for generated
 // meshes), or, when every material names a "region" (the mesh file's physical tag, e.g. Gmsh's
 // 1 and 2), the material naming the element's tag. Each "phases" rule
@@ -27,6 +29,7 @@
 
 #include "forward/fem/material.hpp"
 #include "forward/homogenization/linear_homogenization.hpp"
+#include "problems/homogenization/rod_network_scene.hpp"
 #include "problems/scene_node.hpp"
 
 namespace tailor {
@@ -56,6 +59,9 @@ struct CellScene {
   int directions = 360;            // samples of E(d) over 360 degrees per plane
   bool has_design = false;
   std::optional<StressStrainSpec> stress_strain;
+  // A rod-network cell ("rod_network" instead of "cell" and "materials"; rod_network_scene.hpp):
+  // then `cell`, `materials` and `element_phase` are empty.
+  std::optional<RodNetworkScene> rod_network;
   Vector youngs_modulus() const;
   Vector poisson_ratio() const;
 };

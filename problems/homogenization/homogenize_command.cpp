@@ -12,6 +12,7 @@
 #include "forward/mesh/mesh_io.hpp"
 #include "problems/homogenization/directional_plots.hpp"
 #include "problems/homogenization/plate_command.hpp"
+#include "problems/homogenization/rod_network_command.hpp"
 #include "problems/json_text.hpp"
 #include "problems/plot/line_plot.hpp"
 #include "problems/report_file.hpp"
@@ -90,6 +91,7 @@ void write_cell_fields(const std::string& out_dir, const std::string& prefix, Li
 }
 
 HomogenizeRun homogenize_scene(const CellScene& scene, const std::string& out_dir, std::ostream* log) {
+  if (scene.rod_network) return homogenize_rod_network(scene, out_dir, log);
   if (scene.cell.periodic == std::vector<bool>{true, true, false})
     return homogenize_plate(scene, out_dir, log);
   const int dim = scene.cell.dim();

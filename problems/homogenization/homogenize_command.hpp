@@ -29,7 +29,7 @@ struct HomogenizeRun {
 
 // Homogenizes and writes the outputs into out_dir (created); progress to `log` when set. A
 // plate-like cell ("periodic": [true, true, false]) gets its bending stiffness instead
-// (plate_command.hpp).
+// (plate_command.hpp), a rod-network cell its membrane stiffness (rod_network_command.hpp).
 // Throws std::runtime_error naming the file when an output cannot be written.
 HomogenizeRun homogenize_scene(const CellScene& scene, const std::string& out_dir, std::ostream* log);
 

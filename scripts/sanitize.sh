@@ -18,6 +18,7 @@ subset=(
   "problems_rods_tests|"
   "problems_contact_tests|"
   "problems_homogenization_tests|"
+  "forward_homogenization_tests|RodNetworkCell"  # periodic rod networks: their terms' derivative checks
   "problems_material_fit_tests|MaterialFitScene"
   "problems_damping_design_tests|DampingDesignScene"
   "study_tests|"                            # C++-built scenes, registered scene term types

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
+#include "problems/optimizer_report.hpp"
 #include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
 #include "problems/scene_error.hpp"
@@ -62,16 +63,18 @@ std::unique_ptr<RigMarkerInverse> rig_marker_inverse(const RigSceneSpec& spec, i
   p_target.segment(inv->model.youngs_offset, mesh.num_elements()) =
       scaled_moduli(body.youngs_modulus, inv->regions, target_scale);
   DynamicState state = inv->integrator->initial_state(Vector::Zero(n), Vector::Zero(n), p_target);
-  std::vector<Keyframe> frames;
   inv->target.resize(inv->steps, 3);
-  const double weight = spec.dynamics.time_step;
   for (int k = 1; k <= inv->steps; ++k) {
     const NewtonResult r = inv->integrator->step(state, p_target);
     if (!r.converged())
       throw SceneError(spec.name + ": the measured motion's step " + std::to_string(k) + " failed: " + r.message);
     inv->target.row(k - 1) = state.x.segment<3>(3 * inv->marker).transpose();
-    frames.push_back({k, inv->target.row(k - 1), weight});
   }
+  // Relative to the measured jiggle: J = 1/2 sum_n |x_m - y_n|^2 / sum_n |y_n - X_m|^2.
+  const double measured = inv->target.squaredNorm();
+  if (!(measured > 0.0)) throw SceneError(spec.name + ": the marker does not move relative to the rig");
+  std::vector<Keyframe> frames;
+  for (int k = 1; k <= inv->steps; ++k) frames.push_back({k, inv->target.row(k - 1), 1.0 / measured});
   auto objective =
       std::make_shared<KeyframeTargets>(3, std::vector<int>{inv->marker}, TrajectoryQuantity::position, frames);
 
@@ -95,15 +98,14 @@ std::unique_ptr<RigMarkerInverse> rig_marker_inverse(const RigSceneSpec& spec, i
 
 TaylorTestResult gradcheck_rig_scene(const RigSceneSpec& spec, const std::string& out_dir, unsigned seed,
                                      std::ostream* log) {
-  const Eigen::Vector3d target_scale(1.3, 0.7, 1.2);
-  const std::unique_ptr<RigMarkerInverse> inv = rig_marker_inverse(spec, 0, target_scale);
+  const Eigen::Vector3d target_scale = spec.inverse.target_scale;
+  const std::unique_ptr<RigMarkerInverse> inv = rig_marker_inverse(spec, spec.inverse.steps, target_scale);
   TaylorTestOptions taylor;
   taylor.seed = seed;
   const TaylorTestResult result = taylor_test(*inv->functional, inv->z0, taylor);
   if (log)
-    *log << "gradient of h/2 sum_n |x_marker(t_n) - y_n|^2 (y: the marker at moduli x (1.3, 0.7, 1.2)) with respect "
-            "to log E of the upper arm, belly and forearm, over "
-         << inv->steps << " steps\n"
+    *log << "gradient of 1/2 sum_n |x_marker(t_n) - y_n|^2 / sum_n |y_n - X_marker(t_n)|^2 (y: the marker at moduli x (" << target_scale.transpose()
+         << ")) with respect to log E of the upper arm, belly and forearm, over " << inv->steps << " steps\n"
          << result.table();
   std::filesystem::create_directories(out_dir);
   nlohmann::ordered_json document = taylor_json(result);
@@ -111,13 +113,54 @@ TaylorTestResult gradcheck_rig_scene(const RigSceneSpec& spec, const std::string
   document["kind"] = "rig_dynamics";
   document["scene"] = {{"name", spec.name}};
   document["problem"] = {{"design", "log youngs_modulus of upper_arm, belly, forearm"},
-                         {"objective", "h/2 sum_n |x_marker(t_n) - y_n|^2"},
+                         {"objective", "1/2 sum_n |x_marker(t_n) - y_n|^2 / sum_n |y_n - X_marker(t_n)|^2"},
                          {"target_scale", {target_scale[0], target_scale[1], target_scale[2]}},
                          {"marker_vertex", inv->marker},
                          {"steps", inv->steps},
                          {"elements", inv->arm.body.mesh.num_elements()}};
   write_report_file((std::filesystem::path(out_dir) / "gradcheck.json").string(), document);
   return result;
+}
+
+}  // namespace tailor
+
+namespace tailor {
+
+RigInverseRun run_rig_inverse(const RigSceneSpec& spec, const std::string& out_dir, std::ostream* log) {
+  if (!spec.has_inverse) throw SceneError(spec.name + ": `run` needs an \"inverse\" section in rig_dynamics");
+  const std::unique_ptr<RigMarkerInverse> inv = rig_marker_inverse(spec, spec.inverse.steps, spec.inverse.target_scale);
+  RigInverseRun run;
+  run.expected = inv->z0 + spec.inverse.target_scale.array().log().matrix();
+  if (log)
+    *log << "recovering log E per region (upper arm, belly, forearm) from the marker's motion over " << inv->steps
+         << " steps; expected " << run.expected.transpose() << "\n";
+  run.result = minimize(*inv->functional, inv->z0, Bounds{}, {}, spec.inverse.optimizer);
+  run.moduli_error = 0.0;
+  for (int r = 0; r < kArmRegions; ++r)
+    run.moduli_error = std::max(run.moduli_error, std::abs(std::exp(run.result.z[r] - run.expected[r]) - 1.0));
+  if (log)
+    *log << run.result.report() << "\nrecovered log E " << run.result.z.transpose() << ", largest relative modulus error "
+         << run.moduli_error << "\n";
+  nlohmann::ordered_json report;
+  add_report_header(report);
+  report["kind"] = "rig_dynamics";
+  report["scene"] = {{"name", spec.name}};
+  auto list = [](const Vector& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  report["inverse"] = {{"design", "log youngs_modulus of upper_arm, belly, forearm"},
+                       {"objective", "1/2 sum_n |x_marker(t_n) - y_n|^2 / sum_n |y_n - X_marker(t_n)|^2"},
+                       {"steps", inv->steps},
+                       {"marker_vertex", inv->marker},
+                       {"target_scale", list(spec.inverse.target_scale)},
+                       {"initial", list(inv->z0)},
+                       {"expected", list(run.expected)},
+                       {"recovered", list(run.result.z)},
+                       {"largest_relative_modulus_error", run.moduli_error},
+                       {"objective_value", run.result.objective},
+                       {"status", run.result.converged() ? "converged" : "not converged"},
+                       {"message", run.result.message}};
+  report["optimizer"] = optimizer_history_json(run.result);
+  write_report(out_dir, report);
+  return run;
 }
 
 }  // namespace tailor

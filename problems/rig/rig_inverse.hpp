@@ -5,11 +5,12 @@
 // dynamics on the moving rest shape (forward/rig/moving_rest_model.hpp, implicit Euler).
 //
 //   z = log E_r, r = upper arm, belly, forearm (E_e = exp(z_r(e)); the other parameters fixed),
-//   J(z) = h/2 sum_{n=1..N} |x_m(t_n) - y_n|^2,
+//   J(z) = 1/2 sum_{n=1..N} |x_m(t_n) - y_n|^2 / sum_{n=1..N} |y_n - X_m(p(t_n))|^2,
 //
 // x_m = X_m(p(t_n)) + u_m(n) the marker vertex's world position and y_n the "measured" motion:
 // the same marker simulated with the moduli scaled by `target_scale` (a synthetic measurement
-// whose minimizer is known). X_m does not depend on z, so J is a keyframe target on u.
+// whose minimizer is known), J relative to the measured jiggle. X_m does not depend on z, so J
+// is a keyframe target on u.
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -49,5 +50,16 @@ std::unique_ptr<RigMarkerInverse> rig_marker_inverse(const RigSceneSpec& spec, i
 // direction); writes DIR/gradcheck.json (taylor_json plus the scene and the problem's sizes).
 TaylorTestResult gradcheck_rig_scene(const RigSceneSpec& spec, const std::string& out_dir, unsigned seed,
                                      std::ostream* log);
+
+struct RigInverseRun {
+  OptimizerResult result;
+  Vector expected;            // log of the target moduli per region
+  double moduli_error = 0.0;  // largest |E_r / E_r^target - 1| at the result
+};
+
+// `tailor run` of a rig_dynamics scene with an "inverse" section: minimizes J from the scene's
+// moduli with the section's optimizer; writes DIR/report.json (the recovered and expected
+// log E per region, the optimizer's history).
+RigInverseRun run_rig_inverse(const RigSceneSpec& spec, const std::string& out_dir, std::ostream* log);
 
 }  // namespace tailor

@@ -26,6 +26,7 @@
 #include "problems/metamaterial/metamaterial_scene.hpp"
 #include "problems/rods/rod_inverse.hpp"
 #include "problems/rods/rod_scene.hpp"
+#include "problems/rig/rig_inverse.hpp"
 #include "problems/rig/rig_scene.hpp"
 #include "problems/scene_kinds.hpp"
 #include "problems/scene_node.hpp"
@@ -328,6 +329,20 @@ int simulate_rig(const SceneFile& file, const VerbArguments& args, std::ostream&
   return exit_code(run_rig_scene(spec, output_folder(file, args), &out).completed);
 }
 
+int gradcheck_rig(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_hessian_flag(file, args, "the marker functionals of rig_dynamics scenes");
+  RigSceneSpec spec = parse_rig_scene(file.node(), file.directory());
+  spec.name = file.name();
+  return exit_code(gradcheck_rig_scene(spec, output_folder(file, args), args.seed.value_or(1), &out).passed());
+}
+
+int run_rig(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  refuse_checkpoint_flags(args);
+  RigSceneSpec spec = parse_rig_scene(file.node(), file.directory());
+  spec.name = file.name();
+  return exit_code(run_rig_inverse(spec, output_folder(file, args), &out).result.converged());
+}
+
 }  // namespace
 
 std::string output_folder(const SceneFile& file, const VerbArguments& args) {
@@ -407,7 +422,9 @@ std::vector<SceneKind> builtin_scene_kinds() {
       {"rig_dynamics",
        "a \"rig_dynamics\" section (docs/pose_space.md)",
        [](const nlohmann::json& d) { return has_section(d, "rig_dynamics"); },
-       {{"simulate", simulate_rig, "a rigged arm's dynamics on its moving rest shape (full or pose-space reduced)"}}},
+       {{"simulate", simulate_rig, "a rigged arm's dynamics on its moving rest shape (full or pose-space reduced)"},
+        {"gradcheck", gradcheck_rig, "Taylor test of a marker trajectory's gradient in log Young's modulus per region"},
+        {"run", run_rig, "recover log Young's modulus per region from a marker's motion (an \"inverse\" section)"}}},
       {"damping_design",
        "a \"damping_design\" section (docs/dynamics.md)",
        [](const nlohmann::json& d) { return has_section(d, "damping_design"); },

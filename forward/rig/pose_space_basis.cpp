@@ -65,46 +65,71 @@ Matrix example_pose_basis(const Rig& rig, const RiggedBody& body, const Vector& 
     return full;
   };
 
+  // Static responses N (N^T K N)^-1 N^T f to loads f (n x k), the stiffness factored once.
+  SparseMatrix null_space;
+  SparseCholesky cholesky;
+  bool factored = false;
+  auto static_responses = [&](const Matrix& load) {
+    if (!factored) {
+      null_space = constraint_null_space(c_free);
+      const SparseMatrix projected = SparseMatrix(null_space.transpose() * k_free * null_space);
+      const FactorizationResult fr = cholesky.factorize(SparseMatrix(projected.triangularView<Eigen::Upper>()));
+      if (!fr.success) throw std::runtime_error("pose-space basis: stiffness factorization failed: " + fr.message);
+      factored = true;
+    }
+    Matrix load_free(nf, load.cols());
+    for (int k = 0; k < nf; ++k) load_free.row(k) = load.row(free[k]);
+    const Matrix z = cholesky.solve_columns(null_space.transpose() * load_free);
+    std::vector<Vector> out;
+    for (int col = 0; col < z.cols(); ++col) out.push_back(expand(null_space * z.col(col)));
+    return out;
+  };
+
   std::vector<Vector> candidates, derivatives;
+  if (options.motion_responses) {
+    // The rig's own inertial loads at this pose: d2X/dt2 = J p'' + sum_kl d2X/dp_k dp_l p'_k p'_l,
+    // so the loads M dX/dp_k and M d2X/dp_k dp_l (and gravity's M g) span -M d2X/dt2 + M g for
+    // every rig motion through the pose; their static responses come first (a few columns that
+    // carry most of the quasi-static jiggle).
+    const int np = rig.num_parameters();
+    Matrix loads(n, np + np * (np + 1) / 2 + (body.gravity.norm() > 0.0 ? 1 : 0));
+    const Matrix jacobian = rig.rest_shape_jacobian(pose);
+    int col = 0;
+    for (int k = 0; k < np; ++k) loads.col(col++) = mass * jacobian.col(k);
+    for (int k = 0; k < np; ++k)
+      for (int l = k; l < np; ++l) loads.col(col++) = mass * rig.rest_shape_second(pose, Vector::Unit(np, k), Vector::Unit(np, l));
+    if (body.gravity.norm() > 0.0) {
+      Vector g(n);
+      for (int v = 0; v < n / 3; ++v) g.segment<3>(3 * v) = body.gravity;
+      loads.col(col++) = mass * g;
+    }
+    for (Vector& r : static_responses(loads))
+      if (r.norm() > 0.0) candidates.push_back(std::move(r));
+  }
   for (int i = 0; i < options.linear_modes; ++i) candidates.push_back(expand(modes.modes.col(i)));
   if (options.derivative_modes > 0) {
     // Modal derivatives under the constraints: psi_ij = -N (N^T K N)^-1 N^T H(phi_i) phi_j
     // (Barbic & James 2005, eq. 9, restricted to null(C)).
-    const SparseMatrix null_space = constraint_null_space(c_free);
-    const SparseMatrix projected = SparseMatrix(null_space.transpose() * k_free * null_space);
-    SparseCholesky cholesky;
-    const FactorizationResult fr = cholesky.factorize(SparseMatrix(projected.triangularView<Eigen::Upper>()));
-    if (!fr.success) throw std::runtime_error("pose-space basis: stiffness factorization failed: " + fr.message);
     double extent = 0.0;
     for (int c = 0; c < 3; ++c) {
       const Eigen::ArrayXd coordinate = Eigen::Map<const Eigen::ArrayXd, 0, Eigen::InnerStride<3>>(rest.data() + c, n / 3);
       extent = std::max(extent, coordinate.maxCoeff() - coordinate.minCoeff());
     }
+    const int first_mode = static_cast<int>(candidates.size()) - options.linear_modes;
+    Matrix hessian_products(n, options.derivative_modes * (options.derivative_modes + 1) / 2);
+    int col = 0;
     for (int i = 0; i < options.derivative_modes; ++i)
-      for (int j = i; j < options.derivative_modes; ++j) {
-        const Vector h = stiffness_directional_derivative(model, rest, params, candidates[static_cast<std::size_t>(i)],
-                                                          candidates[static_cast<std::size_t>(j)], 1e-3 * extent);
-        Vector h_free(nf);
-        for (int k = 0; k < nf; ++k) h_free[k] = h[free[k]];
-        const Vector z = cholesky.solve(-(null_space.transpose() * h_free));
-        derivatives.push_back(expand(null_space * z));
-      }
+      for (int j = i; j < options.derivative_modes; ++j)
+        hessian_products.col(col++) =
+            -stiffness_directional_derivative(model, rest, params, candidates[static_cast<std::size_t>(first_mode + i)],
+                                              candidates[static_cast<std::size_t>(first_mode + j)], 1e-3 * extent);
+    derivatives = static_responses(hessian_products);
   }
   if (options.inertial_responses) {
-    // Quasi-static responses to the rig's inertial loads: f_inert = -M sum_b B_b vec12(T_b''), so
-    // N (N^T K N)^-1 N^T M B_b spans the static response to any bone acceleration.
-    const SparseMatrix null_space = constraint_null_space(c_free);
-    const SparseMatrix projected = SparseMatrix(null_space.transpose() * k_free * null_space);
-    SparseCholesky cholesky;
-    const FactorizationResult fr = cholesky.factorize(SparseMatrix(projected.triangularView<Eigen::Upper>()));
-    if (!fr.success) throw std::runtime_error("pose-space basis: stiffness factorization failed: " + fr.message);
-    for (int b = 0; b < rig.num_bones(); ++b) {
-      const Matrix load = mass * rig.skinning_basis(b);
-      Matrix load_free(nf, load.cols());
-      for (int k = 0; k < nf; ++k) load_free.row(k) = load.row(free[k]);
-      const Matrix z = cholesky.solve_columns(null_space.transpose() * load_free);
-      for (int col = 0; col < z.cols(); ++col) candidates.push_back(expand(null_space * z.col(col)));
-    }
+    // Quasi-static responses to any bone acceleration: f_inert = -M sum_b B_b vec12(T_b''), so
+    // N (N^T K N)^-1 N^T M B_b spans the static response to every bone motion.
+    for (int b = 0; b < rig.num_bones(); ++b)
+      for (Vector& r : static_responses(Matrix(mass * rig.skinning_basis(b)))) candidates.push_back(std::move(r));
   }
   candidates.insert(candidates.end(), derivatives.begin(), derivatives.end());
   Matrix stacked(n, static_cast<int>(candidates.size()));

@@ -1,7 +1,9 @@
 #pragma once
 // Per-pose reduced bases and their blending in pose space (Xu & Barbic 2016, section 5;
 // docs/methods.md section 17).
-//  - At each example pose p_i the body's rest shape is X(p_i); its basis U_i holds the lowest
+//  - At each example pose p_i the body's rest shape is X(p_i); its basis U_i holds first the
+//    static responses to the rig's own motion loads K^-1 M dX/dp_k, K^-1 M d2X/dp_k dp_l (and
+//    gravity's K^-1 M g), then the lowest
 //    vibration modes of the fixed-region-constrained mesh (with the pose's contacts as bilateral
 //    constraints C phi = 0, constrained_modes.hpp), the static responses to the rig's
 //    inertial loads (K^-1 M B_b per bone, the shapes a bone's acceleration pushes the body into
@@ -23,8 +25,11 @@ Matrix procrustes_rotation(const Matrix& basis, const Matrix& reference, const S
 struct ExamplePoseBasisOptions {
   int linear_modes = 10;      // lowest constrained vibration modes
   int derivative_modes = 4;   // modes whose pairwise modal derivatives are added
+  // Static responses to the rig's own motion loads at the pose, K^-1 M dX/dp_k,
+  // K^-1 M d2X/dp_k dp_l and K^-1 M g, placed first (before the modes).
+  bool motion_responses = true;
   bool inertial_responses = true;  // static responses to the rig's inertial loads K^-1 M B_b
-  int size = 20;              // r: columns kept (modes first, then responses, then derivatives)
+  int size = 20;              // r: columns kept (motion responses, modes, bone responses, derivatives)
 };
 
 // The basis U_i (3n x r, zero on fixed vertices, U^T M U = I) at rest shape X(pose).

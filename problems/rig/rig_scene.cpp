@@ -10,6 +10,7 @@
 
 #include "forward/core/atomic_file.hpp"
 #include "forward/mesh/mesh_io.hpp"
+#include "problems/optimizer_section.hpp"
 #include "problems/plot/line_plot.hpp"
 #include "problems/report_file.hpp"
 #include "problems/report_header.hpp"
@@ -86,7 +87,7 @@ RigSceneSpec parse_rig_scene(const SceneNode& root, const std::string& directory
   RigSceneSpec spec;
   const SceneNode s = root.at("rig_dynamics");
   s.expect_keys({"arm", "material", "rig", "keyframes", "time_step", "duration", "rayleigh_mass", "gravity",
-                 "newton_iterations", "output_every", "marker", "reduction"});
+                 "newton_iterations", "output_every", "marker", "reduction", "inverse"});
   if (const auto arm = s.find("arm")) {
     arm->expect_keys({"length", "half_width", "cells_along", "cells_across", "blend"});
     if (arm->has("length")) spec.arm.length = arm->at("length").positive();
@@ -154,6 +155,20 @@ RigSceneSpec parse_rig_scene(const SceneNode& root, const std::string& directory
     if (r->has("cubature_elements")) o.cubature.max_elements = r->at("cubature_elements").integer(1);
     if (r->has("cubature_tolerance")) o.cubature.tolerance = r->at("cubature_tolerance").positive();
     if (r->has("training_poses")) o.training_poses = r->at("training_poses").integer(1);
+  }
+  if (const auto inv = s.find("inverse")) {
+    inv->expect_keys({"target_scale", "steps", "optimizer"});
+    spec.has_inverse = true;
+    if (inv->has("target_scale")) {
+      spec.inverse.target_scale = inv->at("target_scale").vector(3);
+      if (spec.inverse.target_scale.minCoeff() <= 0.0) inv->at("target_scale").fail("scale factors must be > 0");
+    }
+    if (inv->has("steps")) spec.inverse.steps = inv->at("steps").integer(1);
+    spec.inverse.optimizer.max_iterations = 50;
+    spec.inverse.optimizer.gradient_tolerance = 1e-12;
+    if (const auto o = inv->find("optimizer"))
+      spec.inverse.optimizer = parse_optimizer_section(*o, spec.inverse.optimizer, {"a rig_dynamics scene", false, false, {}});
+    if (spec.reduced) inv->fail("the inverse use differentiates the full-space dynamics; remove \"reduction\"");
   }
   // The rig itself checks the hierarchy, axes, weights and corrections.
   try {

@@ -11,6 +11,7 @@
 
 #include "forward/rig/pose_space_dynamics.hpp"
 #include "forward/rig/two_bone_arm.hpp"
+#include "optimizers/optimizer.hpp"
 
 namespace tailor {
 
@@ -20,6 +21,15 @@ struct RigReductionSpec {
   PoseSpaceOptions options;
   std::vector<Vector> example_poses;
   double contact_distance = 0.0;  // > 0: contacts at the example poses become constraints
+};
+
+// The optional "inverse" section (problems/rig/rig_inverse.hpp): the measured marker motion is
+// the scene's at Young's moduli scaled by target_scale (upper arm, belly, forearm), over `steps`
+// steps (0: the duration); `tailor run` recovers log E per region from it.
+struct RigInverseSection {
+  Eigen::Vector3d target_scale = Eigen::Vector3d(1.3, 0.7, 1.2);
+  int steps = 0;
+  OptimizerOptions optimizer;
 };
 
 struct RigSceneSpec {
@@ -37,6 +47,8 @@ struct RigSceneSpec {
   Eigen::Vector3d marker = Eigen::Vector3d::Zero();  // the jiggle plot's point (nearest vertex)
   bool reduced = false;
   RigReductionSpec reduction;
+  RigInverseSection inverse;  // defaults when the scene has none (gradcheck uses them)
+  bool has_inverse = false;
 };
 
 // The scene's document; `directory` resolves a rig given as a file name. Throws SceneError naming

@@ -243,7 +243,9 @@ TEST(PoseSpaceDynamics, WholeSpaceBasisReproducesTheFullSpace) {
 }
 
 // Three example poses of the elbow, bases blended in between: the trajectory error against the
-// full space falls as r grows.
+// full space falls as r grows, and the static responses to the rig's own motion loads
+// (K^-1 M dX/dp, K^-1 M d2X/dp2) are what makes a small basis accurate: without them r = 6 is
+// several times further off.
 TEST(PoseSpaceDynamics, ReducedFollowsTheFullSpaceOnTheArm) {
   TwoBoneArmOptions small;
   small.cells_along = 8;
@@ -266,8 +268,9 @@ TEST(PoseSpaceDynamics, ReducedFollowsTheFullSpaceOnTheArm) {
     reference.push_back(f.u);
   }
   std::vector<double> errors;
-  for (int r : {6, 24}) {
+  for (const auto& [r, motion_responses] : {std::pair{6, true}, std::pair{24, true}, std::pair{6, false}}) {
     PoseSpaceOptions reduced;
+    reduced.basis.motion_responses = motion_responses;
     reduced.basis.linear_modes = std::min(r, 10);
     reduced.basis.derivative_modes = 3;
     reduced.basis.size = r;
@@ -287,11 +290,13 @@ TEST(PoseSpaceDynamics, ReducedFollowsTheFullSpaceOnTheArm) {
     }
     EXPECT_GT(norm2, 1e-4);
     errors.push_back(std::sqrt(error2 / norm2));
-    std::cout << "arm, r = " << r << ", " << pose_space.cubature_elements()
+    std::cout << "arm, r = " << r << (motion_responses ? "" : " without the motion responses") << ", "
+              << pose_space.cubature_elements()
               << " cubature elements: trajectory error against the full space " << errors.back() << "\n";
   }
-  EXPECT_LT(errors[1], 0.5 * errors[0]);
-  EXPECT_LT(errors[1], 0.15);
+  EXPECT_LT(errors[0], 0.15);
+  EXPECT_LT(errors[1], 0.8 * errors[0]);
+  EXPECT_GT(errors[2], 3.0 * errors[0]);
 }
 
 }  // namespace

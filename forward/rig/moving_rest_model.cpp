@@ -4,17 +4,9 @@
 
 #include "forward/core/elimination.hpp"
 #include "forward/dynamics/setup.hpp"
+#include "forward/rig/rigged_body.hpp"
 
 namespace tailor {
-namespace {
-
-Mesh mesh_at(const Mesh& mesh, const Vector& rest_shape) {
-  Mesh posed = mesh;
-  for (int v = 0; v < mesh.num_vertices(); ++v) posed.rest_positions.row(v) = rest_shape.segment<3>(3 * v).transpose();
-  return posed;
-}
-
-}  // namespace
 
 MovingRestElasticTerm::MovingRestElasticTerm(const Rig& rig, const PoseTrajectory& trajectory, Mesh mesh,
                                              MaterialKind material, int youngs_offset, int poisson_offset)
@@ -28,14 +20,14 @@ MovingRestElasticTerm::MovingRestElasticTerm(const Rig& rig, const PoseTrajector
   if (mesh_.num_vertices() != rig_.num_vertices())
     throw std::invalid_argument("moving rest elastic term: the mesh and the rig have different vertex counts");
   rest_ = rig_.rest_shape(trajectory_(time_).p);
-  elastic_ = std::make_unique<ElasticTerm<3>>(mesh_at(mesh_, rest_), material_, youngs_offset_, poisson_offset_);
+  elastic_ = std::make_unique<ElasticTerm<3>>(posed_mesh(mesh_, rest_), material_, youngs_offset_, poisson_offset_);
 }
 
 void MovingRestElasticTerm::set_time(double time) {
   if (time == time_) return;
   time_ = time;
   rest_ = rig_.rest_shape(trajectory_(time).p);
-  elastic_ = std::make_unique<ElasticTerm<3>>(mesh_at(mesh_, rest_), material_, youngs_offset_, poisson_offset_);
+  elastic_ = std::make_unique<ElasticTerm<3>>(posed_mesh(mesh_, rest_), material_, youngs_offset_, poisson_offset_);
 }
 
 void MovingRestElasticTerm::evaluate(const Vector& u, const Vector& p, const EnergyRequest& request) const {

@@ -12,12 +12,6 @@
 namespace tailor {
 namespace {
 
-Mesh mesh_at(const Mesh& mesh, const Vector& rest_shape) {
-  Mesh posed = mesh;
-  for (int v = 0; v < mesh.num_vertices(); ++v) posed.rest_positions.row(v) = rest_shape.segment<3>(3 * v).transpose();
-  return posed;
-}
-
 void check_body(const RiggedBody& body, const Rig& rig) {
   const int ne = body.mesh.num_elements();
   if (body.mesh.dim() != 3) throw std::invalid_argument("rigged body: needs a tet mesh");
@@ -30,6 +24,12 @@ void check_body(const RiggedBody& body, const Rig& rig) {
 }
 
 }  // namespace
+
+Mesh posed_mesh(const Mesh& mesh, const Vector& rest_shape) {
+  Mesh posed = mesh;
+  for (int v = 0; v < mesh.num_vertices(); ++v) posed.rest_positions.row(v) = rest_shape.segment<3>(3 * v).transpose();
+  return posed;
+}
 
 Vector rigged_body_parameters(const RiggedBody& body) {
   Vector p(2 * body.mesh.num_elements());
@@ -53,7 +53,7 @@ Model rigged_elastic_model(const RiggedBody& body, const Vector& rest_shape) {
   model.parameter_layout().add("youngs_modulus", ne);
   model.parameter_layout().add("poisson_ratio", ne);
   std::shared_ptr<const Material<3>> material = make_material<3>(body.material);
-  model.add(std::make_unique<ElasticTerm<3>>(mesh_at(body.mesh, rest_shape), material, 0, ne));
+  model.add(std::make_unique<ElasticTerm<3>>(posed_mesh(body.mesh, rest_shape), material, 0, ne));
   std::vector<int> fixed_dofs;
   for (int v : body.fixed_vertices)
     for (int c = 0; c < 3; ++c) fixed_dofs.push_back(3 * v + c);
@@ -95,7 +95,7 @@ bool MovingRestDynamics::step(const PoseTrajectory& trajectory, const MovingRest
   const double t1 = current.time + h;
   const PoseMotion motion = trajectory(t1);
   const Vector rest = rig_.rest_shape(motion.p);
-  const ElasticTerm<3> elastic(mesh_at(body_.mesh, rest), make_material<3>(body_.material), 0,
+  const ElasticTerm<3> elastic(posed_mesh(body_.mesh, rest), make_material<3>(body_.material), 0,
                                body_.mesh.num_elements());
   const Vector force = applied_force(motion);
   const Vector predicted = current.u + h * current.v / c;

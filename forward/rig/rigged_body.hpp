@@ -30,6 +30,10 @@ struct RiggedBody {
 
 // The parameters p = [E_e; nu_e] of the elastic term of a body.
 Vector rigged_body_parameters(const RiggedBody& body);
+
+// The mesh with its rest positions replaced by rest_shape (3 per vertex, stacked): the rigged
+// shape at one pose as a rest shape.
+Mesh posed_mesh(const Mesh& mesh, const Vector& rest_shape);
 // The elastic Model of the body at rest shape X (3n interleaved): one ElasticTerm with E at
 // p[0, ne) and nu at p[ne, 2 ne), the fixed vertices eliminated (held at X).
 Model rigged_elastic_model(const RiggedBody& body, const Vector& rest_shape);

@@ -49,4 +49,15 @@ ReducedContact reduced_contact(const PeriodicRigidCell& cell, const Vector& x, b
 // The smallest pair distance at x (infinity when no pair is within `range`).
 double smallest_distance(const PeriodicRigidCell& cell, const Vector& x, double range);
 
+// B at x alone (+infinity for an intersecting state).
+double contact_energy(const PeriodicRigidCell& cell, const Vector& x);
+
+// The contact term's CCD step bound along x + t dx, t in [0, 1] (TorusContactTerm::max_step:
+// conservative advancement on the torus distance), over the broad phase's candidates.
+double contact_max_step(const PeriodicRigidCell& cell, const Vector& x, const Vector& dx);
+
+// With spec().broad_phase these evaluate the barrier of TorusContactTerm (same pair energy,
+// same pair order, so the same sums) over PeriodicRigidCell::candidate_pairs, and the Hessian
+// over the pairs within d_hat only; without it they call the contact term (every pair).
+
 }  // namespace tailor::interlocking

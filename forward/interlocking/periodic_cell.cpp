@@ -2,6 +2,7 @@
 #include "forward/interlocking/periodic_cell.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -106,6 +107,7 @@ PeriodicRigidCell::PeriodicRigidCell(RigidCellSpec spec) : spec_(std::move(spec)
     bodies.push_back(tori::torus_body("element_" + std::to_string(body), e.shape, 1.0, x.segment<3>(6 * body),
                                       x.segment<3>(6 * body + 3), body >= n, 8, 4, false));
     shapes.push_back(e.shape);
+    bounding_.push_back(tori::bounding_radius(e.shape));
   }
   system_ = std::make_unique<rigid::RigidBodySystem>(std::move(bodies));
   tori::TorusContactOptions options;
@@ -192,6 +194,57 @@ std::string PeriodicRigidCell::pair_label(int a, int b) const {
   const Eigen::Vector2i k = shift(b) - shift(a);
   return std::to_string(master(a)) + "-" + std::to_string(master(b)) + "(" + std::to_string(k.x()) + "," +
          std::to_string(k.y()) + ")";
+}
+
+std::vector<std::pair<int, int>> PeriodicRigidCell::candidate_pairs(const Vector& x, double range,
+                                                                    const Vector* dx) const {
+  const int nb = num_bodies(), n = num_elements();
+  // Grown radii; the relative slack keeps pairs on the boundary of the exact tests (which sum
+  // the radii in another order) among the candidates.
+  std::vector<double> radius(static_cast<std::size_t>(nb));
+  double widest = 0.0;
+  for (int b = 0; b < nb; ++b) {
+    double r = bounding_[static_cast<std::size_t>(b)];
+    if (dx) r += dx->segment<3>(6 * b).norm();
+    radius[static_cast<std::size_t>(b)] = r * (1.0 + 1e-12);
+    widest = std::max(widest, r);
+  }
+  const double h = (2.0 * widest + range) * (1.0 + 1e-12);
+  if (!(h > 0.0) || !std::isfinite(h)) throw std::invalid_argument("candidate_pairs: range must be finite and >= 0");
+  // Bodies sorted by grid cell; two spheres within range have centres at most h apart, so they
+  // sit in the same or adjacent cells (per axis).
+  struct Entry {
+    std::array<long, 3> cell;
+    int body;
+  };
+  std::vector<Entry> grid(static_cast<std::size_t>(nb));
+  for (int b = 0; b < nb; ++b) {
+    Entry& e = grid[static_cast<std::size_t>(b)];
+    for (int k = 0; k < 3; ++k) e.cell[static_cast<std::size_t>(k)] = static_cast<long>(std::floor(x[6 * b + k] / h));
+    e.body = b;
+  }
+  const auto less = [](const Entry& u, const Entry& v) { return u.cell < v.cell; };
+  std::sort(grid.begin(), grid.end(), less);
+  std::vector<std::pair<int, int>> out;
+  for (int a = 0; a < nb; ++a) {
+    const Entry& ea = grid[static_cast<std::size_t>(a)];
+    const Eigen::Vector3d Ta = x.segment<3>(6 * ea.body);
+    Entry key = ea;
+    for (long i = -1; i <= 1; ++i)
+      for (long j = -1; j <= 1; ++j)
+        for (long k = -1; k <= 1; ++k) {
+          key.cell = {ea.cell[0] + i, ea.cell[1] + j, ea.cell[2] + k};
+          for (auto it = std::lower_bound(grid.begin(), grid.end(), key, less);
+               it != grid.end() && it->cell == key.cell; ++it) {
+            const int b = it->body;
+            if (b <= ea.body || (ea.body >= n && b >= n)) continue;
+            const double reach = radius[static_cast<std::size_t>(ea.body)] + radius[static_cast<std::size_t>(b)] + range;
+            if ((x.segment<3>(6 * b) - Ta).norm() <= reach) out.emplace_back(ea.body, b);
+          }
+        }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace tailor::interlocking

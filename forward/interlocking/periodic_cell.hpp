@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "forward/core/elimination.hpp"
@@ -48,6 +49,10 @@ struct RigidCellSpec {
   // Shifts beyond K are refused if two bounding spheres come within this fraction of the cell's
   // smallest lattice vector length at F = I (room for the strains the sweeps apply).
   double reach_margin = 0.2;
+  // Which pairs the cell's own contact evaluations (cell_equilibrium.hpp) look at: false, every
+  // master-master and master-image pair through the contact term (the reference); true, the
+  // grid broad phase's candidates (candidate_pairs below), with identical results.
+  bool broad_phase = true;
 };
 
 // Throws std::invalid_argument naming the problem (no elements, singular lattice, bad shape,
@@ -91,11 +96,21 @@ class PeriodicRigidCell {
   // - shift(a)).
   std::string pair_label(int a, int b) const;
 
+  // Broad phase (docs/interlocking.md, "Broad phase"): the body pairs (a < b, not two images)
+  // whose bounding spheres about T at x, each grown by the length of its translation along dx
+  // when dx is given, come within `range` (finite) of each other, in (a, b) order. Found through a
+  // uniform grid of spacing (largest grown diameter + range) over the centres, so only bodies in
+  // neighbouring grid cells are compared. A superset of the pairs that the contact term's
+  // all-pairs sphere tests keep (close_pairs: |T_a - T_b| < reach + range; max_step: |T_a - T_b|
+  // - |dT_a - dT_b| <= reach), which are applied to the candidates unchanged.
+  std::vector<std::pair<int, int>> candidate_pairs(const Vector& x, double range, const Vector* dx = nullptr) const;
+
  private:
   RigidCellSpec spec_;
   double d_hat_ = 0.0;
   std::vector<int> master_;
   std::vector<Eigen::Vector2i> shift_;
+  std::vector<double> bounding_;  // per body: R + max(r, r1) of its master [length]
   SparseMatrix basis_;
   std::unique_ptr<rigid::RigidBodySystem> system_;
   std::unique_ptr<tori::TorusContactTerm> contact_;

@@ -50,9 +50,9 @@ RampResult ramp(const PeriodicRigidCell& cell, const LoadPath& path, const Vecto
     const Vector x_old = cell.full_state(r.y, F_old);
     // Two predictions: the masters moved affinely, or held; the one CCD lets go further.
     Vector y_pred = affine_prediction(cell, r.y, F_old, F_new);
-    double alpha = cell.contact().max_step(x_old, cell.full_state(y_pred, F_new) - x_old);
+    double alpha = contact_max_step(cell, x_old, cell.full_state(y_pred, F_new) - x_old);
     if (alpha < 1.0) {
-      const double alpha_held = cell.contact().max_step(x_old, cell.full_state(r.y, F_new) - x_old);
+      const double alpha_held = contact_max_step(cell, x_old, cell.full_state(r.y, F_new) - x_old);
       if (alpha_held > alpha) {
         alpha = alpha_held;
         y_pred = r.y;

@@ -145,7 +145,8 @@ double contact_max_step(const PeriodicRigidCell& cell, const Vector& q, const Ve
   ++term.ccd_calls;
   const double keep = 1.0 - term.options().ccd_fraction;
   double alpha = 1.0;
-  for (const auto& [a, b] : cell.candidate_pairs(q, 0.0, &dq)) {
+  for (const std::pair<int, int>& candidate : cell.candidate_pairs(q, 0.0, &dq)) {
+    const int a = candidate.first, b = candidate.second;  // (captured below: no structured binding)
     const tori::TorusShape& sa = cell.spec().elements[static_cast<std::size_t>(cell.master(a))].shape;
     const tori::TorusShape& sb = cell.spec().elements[static_cast<std::size_t>(cell.master(b))].shape;
     const Eigen::Vector3d dTa = dq.segment<3>(6 * a), dTb = dq.segment<3>(6 * b);

@@ -90,6 +90,29 @@ void broad_phase_contact(const PeriodicRigidCell& cell, const Vector& x, double*
 
 }  // namespace
 
+std::vector<tori::TorusPair> contact_close_pairs(const PeriodicRigidCell& cell, const Vector& x, double range,
+                                                 bool derivatives) {
+  if (!cell.spec().broad_phase || !std::isfinite(range))
+    return cell.contact().close_pairs(x, cell.radii_parameters(), range, derivatives);
+  return close_candidates(cell, x, range, derivatives);
+}
+
+std::vector<tori::TorusPairForce> contact_pair_forces(const PeriodicRigidCell& cell, const Vector& x) {
+  if (!cell.spec().broad_phase) return cell.contact().pair_forces(x, cell.radii_parameters());
+  std::vector<tori::TorusPairForce> out;
+  const double d_hat = cell.activation_distance();
+  for (const tori::TorusPair& pair : close_candidates(cell, x, d_hat, true)) {
+    tori::TorusPairForce f;
+    f.a = pair.a;
+    f.b = pair.b;
+    f.distance = pair.distance.distance;
+    f.force_on_b = -pair_barrier(f.distance, d_hat, cell.contact().options().stiffness).first *
+                   pair.distance.gradient.segment<3>(6);
+    out.push_back(f);
+  }
+  return out;
+}
+
 ReducedContact reduced_contact(const PeriodicRigidCell& cell, const Vector& x, bool hessian, HessianMode mode) {
   ReducedContact out;
   out.full_gradient = Vector::Zero(x.size());

@@ -9,6 +9,7 @@
 // move together), then backtracked on B (Armijo). Converged when ||S^T dB/dx||_inf <=
 // force_tolerance (units: the force of one pair at d_hat / 2 is 1).
 #include <string>
+#include <vector>
 
 #include "forward/interlocking/periodic_cell.hpp"
 
@@ -55,6 +56,13 @@ double contact_energy(const PeriodicRigidCell& cell, const Vector& x);
 // The contact term's CCD step bound along x + t dx, t in [0, 1] (TorusContactTerm::max_step:
 // conservative advancement on the torus distance), over the broad phase's candidates.
 double contact_max_step(const PeriodicRigidCell& cell, const Vector& x, const Vector& dx);
+
+// The pairs within `range` (finite: through the broad phase) with their distances, and the
+// forces of the pairs within d_hat (as TorusContactTerm::close_pairs / pair_forces; with a
+// bending patch these include rim-rim pairs, which the contact term skips).
+std::vector<tori::TorusPair> contact_close_pairs(const PeriodicRigidCell& cell, const Vector& x, double range,
+                                                 bool derivatives);
+std::vector<tori::TorusPairForce> contact_pair_forces(const PeriodicRigidCell& cell, const Vector& x);
 
 // With spec().broad_phase these evaluate the barrier of TorusContactTerm (same pair energy,
 // same pair order, so the same sums) over PeriodicRigidCell::candidate_pairs, and the Hessian

@@ -237,20 +237,28 @@ CellSolveResult newton(const PeriodicRigidCell& cell, const Eigen::Matrix2d& F, 
       result.message = "Newton reached " + std::to_string(it) + " iterations, residual " + std::to_string(result.residual);
       return result;
     }
-    Matrix H = c.hessian;
-    const double mu = options.regularization * (1.0 + H.diagonal().cwiseAbs().maxCoeff());
-    H.diagonal().array() += mu;
-    const Vector dy = H.ldlt().solve(-c.gradient);
-    const Vector dx = S * dy;
-    double alpha = std::min(1.0, contact_max_step(cell, x, dx));
-    const double slope = c.gradient.dot(dy);
+    // Levenberg: the shift mu = regularization (1 + max |H_ii|); where the step finds no decrease
+    // (an ill-conditioned H, free elements swinging along near-null modes) it is retried with mu
+    // 10^3 and 10^6 times larger, which turns it towards the gradient.
+    const double mu0 = options.regularization * (1.0 + c.hessian.diagonal().cwiseAbs().maxCoeff());
     bool accepted = false;
-    for (int ls = 0; ls < options.max_line_search_steps && alpha > 0.0; ++ls, alpha *= 0.5) {
-      const double e = contact_energy(cell, x + alpha * dx);
-      if (std::isfinite(e) && e <= c.energy + 1e-4 * alpha * slope) {
-        accepted = true;
-        break;
+    Vector dy;
+    double alpha = 0.0;
+    for (const double scale : {1.0, 1e3, 1e6}) {
+      Matrix H = c.hessian;
+      H.diagonal().array() += scale * mu0;
+      dy = H.ldlt().solve(-c.gradient);
+      const Vector dx = S * dy;
+      alpha = std::min(1.0, contact_max_step(cell, x, dx));
+      const double slope = c.gradient.dot(dy);
+      for (int ls = 0; ls < options.max_line_search_steps && alpha > 0.0; ++ls, alpha *= 0.5) {
+        const double e = contact_energy(cell, x + alpha * dx);
+        if (std::isfinite(e) && e <= c.energy + 1e-4 * alpha * slope) {
+          accepted = true;
+          break;
+        }
       }
+      if (accepted) break;
     }
     if (!accepted) {
       // The energy cannot resolve the decrease any more: accept the residual if it is small

@@ -4,7 +4,8 @@
 // There is no other energy: before the elements lock every intersection-free placement with all
 // gaps >= d_hat is an equilibrium (B = 0), and the Hessian has null modes (a torus spinning
 // about its own axis, elements out of contact). Newton therefore steps with the PSD-projected
-// Hessian plus a Levenberg shift mu I (mu = regularization x (1 + max diagonal)), the step
+// Hessian plus a Levenberg shift mu I (mu = regularization x (1 + max diagonal); 10^3 and 10^6
+// times that where the step finds no decrease), the step
 // capped by the contact term's CCD along the full-space path x + t S dy (masters and images
 // move together), then backtracked on B (Armijo). Converged when ||S^T dB/dx||_inf <=
 // force_tolerance (units: the force of one pair at d_hat / 2 is 1).

@@ -76,29 +76,25 @@ ordered_json cell_json(const interlocking::RigidCellSpec& c, double d_hat) {
 void write_boundary_plot(const std::string& path, const std::string& title, const std::string& loading,
                          const std::vector<LimitPoint>& points, bool bending) {
   LineSeries locked{"locked", {200, 30, 30}, {}, {}}, free{"free to max_strain", {120, 120, 120}, {}, {}};
-  for (const LimitPoint& p : points) {
-    // principal: the point (eps_xx, eps_yy); uniaxial: s along the direction (and its opposite).
-    const Eigen::Matrix2d e = macro_strain(p.deformation);
-    std::vector<std::array<double, 2>> xy;
-    if (loading == "uniaxial")
-      xy = {{p.strain * std::cos(p.angle), p.strain * std::sin(p.angle)},
-            {-p.strain * std::cos(p.angle), -p.strain * std::sin(p.angle)}};
-    else
-      xy = {{e(0, 0), e(1, 1)}};
-    LineSeries& s = p.locked ? locked : free;
-    for (const auto& [x, y] : xy) {
-      s.x.push_back(x);
-      s.y.push_back(y);
+  // Uniaxial: s along the direction, then (a second pass) along its opposite, so that the locked
+  // outline runs once around the origin in angle order instead of jumping through it.
+  for (int pass = 0; pass < (loading == "uniaxial" ? 2 : 1); ++pass)
+    for (const LimitPoint& p : points) {
+      // principal: the point (eps_xx, eps_yy); uniaxial: s along the direction (and its opposite).
+      const Eigen::Matrix2d e = macro_strain(p.deformation);
+      const double sign = pass == 0 ? 1.0 : -1.0;
+      LineSeries& s = p.locked ? locked : free;
+      s.x.push_back(loading == "uniaxial" ? sign * p.strain * std::cos(p.angle) : e(0, 0));
+      s.y.push_back(loading == "uniaxial" ? sign * p.strain * std::sin(p.angle) : e(1, 1));
     }
-  }
   LinePlot plot;
   plot.title = title;
   // Bending patches: s is a curvature, the tensor K in place of eps.
   plot.x_label = loading == "uniaxial" ? "s cos(theta)" : (bending ? "kappa_xx" : "eps_xx");
   plot.y_label = loading == "uniaxial" ? "s sin(theta)" : (bending ? "kappa_yy" : "eps_yy");
-  // Points only (a polar outline): each sample drawn as a short series of its own would crowd the
-  // legend, so the curve is closed in angle order for principal sweeps.
-  if (loading != "uniaxial" && !locked.x.empty()) {
+  // A polar outline: each sample drawn as a short series of its own would crowd the legend, so
+  // the locked points are joined in angle order and the curve closed.
+  if (!locked.x.empty()) {
     locked.x.push_back(locked.x.front());
     locked.y.push_back(locked.y.front());
   }

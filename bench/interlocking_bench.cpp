@@ -3,17 +3,20 @@
 // touch and is free in stretch), 4 elements (the threefold mail: a node ring and three links) and
 // 16 elements (its 2 x 2 supercell). For each: the boundary in --directions uniaxial directions
 // (time per sample: median; time per boundary), with the limits, locked and refined counts and
-// the smallest certified clearance. Then the square ring net's limit design (x links' R and r
+// the smallest certified clearance; then the first --reference-directions of the sweep again
+// without the broad phase (every pair through the contact term): the median CPU time per sample
+// before the broad phase, and whether the limits are equal. Then the square ring net's limit design (x links' R and r
 // against 1.5x the stretch along x): seconds per design iteration (MMA) and per functional
 // evaluation with its gradient. Writes JSON (--out, default bench_interlocking.json) and prints
 // tables.
 //
-// usage: interlocking_bench [--directions 32] [--cells 1,4,16] [--out FILE]
+// usage: interlocking_bench [--directions 32] [--reference-directions 4] [--cells 1,4,16] [--out FILE]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <limits>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -46,7 +49,33 @@ RigidCellSpec cell_of(int elements) {
   return elements == 4 ? mail : supercell(mail, 2, 2);
 }
 
-Json boundary(int elements, int directions) {
+// The all-pairs reference (no broad phase) on the first `directions` of the same sweep: its
+// median CPU seconds per sample and whether every limit equals the broad phase's.
+Json all_pairs_reference(int elements, int directions, int sweep, const std::vector<double>& limits,
+                         const std::vector<double>& broad_cpu_seconds) {
+  RigidCellSpec spec = cell_of(elements);
+  spec.broad_phase = false;
+  const PeriodicRigidCell cell(spec);
+  LimitOptions options;
+  options.max_strain = 0.5;
+  const Vector y_rest = rest_equilibrium(cell);
+  std::vector<double> cpu_seconds;
+  bool equal = true;
+  for (int k = 0; k < std::min(directions, sweep); ++k) {
+    const std::clock_t cs = std::clock();
+    const LimitPoint p = find_limit(cell, uniaxial_path(M_PI * k / sweep), y_rest, options);
+    cpu_seconds.push_back(static_cast<double>(std::clock() - cs) / CLOCKS_PER_SEC);
+    equal = equal && p.strain == limits[static_cast<std::size_t>(k)];
+  }
+  const std::vector<double> broad(broad_cpu_seconds.begin(),
+                                  broad_cpu_seconds.begin() + static_cast<std::ptrdiff_t>(cpu_seconds.size()));
+  return {{"directions", static_cast<int>(cpu_seconds.size())},
+          {"median_cpu_seconds_per_sample", cpu_seconds.empty() ? 0.0 : median(cpu_seconds)},
+          {"broad_phase_median_cpu_seconds_same_samples", broad.empty() ? 0.0 : median(broad)},
+          {"limits_equal_to_broad_phase", equal}};
+}
+
+Json boundary(int elements, int directions, int reference_directions) {
   const PeriodicRigidCell cell(cell_of(elements));
   LimitOptions options;
   options.max_strain = 0.5;
@@ -74,9 +103,14 @@ Json boundary(int elements, int directions) {
     clearance = std::min(clearance, check_clearance(cell, cell.full_state(p.y, p.deformation), 1 << 14).min_lower);
   }
   const double med = median(seconds), cpu_med = median(cpu_seconds);
-  std::printf("%8d %6d %10d %12.4f %12.4f %12.2f %12.2f %8d %8d %10.1f %12.3e %10.5f %10.5f\n", elements,
-              cell.num_free(), directions, med, cpu_med, total, cpu_total, locked, refined, static_cast<double>(solves) / directions, clearance,
-              *std::min_element(limits.begin(), limits.end()), *std::max_element(limits.begin(), limits.end()));
+  const Json reference = all_pairs_reference(elements, reference_directions, directions, limits, cpu_seconds);
+  std::printf("%8d %6d %10d %12.4f %12.4f %12.2f %12.2f %8d %8d %10.1f %12.3e %10.5f %10.5f %14.4f %14.4f %6s\n", elements,
+              cell.num_free(), directions, med, cpu_med, total, cpu_total, locked, refined,
+              static_cast<double>(solves) / directions, clearance, *std::min_element(limits.begin(), limits.end()),
+              *std::max_element(limits.begin(), limits.end()),
+              reference["broad_phase_median_cpu_seconds_same_samples"].get<double>(),
+              reference["median_cpu_seconds_per_sample"].get<double>(),
+              reference["limits_equal_to_broad_phase"].get<bool>() ? "yes" : "NO");
   return {{"elements", elements},
           {"free_dofs", cell.num_free()},
           {"bodies", cell.num_bodies()},
@@ -89,7 +123,9 @@ Json boundary(int elements, int directions) {
           {"refined", refined},
           {"solves_per_sample", static_cast<double>(solves) / directions},
           {"min_certified_clearance", clearance},
-          {"limits", array(limits)}};
+          {"limits", array(limits)},
+          {"cpu_seconds_per_sample", array(cpu_seconds)},
+          {"all_pairs_reference", reference}};
 }
 
 Json design() {
@@ -138,20 +174,24 @@ Json design() {
 
 int run(int argc, char** argv) {
   int directions = 32;
+  int reference_directions = 4;
   std::vector<int> cells = {1, 4, 16};
   std::string out = "bench_interlocking.json";
   bench::Cli cli("interlocking_bench", "Strain-space boundaries of interlocking cells and limit design.");
   cli.integer("--directions", directions, "uniaxial directions per boundary", 1);
+  cli.integer("--reference-directions", reference_directions,
+              "directions (the sweep's first) also run without the broad phase, for the before/after figure", 0);
   cli.integers("--cells", cells, "cells by element count (1, 4 or 16)", 1);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   for (int c : cells)
     if (c != 1 && c != 4 && c != 16) return cli.usage_error("--cells: 1, 4 or 16");
   bench::Json json = bench::report("interlocking");
-  std::printf("%8s %6s %10s %12s %12s %12s %12s %8s %8s %10s %12s %10s %10s\n", "elements", "dofs", "directions",
-              "s/sample", "cpu s/sample", "s/boundary", "cpu s/bound.", "locked", "refined", "solves", "clearance", "min limit", "max limit");
+  std::printf("%8s %6s %10s %12s %12s %12s %12s %8s %8s %10s %12s %10s %10s %14s %14s %6s\n", "elements", "dofs",
+              "directions", "s/sample", "cpu s/sample", "s/boundary", "cpu s/bound.", "locked", "refined", "solves", "clearance",
+              "min limit", "max limit", "broad cpu (ref)", "all-pairs cpu", "equal");
   bench::Json boundaries = bench::Json::array();
-  for (int c : cells) boundaries.push_back(boundary(c, directions));
+  for (int c : cells) boundaries.push_back(boundary(c, directions, reference_directions));
   json["boundaries"] = boundaries;
   json["design"] = design();
   return bench::write_report(out, json, "interlocking_bench") ? 0 : 1;

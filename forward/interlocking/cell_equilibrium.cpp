@@ -6,28 +6,209 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "forward/contact/barrier.hpp"
+#include "forward/core/psd_projection.hpp"
+#include "forward/tori/torus.hpp"
 
 namespace tailor::interlocking {
 
+namespace {
+
+// kappa b(d^2, d_hat^2) with its first and second derivatives in d, as TorusContactTerm sums it
+// (forward/contact/barrier.hpp; chain rule through s = d^2).
+contact::ScalarDerivatives pair_barrier(double d, double d_hat, double kappa) {
+  contact::ScalarDerivatives out;
+  if (!(d > 0.0)) {
+    out.value = std::numeric_limits<double>::infinity();
+    return out;
+  }
+  const contact::ScalarDerivatives b = contact::barrier(d * d, d_hat * d_hat);
+  out.value = kappa * b.value;
+  out.first = kappa * 2.0 * d * b.first;
+  out.second = kappa * (4.0 * d * d * b.second + 2.0 * b.first);
+  return out;
+}
+
+tori::TorusPose body_pose(const PeriodicRigidCell& cell, int body, const Vector& x) {
+  return {x.segment<3>(6 * body), x.segment<3>(6 * body + 3),
+          cell.spec().elements[static_cast<std::size_t>(cell.master(body))].shape};
+}
+
+// The candidates within `range` with their distances (the contact term's close_pairs, over the
+// broad phase's candidates).
+std::vector<tori::TorusPair> close_candidates(const PeriodicRigidCell& cell, const Vector& x, double range,
+                                              bool derivatives) {
+  std::vector<tori::TorusPair> out;
+  const tori::DistanceOptions& options = cell.contact().options().distance;
+  for (const auto& [a, b] : cell.candidate_pairs(x, range)) {
+    const tori::TorusPose pa = body_pose(cell, a, x), pb = body_pose(cell, b, x);
+    const double reach = tori::bounding_radius(pa.shape) + tori::bounding_radius(pb.shape) + range;
+    if ((pa.position - pb.position).norm() >= reach) continue;
+    tori::TorusPair pair;
+    pair.a = a;
+    pair.b = b;
+    pair.distance = tori::torus_distance(pa, pb, derivatives, options);
+    if (pair.distance.distance < range) out.push_back(pair);
+  }
+  return out;
+}
+
+// B, dB/dx and the Hessian's triplets (12 x 12 per pair within d_hat) over the candidates.
+void broad_phase_contact(const PeriodicRigidCell& cell, const Vector& x, double* energy, Vector* gradient,
+                         Triplets* hessian, HessianMode mode) {
+  const double d_hat = cell.activation_distance(), kappa = cell.contact().options().stiffness;
+  const bool derivatives = gradient || hessian;
+  double sum = 0.0;
+  for (const tori::TorusPair& pair : close_candidates(cell, x, d_hat, derivatives)) {
+    const contact::ScalarDerivatives e = pair_barrier(pair.distance.distance, d_hat, kappa);
+    sum += e.value;
+    if (!derivatives || !std::isfinite(e.value)) continue;
+    if (pair.distance.degenerate)
+      throw std::runtime_error("periodic cell: bodies " + std::to_string(pair.a) + " and " + std::to_string(pair.b) +
+                               " have a degenerate closest-point set (coaxial core circles): no derivatives");
+    const Eigen::Matrix<double, 12, 1> g = e.first * pair.distance.gradient.head<12>();
+    if (gradient) {
+      gradient->segment<6>(6 * pair.a) += g.head<6>();
+      gradient->segment<6>(6 * pair.b) += g.tail<6>();
+    }
+    if (hessian) {
+      Eigen::Matrix<double, 12, 12> H =
+          e.second * pair.distance.gradient.head<12>() * pair.distance.gradient.head<12>().transpose() +
+          e.first * pair.distance.hessian.topLeftCorner<12, 12>();
+      if (mode == HessianMode::projected) project_psd(H);
+      const int ends[2] = {pair.a, pair.b};
+      for (int i = 0; i < 12; ++i)
+        for (int j = 0; j < 12; ++j)
+          hessian->emplace_back(6 * ends[i / 6] + i % 6, 6 * ends[j / 6] + j % 6, H(i, j));
+    }
+  }
+  if (energy) *energy += sum;
+}
+
+}  // namespace
+
+std::vector<tori::TorusPair> contact_close_pairs(const PeriodicRigidCell& cell, const Vector& x, double range,
+                                                 bool derivatives) {
+  if (!cell.spec().broad_phase || !std::isfinite(range))
+    return cell.contact().close_pairs(x, cell.radii_parameters(), range, derivatives);
+  return close_candidates(cell, x, range, derivatives);
+}
+
+std::vector<tori::TorusPairForce> contact_pair_forces(const PeriodicRigidCell& cell, const Vector& x) {
+  if (!cell.spec().broad_phase) return cell.contact().pair_forces(x, cell.radii_parameters());
+  std::vector<tori::TorusPairForce> out;
+  const double d_hat = cell.activation_distance();
+  for (const tori::TorusPair& pair : close_candidates(cell, x, d_hat, true)) {
+    tori::TorusPairForce f;
+    f.a = pair.a;
+    f.b = pair.b;
+    f.distance = pair.distance.distance;
+    f.force_on_b = -pair_barrier(f.distance, d_hat, cell.contact().options().stiffness).first *
+                   pair.distance.gradient.segment<3>(6);
+    out.push_back(f);
+  }
+  return out;
+}
+
 ReducedContact reduced_contact(const PeriodicRigidCell& cell, const Vector& x, bool hessian, HessianMode mode) {
   ReducedContact out;
-  const Vector p = cell.radii_parameters();
   out.full_gradient = Vector::Zero(x.size());
-  EnergyRequest request;
-  request.value = &out.energy;
-  request.gradient = &out.full_gradient;
-  cell.contact().evaluate(x, p, request);
+  if (cell.spec().broad_phase) {
+    Triplets triplets;
+    broad_phase_contact(cell, x, &out.energy, &out.full_gradient, hessian ? &triplets : nullptr, mode);
+    if (hessian && std::isfinite(out.energy)) {  // the Hessian only where the energy is finite
+      out.full_hessian.resize(x.size(), x.size());
+      out.full_hessian.setFromTriplets(triplets.begin(), triplets.end());
+    }
+  } else {
+    const Vector p = cell.radii_parameters();
+    EnergyRequest request;
+    request.value = &out.energy;
+    request.gradient = &out.full_gradient;
+    cell.contact().evaluate(x, p, request);
+    if (hessian && std::isfinite(out.energy)) out.full_hessian = cell.contact().hessian(x, p, mode);
+  }
   out.gradient = cell.basis().transpose() * out.full_gradient;
   if (hessian && std::isfinite(out.energy)) {
-    out.full_hessian = cell.contact().hessian(x, p, mode);
     const SparseMatrix SH = cell.basis().transpose() * out.full_hessian;
     out.hessian = Matrix(SH * cell.basis());
   }
   return out;
 }
 
+double contact_energy(const PeriodicRigidCell& cell, const Vector& x) {
+  double e = 0.0;
+  if (cell.spec().broad_phase) {
+    broad_phase_contact(cell, x, &e, nullptr, nullptr, HessianMode::exact);
+  } else {
+    EnergyRequest request;
+    request.value = &e;
+    cell.contact().evaluate(x, cell.radii_parameters(), request);
+  }
+  return e;
+}
+
 double smallest_distance(const PeriodicRigidCell& cell, const Vector& x, double range) {
-  return cell.contact().min_distance(x, cell.radii_parameters(), range);
+  if (!cell.spec().broad_phase || !std::isfinite(range))
+    return cell.contact().min_distance(x, cell.radii_parameters(), range);
+  double best = std::numeric_limits<double>::infinity();
+  for (const tori::TorusPair& pair : close_candidates(cell, x, range, false))
+    best = std::min(best, pair.distance.distance);
+  return best;
+}
+
+double contact_max_step(const PeriodicRigidCell& cell, const Vector& q, const Vector& dq) {
+  const tori::TorusContactTerm& term = cell.contact();
+  if (!cell.spec().broad_phase) return term.max_step(q, dq);
+  // TorusContactTerm::max_step's conservative advancement, pair by pair in the same order, over
+  // the candidates (their grown spheres contain every pair whose spheres can meet along dq).
+  ++term.ccd_calls;
+  const double keep = 1.0 - term.options().ccd_fraction;
+  double alpha = 1.0;
+  for (const std::pair<int, int>& candidate : cell.candidate_pairs(q, 0.0, &dq)) {
+    const int a = candidate.first, b = candidate.second;  // (captured below: no structured binding)
+    const tori::TorusShape& sa = cell.spec().elements[static_cast<std::size_t>(cell.master(a))].shape;
+    const tori::TorusShape& sb = cell.spec().elements[static_cast<std::size_t>(cell.master(b))].shape;
+    const Eigen::Vector3d dTa = dq.segment<3>(6 * a), dTb = dq.segment<3>(6 * b);
+    const double reach = tori::bounding_radius(sa) + tori::bounding_radius(sb);
+    const double gap = (q.segment<3>(6 * a) - q.segment<3>(6 * b)).norm() - (dTa - dTb).norm();
+    if (gap > reach) continue;
+    // Circular pairs: the core points' speed; elliptic ones: the surface points'.
+    const bool surfaces = tori::is_elliptic(sa) || tori::is_elliptic(sb);
+    const double La = surfaces ? tori::bounding_radius(sa) : sa.major_radius;
+    const double Lb = surfaces ? tori::bounding_radius(sb) : sb.major_radius;
+    const double L =
+        dTa.norm() + dq.segment<3>(6 * a + 3).norm() * La + dTb.norm() + dq.segment<3>(6 * b + 3).norm() * Lb;
+    if (!(L > 0.0)) continue;
+    auto distance_at = [&](double t) {
+      ++term.ccd_queries;
+      return tori::torus_distance({q.segment<3>(6 * a) + t * dq.segment<3>(6 * a),
+                                   q.segment<3>(6 * a + 3) + t * dq.segment<3>(6 * a + 3), sa},
+                                  {q.segment<3>(6 * b) + t * dq.segment<3>(6 * b),
+                                   q.segment<3>(6 * b + 3) + t * dq.segment<3>(6 * b + 3), sb},
+                                  false, term.options().distance)
+          .distance;
+    };
+    const double d0 = distance_at(0.0);
+    if (!(d0 > 0.0)) return 0.0;
+    const double floor = keep * d0;
+    double t = 0.0, d = d0;
+    for (int it = 0; it < 200 && t < alpha; ++it) {
+      const double dt = (d - floor) / L;  // d >= floor on [t, t + dt]
+      if (!(dt > 1e-12 * std::max(t, 1e-300)) && it > 0) break;
+      if (t + dt >= alpha) {
+        t = alpha;
+        break;
+      }
+      t += dt;
+      d = distance_at(t);
+    }
+    alpha = std::min(alpha, t);
+  }
+  return alpha;
 }
 
 namespace {
@@ -56,23 +237,28 @@ CellSolveResult newton(const PeriodicRigidCell& cell, const Eigen::Matrix2d& F, 
       result.message = "Newton reached " + std::to_string(it) + " iterations, residual " + std::to_string(result.residual);
       return result;
     }
-    Matrix H = c.hessian;
-    const double mu = options.regularization * (1.0 + H.diagonal().cwiseAbs().maxCoeff());
-    H.diagonal().array() += mu;
-    const Vector dy = H.ldlt().solve(-c.gradient);
-    const Vector dx = S * dy;
-    double alpha = std::min(1.0, cell.contact().max_step(x, dx));
-    const double slope = c.gradient.dot(dy);
+    // Levenberg: the shift mu = regularization (1 + max |H_ii|); where the step finds no decrease
+    // (an ill-conditioned H, free elements swinging along near-null modes) it is retried with mu
+    // 10^3 and 10^6 times larger, which turns it towards the gradient.
+    const double mu0 = options.regularization * (1.0 + c.hessian.diagonal().cwiseAbs().maxCoeff());
     bool accepted = false;
-    for (int ls = 0; ls < options.max_line_search_steps && alpha > 0.0; ++ls, alpha *= 0.5) {
-      double e = 0.0;
-      EnergyRequest request;
-      request.value = &e;
-      cell.contact().evaluate(x + alpha * dx, cell.radii_parameters(), request);
-      if (std::isfinite(e) && e <= c.energy + 1e-4 * alpha * slope) {
-        accepted = true;
-        break;
+    Vector dy;
+    double alpha = 0.0;
+    for (const double scale : {1.0, 1e3, 1e6}) {
+      Matrix H = c.hessian;
+      H.diagonal().array() += scale * mu0;
+      dy = H.ldlt().solve(-c.gradient);
+      const Vector dx = S * dy;
+      alpha = std::min(1.0, contact_max_step(cell, x, dx));
+      const double slope = c.gradient.dot(dy);
+      for (int ls = 0; ls < options.max_line_search_steps && alpha > 0.0; ++ls, alpha *= 0.5) {
+        const double e = contact_energy(cell, x + alpha * dx);
+        if (std::isfinite(e) && e <= c.energy + 1e-4 * alpha * slope) {
+          accepted = true;
+          break;
+        }
       }
+      if (accepted) break;
     }
     if (!accepted) {
       // The energy cannot resolve the decrease any more: accept the residual if it is small

@@ -4,11 +4,13 @@
 // There is no other energy: before the elements lock every intersection-free placement with all
 // gaps >= d_hat is an equilibrium (B = 0), and the Hessian has null modes (a torus spinning
 // about its own axis, elements out of contact). Newton therefore steps with the PSD-projected
-// Hessian plus a Levenberg shift mu I (mu = regularization x (1 + max diagonal)), the step
+// Hessian plus a Levenberg shift mu I (mu = regularization x (1 + max diagonal); 10^3 and 10^6
+// times that where the step finds no decrease), the step
 // capped by the contact term's CCD along the full-space path x + t S dy (masters and images
 // move together), then backtracked on B (Armijo). Converged when ||S^T dB/dx||_inf <=
 // force_tolerance (units: the force of one pair at d_hat / 2 is 1).
 #include <string>
+#include <vector>
 
 #include "forward/interlocking/periodic_cell.hpp"
 
@@ -48,5 +50,23 @@ ReducedContact reduced_contact(const PeriodicRigidCell& cell, const Vector& x, b
 
 // The smallest pair distance at x (infinity when no pair is within `range`).
 double smallest_distance(const PeriodicRigidCell& cell, const Vector& x, double range);
+
+// B at x alone (+infinity for an intersecting state).
+double contact_energy(const PeriodicRigidCell& cell, const Vector& x);
+
+// The contact term's CCD step bound along x + t dx, t in [0, 1] (TorusContactTerm::max_step:
+// conservative advancement on the torus distance), over the broad phase's candidates.
+double contact_max_step(const PeriodicRigidCell& cell, const Vector& x, const Vector& dx);
+
+// The pairs within `range` (finite: through the broad phase) with their distances, and the
+// forces of the pairs within d_hat (as TorusContactTerm::close_pairs / pair_forces; with a
+// bending patch these include rim-rim pairs, which the contact term skips).
+std::vector<tori::TorusPair> contact_close_pairs(const PeriodicRigidCell& cell, const Vector& x, double range,
+                                                 bool derivatives);
+std::vector<tori::TorusPairForce> contact_pair_forces(const PeriodicRigidCell& cell, const Vector& x);
+
+// With spec().broad_phase these evaluate the barrier of TorusContactTerm (same pair energy,
+// same pair order, so the same sums) over PeriodicRigidCell::candidate_pairs, and the Hessian
+// over the pairs within d_hat only; without it they call the contact term (every pair).
 
 }  // namespace tailor::interlocking

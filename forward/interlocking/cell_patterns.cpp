@@ -1,6 +1,8 @@
 // Cells of common interlocking patterns (see cell_patterns.hpp).
 #include "forward/interlocking/cell_patterns.hpp"
 
+#include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -44,6 +46,40 @@ RigidCellSpec threefold_cell(const tori::TorusShape& node, const tori::TorusShap
   c.lattice << 2.0 * spacing, spacing, 0.0, std::sqrt(3.0) * spacing;
   c.image_rings = 2;  // the links reach cells two shifts away along the short diagonal
   return c;
+}
+
+RigidCellSpec ring_chain_patch(const tori::TorusShape& node, const tori::TorusShape& link, double spacing) {
+  RigidCellSpec c;
+  c.bending_patch = true;
+  c.elements = {flat_ring(node, Eigen::Vector3d(-spacing, 0, 0)), upright_ring(link, Eigen::Vector3d::Zero(), 0.0),
+                flat_ring(node, Eigen::Vector3d(spacing, 0, 0))};
+  c.elements[0].rim = c.elements[2].rim = true;
+  return c;
+}
+
+RigidCellSpec disc_patch(const RigidCellSpec& cell, double radius, double rim_width) {
+  if (!(radius > 0.0) || !(rim_width > 0.0) || !(rim_width < radius))
+    throw std::invalid_argument("disc_patch: need 0 < rim_width < radius");
+  RigidCellSpec out = cell;
+  out.bending_patch = true;
+  out.elements.clear();
+  // Lattice shifts covering the disc: |L k| <= radius + the cell's extent.
+  double extent = 0.0;
+  for (const CellElement& e : cell.elements) extent = std::max(extent, e.position.head<2>().norm());
+  const Eigen::Matrix2d inverse = cell.lattice.inverse();
+  const int K = static_cast<int>(std::ceil((radius + extent) * inverse.norm())) + 1;
+  for (int b = -K; b <= K; ++b)
+    for (int a = -K; a <= K; ++a)
+      for (const CellElement& e : cell.elements) {
+        CellElement copy = e;
+        const Eigen::Vector2d t = cell.lattice * Eigen::Vector2d(a, b);
+        copy.position += Eigen::Vector3d(t.x(), t.y(), 0.0);
+        const double rho = copy.position.head<2>().norm();
+        if (rho > radius) continue;
+        copy.rim = rho > radius - rim_width;
+        out.elements.push_back(copy);
+      }
+  return out;
 }
 
 RigidCellSpec supercell(const RigidCellSpec& cell, int nx, int ny) {

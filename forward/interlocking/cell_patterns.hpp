@@ -24,6 +24,14 @@ RigidCellSpec square_ring_cell(const tori::TorusShape& node, const tori::TorusSh
                                const tori::TorusShape& link_y, double spacing);
 RigidCellSpec threefold_cell(const tori::TorusShape& node, const tori::TorusShape& link, double spacing);
 
+// Bending patches (periodic_cell.hpp, bending_patch):
+//  three-ring chain: flat rim rings at (-s, 0, 0) and (s, 0, 0) and a free upright link (in the
+//                xz plane) at 0 between them.
+//  disc patch:   every element of the tiling of `cell` whose centre lies within `radius` of the
+//                origin (in xy); those beyond radius - rim_width are the rim.
+RigidCellSpec ring_chain_patch(const tori::TorusShape& node, const tori::TorusShape& link, double spacing);
+RigidCellSpec disc_patch(const RigidCellSpec& cell, double radius, double rim_width);
+
 // The nx x ny supercell of the same tiling (elements repeated, lattice L diag(nx, ny)).
 RigidCellSpec supercell(const RigidCellSpec& cell, int nx, int ny);
 // The same tiling with lattice L M for an integer matrix M of determinant +-1 (throws

@@ -2,10 +2,12 @@
 #include "forward/interlocking/periodic_cell.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
 #include "forward/contact/barrier_stiffness.hpp"
+#include "forward/rigid/rotation.hpp"
 #include "forward/tori/torus.hpp"
 #include "forward/tori/torus_distance.hpp"
 
@@ -30,6 +32,24 @@ void validate_cell(const RigidCellSpec& spec) {
   if (n == 0) throw std::invalid_argument("periodic cell: no elements");
   if (!spec.lattice.allFinite() || !(std::abs(spec.lattice.determinant()) > 0.0))
     throw std::invalid_argument("periodic cell: the lattice vectors are not independent");
+  if (spec.bending_patch) {
+    int rim = 0;
+    for (const CellElement& e : spec.elements) rim += e.rim;
+    if (rim == 0 || rim == n)
+      throw std::invalid_argument("bending patch: needs both rim (prescribed) and free elements");
+    if (!spec.broad_phase) throw std::invalid_argument("bending patch: needs broad_phase");
+    for (int i = 0; i < n; ++i) {
+      const CellElement& e = spec.elements[static_cast<std::size_t>(i)];
+      tori::validate_shape(e.shape, "bending patch: element " + std::to_string(i));
+      if (!e.position.allFinite() || !e.rotation.allFinite())
+        throw std::invalid_argument("bending patch: element " + std::to_string(i) + " has a non-finite placement");
+    }
+    if (spec.activation_distance < 0.0 || !std::isfinite(spec.activation_distance))
+      throw std::invalid_argument("bending patch: activation_distance must be >= 0");
+    return;
+  }
+  for (const CellElement& e : spec.elements)
+    if (e.rim) throw std::invalid_argument("periodic cell: rim elements belong to bending patches");
   if (spec.image_rings < 1) throw std::invalid_argument("periodic cell: image_rings must be >= 1");
   if (spec.anchor < 0 || spec.anchor >= n)
     throw std::invalid_argument("periodic cell: anchor " + std::to_string(spec.anchor) + " is not an element");
@@ -71,7 +91,8 @@ PeriodicRigidCell::PeriodicRigidCell(RigidCellSpec spec) : spec_(std::move(spec)
   for (const CellElement& e : spec_.elements) min_major = std::min(min_major, e.shape.major_radius);
   d_hat_ = spec_.activation_distance > 0.0 ? spec_.activation_distance : 1e-3 * min_major;
 
-  const std::vector<Eigen::Vector2i> shifts = half_shifts(spec_.image_rings);
+  const std::vector<Eigen::Vector2i> shifts =
+      spec_.bending_patch ? std::vector<Eigen::Vector2i>{} : half_shifts(spec_.image_rings);
   for (int i = 0; i < n; ++i) {
     master_.push_back(i);
     shift_.emplace_back(0, 0);
@@ -87,7 +108,8 @@ PeriodicRigidCell::PeriodicRigidCell(RigidCellSpec spec) : spec_(std::move(spec)
   int columns = 0;
   for (int i = 0; i < n; ++i)
     for (int c = 0; c < 6; ++c)
-      if (!(i == spec_.anchor && c < 3)) free_column[static_cast<std::size_t>(6 * i + c)] = columns++;
+      if (spec_.bending_patch ? !spec_.elements[static_cast<std::size_t>(i)].rim : !(i == spec_.anchor && c < 3))
+        free_column[static_cast<std::size_t>(6 * i + c)] = columns++;
   Triplets triplets;
   for (int body = 0; body < num_bodies(); ++body)
     for (int c = 0; c < 6; ++c) {
@@ -104,8 +126,9 @@ PeriodicRigidCell::PeriodicRigidCell(RigidCellSpec spec) : spec_(std::move(spec)
     const CellElement& e = spec_.elements[static_cast<std::size_t>(master(body))];
     // Images are "fixed" for the contact term only: it then skips image-image pairs.
     bodies.push_back(tori::torus_body("element_" + std::to_string(body), e.shape, 1.0, x.segment<3>(6 * body),
-                                      x.segment<3>(6 * body + 3), body >= n, 8, 4, false));
+                                      x.segment<3>(6 * body + 3), body >= n || e.rim, 8, 4, false));
     shapes.push_back(e.shape);
+    bounding_.push_back(tori::bounding_radius(e.shape));
   }
   system_ = std::make_unique<rigid::RigidBodySystem>(std::move(bodies));
   tori::TorusContactOptions options;
@@ -122,8 +145,36 @@ PeriodicRigidCell::PeriodicRigidCell(RigidCellSpec spec) : spec_(std::move(spec)
 
 Elimination PeriodicRigidCell::elimination(const Eigen::Matrix2d& F) const { return Elimination(offset(F), basis_); }
 
+Eigen::Matrix2d PeriodicRigidCell::curvature(const Eigen::Matrix2d& F) {
+  return 0.5 * (F + F.transpose()) - Eigen::Matrix2d::Identity();
+}
+
+void PeriodicRigidCell::surface_pose(const Eigen::Matrix2d& K, const Eigen::Vector3d& position,
+                                     const Eigen::Vector3d& rotation, Eigen::Vector3d& T, Eigen::Vector3d& w) {
+  const Eigen::Vector2d p = position.head<2>(), grad = K * p;
+  const Eigen::Vector3d n = Eigen::Vector3d(-grad.x(), -grad.y(), 1.0).normalized();
+  // The smallest rotation taking e_z to n: about e_z x n by the angle between them.
+  const Eigen::Vector3d axis = Eigen::Vector3d::UnitZ().cross(n);
+  const double sine = axis.norm(), cosine = n.z();
+  const Eigen::Vector3d q = sine > 0.0 ? Eigen::Vector3d(axis / sine * std::atan2(sine, cosine)) : Eigen::Vector3d::Zero();
+  T = Eigen::Vector3d(p.x(), p.y(), 0.5 * p.dot(K * p)) + position.z() * n;
+  w = rigid::rotation_vector(rigid::rotation_matrix(q) * rigid::rotation_matrix(rotation), rotation);
+}
+
 Vector PeriodicRigidCell::offset(const Eigen::Matrix2d& F) const {
   Vector x0 = Vector::Zero(6 * num_bodies());
+  if (spec_.bending_patch) {
+    const Eigen::Matrix2d K = curvature(F);
+    for (int i = 0; i < num_elements(); ++i) {
+      const CellElement& e = spec_.elements[static_cast<std::size_t>(i)];
+      if (!e.rim) continue;
+      Eigen::Vector3d T, w;
+      surface_pose(K, e.position, e.rotation, T, w);
+      x0.segment<3>(6 * i) = T;
+      x0.segment<3>(6 * i + 3) = w;
+    }
+    return x0;
+  }
   const Eigen::Vector3d anchor = spec_.elements[static_cast<std::size_t>(spec_.anchor)].position;
   for (int body = 0; body < num_bodies(); ++body) {
     const Eigen::Vector2d t = F * (spec_.lattice * shift(body).cast<double>());
@@ -192,6 +243,57 @@ std::string PeriodicRigidCell::pair_label(int a, int b) const {
   const Eigen::Vector2i k = shift(b) - shift(a);
   return std::to_string(master(a)) + "-" + std::to_string(master(b)) + "(" + std::to_string(k.x()) + "," +
          std::to_string(k.y()) + ")";
+}
+
+std::vector<std::pair<int, int>> PeriodicRigidCell::candidate_pairs(const Vector& x, double range,
+                                                                    const Vector* dx) const {
+  const int nb = num_bodies(), n = num_elements();
+  // Grown radii; the relative slack keeps pairs on the boundary of the exact tests (which sum
+  // the radii in another order) among the candidates.
+  std::vector<double> radius(static_cast<std::size_t>(nb));
+  double widest = 0.0;
+  for (int b = 0; b < nb; ++b) {
+    double r = bounding_[static_cast<std::size_t>(b)];
+    if (dx) r += dx->segment<3>(6 * b).norm();
+    radius[static_cast<std::size_t>(b)] = r * (1.0 + 1e-12);
+    widest = std::max(widest, r);
+  }
+  const double h = (2.0 * widest + range) * (1.0 + 1e-12);
+  if (!(h > 0.0) || !std::isfinite(h)) throw std::invalid_argument("candidate_pairs: range must be finite and >= 0");
+  // Bodies sorted by grid cell; two spheres within range have centres at most h apart, so they
+  // sit in the same or adjacent cells (per axis).
+  struct Entry {
+    std::array<long, 3> cell;
+    int body;
+  };
+  std::vector<Entry> grid(static_cast<std::size_t>(nb));
+  for (int b = 0; b < nb; ++b) {
+    Entry& e = grid[static_cast<std::size_t>(b)];
+    for (int k = 0; k < 3; ++k) e.cell[static_cast<std::size_t>(k)] = static_cast<long>(std::floor(x[6 * b + k] / h));
+    e.body = b;
+  }
+  const auto less = [](const Entry& u, const Entry& v) { return u.cell < v.cell; };
+  std::sort(grid.begin(), grid.end(), less);
+  std::vector<std::pair<int, int>> out;
+  for (int a = 0; a < nb; ++a) {
+    const Entry& ea = grid[static_cast<std::size_t>(a)];
+    const Eigen::Vector3d Ta = x.segment<3>(6 * ea.body);
+    Entry key = ea;
+    for (long i = -1; i <= 1; ++i)
+      for (long j = -1; j <= 1; ++j)
+        for (long k = -1; k <= 1; ++k) {
+          key.cell = {ea.cell[0] + i, ea.cell[1] + j, ea.cell[2] + k};
+          for (auto it = std::lower_bound(grid.begin(), grid.end(), key, less);
+               it != grid.end() && it->cell == key.cell; ++it) {
+            const int b = it->body;
+            if (b <= ea.body || (ea.body >= n && b >= n)) continue;  // image-image (patches: none)
+            const double reach = radius[static_cast<std::size_t>(ea.body)] + radius[static_cast<std::size_t>(b)] + range;
+            if ((x.segment<3>(6 * b) - Ta).norm() <= reach) out.emplace_back(ea.body, b);
+          }
+        }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace tailor::interlocking

@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "forward/core/elimination.hpp"
@@ -37,6 +38,7 @@ struct CellElement {
   tori::TorusShape shape;                              // circular or elliptic tube
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // rest T [length]
   Eigen::Vector3d rotation = Eigen::Vector3d::Zero();  // rest w [rad]
+  bool rim = false;  // bending patches: the element is prescribed on the surface (see below)
 };
 
 struct RigidCellSpec {
@@ -48,6 +50,20 @@ struct RigidCellSpec {
   // Shifts beyond K are refused if two bounding spheres come within this fraction of the cell's
   // smallest lattice vector length at F = I (room for the strains the sweeps apply).
   double reach_margin = 0.2;
+  // Which pairs the cell's own contact evaluations (cell_equilibrium.hpp) look at: false, every
+  // master-master and master-image pair through the contact term (the reference); true, the
+  // grid broad phase's candidates (candidate_pairs below), with identical results.
+  bool broad_phase = true;
+  // A finite bending patch instead of a periodic cell (docs/interlocking.md, "Bending"): no
+  // images (lattice, image_rings and anchor unused); the macro argument F stands for the
+  // curvature tensor K = sym(F) - I of the paraboloid z = 1/2 p^T K p (p = (x, y)), i.e.
+  // z = A x^2 + B y^2 + C x y with A = K_xx / 2, B = K_yy / 2, C = K_xy. Rim elements are
+  // prescribed on it: rest position (x, y, z) goes to (x, y, f(x, y)) + z n(x, y) and rest rotation
+  // R to Q R, Q the smallest rotation taking e_z to the normal n. The others are free (6 DOFs
+  // each). Rim-rim pairs are contact pairs too (a collision of prescribed elements also locks).
+  // Needs broad_phase; x0(F) is nonlinear in K, so the macro derivatives and the augmented
+  // Newton of limit_sensitivity.hpp do not apply.
+  bool bending_patch = false;
 };
 
 // Throws std::invalid_argument naming the problem (no elements, singular lattice, bad shape,
@@ -71,6 +87,11 @@ class PeriodicRigidCell {
   Elimination elimination(const Eigen::Matrix2d& F) const;
   const SparseMatrix& basis() const { return basis_; }
   Vector offset(const Eigen::Matrix2d& F) const;                // x0(F)
+  // Bending patches: the curvature tensor K = sym(F) - I of a macro argument F, and the pose on
+  // the paraboloid z = 1/2 p^T K p of an element at rest pose (position, rotation) (see spec).
+  static Eigen::Matrix2d curvature(const Eigen::Matrix2d& F);
+  static void surface_pose(const Eigen::Matrix2d& K, const Eigen::Vector3d& position, const Eigen::Vector3d& rotation,
+                           Eigen::Vector3d& T, Eigen::Vector3d& w);
   Vector full_state(const Vector& y, const Eigen::Matrix2d& F) const;  // x0(F) + S y
   // y of the rest placement (the anchor's translation is in x0, not in y).
   Vector rest_free_state() const;
@@ -91,11 +112,21 @@ class PeriodicRigidCell {
   // - shift(a)).
   std::string pair_label(int a, int b) const;
 
+  // Broad phase (docs/interlocking.md, "Broad phase"): the body pairs (a < b, not two images)
+  // whose bounding spheres about T at x, each grown by the length of its translation along dx
+  // when dx is given, come within `range` (finite) of each other, in (a, b) order. Found through a
+  // uniform grid of spacing (largest grown diameter + range) over the centres, so only bodies in
+  // neighbouring grid cells are compared. A superset of the pairs that the contact term's
+  // all-pairs sphere tests keep (close_pairs: |T_a - T_b| < reach + range; max_step: |T_a - T_b|
+  // - |dT_a - dT_b| <= reach), which are applied to the candidates unchanged.
+  std::vector<std::pair<int, int>> candidate_pairs(const Vector& x, double range, const Vector* dx = nullptr) const;
+
  private:
   RigidCellSpec spec_;
   double d_hat_ = 0.0;
   std::vector<int> master_;
   std::vector<Eigen::Vector2i> shift_;
+  std::vector<double> bounding_;  // per body: R + max(r, r1) of its master [length]
   SparseMatrix basis_;
   std::unique_ptr<rigid::RigidBodySystem> system_;
   std::unique_ptr<tori::TorusContactTerm> contact_;

@@ -15,6 +15,16 @@ namespace {
 // y with the masters' translations mapped by the macro step F_new F_old^-1 about the anchor.
 Vector affine_prediction(const PeriodicRigidCell& cell, const Vector& y, const Eigen::Matrix2d& F_old,
                          const Eigen::Matrix2d& F_new) {
+  if (cell.spec().bending_patch) {
+    // Free elements ride on the surface: z grows by the paraboloid's change below them.
+    const Eigen::Matrix2d dK = PeriodicRigidCell::curvature(F_new) - PeriodicRigidCell::curvature(F_old);
+    Vector q = cell.full_state(y, F_old).head(6 * cell.num_elements());
+    for (int i = 0; i < cell.num_elements(); ++i) {
+      const Eigen::Vector2d p = q.segment<2>(6 * i);
+      q[6 * i + 2] += 0.5 * p.dot(dK * p);
+    }
+    return cell.basis().topRows(6 * cell.num_elements()).transpose() * q;
+  }
   const Eigen::Matrix2d A = F_new * F_old.inverse();
   Vector q = cell.master_state(y);
   const Eigen::Vector3d anchor = q.segment<3>(6 * cell.spec().anchor);
@@ -50,9 +60,9 @@ RampResult ramp(const PeriodicRigidCell& cell, const LoadPath& path, const Vecto
     const Vector x_old = cell.full_state(r.y, F_old);
     // Two predictions: the masters moved affinely, or held; the one CCD lets go further.
     Vector y_pred = affine_prediction(cell, r.y, F_old, F_new);
-    double alpha = cell.contact().max_step(x_old, cell.full_state(y_pred, F_new) - x_old);
+    double alpha = contact_max_step(cell, x_old, cell.full_state(y_pred, F_new) - x_old);
     if (alpha < 1.0) {
-      const double alpha_held = cell.contact().max_step(x_old, cell.full_state(r.y, F_new) - x_old);
+      const double alpha_held = contact_max_step(cell, x_old, cell.full_state(r.y, F_new) - x_old);
       if (alpha_held > alpha) {
         alpha = alpha_held;
         y_pred = r.y;
@@ -97,8 +107,7 @@ RampResult ramp(const PeriodicRigidCell& cell, const LoadPath& path, const Vecto
 std::pair<int, int> closest_pair(const PeriodicRigidCell& cell, const Vector& x) {
   double best = std::numeric_limits<double>::infinity();
   std::pair<int, int> out{-1, -1};
-  for (const tori::TorusPair& pair :
-       cell.contact().close_pairs(x, cell.radii_parameters(), cell.activation_distance(), false))
+  for (const tori::TorusPair& pair : contact_close_pairs(cell, x, cell.activation_distance(), false))
     if (pair.distance.distance < best) {
       best = pair.distance.distance;
       out = {pair.a, pair.b};
@@ -125,7 +134,7 @@ LoadPath uniaxial_path(double angle) {
 
 std::vector<ActivePair> active_pairs(const PeriodicRigidCell& cell, const Vector& x) {
   std::vector<ActivePair> out;
-  for (const tori::TorusPairForce& f : cell.contact().pair_forces(x, cell.radii_parameters())) {
+  for (const tori::TorusPairForce& f : contact_pair_forces(cell, x)) {
     ActivePair a;
     a.body_a = f.a;
     a.body_b = f.b;
@@ -202,7 +211,8 @@ LimitPoint find_limit(const PeriodicRigidCell& cell, const LoadPath& path, const
   const auto [a, b] = closest_pair(cell, cell.full_state(y_hi, path.deformation(s_hi)));
   out.critical_a = a;
   out.critical_b = b;
-  if (options.refine && a >= 0) {
+  // (Bending patches: x0 is nonlinear in the curvature, the augmented system does not apply.)
+  if (options.refine && a >= 0 && !cell.spec().bending_patch) {
     const RefineResult refined = refine_limit(cell, path, options.lock_fraction * cell.activation_distance(), a, b,
                                               y_hi, s_hi);
     // Accept the refined limit only inside the bracket (a far jump is another branch).

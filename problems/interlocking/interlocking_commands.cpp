@@ -64,38 +64,37 @@ ordered_json cell_json(const interlocking::RigidCellSpec& c, double d_hat) {
                         {"minor_radius", e.shape.minor_radius},
                         {"minor_radius_1", e.shape.minor_radius_1},
                         {"position", {e.position.x(), e.position.y(), e.position.z()}},
-                        {"rotation", {e.rotation.x(), e.rotation.y(), e.rotation.z()}}});
+                        {"rotation", {e.rotation.x(), e.rotation.y(), e.rotation.z()}},
+                        {"rim", e.rim}});
   return {{"elements", elements},
+          {"bending_patch", c.bending_patch},
           {"lattice", {{c.lattice(0, 0), c.lattice(1, 0)}, {c.lattice(0, 1), c.lattice(1, 1)}}},
           {"image_rings", c.image_rings},
           {"activation_distance", d_hat}};
 }
 
 void write_boundary_plot(const std::string& path, const std::string& title, const std::string& loading,
-                         const std::vector<LimitPoint>& points) {
+                         const std::vector<LimitPoint>& points, bool bending) {
   LineSeries locked{"locked", {200, 30, 30}, {}, {}}, free{"free to max_strain", {120, 120, 120}, {}, {}};
-  for (const LimitPoint& p : points) {
-    // principal: the point (eps_xx, eps_yy); uniaxial: s along the direction (and its opposite).
-    const Eigen::Matrix2d e = macro_strain(p.deformation);
-    std::vector<std::array<double, 2>> xy;
-    if (loading == "uniaxial")
-      xy = {{p.strain * std::cos(p.angle), p.strain * std::sin(p.angle)},
-            {-p.strain * std::cos(p.angle), -p.strain * std::sin(p.angle)}};
-    else
-      xy = {{e(0, 0), e(1, 1)}};
-    LineSeries& s = p.locked ? locked : free;
-    for (const auto& [x, y] : xy) {
-      s.x.push_back(x);
-      s.y.push_back(y);
+  // Uniaxial: s along the direction, then (a second pass) along its opposite, so that the locked
+  // outline runs once around the origin in angle order instead of jumping through it.
+  for (int pass = 0; pass < (loading == "uniaxial" ? 2 : 1); ++pass)
+    for (const LimitPoint& p : points) {
+      // principal: the point (eps_xx, eps_yy); uniaxial: s along the direction (and its opposite).
+      const Eigen::Matrix2d e = macro_strain(p.deformation);
+      const double sign = pass == 0 ? 1.0 : -1.0;
+      LineSeries& s = p.locked ? locked : free;
+      s.x.push_back(loading == "uniaxial" ? sign * p.strain * std::cos(p.angle) : e(0, 0));
+      s.y.push_back(loading == "uniaxial" ? sign * p.strain * std::sin(p.angle) : e(1, 1));
     }
-  }
   LinePlot plot;
   plot.title = title;
-  plot.x_label = loading == "uniaxial" ? "s cos(theta)" : "eps_xx";
-  plot.y_label = loading == "uniaxial" ? "s sin(theta)" : "eps_yy";
-  // Points only (a polar outline): each sample drawn as a short series of its own would crowd the
-  // legend, so the curve is closed in angle order for principal sweeps.
-  if (loading != "uniaxial" && !locked.x.empty()) {
+  // Bending patches: s is a curvature, the tensor K in place of eps.
+  plot.x_label = loading == "uniaxial" ? "s cos(theta)" : (bending ? "kappa_xx" : "eps_xx");
+  plot.y_label = loading == "uniaxial" ? "s sin(theta)" : (bending ? "kappa_yy" : "eps_yy");
+  // A polar outline: each sample drawn as a short series of its own would crowd the legend, so
+  // the locked points are joined in angle order and the curve closed.
+  if (!locked.x.empty()) {
     locked.x.push_back(locked.x.front());
     locked.y.push_back(locked.y.front());
   }
@@ -141,7 +140,8 @@ BoundaryRun sweep(const InterlockingScene& scene, const interlocking::RigidCellS
     const interlocking::ClearanceReport clearance = interlocking::check_clearance(cell, x);
     const bool stalled = !p.locked && p.status != "free up to max_strain";
     if (stalled || !clearance.apart()) run.ok = false;
-    const Eigen::Matrix2d e = macro_strain(p.deformation);
+    const Eigen::Matrix2d e = macro_strain(p.deformation);  // bending patches: the curvature K
+    const std::string measure = spec.bending_patch ? "kappa_" : "eps_";
     ordered_json active = ordered_json::array();
     for (const interlocking::ActivePair& a : p.active)
       active.push_back({{"pair", a.label},
@@ -153,9 +153,9 @@ BoundaryRun sweep(const InterlockingScene& scene, const interlocking::RigidCellS
                            {"refined", p.refined},
                            {"strain", p.strain},
                            {"bracket", p.bracket},
-                           {"eps_xx", e(0, 0)},
-                           {"eps_yy", e(1, 1)},
-                           {"eps_xy", e(0, 1)},
+                           {measure + "xx", e(0, 0)},
+                           {measure + "yy", e(1, 1)},
+                           {measure + "xy", e(0, 1)},
                            {"F", {{p.deformation(0, 0), p.deformation(0, 1)}, {p.deformation(1, 0), p.deformation(1, 1)}}},
                            {"min_distance", p.min_distance},
                            {"certified_clearance", clearance.min_lower},
@@ -191,8 +191,9 @@ BoundaryRun sweep(const InterlockingScene& scene, const interlocking::RigidCellS
               {"median_seconds_per_sample", sorted.empty() ? 0.0 : sorted[sorted.size() / 2]},
               {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
               {"all_certified_apart", run.ok}};
-  write_boundary_plot(out_dir + "/boundary.png", scene.name + " strain-space boundary", scene.boundary.loading,
-                      run.points);
+  write_boundary_plot(out_dir + "/boundary.png",
+                      scene.name + (spec.bending_patch ? " curvature-space boundary" : " strain-space boundary"),
+                      scene.boundary.loading, run.points, spec.bending_patch);
   return run;
 }
 

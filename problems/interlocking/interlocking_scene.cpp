@@ -23,7 +23,7 @@ tori::TorusShape parse_shape(const SceneNode& n) {
 
 interlocking::RigidCellSpec parse_cell(const SceneNode& n) {
   n.expect_keys({"pattern", "spacing", "node", "link", "link_x", "link_y", "lateral", "elements", "lattice",
-                 "supercell", "image_rings", "activation_distance", "anchor"});
+                 "supercell", "image_rings", "activation_distance", "anchor", "bending_patch"});
   const std::string pattern = n.at("pattern").choice({"chain", "square_rings", "threefold", "elements"});
   interlocking::RigidCellSpec c;
   auto shape_or = [&](const char* key, const char* fallback) {
@@ -68,6 +68,14 @@ interlocking::RigidCellSpec parse_cell(const SceneNode& n) {
     const std::vector<int> counts = sc->integers(1);
     if (counts.size() != 2) sc->fail("needs [nx, ny]");
     c = interlocking::supercell(c, counts[0], counts[1]);
+  }
+  if (auto bp = n.find("bending_patch")) {
+    bp->expect_keys({"radius", "rim_width"});
+    try {
+      c = interlocking::disc_patch(c, bp->at("radius").positive(), bp->at("rim_width").positive());
+    } catch (const std::invalid_argument& e) {
+      bp->fail(e.what());
+    }
   }
   try {
     interlocking::validate_cell(c);
@@ -163,7 +171,11 @@ InterlockingScene parse_interlocking_scene(const SceneNode& root) {
     if (auto v = b->find("vtu")) scene.boundary.vtu = v->boolean();
     parse_limit_options(*b, scene.boundary.options);
   }
-  if (auto d = n.find("design")) scene.design = parse_design(*d, scene.cell);
+  if (auto d = n.find("design")) {
+    // A patch's limits have no derivative here (its rim placement is nonlinear in the curvature).
+    if (scene.cell.bending_patch) d->fail("designs need a periodic cell, not a bending_patch");
+    scene.design = parse_design(*d, scene.cell);
+  }
   return scene;
 }
 

@@ -95,5 +95,62 @@ TEST(InterlockingBoundary, ThreefoldMailLocksSymmetrically) {
   EXPECT_NEAR(b[0].strain, b[1].strain, 2.0 * options.tolerance);
 }
 
+// Bending, reference (closed form, two interlocked rings at an angle): a flat rim ring at
+// (-s, 0, 0) and (s, 0, 0) on z = kappa x^2 / 2 is tilted by alpha = atan(kappa s) about y; its
+// core crosses the free link's plane (xz) at x = -(s - R cos alpha), where its tube runs along y,
+// so the link (centred between the two crossings by symmetry) presses both at distance
+// R - (s - R cos alpha) - 2 r. That reaches lock_fraction d_hat at
+//   cos alpha* = (s - R + 2 r + d_hat / 2) / R,   kappa* = tan(alpha*) / s.
+// Downward bending locks at the same |kappa|; bending across the chain (about x) never locks.
+TEST(InterlockingBending, ThreeRingChainLocksAtTheClosedFormCurvature) {
+  const PeriodicRigidCell cell(ring_chain_patch(kRing, kRing, kSpacing));
+  LimitOptions options;
+  options.tolerance = 1e-7;
+  const Vector y_rest = rest_equilibrium(cell);
+  const double alpha = std::acos((kSpacing - 1.0 + 0.4 + 0.5 * cell.activation_distance()) / 1.0);
+  const double expected = std::tan(alpha) / kSpacing;
+  const LimitPoint up = find_limit(cell, uniaxial_path(0.0), y_rest, options);
+  const LimitPoint down = find_limit(cell, principal_path(M_PI), y_rest, options);
+  const LimitPoint across = find_limit(cell, uniaxial_path(0.5 * M_PI), y_rest, options);
+  std::printf("three-ring chain: bending limit %.9f (down %.9f), closed form %.9f; %d solves, %zu active\n",
+              up.strain, down.strain, expected, up.solves, up.active.size());
+  ASSERT_TRUE(up.locked && down.locked) << up.status << " / " << down.status;
+  EXPECT_NEAR(up.strain, expected, 2.0 * options.tolerance);
+  EXPECT_NEAR(down.strain, expected, 2.0 * options.tolerance);
+  EXPECT_EQ(up.active.size(), 2u);  // the link against both rim rings
+  EXPECT_FALSE(across.locked);
+  expect_apart(cell, up);
+  expect_apart(cell, down);
+}
+
+// Bending, symmetry: a disc patch of the threefold mail centred on a node (the centre node and
+// its six links free, the next ring of links and nodes prescribed on the paraboloid) has the
+// sixfold symmetry of the tiling, so its single-curvature limits at 0 and 120 degrees are equal
+// (30 degrees' differs: there two prescribed rim links collide first); no limit state
+// interpenetrates.
+TEST(InterlockingBending, ThreefoldPatchBendsSymmetrically) {
+  const PeriodicRigidCell cell(disc_patch(threefold_cell(kRing, kRing, kSpacing), 3.2, 0.7));
+  int free = 0;
+  for (const CellElement& e : cell.spec().elements) free += !e.rim;
+  ASSERT_EQ(cell.num_elements(), 19);
+  ASSERT_EQ(free, 7);
+  LimitOptions options;
+  options.initial_step = 0.05;
+  options.tolerance = 1e-3;  // small: the three limits take ~150 Newton solves each
+  const Vector y_rest = rest_equilibrium(cell);
+  std::vector<LimitPoint> b;
+  for (double degrees : {0.0, 120.0, 30.0})
+    b.push_back(find_limit(cell, uniaxial_path(degrees * M_PI / 180.0), y_rest, options));
+  for (const LimitPoint& p : b) {
+    std::printf("threefold patch bending %5.1f deg: kappa %.8f (%s, %zu active, %d solves)\n", p.angle * 180 / M_PI,
+                p.strain, p.status.c_str(), p.active.size(), p.solves);
+    ASSERT_TRUE(p.locked);
+    EXPECT_FALSE(p.active.empty());
+    expect_apart(cell, p);
+  }
+  EXPECT_NEAR(b[1].strain, b[0].strain, 2.0 * options.tolerance);
+  EXPECT_GT(std::abs(b[2].strain - b[0].strain), 1e-2);
+}
+
 }  // namespace
 }  // namespace tailor::interlocking::boundary_validation_test

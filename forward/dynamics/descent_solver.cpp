@@ -27,7 +27,6 @@ std::string to_string(DescentStatus status) {
 DescentSolver::DescentSolver(const Model& model, DescentOptions options)
     : options_(std::move(options)), pass_(model, options_.block_size) {
   if (!(options_.step_length >= 0.0)) throw std::invalid_argument("descent: the step length must be >= 0");
-  if (options_.recover_after < 1) throw std::invalid_argument("descent: recover_after must be >= 1");
   if (options_.power_iterations < 1) throw std::invalid_argument("descent: power_iterations must be >= 1");
   if (options_.rho && !(*options_.rho >= 0.0 && *options_.rho < 1.0))
     throw std::invalid_argument("descent: rho must be in [0, 1)");
@@ -91,13 +90,11 @@ DescentResult DescentSolver::solve(const Vector& p, Vector& y) {
   double rho = spectral_radius().value_or(0.0);
   double alpha = *start_alpha_;
   const double alpha_start = alpha;
-  double alpha_cap = alpha;  // what a halved alpha recovers to: the start, or the rho estimate's alpha
   const int window_length = options_.rho_estimation_iterations;
   std::vector<double> window{residual};  // residuals of the accepted plain iterations at one alpha
   Vector previous = y, direction, trial_y;
   double omega = 1.0;
   int since_restart = 0;
-  int accepted_at_alpha = 0;  // accepted iterations since alpha was last halved or doubled
   while (r.iterations < options_.max_iterations) {
     pass_.apply_inverse(current_, current_.gradient, direction);
     double omega_next = 1.0;
@@ -126,14 +123,9 @@ DescentResult DescentSolver::solve(const Vector& p, Vector& y) {
     if (options_.keep_history) r.history.push_back({trial_.energy, trial_residual, alpha, omega_next, decrease});
     if (!finite && !options_.energy_check) return finish(DescentStatus::non_finite, "a trial point is not finite");
     if (options_.energy_check && !decrease) {
-      // Simplified Wolfe rule. An accelerated trial that rises is the extrapolation's overshoot:
-      // restart the acceleration from the current point at the same alpha. A plain trial that
-      // rises means alpha is too long for the local Hessian: halve it as well.
+      // Simplified Wolfe rule: halve the step, restart the acceleration from the current point.
       ++r.rejections;
-      if (omega_next == 1.0) {
-        alpha *= 0.5;
-        accepted_at_alpha = 0;
-      }
+      alpha *= 0.5;
       omega = 1.0, since_restart = 0;
       previous = y;
       window.assign(1, residual);
@@ -146,14 +138,6 @@ DescentResult DescentSolver::solve(const Vector& p, Vector& y) {
     std::swap(current_, trial_);
     omega = omega_next, ++since_restart;
     residual = trial_residual;
-    // A halved alpha returns toward the solve's start after recover_after accepted iterations:
-    // one rise far from the minimum must not slow the rest of the solve.
-    if (!estimating && alpha < alpha_cap && ++accepted_at_alpha >= options_.recover_after) {
-      alpha = std::min(2.0 * alpha, alpha_cap);
-      accepted_at_alpha = 0;
-      omega = 1.0, since_restart = 0;
-      previous = y;
-    }
     r.final_energy = current_.energy, r.final_residual = residual;
     if (residual <= target) return finish(DescentStatus::converged, "converged");
     if (estimating) {
@@ -163,8 +147,7 @@ DescentResult DescentSolver::solve(const Vector& p, Vector& y) {
         const double ratio = window[static_cast<std::size_t>(window_length)] / window[static_cast<std::size_t>(half)];
         const double estimate = std::pow(ratio, 1.0 / (window_length - half));
         estimated_rho_ = std::clamp(std::isfinite(estimate) ? estimate : 0.0, 0.0, options_.rho_max);
-        start_alpha_ = alpha_cap = alpha;  // the estimate belongs to this alpha
-        accepted_at_alpha = 0;
+        start_alpha_ = alpha;  // the estimate belongs to this alpha
         estimating = false;
         rho = *estimated_rho_;
         omega = 1.0, since_restart = 0;

@@ -10,13 +10,10 @@
 //   u_{k+1} = omega_{k+1} (u~ - u_{k-1}) + u_{k-1},
 //   omega_1 = 1, omega_2 = 2 / (2 - rho^2), omega_{k+1} = 4 / (4 - rho^2 omega_k).
 // Simplified Wolfe rule: a trial point whose energy is above the current one's (or is not
-// finite) is rejected and the acceleration restarts (omega = 1, u_{k-1} = u_k); alpha is halved
-// when the rejected trial was a plain step (an accelerated one overshoots by its extrapolation,
-// not by alpha). After recover_after accepted iterations at a halved alpha, alpha doubles again
-// (up to the solve's start), so one rejection far from the minimum does not slow the rest of
-// the solve. The accepted iterates never raise E, up to E's round-off (DescentEvaluation::
-// energy_roundoff): within it, where comparing energies says nothing, the change is taken from
-// the gradients (trapezoidal rule).
+// finite) is rejected: alpha is halved and the acceleration restarts (omega = 1, u_{k-1} = u_k).
+// So the accepted iterates never raise E, up to E's round-off (DescentEvaluation::
+// energy_roundoff): within it, where comparing energies says nothing, a trial point is accepted
+// when its residual is smaller.
 //
 // rho, the spectral radius of the plain iteration u -> u - alpha D^-1 g, is estimated once per
 // solver (kept across solves, e.g. the steps of one scene) unless given: the first
@@ -57,7 +54,6 @@ struct DescentOptions {
   int rho_estimation_iterations = 16;
   double rho_max = 0.9999;
   double min_step_length = 1e-10;    // relative to the solve's starting alpha
-  int recover_after = 16;            // accepted iterations at a halved alpha before it doubles
   bool energy_check = true;          // the simplified Wolfe rule; false only to show what it prevents
   int block_size = 3;                // DOFs per vertex: the preconditioner's blocks
   bool keep_history = false;         // record every iteration in DescentResult::history

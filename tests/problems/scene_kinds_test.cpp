@@ -83,7 +83,7 @@ TEST(SceneKinds, AMisspelledKeyIsRefusedByEveryVerbNamingTheSceneAndTheKeyPath) 
       }
     }
   }
-  EXPECT_EQ(checked, 2 * 30);  // every verb of every kind, from its file and from memory
+  EXPECT_EQ(checked, 2 * 32);  // every verb of every kind, from its file and from memory
 }
 
 TEST(SceneKinds, AFileAndADocumentInMemory) {

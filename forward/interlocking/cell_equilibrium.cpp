@@ -166,47 +166,12 @@ double contact_max_step(const PeriodicRigidCell& cell, const Vector& q, const Ve
   // TorusContactTerm::max_step's conservative advancement, pair by pair in the same order, over
   // the candidates (their grown spheres contain every pair whose spheres can meet along dq).
   ++term.ccd_calls;
-  const double keep = 1.0 - term.options().ccd_fraction;
   double alpha = 1.0;
-  for (const std::pair<int, int>& candidate : cell.candidate_pairs(q, 0.0, &dq)) {
-    const int a = candidate.first, b = candidate.second;  // (captured below: no structured binding)
+  for (const auto& [a, b] : cell.candidate_pairs(q, 0.0, &dq)) {
     const tori::TorusShape& sa = cell.spec().elements[static_cast<std::size_t>(cell.master(a))].shape;
     const tori::TorusShape& sb = cell.spec().elements[static_cast<std::size_t>(cell.master(b))].shape;
-    const Eigen::Vector3d dTa = dq.segment<3>(6 * a), dTb = dq.segment<3>(6 * b);
-    const double reach = tori::bounding_radius(sa) + tori::bounding_radius(sb);
-    const double gap = (q.segment<3>(6 * a) - q.segment<3>(6 * b)).norm() - (dTa - dTb).norm();
-    if (gap > reach) continue;
-    // Circular pairs: the core points' speed; elliptic ones: the surface points'.
-    const bool surfaces = tori::is_elliptic(sa) || tori::is_elliptic(sb);
-    const double La = surfaces ? tori::bounding_radius(sa) : sa.major_radius;
-    const double Lb = surfaces ? tori::bounding_radius(sb) : sb.major_radius;
-    const double L =
-        dTa.norm() + dq.segment<3>(6 * a + 3).norm() * La + dTb.norm() + dq.segment<3>(6 * b + 3).norm() * Lb;
-    if (!(L > 0.0)) continue;
-    auto distance_at = [&](double t) {
-      ++term.ccd_queries;
-      return tori::torus_distance({q.segment<3>(6 * a) + t * dq.segment<3>(6 * a),
-                                   q.segment<3>(6 * a + 3) + t * dq.segment<3>(6 * a + 3), sa},
-                                  {q.segment<3>(6 * b) + t * dq.segment<3>(6 * b),
-                                   q.segment<3>(6 * b + 3) + t * dq.segment<3>(6 * b + 3), sb},
-                                  false, term.options().distance)
-          .distance;
-    };
-    const double d0 = distance_at(0.0);
-    if (!(d0 > 0.0)) return 0.0;
-    const double floor = keep * d0;
-    double t = 0.0, d = d0;
-    for (int it = 0; it < 200 && t < alpha; ++it) {
-      const double dt = (d - floor) / L;  // d >= floor on [t, t + dt]
-      if (!(dt > 1e-12 * std::max(t, 1e-300)) && it > 0) break;
-      if (t + dt >= alpha) {
-        t = alpha;
-        break;
-      }
-      t += dt;
-      d = distance_at(t);
-    }
-    alpha = std::min(alpha, t);
+    alpha = term.pair_max_step(a, b, sa, sb, q, dq, alpha);
+    if (alpha == 0.0) return 0.0;
   }
   return alpha;
 }

@@ -260,48 +260,54 @@ double TorusContactTerm::max_step(const Vector& q, const Vector& dq) const {
   ++ccd_calls;
   // max_step() has no p: it uses the shapes given at construction.
   const int n = num_tori();
-  const double keep = 1.0 - options_.ccd_fraction;
   double alpha = 1.0;
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b) {
       if (system_.body(a).fixed && system_.body(b).fixed) continue;
-      const TorusShape &sa = shapes_[static_cast<std::size_t>(a)], &sb = shapes_[static_cast<std::size_t>(b)];
-      const Eigen::Vector3d dTa = dq.segment<3>(6 * a), dTb = dq.segment<3>(6 * b);
-      const double reach = pair_reach(sa, sb);
-      const double gap = (q.segment<3>(6 * a) - q.segment<3>(6 * b)).norm() - (dTa - dTb).norm();
-      if (gap > reach) continue;  // the bounding spheres never meet along the step
-      // Circular pairs: the core points' speed (d = D - r_a - r_b); elliptic ones: the surface
-      // points', every one within bounding_radius of its centre.
-      const bool surfaces = is_elliptic(sa) || is_elliptic(sb);
-      const double La = surfaces ? bounding_radius(sa) : sa.major_radius;
-      const double Lb = surfaces ? bounding_radius(sb) : sb.major_radius;
-      const double L = dTa.norm() + dq.segment<3>(6 * a + 3).norm() * La + dTb.norm() +
-                       dq.segment<3>(6 * b + 3).norm() * Lb;
-      if (!(L > 0.0)) continue;
-      auto distance_at = [&](double t) {
-        ++ccd_queries;
-        const Vector qt = q + t * dq;
-        return torus_distance({qt.segment<3>(6 * a), qt.segment<3>(6 * a + 3), sa},
-                              {qt.segment<3>(6 * b), qt.segment<3>(6 * b + 3), sb}, false, options_.distance)
-            .distance;
-      };
-      const double d0 = distance_at(0.0);
-      if (!(d0 > 0.0)) return 0.0;
-      const double floor = keep * d0;
-      double t = 0.0, d = d0;
-      for (int it = 0; it < 200 && t < alpha; ++it) {
-        const double dt = (d - floor) / L;  // d >= floor on [t, t + dt]
-        if (!(dt > 1e-12 * std::max(t, 1e-300)) && it > 0) break;
-        if (t + dt >= alpha) {
-          t = alpha;
-          break;
-        }
-        t += dt;
-        d = distance_at(t);
-      }
-      alpha = std::min(alpha, t);
+      alpha = pair_max_step(a, b, shapes_[static_cast<std::size_t>(a)], shapes_[static_cast<std::size_t>(b)], q, dq,
+                            alpha);
+      if (alpha == 0.0) return 0.0;
     }
   return alpha;
+}
+
+double TorusContactTerm::pair_max_step(int a, int b, const TorusShape& sa, const TorusShape& sb, const Vector& q,
+                                       const Vector& dq, double alpha) const {
+  const double keep = 1.0 - options_.ccd_fraction;
+  const Eigen::Vector3d dTa = dq.segment<3>(6 * a), dTb = dq.segment<3>(6 * b);
+  const double reach = pair_reach(sa, sb);
+  const double gap = (q.segment<3>(6 * a) - q.segment<3>(6 * b)).norm() - (dTa - dTb).norm();
+  if (gap > reach) return alpha;  // the bounding spheres never meet along the step
+  // Circular pairs: the core points' speed (d = D - r_a - r_b); elliptic ones: the surface
+  // points', every one within bounding_radius of its centre.
+  const bool surfaces = is_elliptic(sa) || is_elliptic(sb);
+  const double La = surfaces ? bounding_radius(sa) : sa.major_radius;
+  const double Lb = surfaces ? bounding_radius(sb) : sb.major_radius;
+  const double L =
+      dTa.norm() + dq.segment<3>(6 * a + 3).norm() * La + dTb.norm() + dq.segment<3>(6 * b + 3).norm() * Lb;
+  if (!(L > 0.0)) return alpha;
+  auto distance_at = [&](double t) {
+    ++ccd_queries;
+    const Vector qt = q + t * dq;
+    return torus_distance({qt.segment<3>(6 * a), qt.segment<3>(6 * a + 3), sa},
+                          {qt.segment<3>(6 * b), qt.segment<3>(6 * b + 3), sb}, false, options_.distance)
+        .distance;
+  };
+  const double d0 = distance_at(0.0);
+  if (!(d0 > 0.0)) return 0.0;
+  const double floor = keep * d0;
+  double t = 0.0, d = d0;
+  for (int it = 0; it < 200 && t < alpha; ++it) {
+    const double dt = (d - floor) / L;  // d >= floor on [t, t + dt]
+    if (!(dt > 1e-12 * std::max(t, 1e-300)) && it > 0) break;
+    if (t + dt >= alpha) {
+      t = alpha;
+      break;
+    }
+    t += dt;
+    d = distance_at(t);
+  }
+  return std::min(alpha, t);
 }
 
 }  // namespace tailor::tori

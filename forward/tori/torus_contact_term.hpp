@@ -101,6 +101,13 @@ class TorusContactTerm final : public EnergyTerm {
   // Pairs with d < d_hat at q.
   int active_pairs(const Vector& q, const Vector& p) const;
 
+  // Conservative advancement of one pair along dq (bodies a and b, 6 DOFs each in q; shapes sa,
+  // sb): the largest t <= alpha to which their distance provably stays above (1 - ccd_fraction)
+  // times its start, from the pair's speed bound; alpha when their bounding spheres cannot meet,
+  // 0 when they touch at the start. max_step() is its minimum over the pairs.
+  double pair_max_step(int a, int b, const TorusShape& sa, const TorusShape& sb, const Vector& q, const Vector& dq,
+                       double alpha) const;
+
   // Work counters of max_step: calls and distance queries.
   mutable long ccd_calls = 0, ccd_queries = 0;
 

@@ -267,14 +267,25 @@ std::vector<std::pair<int, int>> PeriodicRigidCell::candidate_pairs(const Vector
     int body;
   };
   std::vector<Entry> grid(static_cast<std::size_t>(nb));
+  std::vector<std::pair<int, int>> out;
   for (int b = 0; b < nb; ++b) {
     Entry& e = grid[static_cast<std::size_t>(b)];
-    for (int k = 0; k < 3; ++k) e.cell[static_cast<std::size_t>(k)] = static_cast<long>(std::floor(x[6 * b + k] / h));
+    for (int k = 0; k < 3; ++k) {
+      const double cell = std::floor(x[6 * b + k] / h);
+      if (!(std::abs(cell) < 1e15)) {
+        // A position the grid cannot index (not finite, e.g. an optimizer's failed trial, or
+        // beyond a long): every pair is a candidate, so the exact tests see it as all pairs do.
+        for (int a = 0; a < nb; ++a)
+          for (int c = a + 1; c < nb; ++c)
+            if (a < n || c < n) out.emplace_back(a, c);
+        return out;
+      }
+      e.cell[static_cast<std::size_t>(k)] = static_cast<long>(cell);
+    }
     e.body = b;
   }
   const auto less = [](const Entry& u, const Entry& v) { return u.cell < v.cell; };
   std::sort(grid.begin(), grid.end(), less);
-  std::vector<std::pair<int, int>> out;
   for (int a = 0; a < nb; ++a) {
     const Entry& ea = grid[static_cast<std::size_t>(a)];
     const Eigen::Vector3d Ta = x.segment<3>(6 * ea.body);

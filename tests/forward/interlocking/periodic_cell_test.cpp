@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -134,6 +135,10 @@ TEST(PeriodicRigidCell, BroadPhaseGivesTheAllPairsResults) {
   const std::size_t candidates = broad.candidate_pairs(x, broad.activation_distance()).size();
   std::printf("broad phase: %zu candidates of %d master-master and master-image pairs\n", candidates, all_pairs);
   EXPECT_LT(candidates, static_cast<std::size_t>(all_pairs) / 10);
+  // A position the grid cannot index (an optimizer's failed trial) makes every pair a candidate.
+  Vector broken = x;
+  broken[6 * 3 + 1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(broad.candidate_pairs(broken, broad.activation_distance()).size(), static_cast<std::size_t>(all_pairs));
   for (const HessianMode mode : {HessianMode::exact, HessianMode::projected}) {
     const ReducedContact cb = reduced_contact(broad, x, true, mode), ca = reduced_contact(all, x, true, mode);
     ASSERT_GT(cb.energy, 0.0);

@@ -17,21 +17,6 @@ namespace tailor::interlocking {
 
 namespace {
 
-// kappa b(d^2, d_hat^2) with its first and second derivatives in d, as TorusContactTerm sums it
-// (forward/contact/barrier.hpp; chain rule through s = d^2).
-contact::ScalarDerivatives pair_barrier(double d, double d_hat, double kappa) {
-  contact::ScalarDerivatives out;
-  if (!(d > 0.0)) {
-    out.value = std::numeric_limits<double>::infinity();
-    return out;
-  }
-  const contact::ScalarDerivatives b = contact::barrier(d * d, d_hat * d_hat);
-  out.value = kappa * b.value;
-  out.first = kappa * 2.0 * d * b.first;
-  out.second = kappa * (4.0 * d * d * b.second + 2.0 * b.first);
-  return out;
-}
-
 tori::TorusPose body_pose(const PeriodicRigidCell& cell, int body, const Vector& x) {
   return {x.segment<3>(6 * body), x.segment<3>(6 * body + 3),
           cell.spec().elements[static_cast<std::size_t>(cell.master(body))].shape};
@@ -63,7 +48,7 @@ void broad_phase_contact(const PeriodicRigidCell& cell, const Vector& x, double*
   const bool derivatives = gradient || hessian;
   double sum = 0.0;
   for (const tori::TorusPair& pair : close_candidates(cell, x, d_hat, derivatives)) {
-    const contact::ScalarDerivatives e = pair_barrier(pair.distance.distance, d_hat, kappa);
+    const contact::ScalarDerivatives e = tori::pair_barrier(pair.distance.distance, d_hat, kappa);
     sum += e.value;
     if (!derivatives || !std::isfinite(e.value)) continue;
     if (pair.distance.degenerate)
@@ -106,7 +91,7 @@ std::vector<tori::TorusPairForce> contact_pair_forces(const PeriodicRigidCell& c
     f.a = pair.a;
     f.b = pair.b;
     f.distance = pair.distance.distance;
-    f.force_on_b = -pair_barrier(f.distance, d_hat, cell.contact().options().stiffness).first *
+    f.force_on_b = -tori::pair_barrier(f.distance, d_hat, cell.contact().options().stiffness).first *
                    pair.distance.gradient.segment<3>(6);
     out.push_back(f);
   }

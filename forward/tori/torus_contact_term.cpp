@@ -13,8 +13,18 @@
 namespace tailor::tori {
 namespace {
 
-// kappa b(d^2) with its first and second derivatives in d.
-contact::ScalarDerivatives pair_energy(double d, double d_hat, double kappa) {
+// The sum of both bounding radii R + max(r, r1), summed left to right as R_a + r_a + R_b + r_b
+// for circular tori (the same rounding as before elliptic tubes).
+double pair_reach(const TorusShape& a, const TorusShape& b) {
+  return a.major_radius + std::max(a.minor_radius, axial_radius(a)) + b.major_radius +
+         std::max(b.minor_radius, axial_radius(b));
+}
+
+std::string pair_name(int a, int b) { return "tori " + std::to_string(a) + " and " + std::to_string(b); }
+
+}  // namespace
+
+contact::ScalarDerivatives pair_barrier(double d, double d_hat, double kappa) {
   contact::ScalarDerivatives out;
   if (!(d > 0.0)) {
     out.value = std::numeric_limits<double>::infinity();
@@ -26,17 +36,6 @@ contact::ScalarDerivatives pair_energy(double d, double d_hat, double kappa) {
   out.second = kappa * (4.0 * d * d * b.second + 2.0 * b.first);
   return out;
 }
-
-// The sum of both bounding radii R + max(r, r1), summed left to right as R_a + r_a + R_b + r_b
-// for circular tori (the same rounding as before elliptic tubes).
-double pair_reach(const TorusShape& a, const TorusShape& b) {
-  return a.major_radius + std::max(a.minor_radius, axial_radius(a)) + b.major_radius +
-         std::max(b.minor_radius, axial_radius(b));
-}
-
-std::string pair_name(int a, int b) { return "tori " + std::to_string(a) + " and " + std::to_string(b); }
-
-}  // namespace
 
 TorusContactTerm::TorusContactTerm(const rigid::RigidBodySystem& system, std::vector<TorusShape> shapes,
                                    TorusContactOptions options)
@@ -142,7 +141,7 @@ std::vector<TorusPairForce> TorusContactTerm::pair_forces(const Vector& q, const
   std::vector<TorusPairForce> out;
   const double d_hat = options_.activation_distance;
   for (const TorusPair& pair : close_pairs(q, p, d_hat, true)) {
-    const contact::ScalarDerivatives e = pair_energy(pair.distance.distance, d_hat, options_.stiffness);
+    const contact::ScalarDerivatives e = pair_barrier(pair.distance.distance, d_hat, options_.stiffness);
     TorusPairForce f;
     f.a = pair.a;
     f.b = pair.b;
@@ -164,7 +163,7 @@ void TorusContactTerm::evaluate(const Vector& q, const Vector& p, const EnergyRe
   const double d_hat = options_.activation_distance;
   double energy = 0.0;
   for (const TorusPair& pair : close_pairs(q, p, d_hat, derivatives)) {
-    const contact::ScalarDerivatives e = pair_energy(pair.distance.distance, d_hat, options_.stiffness);
+    const contact::ScalarDerivatives e = pair_barrier(pair.distance.distance, d_hat, options_.stiffness);
     energy += e.value;
     if (!derivatives || !std::isfinite(e.value)) continue;
     if (pair.distance.degenerate)
@@ -213,7 +212,7 @@ void TorusContactTerm::add_param_gradient(const Vector& q, const Vector& p, Vect
   if (options_.parameter_offset < 0 && options_.placement_offset < 0) return;
   const double d_hat = options_.activation_distance;
   for (const TorusPair& pair : close_pairs(q, p, d_hat, true)) {
-    const contact::ScalarDerivatives e = pair_energy(pair.distance.distance, d_hat, options_.stiffness);
+    const contact::ScalarDerivatives e = pair_barrier(pair.distance.distance, d_hat, options_.stiffness);
     if (!std::isfinite(e.value) || pair.distance.degenerate) continue;
     const PairGradient& g = pair.distance.gradient;
     if (options_.parameter_offset >= 0) {
@@ -232,7 +231,7 @@ void TorusContactTerm::add_mixed(const Vector& q, const Vector& p, Triplets& mix
   if (options_.parameter_offset < 0 && options_.placement_offset < 0) return;
   const double d_hat = options_.activation_distance;
   for (const TorusPair& pair : close_pairs(q, p, d_hat, true)) {
-    const contact::ScalarDerivatives e = pair_energy(pair.distance.distance, d_hat, options_.stiffness);
+    const contact::ScalarDerivatives e = pair_barrier(pair.distance.distance, d_hat, options_.stiffness);
     if (!std::isfinite(e.value) || pair.distance.degenerate) continue;
     const PairGradient& g = pair.distance.gradient;
     const PairHessian M = e.second * g * g.transpose() + e.first * pair.distance.hessian;

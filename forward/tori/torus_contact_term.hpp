@@ -34,11 +34,16 @@
 // infinite value on overlap, evaluated at p, still rejects a crossing step in the line search).
 #include <vector>
 
+#include "forward/contact/barrier.hpp"
 #include "forward/core/energy_term.hpp"
 #include "forward/rigid/rigid_body_system.hpp"
 #include "forward/tori/torus_distance.hpp"
 
 namespace tailor::tori {
+
+// One pair's barrier kappa b(d^2, d_hat^2) (forward/contact/barrier.hpp) with its first and
+// second derivatives in the distance d (chain rule through s = d^2); infinite for d <= 0.
+contact::ScalarDerivatives pair_barrier(double d, double d_hat, double kappa);
 
 struct TorusContactOptions {
   double activation_distance = 1e-2;  // d_hat [length]

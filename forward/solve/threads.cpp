@@ -81,4 +81,19 @@ FactorizationThreadsGuard::~FactorizationThreadsGuard() {
   if (saved_levels_ >= 0) omp_set_max_active_levels(saved_levels_);
 }
 
+SerialBlasGuard::SerialBlasGuard(bool active) {
+  if (!active) return;
+  const GetThreads get = openblas_get();
+  const SetThreads set = openblas_set();
+  if (!get || !set) return;
+  const int threads = get();
+  if (threads <= 1) return;
+  saved_threads_ = threads;
+  set(1);
+}
+
+SerialBlasGuard::~SerialBlasGuard() {
+  if (saved_threads_ > 0) openblas_set()(saved_threads_);
+}
+
 }  // namespace tailor

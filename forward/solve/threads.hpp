@@ -62,4 +62,21 @@ class FactorizationThreadsGuard {
   int saved_levels_ = -1;  // -1: nothing to restore
 };
 
+// Runs OpenBLAS on one thread for its lifetime when `active`, and restores the previous count.
+// For CHOLMOD's back-solves with one or a few right-hand sides (BLAS-2 on small panels): alone
+// they gain ~10% from a second BLAS thread, but between tailor's OpenMP loops that thread, still
+// spinning (sched_yield) when the loops start, takes a core from them. Serial back-solves made
+// the 48k-tet recovery 1.2x and the 6k one 2x faster (docs/performance.md). Does nothing when
+// the BLAS is not OpenBLAS or already runs on one thread.
+class SerialBlasGuard {
+ public:
+  explicit SerialBlasGuard(bool active = true);
+  ~SerialBlasGuard();
+  SerialBlasGuard(const SerialBlasGuard&) = delete;
+  SerialBlasGuard& operator=(const SerialBlasGuard&) = delete;
+
+ private:
+  int saved_threads_ = -1;  // -1: nothing to restore
+};
+
 }  // namespace tailor

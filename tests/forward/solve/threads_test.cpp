@@ -126,6 +126,23 @@ TEST(FactorizationThreads, DefaultsKeepTheEnvironmentsCounts) {
   }
 }
 
+TEST(FactorizationThreads, SerialBlasGuardRunsOneThreadAndRestores) {
+  ThreadSettings two;
+  two.blas = 2;
+  set_thread_settings(two);
+  const int before = current_threads().blas;
+  if (before == -1) GTEST_SKIP() << "the BLAS in this process is not OpenBLAS";
+  ASSERT_EQ(before, 2);
+  {
+    const SerialBlasGuard inactive(false);
+    EXPECT_EQ(current_threads().blas, 2);
+    const SerialBlasGuard serial;
+    EXPECT_EQ(current_threads().blas, 1);
+  }
+  EXPECT_EQ(current_threads().blas, 2);
+  set_thread_settings(ThreadSettings{});
+}
+
 TEST(FactorizationThreads, BadSettingsAreRejected) {
   ThreadSettings bad;
   bad.factorization = 2;

@@ -9,8 +9,8 @@
 //   K du~_I = -S^T (dK/dE dE) (x_I - X)                    (tangent, one back-solve per case)
 //   dL/dE  = -sum_I lambda_I^T (dK/dE) (x_I - X),  K lambda_I = S^T dL/du~_I   (adjoint)
 // then through SIMP, the projection and the filter as CellDesignFunctional chains dJ/dE. The
-// products use a model of the cell built as LinearCell builds its own (the same linear elastic
-// term on the same periodic elimination) with one factorization per design.
+// products are LinearCell's (state_tangent and its transpose), through the factor of the
+// functional's last solve at the same design.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -23,9 +23,6 @@
 #include <random>
 
 #include "bindings.hpp"
-#include "forward/core/assembler.hpp"
-#include "forward/fem/elastic_term.hpp"
-#include "forward/solve/sparse_cholesky.hpp"
 #include "problems/homogenization/cell_scene.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
 #include "problems/scene_error.hpp"
@@ -55,7 +52,6 @@ class CellFunctional {
       functional_ = std::make_unique<CellDesignFunctional>(cell_, spec_.material, spec_.filter_radius,
                                                            spec_.objective);
       functional_->set_projection(spec_.projection_betas.front());
-      build_product_model();
       return 0;
     });
     // The initial design as `tailor run` draws it (problems/metamaterial/metamaterial_scene.cpp).
@@ -111,7 +107,7 @@ class CellFunctional {
   py::array_t<double> state(const Vector& z) {
     check_size(z, "z");
     const std::vector<Vector> u = locked(mutex_, [&] {
-      solve(z, false);
+      solve(z);
       std::vector<Vector> out(static_cast<std::size_t>(cases()));
       for (int I = 0; I < cases(); ++I) out[I] = fluctuation(I);
       return out;
@@ -125,16 +121,10 @@ class CellFunctional {
     check_size(dz, "dz");
     if (!dz.allFinite()) throw std::invalid_argument(source_ + ": dz has non-finite entries");
     const std::vector<Vector> du = locked(mutex_, [&] {
-      solve(z, true);
-      const Vector dp = parameter_tangent(z, dz);
+      solve(z);
+      const Vector dE = modulus_slope(z).cwiseProduct(f().filter().apply(dz));
       std::vector<Vector> out(static_cast<std::size_t>(cases()));
-      for (int I = 0; I < cases(); ++I) {
-        Triplets triplets;
-        elastic_->add_mixed(states_[I], parameters_, triplets);
-        SparseMatrix mixed(states_[I].size(), parameters_.size());
-        mixed.setFromTriplets(triplets.begin(), triplets.end());
-        out[I] = back_solve(-(mixed * dp));
-      }
+      for (int I = 0; I < cases(); ++I) out[I] = cell_->state_tangent(I, dE);
       return out;
     });
     return to_cases(du);
@@ -153,11 +143,10 @@ class CellFunctional {
     for (const Vector& wi : w)
       if (!wi.allFinite()) throw std::invalid_argument(source_ + ": dL_du has non-finite entries");
     return locked(mutex_, [&] {
-      solve(z, true);
-      Vector dL_dp = Vector::Zero(parameters_.size());
-      for (int I = 0; I < m; ++I)
-        elastic_->add_mixed_transpose_times(states_[I], parameters_, back_solve(w[I]), dL_dp);
-      return design_gradient(z, -dL_dp);
+      solve(z);
+      Vector dL_dE = Vector::Zero(size());
+      for (int I = 0; I < m; ++I) dL_dE += cell_->state_tangent_transpose(I, w[I]);
+      return Vector(f().filter().apply_transpose(modulus_slope(z).cwiseProduct(dL_dE)));
     });
   }
 
@@ -178,55 +167,15 @@ class CellFunctional {
   const Mesh& mesh() const { return scene_.cell.mesh; }
 
  private:
-  void build_product_model() {
-    const PeriodicCell& cell = scene_.cell;
-    const int ne = size(), d = dim();
-    model_ = std::make_unique<Model>(d * cell.mesh.num_vertices());
-    model_->parameter_layout().add("youngs_modulus", ne);
-    model_->parameter_layout().add("poisson_ratio", ne);
-    if (d == 2)
-      elastic_ = &model_->add(std::make_unique<ElasticTerm<2>>(
-          cell.mesh, std::shared_ptr<const Material<2>>(make_material<2>(MaterialKind::linear)), 0, ne));
-    else
-      elastic_ = &model_->add(std::make_unique<ElasticTerm<3>>(
-          cell.mesh, std::shared_ptr<const Material<3>>(make_material<3>(MaterialKind::linear)), 0, ne));
-    model_->set_elimination(periodic_elimination(cell, Matrix::Zero(d, d)));
-    assembler_ = std::make_unique<ReducedAssembler>(*model_);
-    hessian_ = assembler_->hessian_pattern_matrix();
-    factor_.analyze(hessian_);
+  // The cell problems solved at z: the shared LinearCell keeps the states and the factor of its
+  // last solve, which another call (a Taylor test, a value at another design) may have moved.
+  void solve(const Vector& z) {
+    const Vector& solved = cell_->solved_youngs_modulus();
+    const Vector E = f().youngs_moduli(f().densities(z));
+    if (solved.size() == E.size() && solved == E) return;
+    f().value(z);
   }
-
-  // The cell problems at z (states_, the model's parameters) and, with `factorize`, the periodic
-  // stiffness factorized at them; both kept while z stays the same.
-  void solve(const Vector& z, bool factorize) {
-    if (!(have_states_ && z == z_)) {
-      f().value(z);
-      states_ = f().last().states;
-      z_ = z;
-      have_states_ = true;
-      have_factor_ = false;
-      // LinearCell's parameters: plane stress through plane-strain constants (linear_homogenization.hpp).
-      const Vector E = f().youngs_moduli(f().densities(z));
-      const double nu = spec_.material.poisson_ratio;
-      const int ne = size();
-      parameters_.resize(2 * ne);
-      modulus_scale_ = scene_.plane == PlaneMode::plane_stress ? (1.0 + 2.0 * nu) / ((1.0 + nu) * (1.0 + nu)) : 1.0;
-      parameters_.head(ne) = modulus_scale_ * E;
-      parameters_.tail(ne).setConstant(scene_.plane == PlaneMode::plane_stress ? nu / (1.0 + nu) : nu);
-    }
-    if (factorize && !have_factor_) {
-      assembler_->evaluate(Vector::Zero(assembler_->num_free()), parameters_, nullptr, nullptr, &hessian_);
-      const FactorizationResult r = factor_.factorize(hessian_);
-      if (!r.success || !r.positive_definite)
-        throw EvaluationError("the periodic stiffness matrix is not positive definite (" + r.message + ")");
-      have_factor_ = true;
-    }
-  }
-  Vector back_solve(const Vector& rhs) const {
-    const Elimination& elim = model_->elimination();
-    return elim.expand_direction(factor_.solve(elim.reduce(rhs)));
-  }
-  Vector fluctuation(int I) const { return states_[I] - macro_offset(scene_.cell, unit_macro_strain(dim(), I)); }
+  Vector fluctuation(int I) const { return f().last().states[I] - macro_offset(scene_.cell, unit_macro_strain(dim(), I)); }
 
   // dE/drho_e dH/drho~_e per element at z: SIMP (E_min + rho^p (E_0 - E_min), rho clamped to
   // [0, 1]) after the Heaviside projection of Wang, Lazarov & Sigmund 2011 (eq. 9), as
@@ -247,16 +196,6 @@ class CellFunctional {
                  projection;
     }
     return slope;
-  }
-  // The model parameters' tangent along dz: [dE' per element; 0 for nu'].
-  Vector parameter_tangent(const Vector& z, const Vector& dz) const {
-    Vector dp = Vector::Zero(parameters_.size());
-    dp.head(size()) = modulus_scale_ * modulus_slope(z).cwiseProduct(f().filter().apply(dz));
-    return dp;
-  }
-  // dL/dz from dL/dp (the model parameters).
-  Vector design_gradient(const Vector& z, const Vector& dL_dp) const {
-    return f().filter().apply_transpose(modulus_scale_ * modulus_slope(z).cwiseProduct(dL_dp.head(size())));
   }
   py::array_t<double> to_cases(const std::vector<Vector>& u) const {
     const int m = cases(), nv = num_vertices(), d = dim();
@@ -279,15 +218,6 @@ class CellFunctional {
   Vector z0_;
   std::vector<std::string> labels_;
   // The products' model and the evaluation they were made at.
-  std::unique_ptr<Model> model_;
-  const EnergyTerm* elastic_ = nullptr;
-  std::unique_ptr<ReducedAssembler> assembler_;
-  SparseMatrix hessian_;
-  SparseCholesky factor_;
-  bool have_states_ = false, have_factor_ = false;
-  Vector z_, parameters_;
-  double modulus_scale_ = 1.0;  // dE'/dE (plane stress)
-  std::vector<Vector> states_;
   std::mutex mutex_;
 };
 

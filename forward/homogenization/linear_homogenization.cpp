@@ -60,6 +60,7 @@ LinearHomogenization LinearCell::solve(const Vector& youngs_modulus, const Vecto
     throw std::invalid_argument(
         "LinearCell::solve: need one Young's modulus and Poisson's ratio per element (" + std::to_string(ne) +
         ")");
+  youngs_modulus_.resize(0);  // invalid until this solve succeeds
   parameters_.resize(2 * ne);
   modulus_scale_.resize(ne);
   for (int e = 0; e < ne; ++e) {
@@ -120,6 +121,7 @@ LinearHomogenization LinearCell::solve(const Vector& youngs_modulus, const Vecto
   result.symmetry_error = (result.stiffness - result.stiffness.transpose()).cwiseAbs().maxCoeff() /
                           result.stiffness.cwiseAbs().maxCoeff();
   result.states = states_;
+  youngs_modulus_ = youngs_modulus;
   return result;
 }
 
@@ -140,6 +142,41 @@ Vector LinearCell::youngs_modulus_gradient(const Matrix& dJ_dC) const {
     elastic_->add_mixed_transpose_times(states_[J], parameters_, w, dp);
   }
   return dp.head(ne).cwiseProduct(modulus_scale_) / cell_.volume();
+}
+
+namespace {
+void check_cell_load_case(const char* what, int load_case, std::size_t cases, Eigen::Index vector_size,
+                     Eigen::Index expected) {
+  if (load_case < 0 || static_cast<std::size_t>(load_case) >= cases)
+    throw std::out_of_range(std::string("LinearCell::") + what + ": no such load case (call solve() first)");
+  if (vector_size != expected)
+    throw std::invalid_argument(std::string("LinearCell::") + what + ": expected a vector of size " +
+                                std::to_string(expected) + ", got " + std::to_string(vector_size));
+}
+}  // namespace
+
+Vector LinearCell::state_tangent(int load_case, const Vector& youngs_modulus_change) const {
+  const int ne = num_elements();
+  check_cell_load_case("state_tangent", load_case, states_.size(), youngs_modulus_change.size(), ne);
+  const Vector& x = states_[static_cast<std::size_t>(load_case)];
+  Triplets triplets;
+  elastic_->add_mixed(x, parameters_, triplets);
+  SparseMatrix mixed(x.size(), parameters_.size());
+  mixed.setFromTriplets(triplets.begin(), triplets.end());
+  Vector dp = Vector::Zero(parameters_.size());
+  dp.head(ne) = modulus_scale_.cwiseProduct(youngs_modulus_change);  // Poisson's ratios fixed
+  const Elimination& elimination = model_->elimination();
+  return elimination.expand_direction(factor_.solve(elimination.reduce(-(mixed * dp))));
+}
+
+Vector LinearCell::state_tangent_transpose(int load_case, const Vector& w) const {
+  const int ne = num_elements();
+  check_cell_load_case("state_tangent_transpose", load_case, states_.size(), w.size(), rest_.size());
+  const Elimination& elimination = model_->elimination();
+  const Vector adjoint = elimination.expand_direction(factor_.solve(elimination.reduce(w)));
+  Vector dp = Vector::Zero(parameters_.size());
+  elastic_->add_mixed_transpose_times(states_[static_cast<std::size_t>(load_case)], parameters_, adjoint, dp);
+  return -dp.head(ne).cwiseProduct(modulus_scale_);
 }
 
 Matrix LinearCell::element_stresses(int load_case) const {

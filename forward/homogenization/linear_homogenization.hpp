@@ -62,6 +62,17 @@ class LinearCell {
   // problems are self-adjoint: the fluctuations' sensitivities drop out by equilibrium).
   Vector youngs_modulus_gradient(const Matrix& dJ_dC) const;
 
+  // Forward and adjoint sensitivities of the cell problems after solve(), through the factor
+  // of that solve (one back-solve each). state_tangent returns du_I = (du_I/dE) dE, the change
+  // of load case I's state (full coordinates, per vertex) along per-element changes dE of the
+  // physical Young's moduli: K du_I = -(d^2 E / dx dE) dE. state_tangent_transpose returns
+  // (du_I/dE)^T w per element for a w of the state's size.
+  Vector state_tangent(int load_case, const Vector& youngs_modulus_change) const;
+  Vector state_tangent_transpose(int load_case, const Vector& w) const;
+  // The physical Young's moduli of the last solve (empty before the first): a caller that
+  // shares the cell checks with it that the factor is the one it needs.
+  const Vector& solved_youngs_modulus() const { return youngs_modulus_; }
+
   // Per-element stress (row-major dim*dim) of load case I of the last solve (plane-strain
   // in-plane stress in 2D; for plane stress the in-plane stress of the plate).
   Matrix element_stresses(int load_case) const;
@@ -77,6 +88,7 @@ class LinearCell {
   Vector rest_;           // X (flattened)
   Vector parameters_;     // [E' per element, nu' per element] of the last solve
   Vector modulus_scale_;  // dE'/dE per element
+  Vector youngs_modulus_;  // E per element of the last solve (physical)
   std::vector<Vector> states_;
 };
 

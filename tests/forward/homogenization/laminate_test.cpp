@@ -113,5 +113,36 @@ TEST(Laminate, TetCell) {
       << laminate_stiffness(phases, kFractions);
 }
 
+// LinearCell::state_tangent against central differences of the solved states, and
+// state_tangent_transpose as its transpose, on a cell with random per-element moduli (plane
+// stress exercises the modulus scale dE'/dE).
+TEST(Laminate, StateTangentMatchesDifferencesAndItsTranspose) {
+  for (const bool plane_stress : {false, true}) {
+    const Mesh mesh = lattice_triangle_mesh(Eigen::Matrix2d::Identity(), Eigen::Vector2d::Zero(), 4, 4,
+                                            TriangleSplit::crossed);
+    LinearCell cell(make_box_periodic_cell(mesh), plane_stress ? PlaneMode::plane_stress : PlaneMode::plane_strain);
+    const int ne = mesh.num_elements();
+    std::srand(7);
+    const Vector E = Vector::Constant(ne, 2.0) + Vector::Random(ne);
+    const Vector nu = Vector::Constant(ne, 0.3);
+    const Vector dE = Vector::Random(ne);
+    const double h = 1e-5;
+    const std::vector<Vector> plus = cell.solve(E + h * dE, nu).states;
+    const std::vector<Vector> minus = cell.solve(E - h * dE, nu).states;
+    cell.solve(E, nu);
+    EXPECT_EQ(cell.solved_youngs_modulus(), E);
+    for (int I = 0; I < 3; ++I) {
+      const Vector tangent = cell.state_tangent(I, dE);
+      const Vector difference = (plus[I] - minus[I]) / (2.0 * h);
+      ASSERT_GT(difference.norm(), 1e-3);  // the moduli move the state: the check can fail
+      EXPECT_LT((tangent - difference).norm(), 1e-7 * difference.norm()) << "load case " << I;
+      const Vector w = Vector::Random(tangent.size());
+      EXPECT_NEAR(w.dot(tangent), cell.state_tangent_transpose(I, w).dot(dE), 1e-12 * std::abs(w.dot(tangent)) + 1e-14);
+    }
+    EXPECT_THROW(cell.state_tangent(3, dE), std::out_of_range);
+    EXPECT_THROW(cell.state_tangent(0, Vector::Zero(ne + 1)), std::invalid_argument);
+  }
+}
+
 }  // namespace
 }  // namespace tailor::laminate_test

@@ -14,7 +14,7 @@
 // Writes JSON (--out, default bench_recovery.json) and prints a table.
 //
 // usage: recovery_bench [--size 6k|48k] [--backends a,b] [--reuse auto|across|off]
-//                       [--exact-hessian yes|no] [--jacobi yes|no] [--max-iterations N] [--time-limit S] [--out FILE]
+//                       [--exact-hessian yes|no] [--jacobi yes|no] [--per-iteration yes|no] [--max-iterations N] [--time-limit S] [--out FILE]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -152,10 +152,25 @@ const Sample* time_to_target(const Run& run, double best) {
   return nullptr;
 }
 
+// Each iteration's work (the difference of the counters between checkpoints): where a
+// back-end's products and factorizations go.
+void print_iterations(const Run& run) {
+  std::printf("    %5s %16s %9s %8s %11s %9s\n", "iter", "objective", "s", "factors", "back-solves", "products");
+  for (std::size_t k = 0; k < run.samples.size(); ++k) {
+    const Sample& s = run.samples[k];
+    const FunctionalCounters before = k > 0 ? run.samples[k - 1].counters : FunctionalCounters{};
+    const double seconds = s.seconds - (k > 0 ? run.samples[k - 1].seconds : 0.0);
+    std::printf("    %5d %16.9e %9.3f %8ld %11ld %9d\n", s.iteration, s.objective, seconds,
+                s.counters.factorizations - before.factorizations, s.counters.back_solves - before.back_solves,
+                s.counters.hessian_vectors - before.hessian_vectors);
+  }
+}
+
 }  // namespace
 
 int run(int argc, char** argv) {
-  std::string size = "6k", reuse = "auto", exact = "yes", jacobi = "no", out = "bench_recovery.json";
+  std::string size = "6k", reuse = "auto", exact = "yes", jacobi = "no", per_iteration = "no",
+              out = "bench_recovery.json";
   int max_iterations = 500;
   double time_limit = 120.0;
   // Back-ends whose work is dense in the number of design variables (SLSQP's quasi-Newton
@@ -177,6 +192,9 @@ int run(int argc, char** argv) {
              {"auto", "across", "off"});
   cli.choice("--exact-hessian", exact, "also run newton_cg with exact Hessian-vector products", {"yes", "no"});
   cli.choice("--jacobi", jacobi, "also run newton_cg with its CG preconditioned by the Gauss-Newton diagonal",
+             {"yes", "no"});
+  cli.choice("--per-iteration", per_iteration,
+             "print each back-end's work per iteration (objective, seconds, factorizations, back-solves, products)",
              {"yes", "no"});
   cli.integer("--max-iterations", max_iterations, "iterations per back-end", 1);
   cli.number("--time-limit", time_limit, "seconds per back-end", 0.0);
@@ -212,6 +230,7 @@ int run(int argc, char** argv) {
     std::printf("  %-28s %-14s %4d iterations  %8.3f s  objective %.9e\n", v.label().c_str(),
                 to_string(r.result.status).c_str(), r.result.history.empty() ? 0 : r.result.history.back().iteration,
                 r.result.seconds, r.result.objective);
+    if (per_iteration == "yes") print_iterations(r);
     std::fflush(stdout);
     if (std::isfinite(r.result.objective)) best = std::min(best, r.result.objective);
   }

@@ -14,7 +14,8 @@
 // Writes JSON (--out, default bench_recovery.json) and prints a table.
 //
 // usage: recovery_bench [--size 6k|48k] [--backends a,b] [--reuse auto|across|off]
-//                       [--exact-hessian yes|no] [--jacobi yes|no] [--per-iteration yes|no] [--max-iterations N] [--time-limit S] [--out FILE]
+//                       [--exact-hessian yes|no] [--jacobi yes|no] [--per-iteration yes|no]
+//                       [--cg-resolution X] [--max-iterations N] [--time-limit S] [--out FILE]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -118,7 +119,7 @@ struct Recovery {
 };
 
 Run run_variant(const Recovery& recovery, const Variant& variant, const std::string& reuse, int max_iterations,
-                double time_limit, double gradient_tolerance) {
+                double time_limit, double gradient_tolerance, double cg_resolution) {
   const int m = recovery.block.mesh.num_elements();
   StaticFunctionalOptions options;
   options.newton.reuse_factorization = reuse == "off" ? FactorReuse::off : FactorReuse::automatic;
@@ -131,6 +132,7 @@ Run run_variant(const Recovery& recovery, const Variant& variant, const std::str
   o.backend = variant.backend;
   o.curvature = variant.curvature;
   o.precondition_curvature = variant.precondition;
+  o.cg_objective_resolution = cg_resolution;
   o.max_iterations = max_iterations;
   o.time_limit_seconds = time_limit;
   o.gradient_tolerance = gradient_tolerance;
@@ -173,6 +175,7 @@ int run(int argc, char** argv) {
               out = "bench_recovery.json";
   int max_iterations = 500;
   double time_limit = 120.0;
+  double cg_resolution = OptimizerOptions{}.cg_objective_resolution;
   // Back-ends whose work is dense in the number of design variables (SLSQP's quasi-Newton
   // matrix, Ceres' Levenberg-Marquardt Jacobian) are left out by default.
   std::vector<std::string> backends{"newton_cg", "nlopt_lbfgs", "ipopt", "ceres_lbfgs", "nlopt_mma",
@@ -198,6 +201,9 @@ int run(int argc, char** argv) {
              {"yes", "no"});
   cli.integer("--max-iterations", max_iterations, "iterations per back-end", 1);
   cli.number("--time-limit", time_limit, "seconds per back-end", 0.0);
+  cli.number("--cg-resolution", cg_resolution,
+             "newton_cg (Gauss-Newton): CG stops once the model resolves the objective to this (0 = residual test only)",
+             0.0);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
 
@@ -225,7 +231,7 @@ int run(int argc, char** argv) {
   std::vector<Run> runs;
   double best = std::numeric_limits<double>::infinity();
   for (const Variant& v : variants) {
-    runs.push_back(run_variant(recovery, v, reuse, max_iterations, time_limit, tolerance));
+    runs.push_back(run_variant(recovery, v, reuse, max_iterations, time_limit, tolerance, cg_resolution));
     const Run& r = runs.back();
     std::printf("  %-28s %-14s %4d iterations  %8.3f s  objective %.9e\n", v.label().c_str(),
                 to_string(r.result.status).c_str(), r.result.history.empty() ? 0 : r.result.history.back().iteration,
@@ -241,6 +247,7 @@ int run(int argc, char** argv) {
   Json report = bench::report("recovery");
   report["tets"] = m;
   report["reuse"] = reuse;
+  report["cg_objective_resolution"] = cg_resolution;
   report["gradient_tolerance"] = tolerance;
   report["best_objective"] = best;
   report["target_relative"] = kTarget;

@@ -203,7 +203,7 @@ int run(int argc, char** argv) {
   cli.number("--time-limit", time_limit, "seconds per back-end", 0.0);
   cli.number("--cg-resolution", cg_resolution,
              "newton_cg (Gauss-Newton): CG stops once the model resolves the objective to this (0 = residual test only)",
-             0.0);
+             0.0, true);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
 

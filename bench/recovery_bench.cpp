@@ -8,6 +8,10 @@
 // with its default curvature (Gauss-Newton products: the objective is least squares) and with
 // exact Hessian-vector products.
 //
+// --per-iteration prints each iteration's factorizations, back-solves and products;
+// --cg-resolution sets newton_cg's OptimizerOptions::cg_objective_resolution (0: its CG stops on
+// the residual test alone, as before that rule).
+//
 // --reuse chooses how the forward solves use the kept factorization (NewtonOptions): auto (the
 // default rule), across (the rule before: CG preconditioned by the previous design's factor),
 // off (factorize every new design).

@@ -8,13 +8,18 @@
 // with its default curvature (Gauss-Newton products: the objective is least squares) and with
 // exact Hessian-vector products.
 //
+// --per-iteration prints each iteration's factorizations, back-solves and products;
+// --cg-resolution sets newton_cg's OptimizerOptions::cg_objective_resolution (0: its CG stops on
+// the residual test alone, as before that rule).
+//
 // --reuse chooses how the forward solves use the kept factorization (NewtonOptions): auto (the
 // default rule), across (the rule before: CG preconditioned by the previous design's factor),
 // off (factorize every new design).
 // Writes JSON (--out, default bench_recovery.json) and prints a table.
 //
 // usage: recovery_bench [--size 6k|48k] [--backends a,b] [--reuse auto|across|off]
-//                       [--exact-hessian yes|no] [--jacobi yes|no] [--max-iterations N] [--time-limit S] [--out FILE]
+//                       [--exact-hessian yes|no] [--jacobi yes|no] [--per-iteration yes|no]
+//                       [--cg-resolution X] [--max-iterations N] [--time-limit S] [--out FILE]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -118,7 +123,7 @@ struct Recovery {
 };
 
 Run run_variant(const Recovery& recovery, const Variant& variant, const std::string& reuse, int max_iterations,
-                double time_limit, double gradient_tolerance) {
+                double time_limit, double gradient_tolerance, double cg_resolution) {
   const int m = recovery.block.mesh.num_elements();
   StaticFunctionalOptions options;
   options.newton.reuse_factorization = reuse == "off" ? FactorReuse::off : FactorReuse::automatic;
@@ -131,6 +136,7 @@ Run run_variant(const Recovery& recovery, const Variant& variant, const std::str
   o.backend = variant.backend;
   o.curvature = variant.curvature;
   o.precondition_curvature = variant.precondition;
+  o.cg_objective_resolution = cg_resolution;
   o.max_iterations = max_iterations;
   o.time_limit_seconds = time_limit;
   o.gradient_tolerance = gradient_tolerance;
@@ -152,12 +158,28 @@ const Sample* time_to_target(const Run& run, double best) {
   return nullptr;
 }
 
+// Each iteration's work (the difference of the counters between checkpoints): where a
+// back-end's products and factorizations go.
+void print_iterations(const Run& run) {
+  std::printf("    %5s %16s %9s %8s %11s %9s\n", "iter", "objective", "s", "factors", "back-solves", "products");
+  for (std::size_t k = 0; k < run.samples.size(); ++k) {
+    const Sample& s = run.samples[k];
+    const FunctionalCounters before = k > 0 ? run.samples[k - 1].counters : FunctionalCounters{};
+    const double seconds = s.seconds - (k > 0 ? run.samples[k - 1].seconds : 0.0);
+    std::printf("    %5d %16.9e %9.3f %8ld %11ld %9d\n", s.iteration, s.objective, seconds,
+                s.counters.factorizations - before.factorizations, s.counters.back_solves - before.back_solves,
+                s.counters.hessian_vectors - before.hessian_vectors);
+  }
+}
+
 }  // namespace
 
 int run(int argc, char** argv) {
-  std::string size = "6k", reuse = "auto", exact = "yes", jacobi = "no", out = "bench_recovery.json";
+  std::string size = "6k", reuse = "auto", exact = "yes", jacobi = "no", per_iteration = "no",
+              out = "bench_recovery.json";
   int max_iterations = 500;
   double time_limit = 120.0;
+  double cg_resolution = OptimizerOptions{}.cg_objective_resolution;
   // Back-ends whose work is dense in the number of design variables (SLSQP's quasi-Newton
   // matrix, Ceres' Levenberg-Marquardt Jacobian) are left out by default.
   std::vector<std::string> backends{"newton_cg", "nlopt_lbfgs", "ipopt", "ceres_lbfgs", "nlopt_mma",
@@ -178,8 +200,14 @@ int run(int argc, char** argv) {
   cli.choice("--exact-hessian", exact, "also run newton_cg with exact Hessian-vector products", {"yes", "no"});
   cli.choice("--jacobi", jacobi, "also run newton_cg with its CG preconditioned by the Gauss-Newton diagonal",
              {"yes", "no"});
+  cli.choice("--per-iteration", per_iteration,
+             "print each back-end's work per iteration (objective, seconds, factorizations, back-solves, products)",
+             {"yes", "no"});
   cli.integer("--max-iterations", max_iterations, "iterations per back-end", 1);
   cli.number("--time-limit", time_limit, "seconds per back-end", 0.0);
+  cli.number("--cg-resolution", cg_resolution,
+             "newton_cg (Gauss-Newton): CG stops once the model resolves the objective to this (0 = residual test only)",
+             0.0, true);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
 
@@ -207,11 +235,12 @@ int run(int argc, char** argv) {
   std::vector<Run> runs;
   double best = std::numeric_limits<double>::infinity();
   for (const Variant& v : variants) {
-    runs.push_back(run_variant(recovery, v, reuse, max_iterations, time_limit, tolerance));
+    runs.push_back(run_variant(recovery, v, reuse, max_iterations, time_limit, tolerance, cg_resolution));
     const Run& r = runs.back();
     std::printf("  %-28s %-14s %4d iterations  %8.3f s  objective %.9e\n", v.label().c_str(),
                 to_string(r.result.status).c_str(), r.result.history.empty() ? 0 : r.result.history.back().iteration,
                 r.result.seconds, r.result.objective);
+    if (per_iteration == "yes") print_iterations(r);
     std::fflush(stdout);
     if (std::isfinite(r.result.objective)) best = std::min(best, r.result.objective);
   }
@@ -222,6 +251,7 @@ int run(int argc, char** argv) {
   Json report = bench::report("recovery");
   report["tets"] = m;
   report["reuse"] = reuse;
+  report["cg_objective_resolution"] = cg_resolution;
   report["gradient_tolerance"] = tolerance;
   report["best_objective"] = best;
   report["target_relative"] = kTarget;

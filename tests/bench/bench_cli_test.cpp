@@ -95,6 +95,8 @@ TEST(BenchCli, BadValuesExitWithTwoNamingTheFlag) {
       {"recovery_bench", "--reuse maybe", "--reuse: expected one of auto, across, off, got 'maybe'"},
       {"recovery_bench", "--jacobi maybe", "--jacobi: expected one of yes, no, got 'maybe'"},
       {"recovery_bench", "--exact-hessian 1", "--exact-hessian: expected one of yes, no, got '1'"},
+      {"recovery_bench", "--per-iteration maybe", "--per-iteration: expected one of yes, no, got 'maybe'"},
+      {"recovery_bench", "--cg-resolution -1", "--cg-resolution: expected a number >= 0, got '-1'"},
   };
   for (const auto& c : cases) {
     std::string output;

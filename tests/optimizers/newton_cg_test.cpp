@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "../support/fem_fixtures.hpp"
@@ -110,6 +111,67 @@ TEST(NewtonCg, RefusesCurvatureTheFunctionalLacks) {
   r = minimize(quadratic, Vector::Zero(3), {}, {gap_constraint()}, newton_cg());
   EXPECT_EQ(r.status, OptimizerStatus::failed);
   EXPECT_THAT(r.message, HasSubstr("bounds only"));
+}
+
+// Linear least squares J = 1/2 ||A z - b||^2 with A = [D; 0] (200 columns, 100 zero rows
+// below), D = diag(10^(-1.5 i / 199)), b = [D t; e]: the minimizer is z = t and J_* = 1/2
+// ||e||^2 (closed form), the Gauss-Newton model is exact, and its matrix D^2 has 200 distinct
+// eigenvalues over three decades, so CG needs many products to resolve the residual to the
+// forcing term.
+class DiagonalLeastSquares : public HookedFunctional {
+ public:
+  static constexpr int n = 200, extra = 100;
+  DiagonalLeastSquares() : d(n), t(n), e(extra) {
+    for (int i = 0; i < n; ++i) {
+      d[i] = std::pow(10.0, -1.5 * i / (n - 1));
+      t[i] = std::sin(1.0 + 0.7 * i);
+    }
+    for (int k = 0; k < extra; ++k) e[k] = 0.1 * std::cos(0.3 * k);
+  }
+  int size() const override { return n; }
+  double value(const Vector& z) override {
+    before(z, false);
+    return 0.5 * (d.cwiseProduct(z - t).squaredNorm() + e.squaredNorm());
+  }
+  double value_and_gradient(const Vector& z, Vector& gradient) override {
+    before(z, true);
+    gradient = d.cwiseProduct(d.cwiseProduct(z - t));
+    return 0.5 * (d.cwiseProduct(z - t).squaredNorm() + e.squaredNorm());
+  }
+  bool has_gauss_newton_vector() const override { return true; }
+  Vector gauss_newton_vector(const Vector&, const Vector& v) override {
+    ++gauss_newton_products;
+    return d.cwiseProduct(d.cwiseProduct(v));
+  }
+  double minimum() const { return 0.5 * e.squaredNorm(); }
+  Vector d, t, e;
+  int gauss_newton_products = 0;
+};
+
+// CgStop's model test: where the objective has a floor (J_* > 0) the residual test alone solves
+// each step far past what the objective shows. With the test (the default), the first step
+// lands within the resolution (1e-4) of the minimum, the run still converges to the gradient
+// tolerance at the closed-form minimizer, and it takes fewer products than with the residual
+// test alone (resolution 0), which is the run the test compares against.
+TEST(NewtonCg, StopsCgOnceTheModelResolvesTheObjective) {
+  DiagonalLeastSquares with_test, residual_only;
+  OptimizerOptions options = newton_cg(1e-9);
+  const OptimizerResult a = minimize(with_test, Vector::Zero(DiagonalLeastSquares::n), {}, {}, options);
+  options.cg_objective_resolution = 0.0;
+  const OptimizerResult b = minimize(residual_only, Vector::Zero(DiagonalLeastSquares::n), {}, {}, options);
+  std::printf("with the model test: %s\nresidual test only: %s\n", a.message.c_str(), b.message.c_str());
+  const double minimum = with_test.minimum();
+  for (const OptimizerResult* r : {&a, &b}) {
+    ASSERT_TRUE(r->converged()) << r->message;
+    EXPECT_LT((r->z - with_test.t).lpNorm<Eigen::Infinity>(), 1e-6);
+    EXPECT_NEAR(r->objective, minimum, 1e-12 * minimum);
+  }
+  ASSERT_GE(a.history.size(), 2u);
+  EXPECT_LT(a.history[1].objective, minimum * (1.0 + 1e-4));
+  EXPECT_GT(a.history[1].objective, minimum * (1.0 + 1e-9));  // CG stopped short of the model's minimum
+  EXPECT_THAT(a.message, HasSubstr("stopped with the objective resolved"));
+  EXPECT_THAT(b.message, Not(HasSubstr("stopped with the objective resolved")));
+  EXPECT_LT(with_test.gauss_newton_products, residual_only.gauss_newton_products);
 }
 
 // A clamped 3 x 1 x 1 linear block (6 x 2 x 2 cells, 144 tets) under a shear traction; one log E

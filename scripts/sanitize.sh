@@ -43,6 +43,7 @@ subset=(
   "adjoint_tests|TransientFunctional"        # the transient adjoint and its tangent (forward-mode) pass
   "forward_damping_tests|"
   "forward_solve_tests|HessianShare"        # assembly by parts: the shares and Newton through them
+  "optimizers_tests|NewtonCg"                # newton_cg's trust region, CG stops and Hessian products
 )
 
 # Left out of the subset: long validation runs (whole trajectories, optimizations, chains of a

@@ -78,7 +78,7 @@ void shape(const ElasticTerm<3>& term, int k, double* G) {
 void compare_with_element_loop(MaterialKind kind, int material) {
   Cantilever c(bar_options(12, kind));
   const ElasticTerm<3>& term = elastic_of(*c.model);
-  const Vector x = randomly_deformed(c.rest, 0.06, 7);
+  const Vector x = randomly_deformed(c.rest, 0.15, 7);
   const int m = static_cast<int>(term.elements().size());
   HessianPattern pattern;
   term.hessian_pattern(pattern);
@@ -357,7 +357,7 @@ TEST(DescentKernels, DeviceIteratesMatchTheCpuAndNeverRaiseTheEnergy) {
   const auto [gpu, gpu_rise] = run(DescentDevice::gpu);
   (void)cpu_rise;
   EXPECT_LE(gpu_rise, 1e-12);
-  EXPECT_LE((gpu - cpu).lpNorm<Eigen::Infinity>(), 1e-10 * (cpu - c.rest).lpNorm<Eigen::Infinity>());
+  EXPECT_LE((gpu - cpu).lpNorm<Eigen::Infinity>(), 1e-9 * (cpu - c.rest).lpNorm<Eigen::Infinity>());
 }
 #endif
 

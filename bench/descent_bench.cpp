@@ -27,7 +27,7 @@
 //
 // usage: descent_bench [--tets 58000,150000] [--steps 3] [--budgets 25,50,100,200]
 //        [--threads 1,2] [--matched-tolerance 1e-3] [--out FILE] [--plot FILE]
-//        [--device-table] [--device-budgets 50,100,200]
+//        [--device-table] [--device-budgets 50,100,200] [--table-on-cpu] [--table-scale 1]
 #include <omp.h>
 
 #include <algorithm>
@@ -41,6 +41,7 @@
 #include "cantilever.hpp"
 #include "forward/dynamics/descent_device.hpp"
 #include "forward/dynamics/descent_time_stepper.hpp"
+#include "forward/dynamics/descent_vertex_blocks.hpp"
 #include "forward/dynamics/setup.hpp"
 #include "problems/plot/line_plot.hpp"
 #include "tailor_version.hpp"
@@ -64,6 +65,8 @@ struct Settings {
   int matched_budget = 5000;
   bool device_table = false;
   std::vector<int> device_budgets{50, 100, 200};
+  bool table_on_cpu = false;  // the table's rows with the rule on the CPU instead of the device
+  double table_scale = 1.0;   // vertex and tet counts times this (a quick run of the same code)
 };
 
 struct Scene {
@@ -238,6 +241,7 @@ double triad_bandwidth() {
 
 struct PassCost {
   double bytes_per_element = 0.0, seconds = 0.0, cpu_seconds = 0.0, bandwidth = 0.0;
+  double vertex_block_seconds = 0.0, vertex_block_cpu_seconds = 0.0;  // the vertex-block rule's pass on the CPU
 };
 
 // One pass (energy, gradient, block-Jacobi inverse) at the first step's start, median of 7.
@@ -260,6 +264,21 @@ PassCost time_pass(Scene& scene) {
   PassCost c;
   c.seconds = median(times);
   c.cpu_seconds = median(cpu);
+  // The same pass with the vertex-block rule (the device's; descent_vertex_blocks.hpp) on the host.
+  VertexBlockModel rule(*scene.bar.model);
+  rule.prepare(scene.p, s.y);
+  VertexBlockHostPass vertex_pass(rule);
+  VertexBlockHostPass::Result result;
+  times.clear(), cpu.clear();
+  for (int r = 0; r < 7; ++r) {
+    const auto t0 = Clock::now();
+    const double c0 = bench::cpu_seconds();
+    vertex_pass.evaluate(s.y, result, true);
+    times.push_back(seconds_since(t0));
+    cpu.push_back(bench::cpu_seconds() - c0);
+  }
+  c.vertex_block_seconds = median(times);
+  c.vertex_block_cpu_seconds = median(cpu);
   const double bytes = static_cast<double>(pass.bytes_per_pass(true));
   c.bytes_per_element = bytes / scene.bar.mesh.num_elements();
   c.bandwidth = bytes / c.seconds;
@@ -344,7 +363,8 @@ struct DeviceRow {
 std::vector<DeviceRow> run_device_table(const Settings& settings) {
   std::vector<DeviceRow> rows;
   for (const TableModel& t : kTable) {
-    const auto [a, b, c] = box_cells(t.vertices, t.tets);
+    const auto [a, b, c] = box_cells(std::max(8, static_cast<int>(settings.table_scale * t.vertices)),
+                                     std::max(6, static_cast<int>(settings.table_scale * t.tets)));
     Scene scene = make_box_scene(a, b, c);
     const int vertices = scene.bar.mesh.num_vertices(), tets = scene.bar.mesh.num_elements();
     std::fprintf(stderr, "%s: %d x %d x %d cells, %d vertices, %d tets: Newton reference\n", t.name, a, b, c, vertices,
@@ -364,7 +384,7 @@ std::vector<DeviceRow> run_device_table(const Settings& settings) {
     };
     for (const int budget : settings.device_budgets) {
       std::fprintf(stderr, "%s: device, budget %d\n", t.name, budget);
-      add(DescentDevice::gpu, budget);
+      add(settings.table_on_cpu ? DescentDevice::cpu : DescentDevice::gpu, budget);
     }
     const int middle = settings.device_budgets[settings.device_budgets.size() / 2];
     std::fprintf(stderr, "%s: the same rule on the CPU, budget %d\n", t.name, middle);
@@ -398,16 +418,16 @@ void print_tables(const std::vector<MeshResult>& meshes, double bandwidth) {
       "(step/s: median wall time per step; cpu/s: median process CPU time per step; iter.: mean iterations per step; residual: median reached ||g|| over\n"
       " Newton's scale; state err: max over steps of ||x - x_newton||_inf / max displacement; drift: energy at\n"
       " the last step minus Newton's, over Newton's energy change; budget 0 = to the tolerance)\n\n");
-  std::printf("%7s %12s %10s %12s %12s %12s %22s\n", "tets", "bytes/elem", "pass/ms", "pass cpu/ms", "pass GB/s",
-              "triad GB/s", "error at Newton's time");
+  std::printf("%7s %12s %10s %12s %12s %12s %22s %14s\n", "tets", "bytes/elem", "pass/ms", "pass cpu/ms", "pass GB/s",
+              "triad GB/s", "error at Newton's time", "vb pass cpu/ms");
   for (const MeshResult& m : meshes)
-    std::printf("%7d %12.0f %10.2f %12.2f %12.2f %12.2f %13.2e (%d it.)\n", m.tets, m.pass.bytes_per_element,
+    std::printf("%7d %12.0f %10.2f %12.2f %12.2f %12.2f %13.2e (%d it.) %14.2f\n", m.tets, m.pass.bytes_per_element,
                 1e3 * m.pass.seconds, 1e3 * m.pass.cpu_seconds, 1e-9 * m.pass.bandwidth, 1e-9 * bandwidth,
-                m.error_at_newton_time, m.budget_at_newton_time);
+                m.error_at_newton_time, m.budget_at_newton_time, 1e3 * m.pass.vertex_block_cpu_seconds);
   std::printf(
       "(a pass: energy, gradient and block-Jacobi inverse at one state; bytes/elem: the arrays it streams\n"
       " (BlockJacobiPass::bytes_per_pass) per tet; pass GB/s: those bytes over its wall time; triad: a = b + s c\n"
-      " over 128 MB arrays with the same threads)\n");
+      " over 128 MB arrays with the same threads; vb pass: the same pass with the vertex-block rule, the device's)\n");
 }
 
 void write_plot(const std::string& path, const std::vector<MeshResult>& meshes) {
@@ -456,6 +476,8 @@ bench::Json to_json(const MeshResult& m, double bandwidth) {
           {"pass_s", m.pass.seconds},
           {"pass_cpu_s", m.pass.cpu_seconds},
           {"pass_bandwidth_bytes_per_s", m.pass.bandwidth},
+          {"vertex_block_pass_s", m.pass.vertex_block_seconds},
+          {"vertex_block_pass_cpu_s", m.pass.vertex_block_cpu_seconds},
           {"triad_bandwidth_bytes_per_s", bandwidth},
           {"budget_at_newton_time", m.budget_at_newton_time},
           {"error_at_newton_time", m.error_at_newton_time}};
@@ -477,19 +499,22 @@ int run(int argc, char** argv) {
   cli.flag("--device-table", settings.device_table,
            "only the GPU rows at the published table's sizes (skipped without a CUDA device)");
   cli.integers("--device-budgets", settings.device_budgets, "descent iteration budgets per step of the GPU rows", 1);
+  cli.flag("--table-on-cpu", settings.table_on_cpu, "with --device-table: the rule on the CPU in place of the device");
+  cli.number("--table-scale", settings.table_scale, "with --device-table: the table's counts times this", 0.0);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   if (settings.device_table) {
     bench::Json json = bench::report("descent_device_step");
     json["steps"] = settings.steps;
     json["device"] = cuda_device_name();
-    if (!cuda_device_usable()) {
+    if (!cuda_device_usable() && !settings.table_on_cpu) {
       std::printf("descent_bench --device-table: %s; the device rows are skipped\n",
                   built_with_cuda() ? "no CUDA device is usable" : "this build has no CUDA path");
       json["skipped"] = built_with_cuda() ? "no CUDA device" : "built without CUDA";
       return bench::write_report(out, json, "descent_bench") ? 0 : 1;
     }
     std::printf("tailor %s: descent on %s, implicit Euler, h = 0.01, Neo-Hookean, %d steps, %d CPU threads\n",
-                version_string, cuda_device_name().c_str(), settings.steps, omp_get_max_threads());
+                version_string, settings.table_on_cpu ? "the CPU" : cuda_device_name().c_str(), settings.steps,
+                omp_get_max_threads());
     const std::vector<DeviceRow> rows = run_device_table(settings);
     print_device_table(rows);
     bench::Json results = bench::Json::array();

@@ -20,7 +20,7 @@ generator=()
 if [[ ! -f $build/CMakeCache.txt ]] && command -v ninja >/dev/null; then generator=(-G Ninja); fi
 cmake -S . -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DTAILOR_UNITY_BUILD=ON -DTAILOR_WITH_CUDA=ON \
   -DTAILOR_BUILD_TESTS=ON -DTAILOR_BUILD_BENCH=ON ${CUDA_ARCHITECTURES:+-DCMAKE_CUDA_ARCHITECTURES=$CUDA_ARCHITECTURES}
-cmake --build "$build" -j"$(nproc)" --target forward_dynamics_tests descent_bench
+cmake --build "$build" -j"$(nproc)" --target forward_dynamics_tests tailor_bench
 
 # The device tests must run, not skip: a skip here means the device was not usable.
 "$build"/tests/forward/dynamics/forward_dynamics_tests --gtest_filter='DescentKernels.*:DescentSolver.*' \
@@ -30,7 +30,7 @@ if grep -q "SKIPPED" "$out/tests.txt"; then
   exit 1
 fi
 
-bench=$(find "$build" -name descent_bench -type f -perm -u+x | head -1)
+bench="$build/bin/descent_bench"
 "$bench" --device-table --steps "${STEPS:-3}" --device-budgets "${BUDGETS:-50,100,200}" \
   --out "$out/bench_descent_device.json" | tee "$out/bench_descent_device.txt"
 echo "gpu-descent-check: results in $out"

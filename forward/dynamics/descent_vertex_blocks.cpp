@@ -206,7 +206,9 @@ void VertexBlockHostPass::evaluate(const Vector& y, Result& out, bool with_block
   out.gradient.resize(L.num_free);
   if (with_blocks) out.block_inverse.resize(9 * static_cast<std::size_t>(L.num_blocks));
   const double* yd = y.data();
-#pragma omp parallel
+  // One parallel region for the four loops (small meshes stay on the calling thread, as in the
+  // element loop): each item writes only its own outputs, so any split gives the same result.
+#pragma omp parallel if (L.num_tets > 256)
   {
 #pragma omp for schedule(static)
     for (int b = 0; b < L.num_blocks; ++b) dk::scatter_block(L, b, yd, positions_.data());

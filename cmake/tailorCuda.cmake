@@ -30,7 +30,10 @@ if(TAILOR_HAVE_CUDA)
                                                        POSITION_INDEPENDENT_CODE ON)
   # Host code that calls it (the device test) needs only the header and the CUDA runtime.
   find_package(CUDAToolkit REQUIRED)
-  target_link_libraries(tailor_descent_cuda PUBLIC CUDA::cudart)
+  # Installed, the exported targets name the runtime library's path: a consumer's find_package(tailor)
+  # does not look for the CUDA toolkit.
+  target_link_libraries(tailor_descent_cuda PUBLIC $<BUILD_INTERFACE:CUDA::cudart>
+                                                   $<INSTALL_INTERFACE:${CUDA_cudart_LIBRARY}>)
   # The solver's device backend (forward/dynamics/descent_device.cpp) calls it: linked, with no
   # compile definition passed on (that would change every dependent file's command line and
   # miss the compiler cache); the code asks tailor_cuda_config.hpp instead.

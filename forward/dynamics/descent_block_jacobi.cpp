@@ -1,5 +1,7 @@
 #include "forward/dynamics/descent_block_jacobi.hpp"
 
+#include "forward/dynamics/descent_tet_kernels.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,41 +10,6 @@
 #include <string>
 
 namespace tailor {
-namespace {
-
-// Inverse of the SPD n x n matrix a (row-major, n <= 3) by Cholesky, into inv; false when a
-// pivot is not positive (then inv is untouched).
-bool invert_spd(const double* a, int n, double* inv) {
-  double l[9] = {0};
-  for (int j = 0; j < n; ++j) {
-    double d = a[j * n + j];
-    for (int k = 0; k < j; ++k) d -= l[j * 3 + k] * l[j * 3 + k];
-    if (!(d > 0.0)) return false;
-    l[j * 3 + j] = std::sqrt(d);
-    for (int i = j + 1; i < n; ++i) {
-      double s = a[i * n + j];
-      for (int k = 0; k < j; ++k) s -= l[i * 3 + k] * l[j * 3 + k];
-      l[i * 3 + j] = s / l[j * 3 + j];
-    }
-  }
-  // inv = L^-T L^-1, column by column of the identity.
-  for (int c = 0; c < n; ++c) {
-    double z[3] = {0, 0, 0};
-    for (int i = 0; i < n; ++i) {  // L z = e_c
-      double s = i == c ? 1.0 : 0.0;
-      for (int k = 0; k < i; ++k) s -= l[i * 3 + k] * z[k];
-      z[i] = s / l[i * 3 + i];
-    }
-    for (int i = n - 1; i >= 0; --i) {  // L^T w = z
-      double s = z[i];
-      for (int k = i + 1; k < n; ++k) s -= l[k * 3 + i] * inv[k * n + c];
-      inv[i * n + c] = s / l[i * 3 + i];
-    }
-  }
-  return true;
-}
-
-}  // namespace
 
 void BlockJacobiPass::BlockGather::sum(const std::vector<double>& slot_values, double* entries, bool add) const {
   const std::int64_t n = static_cast<std::int64_t>(begin.size()) - 1;
@@ -175,15 +142,9 @@ void BlockJacobiPass::invert_blocks(std::vector<double>& inverse) const {
         const bool used = free[i] >= 0 && free[j] >= 0;
         a[i * bs + j] = used ? block_sums_[static_cast<std::size_t>(b) * bb + i * bs + j] : (i == j ? 1.0 : 0.0);
       }
-    double* inv = inverse.data() + static_cast<std::ptrdiff_t>(b) * bb;
-    if (invert_spd(a, bs, inv)) continue;
-    // Not positive definite (a vertex without mass or stiffness in the projected Hessian): the
-    // inverse of the absolute diagonal, floored, keeps the direction a descent direction.
-    double scale = 0.0;
-    for (int i = 0; i < bs; ++i) scale = std::max(scale, std::abs(a[i * bs + i]));
-    const double floor = std::max(scale * 1e-12, std::numeric_limits<double>::min());
-    for (int i = 0; i < bs; ++i)
-      for (int j = 0; j < bs; ++j) inv[i * bs + j] = i == j ? 1.0 / std::max(std::abs(a[i * bs + i]), floor) : 0.0;
+    // Cholesky, or for a block that is not positive definite (a vertex without mass or
+    // stiffness in the projected Hessian) the floored inverse of its absolute diagonal.
+    descent_kernels::block_inverse(a, bs, inverse.data() + static_cast<std::ptrdiff_t>(b) * bb);
   }
 }
 

@@ -30,13 +30,31 @@
 // passes (status iteration_budget: the step is usable, the reached residual is reported), or
 // when alpha has been halved below min_step_length times its start without a decrease
 // (status stalled: the energy's round-off hides further decrease).
+//
+// Where it runs (DescentOptions::device; docs/dynamics.md, "The GPU path"): the loop above runs on
+// the host; the passes and vector updates run in a DescentBackend (descent_backend.hpp): on the
+// CPU with either preconditioner rule, or on a CUDA device with the vertex-block rule.
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "forward/dynamics/descent_backend.hpp"
 #include "forward/dynamics/descent_block_jacobi.hpp"
 
 namespace tailor {
+
+// The block-Jacobi preconditioner's rule. projected_hessian: diagonal blocks of the Hessian with
+// every term's element tangent projected to PSD as Newton's projected mode does (any model
+// BlockJacobiPass takes). vertex_blocks: each tet's exact diagonal 3 x 3 blocks projected to PSD
+// one by one, plus the constant terms' blocks (descent_vertex_blocks.hpp: tet Neo-Hookean/StVK
+// and constant-Hessian terms only); the rule the device runs, so the CPU can reproduce it.
+enum class DescentPreconditioner { projected_hessian, vertex_blocks };
+// cpu: the host, with `preconditioner`. gpu: a CUDA device with the vertex-block rule (an error
+// when the build has no CUDA, no device is present or the rule does not cover the model).
+// automatic: the device when all of that holds, else the CPU with `preconditioner`.
+enum class DescentDevice { cpu, gpu, automatic };
+std::string to_string(DescentDevice device);
 
 struct DescentOptions {
   int max_iterations = 500;          // evaluation passes per solve after the first
@@ -57,6 +75,8 @@ struct DescentOptions {
   bool energy_check = true;          // the simplified Wolfe rule; false only to show what it prevents
   int block_size = 3;                // DOFs per vertex: the preconditioner's blocks
   bool keep_history = false;         // record every iteration in DescentResult::history
+  DescentPreconditioner preconditioner = DescentPreconditioner::projected_hessian;
+  DescentDevice device = DescentDevice::cpu;
 };
 
 enum class DescentStatus { converged, iteration_budget, stalled, non_finite };
@@ -87,13 +107,18 @@ struct DescentResult {
 
 class DescentSolver {
  public:
+  // Throws std::invalid_argument for bad options or a model the chosen rule does not cover,
+  // std::runtime_error for device "gpu" without a usable CUDA device.
   DescentSolver(const Model& model, DescentOptions options);
 
   // Minimises from y (in: the warm start, out: the last accepted iterate).
   DescentResult solve(const Vector& p, Vector& y);
 
   DescentOptions& options() { return options_; }
-  BlockJacobiPass& pass() { return pass_; }
+  // The CPU pass of the projected_hessian rule; throws std::logic_error for the other backends.
+  BlockJacobiPass& pass();
+  // "cpu" or "gpu": where the passes run.
+  std::string device() const { return backend_->device(); }
   // The spectral radius in use (the option, or the estimate; empty while estimating).
   std::optional<double> spectral_radius() const;
   // The step length alpha each solve starts with (that of the rho estimate once there is one).
@@ -101,11 +126,9 @@ class DescentSolver {
 
  private:
   DescentOptions options_;
-  BlockJacobiPass pass_;
-  double automatic_step_length(const Vector& p, const Vector& y);
+  std::unique_ptr<DescentBackend> backend_;
   std::optional<double> estimated_rho_;
   std::optional<double> start_alpha_;
-  DescentEvaluation current_, trial_;
 };
 
 }  // namespace tailor

@@ -84,6 +84,8 @@ DynamicRun simulate_dynamic_scene(const Scene& scene, const std::string& out_dir
       descent.emplace(integrator, spec.descent);
     } catch (const std::invalid_argument& e) {
       throw SceneError(scene.source + ": dynamics.solver.method: " + e.what());
+    } catch (const std::runtime_error& e) {  // "gpu" without a usable device
+      throw SceneError(scene.source + ": dynamics.solver.device: " + e.what());
     }
   DynamicRun run;
   int descent_unconverged = 0;  // descent steps stopped by the budget or round-off

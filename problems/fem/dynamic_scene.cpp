@@ -87,9 +87,10 @@ DynamicsSpec parse_dynamics_section(const SceneNode& node, const std::string& di
   }
   if (auto solver = node.find("solver")) {
     solver->expect_keys({"method", "max_iterations", "relative_tolerance", "step_length", "rho",
-                         "rho_estimation_iterations"});
+                         "rho_estimation_iterations", "device", "preconditioner"});
     if (auto v = solver->find("method")) d.solver_method = v->choice({"newton", "descent"});
-    for (const char* key : {"max_iterations", "relative_tolerance", "step_length", "rho", "rho_estimation_iterations"})
+    for (const char* key : {"max_iterations", "relative_tolerance", "step_length", "rho", "rho_estimation_iterations",
+                            "device", "preconditioner"})
       if (d.solver_method != "descent" && solver->find(key))
         solver->at(key).fail("applies to \"method\": \"descent\" only (Newton's settings are in the scene's "
                              "\"solver\" section)");
@@ -102,6 +103,18 @@ DynamicsSpec parse_dynamics_section(const SceneNode& node, const std::string& di
       d.descent.rho = rho;
     }
     if (auto v = solver->find("rho_estimation_iterations")) d.descent.rho_estimation_iterations = v->integer(2);
+    // Where the descent passes run (docs/dynamics.md, "The GPU path"); "gpu" without a device is
+    // an error when the solver is made.
+    if (auto v = solver->find("device")) {
+      const std::string device = v->choice({"cpu", "gpu", "auto"});
+      d.descent.device = device == "gpu"    ? DescentDevice::gpu
+                         : device == "auto" ? DescentDevice::automatic
+                                            : DescentDevice::cpu;
+    }
+    if (auto v = solver->find("preconditioner"))
+      d.descent.preconditioner = v->choice({"projected_hessian", "vertex_blocks"}) == "vertex_blocks"
+                                     ? DescentPreconditioner::vertex_blocks
+                                     : DescentPreconditioner::projected_hessian;
   }
   if (auto r = node.find("reduction")) d.reduction = parse_dynamic_reduction(*r);
   return d;

@@ -11,6 +11,7 @@
 //  - the rho estimate against the spectral radius of the plain iteration matrix I - alpha D^-1 H,
 //    computed densely, on a linear material (constant H);
 //  - a coupling elimination is refused.
+// The vertex-block rule and the device path: descent_kernels_test.cpp.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -21,9 +22,6 @@
 #include "forward/core/assembler.hpp"
 #include "forward/core/symmetric_eigen.hpp"
 #include "forward/dynamics/descent_time_stepper.hpp"
-#ifdef TAILOR_HAVE_CUDA
-#include "forward/dynamics/descent_cuda.hpp"
-#endif
 
 namespace tailor::descent_solver_test {
 namespace {
@@ -251,29 +249,6 @@ TEST(DescentSolver, RefusesCouplingConstraints) {
   EXPECT_THROW(BlockJacobiPass(*c.model, 3), std::invalid_argument);
 }
 
-#ifdef TAILOR_HAVE_CUDA
-TEST(DescentSolver, DeviceUpdateMatchesTheCpu) {
-  // The device's block-Jacobi step and Chebyshev update against the CPU's, to round-off.
-  if (!cuda::device_available()) GTEST_SKIP() << "no CUDA device";
-  Cantilever c(bar_options(12));
-  TimeIntegrator integrator(*c.model, step_options(0.02));
-  DynamicState s = integrator.initial_state(c.rest, swing_velocity(c, 5.0), c.p);
-  integrator.configure_step(s, c.p);
-  BlockJacobiPass pass(*c.model, 3);
-  DescentEvaluation at;
-  pass.evaluate(s.y, c.p, at, true);
-  const Vector previous = s.y + 1e-3 * Vector::LinSpaced(s.y.size(), -1.0, 1.0);
-  const double alpha = 0.7, omega = 1.6;
-  Vector direction;
-  pass.apply_inverse(at, at.gradient, direction);
-  const Vector cpu = omega * (s.y - alpha * direction - previous) + previous;
-  Vector device(s.y.size());
-  cuda::chebyshev_update_from_host(pass.num_blocks(), static_cast<int>(s.y.size()), pass.block_free().data(),
-                                   at.block_inverse.data(), at.gradient.data(), s.y.data(), previous.data(), alpha,
-                                   omega, device.data());
-  EXPECT_LE((device - cpu).lpNorm<Eigen::Infinity>(), 1e-14 * cpu.lpNorm<Eigen::Infinity>());
-}
-#endif
 
 }  // namespace
 }  // namespace tailor::descent_solver_test

@@ -38,7 +38,7 @@ subset=(
   "forward_rig_tests|RigDerivatives|RigInput|PoseSpaceBasis|ConstrainedModes|MovingRestShape|RigInverse"  # rigs, their derivatives, per-pose bases
   "problems_rig_tests|"                     # rig_dynamics scenes and rig files
   "studio_tests|"                           # the studio server's messages, token, Host/Origin and path checks
-  "forward_dynamics_tests|"
+  "forward_dynamics_tests|"                 # includes DescentKernels (the host side of the device rule)
   "reduced_design_tests|ReducedDynamicScene"  # dynamics.reduction scenes
   "adjoint_tests|TransientFunctional"        # the transient adjoint and its tangent (forward-mode) pass
   "forward_damping_tests|"

@@ -58,6 +58,27 @@ TEST(DescentScene, ParsesItsKeysWithKeyPaths) {
   EXPECT_NE(error_of(R"({"rho": 0.5})").find("applies to \"method\": \"descent\" only"), std::string::npos);
 }
 
+TEST(DescentScene, DeviceAndPreconditionerKeys) {
+  const Scene scene = parse_scene(
+      dynamic_box(R"({"method": "descent", "device": "cpu", "preconditioner": "vertex_blocks"})"), "box.json", "");
+  EXPECT_EQ(scene.dynamics->descent.device, DescentDevice::cpu);
+  EXPECT_EQ(scene.dynamics->descent.preconditioner, DescentPreconditioner::vertex_blocks);
+  EXPECT_NE(error_of(R"({"method": "descent", "device": "tpu"})").find("dynamics.solver.device"), std::string::npos);
+  EXPECT_NE(error_of(R"({"method": "descent", "preconditioner": "ilu"})").find("dynamics.solver.preconditioner"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"device": "gpu"})").find("applies to \"method\": \"descent\" only"), std::string::npos);
+  // "gpu" where no device is usable: a scene error naming the key, not a crash or a silent CPU run.
+  const Scene gpu = parse_scene(dynamic_box(R"({"method": "descent", "device": "gpu", "preconditioner": "vertex_blocks"})"),
+                                "box.json", "");
+  TempFolder folder("descent_scene_gpu");
+  try {
+    simulate_dynamic_scene(gpu, folder.str(), nullptr);
+    GTEST_SKIP() << "a CUDA device ran the scene";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("dynamics.solver.device"), std::string::npos) << e.what();
+  }
+}
+
 TEST(DescentScene, SimulatesNewtonsTrajectory) {
   // Reference: the same scene stepped by Newton (relative tolerance 1e-10); descent at 1e-9.
   auto energies = [](const std::string& solver, const char* tag) {

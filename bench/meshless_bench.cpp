@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include <suitesparse/cholmod.h>  // the bench target has no SuiteSparse include folder
+
 #include "bench_cli.hpp"
 #include "forward/fem/elastic_term.hpp"
 #include "forward/mesh/generate.hpp"
@@ -132,13 +134,15 @@ struct BeamResult {
   double deflection = 0.0, error = 0.0, seconds = 0.0;
 };
 
-BeamResult cantilever(double h) {
+BeamResult cantilever(double h, double support_factor) {
   constexpr double L = 10.0, E = 1000.0, nu = 0.3;
   BeamResult r;
   r.spacing = h;
   const auto t = Clock::now();
   const OctreeSampling s = sample_shape(box_shape(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(L, 1, 1)), OctreeSamplingOptions{h, 3, 0});
-  auto mls = std::make_shared<MlsShapeFunctions>(s.nodes, s.spacing);
+  MlsOptions mls_options;
+  mls_options.support_factor = support_factor;
+  auto mls = std::make_shared<MlsShapeFunctions>(s.nodes, s.spacing, mls_options);
   auto quadrature = std::make_shared<MeshlessQuadrature>(build_meshless_quadrature(*mls, s.points, s.weights));
   const int n = static_cast<int>(s.nodes.rows());
   // End face: 2 x 2 Gauss points per cell face, traction (0, 0, -1).
@@ -190,23 +194,74 @@ BeamResult cantilever(double h) {
 
 struct NewtonRow {
   std::string method;
+  double spacing = 0.0, support_factor = 0.0;  // support factor: meshless only
   int nodes = 0, dofs = 0, iterations = 0;
   long hessian_entries = 0;  // stored upper-triangle entries of the reduced Hessian
+  double factor_nonzeros = 0.0, factor_flops = 0.0;  // of the Cholesky factor L (CHOLMOD's ordering)
+  long basis_nonzeros = 0, longest_basis_row = 0;     // of the elimination's S (x = x0 + S y)
+  std::pair<double, double> amd, metis, nesdis;        // (nnz(L), flops) under each ordering
+  double model_build = 0.0;  // building the model: sampling, shape functions, quadrature, transformation
+  double setup_cpu = 0.0;    // process CPU seconds of the solver construction
   double setup = 0.0;        // solver construction (pattern, symbolic analysis at the first factorization excluded)
   double iteration = 0.0, assembly = 0.0, factorization = 0.0, solve = 0.0, line_search = 0.0;  // medians per iteration
+  double cpu_per_iteration = 0.0;  // process CPU seconds of the whole solve (analysis included) over its iterations
 };
+
+double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+// nnz(L) and the factorization flops CHOLMOD's symbolic analysis predicts for the upper
+// triangle `upper` under one fill-reducing ordering (CHOLMOD_AMD, CHOLMOD_METIS, CHOLMOD_NESDIS).
+std::pair<double, double> ordering_cost(const SparseMatrix& upper, int ordering) {
+  cholmod_common common;
+  cholmod_start(&common);
+  common.nmethods = 1;
+  common.method[0].ordering = ordering;
+  common.supernodal = CHOLMOD_SUPERNODAL;
+  cholmod_sparse a{};
+  a.nrow = static_cast<std::size_t>(upper.rows());
+  a.ncol = static_cast<std::size_t>(upper.cols());
+  a.nzmax = static_cast<std::size_t>(upper.nonZeros());
+  a.p = const_cast<int*>(upper.outerIndexPtr());
+  a.i = const_cast<int*>(upper.innerIndexPtr());
+  a.x = const_cast<double*>(upper.valuePtr());
+  a.stype = 1;
+  a.itype = CHOLMOD_INT;
+  a.xtype = CHOLMOD_REAL;
+  a.dtype = CHOLMOD_DOUBLE;
+  a.sorted = 1;
+  a.packed = 1;
+  cholmod_factor* factor = cholmod_analyze(&a, &common);
+  const std::pair<double, double> cost =
+      factor && common.status == CHOLMOD_OK ? std::pair<double, double>(common.lnz, common.fl) : std::pair<double, double>(NAN, NAN);
+  if (factor) cholmod_free_factor(&factor, &common);
+  cholmod_finish(&common);
+  return cost;
+}
 
 NewtonRow time_newton(const std::string& method, const Model& model, const Vector& p, const Vector& rest, int nodes) {
   NewtonRow r;
   r.method = method;
   r.nodes = nodes;
   r.dofs = model.elimination().num_free();
+  r.basis_nonzeros = static_cast<long>(model.elimination().basis().nonZeros());
+  const std::vector<int>& row_begin = model.elimination().row_begin();
+  for (std::size_t i = 0; i + 1 < row_begin.size(); ++i)
+    r.longest_basis_row = std::max<long>(r.longest_basis_row, row_begin[i + 1] - row_begin[i]);
   auto t = Clock::now();
+  const double cpu = cpu_seconds();
   NewtonSolver solver(model);
   r.setup = since(t);
+  r.setup_cpu = cpu_seconds() - cpu;
   Vector y = model.elimination().restrict_state(rest);
+  const double solve_cpu = cpu_seconds();
   const NewtonResult result = solver.solve(p, y);
+  r.cpu_per_iteration = (cpu_seconds() - solve_cpu) / std::max(1, result.iterations);
   if (!result.converged()) throw std::runtime_error(method + ": Newton did not converge: " + result.message);
+  r.factor_nonzeros = solver.factorization().factor_nonzeros();
+  r.factor_flops = solver.factorization().factorization_flops();
+  r.amd = ordering_cost(solver.hessian(), CHOLMOD_AMD);
+  r.metis = ordering_cost(solver.hessian(), CHOLMOD_METIS);
+  r.nesdis = ordering_cost(solver.hessian(), CHOLMOD_NESDIS);
   std::vector<double> total, assembly, factorization, solve, line_search;
   for (const NewtonIteration& it : result.history) {
     total.push_back(it.assembly_seconds + it.factorization_seconds + it.solve_seconds + it.line_search_seconds);
@@ -225,12 +280,15 @@ NewtonRow time_newton(const std::string& method, const Model& model, const Vecto
   return r;
 }
 
-std::vector<NewtonRow> newton_comparison(double h, double load) {
+std::vector<NewtonRow> newton_comparison(double h, double load, const std::vector<double>& support_factors) {
   constexpr double L = 4.0, E = 1000.0, nu = 0.3;
   std::vector<NewtonRow> rows;
-  {
+  for (const double support_factor : support_factors) {
+    const auto wall = Clock::now();
     const OctreeSampling s = sample_shape(box_shape(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(L, 1, 1)), OctreeSamplingOptions{h, 2, 0});
-    auto mls = std::make_shared<MlsShapeFunctions>(s.nodes, s.spacing);
+    MlsOptions mls_options;
+    mls_options.support_factor = support_factor;
+    auto mls = std::make_shared<MlsShapeFunctions>(s.nodes, s.spacing, mls_options);
     auto quadrature = std::make_shared<MeshlessQuadrature>(build_meshless_quadrature(*mls, s.points, s.weights));
     const int n = static_cast<int>(s.nodes.rows());
     // The end load as nodal forces of a uniform traction on x = L (one point per node of the face, weight h^2
@@ -258,9 +316,13 @@ std::vector<NewtonRow> newton_comparison(double h, double load) {
     Vector p(2 * n);
     p.head(n).setConstant(E);
     p.tail(n).setConstant(nu);
+    const double build = since(wall);
     rows.push_back(time_newton("meshless (MLS)", model, p, Eigen::Map<const Vector>(nt.data(), nt.size()), n));
+    rows.back().support_factor = support_factor;
+    rows.back().model_build = build;
   }
   {
+    const auto wall = Clock::now();
     const int along = static_cast<int>(std::lround(L / h)), across = static_cast<int>(std::lround(1.0 / h));
     const Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(L, 1, 1), along, across, across);
     const int n = mesh.num_vertices(), m = mesh.num_elements();
@@ -282,8 +344,11 @@ std::vector<NewtonRow> newton_comparison(double h, double load) {
     Vector p(2 * m);
     p.head(m).setConstant(E);
     p.tail(m).setConstant(nu);
+    const double build = since(wall);
     rows.push_back(time_newton("P1 tets (FEM)", model, p, rest, n));
+    rows.back().model_build = build;
   }
+  for (NewtonRow& r : rows) r.spacing = h;
   return rows;
 }
 
@@ -294,7 +359,9 @@ int run(int argc, char** argv) {
   double spacing = 0.2;
   int modes = 30, frames = 200;
   std::vector<int> per_unit = {2, 3, 4};
-  double newton_spacing = 0.1, newton_load = 2.0;
+  std::vector<int> newton_cells = {10};
+  double newton_load = 2.0;
+  std::vector<std::string> support_text = {"2"};
   std::string out = "bench_meshless.json";
   bench::Cli cli("meshless_bench", "Meshless precomputation and warped modal frame time against the point count; error against the node count.");
   cli.integers("--points", counts, "point counts of the sampled ball", 100);
@@ -302,10 +369,19 @@ int run(int argc, char** argv) {
   cli.integer("--modes", modes, "modes of the modal analysis and the warped frames", 1);
   cli.integer("--frames", frames, "timed warped modal frames (the median is reported)", 1);
   cli.integers("--beam-cells", per_unit, "cantilever: node cells per unit length (h = 1 / value); empty with 0", 0);
-  cli.number("--newton-spacing", newton_spacing, "Newton comparison: lattice spacing (0.1: 4,961 nodes; 0 skips it)", 0.0);
+  cli.integers("--newton-cells", newton_cells,
+               "Newton comparison: lattice cells per unit length, h = 1 / value (10: 4,961 nodes; 0 skips it)", 0);
+  cli.names("--support-factors", support_text, "MLS support radius over the node spacing (Newton and cantilever rows)",
+            "LIST", [](const std::string& v) {
+              char* end = nullptr;
+              const double f = std::strtod(v.c_str(), &end);
+              return end != v.c_str() && *end == '\0' && f > 1.0 && f <= 4.0 ? std::string() : "a number in (1, 4]";
+            });
   cli.number("--newton-load", newton_load, "Newton comparison: total end shear", 0.0);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
+  std::vector<double> support_factors;
+  for (const std::string& v : support_text) support_factors.push_back(std::strtod(v.c_str(), nullptr));
   Json json = bench::report("meshless_bench");
   json["spacing"] = spacing;
   json["modes"] = modes;
@@ -336,41 +412,70 @@ int run(int argc, char** argv) {
   }
   json["point_counts"] = rows;
   Json beams = Json::array();
-  if (!(per_unit.size() == 1 && per_unit[0] == 0)) {
-    std::printf("\ncantilever 10 x 1 x 1 against Timoshenko\n%8s %6s %12s %10s %7s %9s\n", "h", "nodes", "deflection", "rel.err",
-                "rate", "seconds");
-    std::vector<BeamResult> results;
-    for (int c : per_unit) {
-      if (c <= 0) continue;
-      const BeamResult b = cantilever(1.0 / c);
-      const double rate =
-          results.empty() ? NAN : std::log(results.back().error / b.error) / std::log(results.back().spacing / b.spacing);
-      std::printf("%8.4f %6d %12.6f %10.3e %7.2f %9.3f\n", b.spacing, b.nodes, b.deflection, b.error, rate, b.seconds);
-      results.push_back(b);
-      beams.push_back({{"spacing", b.spacing}, {"nodes", b.nodes}, {"deflection", b.deflection}, {"relative_error", b.error},
-                       {"rate", std::isfinite(rate) ? Json(rate) : Json()}, {"seconds", b.seconds}});
+  if (!(per_unit.size() == 1 && per_unit[0] == 0))
+    for (const double support_factor : support_factors) {
+      std::printf("\ncantilever 10 x 1 x 1 against Timoshenko, support factor %g\n%8s %6s %12s %10s %7s %9s\n",
+                  support_factor, "h", "nodes", "deflection", "rel.err", "rate", "seconds");
+      std::vector<BeamResult> results;
+      for (int c : per_unit) {
+        if (c <= 0) continue;
+        const BeamResult b = cantilever(1.0 / c, support_factor);
+        const double rate =
+            results.empty() ? NAN : std::log(results.back().error / b.error) / std::log(results.back().spacing / b.spacing);
+        std::printf("%8.4f %6d %12.6f %10.3e %7.2f %9.3f\n", b.spacing, b.nodes, b.deflection, b.error, rate, b.seconds);
+        results.push_back(b);
+        beams.push_back({{"support_factor", support_factor}, {"spacing", b.spacing}, {"nodes", b.nodes},
+                         {"deflection", b.deflection}, {"relative_error", b.error},
+                         {"rate", std::isfinite(rate) ? Json(rate) : Json()}, {"seconds", b.seconds}});
+      }
     }
-  }
   json["cantilever"] = beams;
   Json newton = Json::array();
-  if (newton_spacing > 0.0) {
-    std::printf("\nNewton iteration, neo-Hookean cantilever 4 x 1 x 1, h = %g, end shear %g (medians per iteration, s)\n",
-                newton_spacing, newton_load);
-    std::printf("%-16s %6s %7s %11s %5s %9s %9s %9s %9s %9s %9s\n", "method", "nodes", "DOFs", "H entries", "its",
-                "setup", "iteration", "assembly", "factor", "solve", "l.search");
-    const std::vector<NewtonRow> timed = newton_comparison(newton_spacing, newton_load);
+  Json ratios = Json::array();
+  for (const int cells : newton_cells) {
+    if (cells <= 0) continue;
+    const double h = 1.0 / cells;
+    std::printf("\nNewton iteration, neo-Hookean cantilever 4 x 1 x 1, h = %g, end shear %g (medians per iteration, s)\n", h,
+                newton_load);
+    std::printf("%-16s %4s %6s %7s %10s %6s %10s %9s %4s %8s %8s %9s %9s %9s %9s %9s %9s\n", "method", "R/h", "nodes",
+                "DOFs", "H entries", "H/row", "L entries", "L flops", "its", "build", "setup", "iteration", "assembly",
+                "factor", "solve", "l.search", "cpu/it");
+    const std::vector<NewtonRow> timed = newton_comparison(h, newton_load, support_factors);
+    const NewtonRow& fem = timed.back();
     for (const NewtonRow& r : timed) {
-      std::printf("%-16s %6d %7d %11ld %5d %9.3f %9.4f %9.4f %9.4f %9.4f %9.4f\n", r.method.c_str(), r.nodes, r.dofs,
-                  r.hessian_entries, r.iterations, r.setup, r.iteration, r.assembly, r.factorization, r.solve,
-                  r.line_search);
-      newton.push_back({{"method", r.method}, {"nodes", r.nodes}, {"free_dofs", r.dofs}, {"hessian_entries", r.hessian_entries},
-                        {"iterations", r.iterations}, {"setup_s", r.setup}, {"median_iteration_s", r.iteration},
+      std::printf("%-16s %4.3g %6d %7d %10ld %6.1f %10.3g %9.3g %4d %8.3f %8.3f %9.4f %9.4f %9.4f %9.4f %9.4f %9.4f\n",
+                  r.method.c_str(), r.support_factor, r.nodes, r.dofs, r.hessian_entries,
+                  (2.0 * static_cast<double>(r.hessian_entries) - r.dofs) / r.dofs, r.factor_nonzeros, r.factor_flops,
+                  r.iterations, r.model_build, r.setup, r.iteration, r.assembly, r.factorization, r.solve, r.line_search,
+                  r.cpu_per_iteration);
+      newton.push_back({{"method", r.method}, {"spacing", r.spacing}, {"support_factor", r.support_factor},
+                        {"nodes", r.nodes}, {"free_dofs", r.dofs}, {"hessian_entries", r.hessian_entries},
+                        {"basis_nonzeros", r.basis_nonzeros}, {"longest_basis_row", r.longest_basis_row},
+                        {"factor_nonzeros", r.factor_nonzeros},
+                        {"orderings", {{"amd", {{"factor_nonzeros", r.amd.first}, {"flops", r.amd.second}}},
+                                       {"metis", {{"factor_nonzeros", r.metis.first}, {"flops", r.metis.second}}},
+                                       {"nesdis", {{"factor_nonzeros", r.nesdis.first}, {"flops", r.nesdis.second}}}}}, {"factorization_flops", r.factor_flops},
+                        {"iterations", r.iterations}, {"model_build_s", r.model_build}, {"setup_s", r.setup},
+                        {"setup_cpu_s", r.setup_cpu}, {"median_iteration_s", r.iteration},
                         {"median_assembly_s", r.assembly}, {"median_factorization_s", r.factorization},
-                        {"median_solve_s", r.solve}, {"median_line_search_s", r.line_search}});
+                        {"median_solve_s", r.solve}, {"median_line_search_s", r.line_search},
+                        {"cpu_per_iteration_s", r.cpu_per_iteration}, {"ratio_to_fem", r.iteration / fem.iteration},
+                        {"cpu_ratio_to_fem", r.cpu_per_iteration / fem.cpu_per_iteration}});
     }
-    std::printf("meshless / FEM per iteration: %.2f (goal: <= 3)\n", timed[0].iteration / timed[1].iteration);
-    json["newton_ratio"] = timed[0].iteration / timed[1].iteration;
+    std::printf("factorization flops by ordering (CHOLMOD's analysis): ");
+    for (const NewtonRow& r : timed)
+      std::printf("%s%s R/h %g: AMD %.3g, METIS %.3g, NESDIS %.3g", &r == timed.data() ? "" : "; ",
+                  r.method.c_str(), r.support_factor, r.amd.second, r.metis.second, r.nesdis.second);
+    std::printf("\n");
+    for (std::size_t k = 0; k + 1 < timed.size(); ++k) {
+      std::printf("meshless (R/h = %g) / FEM per iteration: %.2f wall, %.2f CPU (goal: <= 3)\n", timed[k].support_factor,
+                  timed[k].iteration / fem.iteration, timed[k].cpu_per_iteration / fem.cpu_per_iteration);
+      ratios.push_back({{"spacing", h}, {"support_factor", timed[k].support_factor},
+                        {"ratio", timed[k].iteration / fem.iteration},
+                        {"cpu_ratio", timed[k].cpu_per_iteration / fem.cpu_per_iteration}});
+    }
   }
+  json["newton_ratio"] = ratios;
   json["newton"] = newton;
   return bench::write_report(out, json, "meshless_bench") ? 0 : 1;
 }

@@ -14,6 +14,13 @@
 // Their slots are also summed into matrix entries once: the gather keeps the constant terms'
 // entry sums and adds only the other terms' slots to them (in a dynamic step of a nonlinear
 // solid, the mass and damping slots outnumber the elastic ones 1.7 to 1).
+//
+// Long rows of S (more than kShortRow entries: the collocation rows of a meshless
+// transformation, a modal basis) are not imaged slot by slot, which costs the product of the
+// two rows' lengths per slot in memory and time (a clamp of 121 collocation nodes: 15k images
+// per slot). The slots that touch one are summed into an x-space matrix H_c and reduced as
+// upper(S^T (H_c S)), two sparse products whose patterns are computed once; a pure selection
+// or short-row S takes the slot images alone, as before.
 #include "forward/core/model.hpp"
 
 namespace tailor {
@@ -77,6 +84,37 @@ class ReducedAssembler {
   // mass and Rayleigh damping of a dynamic step: most of the slots, gathered once).
   std::vector<double> constant_sums_;
   bool constant_sums_valid_ = false;
+  // values += upper(S^T H_c S) for the slots that touch a long row of S (see the top).
+  struct CoupledProduct {
+    int num_free = 0;
+    std::vector<int> s_begin, s_free;  // S's rows (copied: the products need them per evaluation)
+    std::vector<double> s_weight;
+    // H_c in compressed rows: row r is x-row h_row[r], its entries [h_begin[r], h_begin[r+1])
+    // in x-columns h_col, each the sum of the slots h_gather lists for it.
+    std::vector<int> h_row, h_col;
+    std::vector<std::int64_t> h_begin;
+    Gather h_gather;
+    // T = H_c S, rows as H_c's, columns t_col (free unknowns, increasing per row).
+    std::vector<std::int64_t> t_begin;
+    std::vector<int> t_col;
+    // Per free unknown a in r_free: the rows r of T with S(h_row[r], a) = weight, and the
+    // offset in that row of its first column >= a; then the reduced entries (a, out_col) with
+    // out_col >= a, at out_entry in the upper-triangular pattern.
+    std::vector<int> r_free;
+    std::vector<std::int64_t> a_begin, out_begin;
+    std::vector<int> a_trow;
+    std::vector<std::int64_t> a_tstart;
+    std::vector<double> a_weight;
+    std::vector<int> out_col, out_entry;
+    bool empty() const { return h_row.empty(); }
+    void add(const double* slot_values, double* values) const;
+  };
+  static constexpr int kShortRow = 8;
+  // Builds coupled_ (out_entry excepted) for the given slots; returns the reduced entries
+  // (a, b), a <= b, that it adds to, in out_col's order.
+  std::vector<std::pair<int, int>> build_coupled_product(const HessianPattern& slots,
+                                                         const std::vector<std::size_t>& coupled_slots);
+  CoupledProduct coupled_;
   SparseMatrix pattern_;
 };
 

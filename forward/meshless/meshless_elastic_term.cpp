@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "forward/core/parallel_errors.hpp"
+
 namespace tailor {
 
 namespace {
@@ -51,6 +53,30 @@ MeshlessElasticTerm<Dim>::MeshlessElasticTerm(std::shared_ptr<const MeshlessQuad
     adjacency_.insert(adjacency_.end(), row.begin(), row.end());
     adjacency_begin_.push_back(static_cast<int>(adjacency_.size()));
   }
+  // Per adjacency entry (a, b): the position of (b, a); per node: its diagonal entry.
+  diagonal_.resize(static_cast<std::size_t>(Q.num_nodes));
+  transpose_.resize(adjacency_.size());
+  std::vector<int> walk(adjacency_begin_.begin(), adjacency_begin_.end() - 1);
+  for (int a = 0; a < Q.num_nodes; ++a)
+    for (int s = adjacency_begin_[static_cast<std::size_t>(a)]; s < adjacency_begin_[static_cast<std::size_t>(a) + 1]; ++s) {
+      const int b = adjacency_[static_cast<std::size_t>(s)];
+      if (b == a) diagonal_[static_cast<std::size_t>(a)] = s;
+      // Rows are visited in increasing a, so b's entries for a come in order.
+      transpose_[static_cast<std::size_t>(s)] = walk[static_cast<std::size_t>(b)]++;
+    }
+  // Per node: the points covering it, increasing, with the entry of the node in each.
+  node_point_begin_.assign(static_cast<std::size_t>(Q.num_nodes) + 1, 0);
+  for (int node : Q.nodes) ++node_point_begin_[static_cast<std::size_t>(node) + 1];
+  for (int a = 0; a < Q.num_nodes; ++a) node_point_begin_[static_cast<std::size_t>(a) + 1] += node_point_begin_[static_cast<std::size_t>(a)];
+  node_point_.resize(Q.nodes.size());
+  node_point_entry_.resize(Q.nodes.size());
+  std::vector<int> fill(node_point_begin_.begin(), node_point_begin_.end() - 1);
+  for (int q = 0; q < Q.num_points(); ++q)
+    for (int t = Q.begin[static_cast<std::size_t>(q)]; t < Q.begin[static_cast<std::size_t>(q) + 1]; ++t) {
+      const int k = fill[static_cast<std::size_t>(Q.nodes[static_cast<std::size_t>(t)])]++;
+      node_point_[static_cast<std::size_t>(k)] = q;
+      node_point_entry_[static_cast<std::size_t>(k)] = t;
+    }
 }
 
 template <int Dim>
@@ -77,40 +103,69 @@ template <int Dim>
 void MeshlessElasticTerm<Dim>::evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const {
   const MeshlessQuadrature& Q = *quadrature_;
   const bool want_gradient = request.gradient != nullptr, want_hessian = request.hessian_values != nullptr;
-  if (want_hessian) std::fill(request.hessian_values, request.hessian_values + 9 * adjacency_.size(), 0.0);
-  double energy = 0.0;
-  for (int q = 0; q < Q.num_points(); ++q) {
-    const int first = Q.begin[static_cast<std::size_t>(q)], n = Q.size(q);
+  const int num_points = Q.num_points();
+  // 1. Per point (in parallel, each point writes its own record): w_q Psi, w_q P_q and T_q.
+  std::vector<double> energy(static_cast<std::size_t>(num_points));
+  std::vector<Eigen::Matrix3d> stress(want_gradient ? static_cast<std::size_t>(num_points) : 0);
+  std::vector<Eigen::Matrix<double, 9, 9>> tangent(want_hessian ? static_cast<std::size_t>(num_points) : 0);
+  FirstError errors;
+#pragma omp parallel for schedule(static) if (num_points > 256)
+  for (int q = 0; q < num_points; ++q) try {
     MaterialEvaluation<Dim> m;
     material_->evaluate(Q.deformation_gradient(x, q), lame(p, q), want_gradient, want_hessian, request.hessian_mode, m);
     const double w = Q.weights[static_cast<std::size_t>(q)];
-    energy += w * m.energy_density;
-    if (want_gradient)
-      for (int t = 0; t < n; ++t)
-        request.gradient->segment<3>(3 * Q.nodes[static_cast<std::size_t>(first + t)]) +=
-            w * m.stress * Q.gradients[static_cast<std::size_t>(first + t)];
-    if (want_hessian) {
-      // Block (s, t) = w B_s^T T B_t: (C_s B_t)(i, k) = sum_l C_s(i, k + 3l) g_t[l].
-      for (int s = 0; s < n; ++s) {
-        const Eigen::Matrix<double, 3, 9> C = w * left_contraction(Q.gradients[static_cast<std::size_t>(first + s)], m.tangent);
-        const int a = Q.nodes[static_cast<std::size_t>(first + s)];
-        // The point's nodes increase, so their slots in a's adjacency row are found by one
-        // forward walk along it (a binary search per pair took 40% of the evaluation).
-        const int row = adjacency_begin_[static_cast<std::size_t>(a)];
-        int position = row;
-        for (int t = 0; t < n; ++t) {
-          const Eigen::Vector3d& g = Q.gradients[static_cast<std::size_t>(first + t)];
-          const int b = Q.nodes[static_cast<std::size_t>(first + t)];
-          while (adjacency_[static_cast<std::size_t>(position)] < b) ++position;
-          double* block = request.hessian_values + 9 * position;
-          for (int i = 0; i < 3; ++i)
-            for (int k = 0; k < 3; ++k) block[3 * i + k] += C(i, k) * g[0] + C(i, k + 3) * g[1] + C(i, k + 6) * g[2];
-        }
+    energy[static_cast<std::size_t>(q)] = w * m.energy_density;
+    if (want_gradient) stress[static_cast<std::size_t>(q)] = w * m.stress;
+    if (want_hessian) tangent[static_cast<std::size_t>(q)] = m.tangent;
+  } catch (...) {
+    errors.capture(q);
+  }
+  errors.rethrow();
+  if (request.value) {
+    double sum = 0.0;
+    for (double e : energy) sum += e;
+    *request.value += sum;
+  }
+  if (!want_gradient && !want_hessian) return;
+  // 2. Per node a (in parallel, each node writes its own gradient entries and Hessian blocks),
+  //    over the points covering it in increasing order: the same sums in the same order for
+  //    every thread count. The tangent is symmetric, so block (b, a) = block (a, b)^T: the
+  //    blocks b >= a are summed, the others copied.
+  const int num_nodes = Q.num_nodes;
+#pragma omp parallel for schedule(dynamic, 16) if (num_nodes > 64)
+  for (int a = 0; a < num_nodes; ++a) {
+    const int diagonal = diagonal_[static_cast<std::size_t>(a)];
+    const int row_end = adjacency_begin_[static_cast<std::size_t>(a) + 1];
+    if (want_hessian) std::fill(request.hessian_values + 9 * diagonal, request.hessian_values + 9 * row_end, 0.0);
+    for (int k = node_point_begin_[static_cast<std::size_t>(a)]; k < node_point_begin_[static_cast<std::size_t>(a) + 1]; ++k) {
+      const int q = node_point_[static_cast<std::size_t>(k)];
+      const int first = Q.begin[static_cast<std::size_t>(q)], n = Q.size(q);
+      const int s = node_point_entry_[static_cast<std::size_t>(k)] - first;  // a is the point's node s
+      const Eigen::Vector3d& g_a = Q.gradients[static_cast<std::size_t>(first + s)];
+      if (want_gradient) request.gradient->segment<3>(3 * a) += stress[static_cast<std::size_t>(q)] * g_a;
+      if (!want_hessian) continue;
+      // Block (a, b) += w B_a^T T B_b: (C B_b)(i, k) = sum_l C(i, k + 3l) g_b[l]. The point's nodes
+      // increase, so their slots in a's adjacency row are found by one forward walk along it.
+      const Eigen::Matrix<double, 3, 9> C = Q.weights[static_cast<std::size_t>(q)] * left_contraction(g_a, tangent[static_cast<std::size_t>(q)]);
+      int position = diagonal;
+      for (int t = s; t < n; ++t) {
+        const Eigen::Vector3d& g = Q.gradients[static_cast<std::size_t>(first + t)];
+        const int b = Q.nodes[static_cast<std::size_t>(first + t)];
+        while (adjacency_[static_cast<std::size_t>(position)] < b) ++position;
+        double* block = request.hessian_values + 9 * position;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) block[3 * i + j] += C(i, j) * g[0] + C(i, j + 3) * g[1] + C(i, j + 6) * g[2];
       }
     }
+    if (want_hessian)
+      for (int position = diagonal + 1; position < row_end; ++position) {
+        const double* block = request.hessian_values + 9 * position;
+        double* mirror = request.hessian_values + 9 * transpose_[static_cast<std::size_t>(position)];
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) mirror[3 * j + i] = block[3 * i + j];
+      }
   }
-  if (request.value) *request.value += energy;
-}
+  }
 
 template <int Dim>
 void MeshlessElasticTerm<Dim>::add_param_gradient(const Vector& x, const Vector& p, Vector& gradient_p) const {

@@ -17,7 +17,9 @@
 // in HessianMode::projected), parameter gradient and mixed derivatives through the material's
 // Lame derivatives. Every registered material works. A point's covering nodes must increase
 // (as MlsShapeFunctions gives them; std::invalid_argument otherwise). The Hessian pattern has one 3 x 3 block per
-// pair of nodes that share a quadrature point; the loop over points is serial.
+// pair of nodes that share a quadrature point. The evaluation runs in parallel, deterministically
+// (the same sums in the same order for every thread count): the material per point, then the
+// gradient and Hessian blocks per node over the points covering it.
 #include <memory>
 #include <vector>
 
@@ -55,6 +57,9 @@ class MeshlessElasticTerm final : public EnergyTerm {
   std::shared_ptr<const Material<Dim>> material_;
   int youngs_offset_, poisson_offset_;
   std::vector<int> adjacency_begin_, adjacency_;  // per node: the nodes sharing a point with it, increasing
+  std::vector<int> diagonal_;                     // per node a: the position of (a, a) in adjacency_
+  std::vector<int> transpose_;                    // per position of (a, b): that of (b, a)
+  std::vector<int> node_point_begin_, node_point_, node_point_entry_;  // per node: covering points, increasing, and the node's entry
 };
 
 extern template class MeshlessElasticTerm<3>;

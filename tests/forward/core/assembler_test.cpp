@@ -70,6 +70,31 @@ TEST(ReducedAssembler, GeneralBasisMatchesExplicitProjection) {
   expect_reduction_matches(e);
 }
 
+TEST(ReducedAssembler, LongRowsReducedThroughProductsMatchExplicitProjection) {
+  // Rows longer than the short-row limit (DOFs 0-5: each a dense combination of 20 unknowns,
+  // like a collocation transformation's rows) take the coupled product; they mix with
+  // selection rows, a two-entry row and fixed DOFs, all against the dense S^T H S.
+  const int n = 40;
+  Triplets t;
+  int column = 0;
+  std::vector<int> col_of(n, -1);
+  for (int i = 6; i < n; ++i) {
+    if (i == 17 || i == 23) continue;  // fixed
+    col_of[static_cast<std::size_t>(i)] = column++;
+    t.emplace_back(i, col_of[static_cast<std::size_t>(i)], 1.0);
+  }
+  for (int i = 0; i < 6; ++i)
+    for (int k = 0; k < 20; ++k) t.emplace_back(i, (3 * i + k) % column, std::sin(1.0 + i + 0.37 * k));
+  t.emplace_back(17, col_of[8], 0.5);
+  t.emplace_back(17, col_of[30], -1.5);
+  SparseMatrix S(n, column);
+  S.setFromTriplets(t.begin(), t.end());
+  Vector x0 = Vector::LinSpaced(n, 0.1, 0.9);
+  const Elimination e(x0, S);
+  EXPECT_FALSE(e.is_selection());
+  expect_reduction_matches(e);
+}
+
 // E = p0 / 2 x^T A x: a Hessian p0 A that is constant in x; counts how often it is written.
 class ScaledQuadratic final : public EnergyTerm {
  public:

@@ -6,8 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <Eigen/Eigenvalues>
 #include <random>
+#include <map>
 #include <set>
 
 #include "adjoint/derivative_check.hpp"
@@ -106,6 +109,63 @@ TEST_P(MeshlessElasticTermTest, RestIsStressFreeAndAffineStatesAreIntegratedExac
 
 INSTANTIATE_TEST_SUITE_P(EveryMaterial, MeshlessElasticTermTest, ::testing::ValuesIn(material_names()),
                          [](const auto& param_info) { return param_info.param; });
+
+TEST(MeshlessElasticTerm, ParallelLoopIsDeterministicAndItsHessianExactlySymmetric) {
+  // 225 nodes and 1,024 points: both parallel loops run. 1, 2 and 3 OpenMP threads give the same
+  // bits, and each block (b, a) of two nodes is the transpose of (a, b) (summed once, mirrored).
+  const MeshlessSolid s = make_solid(box_shape(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 1, 1)), 0.25, 2, 0);
+  ASSERT_GT(s.num_nodes(), 64);
+  ASSERT_GT(s.quadrature->num_points(), 256);
+  const auto term = term_of(s, "neo_hookean");
+  Vector x = s.rest();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.03, 0.03);
+  for (Eigen::Index i = 0; i < x.size(); ++i) x[i] += u(rng);
+  const Vector p = varied_parameters(s.num_nodes(), 4);
+  HessianPattern pattern;
+  term->hessian_pattern(pattern);
+  struct Evaluation {
+    double value = 0.0;
+    Vector gradient;
+    std::vector<double> hessian;
+  };
+  const auto evaluate = [&]() {
+    Evaluation e;
+    e.gradient = Vector::Zero(x.size());
+    e.hessian.assign(pattern.size(), -1.0);  // every slot must be written
+    EnergyRequest request;
+    request.value = &e.value;
+    request.gradient = &e.gradient;
+    request.hessian_values = e.hessian.data();
+    term->evaluate(x, p, request);
+    return e;
+  };
+  const int saved_threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const Evaluation serial = evaluate();
+  for (int threads : {2, 3}) {
+    omp_set_num_threads(threads);
+    const Evaluation e = evaluate();
+    EXPECT_EQ(e.value, serial.value) << threads << " threads";
+    EXPECT_EQ((e.gradient - serial.gradient).lpNorm<Eigen::Infinity>(), 0.0) << threads << " threads";
+    EXPECT_TRUE(e.hessian == serial.hessian) << threads << " threads";
+  }
+  omp_set_num_threads(saved_threads);
+  // Slot values by (row, col); the pattern holds both orders of every pair, once each.
+  std::map<std::pair<int, int>, double> by_entry;
+  for (std::size_t k = 0; k < pattern.size(); ++k) by_entry[{pattern[k].row, pattern[k].col}] = serial.hessian[k];
+  ASSERT_EQ(by_entry.size(), pattern.size());
+  // Blocks of two nodes mirrored exactly; a node's own block summed, symmetric to round-off.
+  double scale = 0.0;
+  for (double v : serial.hessian) scale = std::max(scale, std::abs(v));
+  for (const auto& [entry, value] : by_entry) {
+    const double mirror = by_entry.at({entry.second, entry.first});
+    if (entry.first / 3 != entry.second / 3)
+      EXPECT_EQ(value, mirror);
+    else
+      EXPECT_NEAR(value, mirror, 1e-14 * scale);
+  }
+}
 
 TEST(MeshlessElasticTerm, ConstantHessianOnlyForTheLinearMaterial) {
   const MeshlessSolid s = small_solid();

@@ -1,0 +1,62 @@
+// The "interlocking_macro" scene kind: a small drape's outputs, and the refusal of unknown keys and
+// bad boundaries with file and key path.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "problems/interlocking/macro_scene.hpp"
+#include "problems/scene_error.hpp"
+#include "problems/scene_kinds.hpp"
+
+namespace tailor::interlocking_macro_scene_test {
+namespace {
+
+// A boundary with the square net's stretch and compression limits along the axes and the
+// diagonals (8 principal rays), a 6 x 6 sheet.
+const char* kScene = R"({
+  "name": "small_drape",
+  "interlocking_macro": {
+    "boundary": {"order": 2, "limit_strains": [[0.066, 0], [0.066, 0.066], [0, 0.066], [-0.2, 0.066],
+                                               [-0.2, 0], [-0.14, -0.14], [0, -0.2], [0.066, -0.2]]},
+    "material": {"stiffness": 1.0, "barrier_stiffness": 1.0, "barrier_activation": 0.1, "bending_stiffness": 0.001},
+    "drape": {"width": 1.2, "divisions": 6, "sphere_radius": 1.0, "contact_activation": 0.01}
+  }
+})";
+
+TEST(InterlockingMacroScene, DrapeWritesItsOutputs) {
+  const SceneFile file = scene_from_text(kScene, "small.json");
+  InterlockingMacroScene scene = parse_interlocking_macro_scene(file.node());
+  scene.name = "small_drape";
+  const std::string out = (std::filesystem::temp_directory_path() / "tailor_interlocking_macro_scene_test").string();
+  std::filesystem::remove_all(out);
+  ASSERT_TRUE(run_interlocking_macro(scene, out, nullptr));
+  for (const char* f : {"report.json", "sheet.vtu", "sphere.vtu", "boundary_fit.png"})
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/report.json"));
+  EXPECT_EQ(report["status"], "converged");
+  EXPECT_GT(report["drape"]["min_margin"].get<double>(), 0.0);
+  EXPECT_GT(report["drape"]["contact_vertices"].get<int>(), 0);
+  EXPECT_EQ(report["fit"]["samples"].get<int>(), 8);
+}
+
+TEST(InterlockingMacroScene, UnknownKeysAndBadBoundariesAreRefusedWithTheirPath) {
+  std::string text = kScene;
+  text.replace(text.find("\"sphere_radius\""), 15, "\"sphere_radios\"");
+  try {
+    parse_interlocking_macro_scene(scene_from_text(text, "bad.json").node());
+    FAIL() << "accepted an unknown key";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("interlocking_macro.drape.sphere_radios"), std::string::npos) << e.what();
+  }
+  std::string high = kScene;
+  high.replace(high.find("\"order\": 2"), 10, "\"order\": 9");  // 5 distinct directions cannot fix order 9
+  EXPECT_THROW(parse_interlocking_macro_scene(scene_from_text(high, "order.json").node()), SceneError);
+  std::string odd = kScene;
+  odd.replace(odd.find("\"divisions\": 6"), 14, "\"divisions\": 5");
+  EXPECT_THROW(parse_interlocking_macro_scene(scene_from_text(odd, "odd.json").node()), SceneError);
+}
+
+}  // namespace
+}  // namespace tailor::interlocking_macro_scene_test

@@ -20,24 +20,28 @@ DrapeResult drape_over_sphere(const BoundaryFit& fit, const DrapeSpec& spec) {
   if (!(spec.areal_weight >= 0.0)) throw std::invalid_argument("drape_over_sphere: needs areal_weight >= 0");
   DrapeResult result;
   const double h = 0.5 * spec.width;
-  result.flat = rectangle_triangle_mesh(Eigen::Vector2d(-h, -h), Eigen::Vector2d(h, h), spec.divisions, spec.divisions);
+  result.flat =
+      rectangle_triangle_mesh(Eigen::Vector2d(-h, -h), Eigen::Vector2d(h, h), spec.divisions, spec.divisions);
   const Mesh& flat = result.flat;
   const int nv = flat.num_vertices();
   Model model(3 * nv);
   auto& sheet = model.add(std::make_unique<MacroSheetTerm>(flat, fit, spec.material));
-  if (spec.bending_stiffness > 0.0) model.add(std::make_unique<QuadraticBendingTerm>(flat, spec.bending_stiffness));
-  auto& sphere = model.add(std::make_unique<SphereObstacleTerm>(nv, Eigen::Vector3d::Zero(), spec.sphere_radius,
-                                                                 spec.contact_activation, spec.contact_stiffness));
+  if (spec.bending_stiffness > 0.0)
+    model.add(std::make_unique<QuadraticBendingTerm>(flat, spec.bending_stiffness));
+  auto& sphere = model.add(std::make_unique<SphereObstacleTerm>(
+      nv, Eigen::Vector3d::Zero(), spec.sphere_radius, spec.contact_activation, spec.contact_stiffness));
   // Gravity: a third of each triangle's weight on each of its vertices (consistent for linear
   // shape functions).
   Vector forces = Vector::Zero(3 * nv);
   for (int k = 0; k < flat.num_elements(); ++k)
     for (int a = 0; a < 3; ++a)
-      forces[3 * flat.elements(k, a) + 2] -= spec.areal_weight * sheet.triangles().areas[static_cast<std::size_t>(k)] / 3.0;
+      forces[3 * flat.elements(k, a) + 2] -=
+          spec.areal_weight * sheet.triangles().areas[static_cast<std::size_t>(k)] / 3.0;
   model.add(std::make_unique<ExternalForceTerm>(forces, "gravity"));
   Vector x0(3 * nv);
   const double z0 = spec.sphere_radius + 0.5 * spec.contact_activation;
-  for (int v = 0; v < nv; ++v) x0.segment<3>(3 * v) << flat.rest_positions(v, 0), flat.rest_positions(v, 1), z0;
+  for (int v = 0; v < nv; ++v)
+    x0.segment<3>(3 * v) << flat.rest_positions(v, 0), flat.rest_positions(v, 1), z0;
   const int centre = spec.divisions / 2 + (spec.divisions + 1) * (spec.divisions / 2);
   model.set_elimination(Elimination::dirichlet({3 * centre, 3 * centre + 1, 3 * (centre + 1) + 1}, x0));
   NewtonSolver solver(model, spec.newton);
@@ -61,11 +65,12 @@ DrapeResult drape_over_sphere(const BoundaryFit& fit, const DrapeSpec& spec) {
   return result;
 }
 
-PullResult pull_strip(const BoundaryFit& fit, const MacroSheetMaterial& material, double traction, double length,
-                      double width, int nx, int ny) {
+PullResult pull_strip(const BoundaryFit& fit, const MacroSheetMaterial& material, double traction,
+                      double length, double width, int nx, int ny) {
   if (!(length > 0.0) || !(width > 0.0) || nx < 1 || ny < 1 || !(traction >= 0.0))
     throw std::invalid_argument("pull_strip: needs length, width > 0, nx, ny >= 1, traction >= 0");
-  const Mesh flat = rectangle_triangle_mesh(Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(length, width), nx, ny);
+  const Mesh flat =
+      rectangle_triangle_mesh(Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(length, width), nx, ny);
   const int nv = flat.num_vertices();
   Model model(3 * nv);
   auto& sheet = model.add(std::make_unique<MacroSheetTerm>(flat, fit, material));

@@ -10,21 +10,21 @@
 namespace tailor::interlocking {
 
 struct DrapeSpec {
-  double width = 1.4;               // side of the square sheet [length], centred above the sphere
-  int divisions = 14;               // squares per side (even: a vertex sits at the centre)
-  double areal_weight = 1.0;        // weight per rest area [force / area], along -z
+  double width = 1.4;         // side of the square sheet [length], centred above the sphere
+  int divisions = 14;         // squares per side (even: a vertex sits at the centre)
+  double areal_weight = 1.0;  // weight per rest area [force / area], along -z
   MacroSheetMaterial material;
-  double bending_stiffness = 1e-3;  // D [energy] (QuadraticBendingTerm)
-  double sphere_radius = 1.0;       // [length], centred at the origin
-  double contact_activation = 0.01; // d_hat [length]
-  double contact_stiffness = 1.0;   // kappa [energy]
-  NewtonOptions newton;             // max_iterations defaults to 500 here
+  double bending_stiffness = 1e-3;   // D [energy] (QuadraticBendingTerm)
+  double sphere_radius = 1.0;        // [length], centred at the origin
+  double contact_activation = 0.01;  // d_hat [length]
+  double contact_stiffness = 1.0;    // kappa [energy]
+  NewtonOptions newton;              // max_iterations defaults to 500 here
   DrapeSpec() { newton.max_iterations = 500; }
 };
 
 struct DrapeResult {
-  Mesh flat;                  // the rest sheet (2D)
-  Vector positions;           // deformed positions, 3 per vertex [length]
+  Mesh flat;         // the rest sheet (2D)
+  Vector positions;  // deformed positions, 3 per vertex [length]
   NewtonResult newton;
   Eigen::MatrixXd principal_strains;  // per element (e_1, e_2)
   Eigen::VectorXd margins;            // per element g

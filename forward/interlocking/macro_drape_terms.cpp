@@ -8,10 +8,12 @@
 
 namespace tailor::interlocking {
 
-QuadraticBendingTerm::QuadraticBendingTerm(const Mesh& flat, double bending_stiffness) : stiffness_(bending_stiffness) {
+QuadraticBendingTerm::QuadraticBendingTerm(const Mesh& flat, double bending_stiffness)
+    : stiffness_(bending_stiffness) {
   if (flat.dim() != 2 || flat.elements.cols() != 3)
     throw std::invalid_argument("QuadraticBendingTerm: the rest sheet must be a 2D triangle mesh");
-  if (!(bending_stiffness >= 0.0)) throw std::invalid_argument("QuadraticBendingTerm: needs bending_stiffness >= 0");
+  if (!(bending_stiffness >= 0.0))
+    throw std::invalid_argument("QuadraticBendingTerm: needs bending_stiffness >= 0");
   const int n = flat.num_vertices();
   std::vector<std::map<int, double>> weights(static_cast<std::size_t>(n));
   std::vector<double> area(static_cast<std::size_t>(n), 0.0);
@@ -34,7 +36,8 @@ QuadraticBendingTerm::QuadraticBendingTerm(const Mesh& flat, double bending_stif
   }
   std::vector<bool> boundary(static_cast<std::size_t>(n), false);
   for (const auto& [edge, count] : edge_faces)
-    if (count == 1) boundary[static_cast<std::size_t>(edge.first)] = boundary[static_cast<std::size_t>(edge.second)] = true;
+    if (count == 1)
+      boundary[static_cast<std::size_t>(edge.first)] = boundary[static_cast<std::size_t>(edge.second)] = true;
   for (int i = 0; i < n; ++i) {
     if (boundary[static_cast<std::size_t>(i)] || weights[static_cast<std::size_t>(i)].empty()) continue;
     Row row;
@@ -58,7 +61,8 @@ void QuadraticBendingTerm::evaluate(const Vector& x, const Vector& p, const Ener
     const double s = stiffness_ / row.area;
     if (request.value || request.gradient) {
       Eigen::Vector3d lx = Eigen::Vector3d::Zero();
-      for (std::size_t a = 0; a < row.vertices.size(); ++a) lx += row.weights[a] * x.segment<3>(3 * row.vertices[a]);
+      for (std::size_t a = 0; a < row.vertices.size(); ++a)
+        lx += row.weights[a] * x.segment<3>(3 * row.vertices[a]);
       if (request.value) *request.value += 0.5 * s * lx.squaredNorm();
       if (request.gradient)
         for (std::size_t a = 0; a < row.vertices.size(); ++a)
@@ -80,9 +84,14 @@ void QuadraticBendingTerm::hessian_pattern(HessianPattern& pattern) const {
 
 SphereObstacleTerm::SphereObstacleTerm(int num_vertices, const Eigen::Vector3d& center, double radius,
                                        double activation, double stiffness)
-    : num_vertices_(num_vertices), center_(center), radius_(radius), activation_(activation), stiffness_(stiffness) {
+    : num_vertices_(num_vertices),
+      center_(center),
+      radius_(radius),
+      activation_(activation),
+      stiffness_(stiffness) {
   if (num_vertices < 0 || !(radius > 0.0) || !(activation > 0.0) || !(stiffness > 0.0) || !center.allFinite())
-    throw std::invalid_argument("SphereObstacleTerm: needs radius, activation and stiffness > 0 and a finite centre");
+    throw std::invalid_argument(
+        "SphereObstacleTerm: needs radius, activation and stiffness > 0 and a finite centre");
 }
 
 void SphereObstacleTerm::evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const {
@@ -111,7 +120,8 @@ void SphereObstacleTerm::evaluate(const Vector& x, const Vector& p, const Energy
       // Hessian keeps only the normal part b2 n n^T (b2 >= 0 below d_hat).
       const Eigen::Matrix3d nn = n * n.transpose();
       Eigen::Matrix3d H = stiffness_ * b2 * nn;
-      if (request.hessian_mode == HessianMode::exact) H += stiffness_ * b1 / len * (Eigen::Matrix3d::Identity() - nn);
+      if (request.hessian_mode == HessianMode::exact)
+        H += stiffness_ * b1 / len * (Eigen::Matrix3d::Identity() - nn);
       Eigen::Map<Eigen::Matrix3d> slots(h);
       slots = H;
     }

@@ -27,9 +27,9 @@ class QuadraticBendingTerm final : public EnergyTerm {
 
  private:
   struct Row {
-    std::vector<int> vertices;     // i and its neighbours
-    std::vector<double> weights;   // (L x)_i = sum weights[a] x_(vertices[a])
-    double area = 0.0;             // A_i
+    std::vector<int> vertices;    // i and its neighbours
+    std::vector<double> weights;  // (L x)_i = sum weights[a] x_(vertices[a])
+    double area = 0.0;            // A_i
   };
   std::vector<Row> rows_;
   double stiffness_ = 0.0;

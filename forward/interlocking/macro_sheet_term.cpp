@@ -15,9 +15,6 @@ namespace tailor::interlocking {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-using Vec6 = Eigen::Matrix<double, 6, 1>;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
-using Mat69 = Eigen::Matrix<double, 6, 9>;
 
 // psi(I1, I2) of the header [energy / area]; `barrier` adds kappa b(g) (the caller has checked
 // 0 < g < g_hat, so rho > 0 there).
@@ -68,7 +65,8 @@ MacroSheetTerm::MacroSheetTerm(const Mesh& flat, BoundaryFit fit, MacroSheetMate
   if (fit_.coefficients.empty()) throw std::invalid_argument("MacroSheetTerm: the boundary fit is empty");
   if (!(material_.stiffness >= 0.0) || !(material_.barrier_stiffness > 0.0) ||
       !(material_.barrier_activation > 0.0 && material_.barrier_activation < 1.0))
-    throw std::invalid_argument("MacroSheetTerm: needs stiffness >= 0, barrier_stiffness > 0, 0 < barrier_activation < 1");
+    throw std::invalid_argument(
+        "MacroSheetTerm: needs stiffness >= 0, barrier_stiffness > 0, 0 < barrier_activation < 1");
   for (int k = 0; k < flat.num_elements(); ++k) {
     Eigen::Matrix<int, 3, 1> v = flat.elements.row(k).transpose();
     Eigen::Matrix2d Dm;
@@ -76,7 +74,8 @@ MacroSheetTerm::MacroSheetTerm(const Mesh& flat, BoundaryFit fit, MacroSheetMate
     Dm.col(1) = (flat.rest_positions.row(v[2]) - flat.rest_positions.row(v[0])).transpose();
     const double det = Dm.determinant();
     if (!(det > 1e-14 * Dm.squaredNorm()))
-      throw std::invalid_argument("MacroSheetTerm: triangle " + std::to_string(k) + " is degenerate or clockwise");
+      throw std::invalid_argument("MacroSheetTerm: triangle " + std::to_string(k) +
+                                  " is degenerate or clockwise");
     const Eigen::Matrix2d inv = Dm.inverse();
     Eigen::Matrix<double, 3, 2> G;
     G.row(1) = inv.row(0);
@@ -117,32 +116,53 @@ void MacroSheetTerm::evaluate(const Vector& x, const Vector& p, const EnergyRequ
       out.energy = area * sheet_density(I1, I2, fit_, material_, barrier);
       return;
     }
-    const Dual2<2> psi = sheet_density(Dual2<2>::variable(I1, 0), Dual2<2>::variable(I2, 1), fit_, material_, barrier);
+    const Dual2<2> psi =
+        sheet_density(Dual2<2>::variable(I1, 0), Dual2<2>::variable(I2, 1), fit_, material_, barrier);
     out.energy = area * psi.v;
-    // d I / d f (f = (f1; f2)) and d2 I / d f2 (see the header's invariants).
-    Vec6 a, b;
-    a << 2.0 * f1, 2.0 * f2;
-    b << 2.0 * f2.squaredNorm() * f1 - 2.0 * f12 * f2, 2.0 * f1.squaredNorm() * f2 - 2.0 * f12 * f1;
+    // d I / d f and d2 I / d f2, f = (f1; f2) (see the header's invariants), in plain loops: the
+    // chain to the element's DOFs, x_a -> f_j with weight G(a, j), is a sum, not a product of
+    // fixed-size matrices (those cost compile time in every build).
+    double a[6], b[6], Hf[6][6];
+    const double n1 = f1.squaredNorm(), n2 = f2.squaredNorm();
+    for (int d = 0; d < 3; ++d) {
+      a[d] = 2.0 * f1[d];
+      a[3 + d] = 2.0 * f2[d];
+      b[d] = 2.0 * n2 * f1[d] - 2.0 * f12 * f2[d];
+      b[3 + d] = 2.0 * n1 * f2[d] - 2.0 * f12 * f1[d];
+    }
     const Eigen::Matrix<double, 3, 2>& G = triangles_.gradients[static_cast<std::size_t>(k)];
-    Mat69 B = Mat69::Zero();  // d f / d x_local
-    for (int j = 0; j < 2; ++j)
-      for (int n = 0; n < 3; ++n)
-        for (int d = 0; d < 3; ++d) B(3 * j + d, 3 * n + d) = G(n, j);
-    const Vec6 df = psi.g[0] * a + psi.g[1] * b;
     if (out.want_gradient) {
-      const Eigen::Matrix<double, 9, 1> gl = area * (B.transpose() * df);
-      out.gradient() = Eigen::Map<const Eigen::Matrix3d>(gl.data());
+      auto gl = out.gradient();
+      for (int n = 0; n < 3; ++n)
+        for (int d = 0; d < 3; ++d)
+          gl(d, n) = area * (G(n, 0) * (psi.g[0] * a[d] + psi.g[1] * b[d]) +
+                             G(n, 1) * (psi.g[0] * a[3 + d] + psi.g[1] * b[3 + d]));
     }
     if (out.want_hessian) {
-      const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
-      Mat6 H2;
-      H2.block<3, 3>(0, 0) = 2.0 * f2.squaredNorm() * I3 - 2.0 * f2 * f2.transpose();
-      H2.block<3, 3>(3, 3) = 2.0 * f1.squaredNorm() * I3 - 2.0 * f1 * f1.transpose();
-      H2.block<3, 3>(0, 3) = 4.0 * f1 * f2.transpose() - 2.0 * f2 * f1.transpose() - 2.0 * f12 * I3;
-      H2.block<3, 3>(3, 0) = H2.block<3, 3>(0, 3).transpose();
-      const Mat6 Hf = psi.h(0, 0) * a * a.transpose() + psi.h(0, 1) * (a * b.transpose() + b * a.transpose()) +
-                      psi.h(1, 1) * b * b.transpose() + 2.0 * psi.g[0] * Mat6::Identity() + psi.g[1] * H2;
-      Eigen::Matrix<double, 9, 9> H = area * (B.transpose() * Hf * B);
+      const Eigen::Vector3d* f[2] = {&f1, &f2};
+      for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 6; ++c) {
+          const int j = r / 3, l = c / 3, d = r % 3, e = c % 3;
+          const double kd = d == e ? 1.0 : 0.0;
+          // d2 I2 / d f_j[d] d f_l[e]
+          double h2;
+          if (j == l)
+            h2 = 2.0 * (j == 0 ? n2 : n1) * kd - 2.0 * (*f[1 - j])[d] * (*f[1 - j])[e];
+          else
+            h2 = 4.0 * (*f[j])[d] * (*f[l])[e] - 2.0 * (*f[l])[d] * (*f[j])[e] - 2.0 * f12 * kd;
+          Hf[r][c] = psi.h(0, 0) * a[r] * a[c] + psi.h(0, 1) * (a[r] * b[c] + b[r] * a[c]) +
+                     psi.h(1, 1) * b[r] * b[c] + psi.g[0] * (r == c ? 2.0 : 0.0) + psi.g[1] * h2;
+        }
+      Eigen::Matrix<double, 9, 9> H;
+      for (int na = 0; na < 3; ++na)
+        for (int nb = 0; nb < 3; ++nb)
+          for (int d = 0; d < 3; ++d)
+            for (int e = 0; e < 3; ++e) {
+              double v = 0.0;
+              for (int j = 0; j < 2; ++j)
+                for (int l = 0; l < 2; ++l) v += G(na, j) * G(nb, l) * Hf[3 * j + d][3 * l + e];
+              H(3 * na + d, 3 * nb + e) = area * v;
+            }
       if (out.hessian_mode == HessianMode::projected) project_psd(H);
       out.hessian() = H;
     }
@@ -153,7 +173,8 @@ double MacroSheetTerm::margin(const Vector& x, int k) const {
   Eigen::Vector3d f1, f2;
   columns(triangles_, x, k, f1, f2);
   const double f12 = f1.dot(f2);
-  return margin_of(f1.squaredNorm() + f2.squaredNorm(), f1.squaredNorm() * f2.squaredNorm() - f12 * f12, fit_);
+  return margin_of(f1.squaredNorm() + f2.squaredNorm(), f1.squaredNorm() * f2.squaredNorm() - f12 * f12,
+                   fit_);
 }
 
 double MacroSheetTerm::max_step(const Vector& x, const Vector& dx) const {
@@ -170,7 +191,8 @@ double MacroSheetTerm::max_step(const Vector& x, const Vector& dx) const {
     const auto below = [&](double t) {
       const Eigen::Vector3d a = f1 + t * d1, b = f2 + t * d2;
       const double ab = a.dot(b);
-      return !(margin_of(a.squaredNorm() + b.squaredNorm(), a.squaredNorm() * b.squaredNorm() - ab * ab, fit_) > floor);
+      return !(margin_of(a.squaredNorm() + b.squaredNorm(), a.squaredNorm() * b.squaredNorm() - ab * ab,
+                         fit_) > floor);
     };
     double t_ok = 0.0;
     for (int i = 1; i <= kSamples; ++i) {
@@ -199,7 +221,7 @@ Eigen::MatrixXd MacroSheetTerm::principal_strains(const Vector& x) const {
     const double f12 = f1.dot(f2);
     const double I1 = f1.squaredNorm() + f2.squaredNorm();
     const double I2 = std::max(0.0, f1.squaredNorm() * f2.squaredNorm() - f12 * f12);
-    const double sum = std::sqrt(I1 + 2.0 * std::sqrt(I2));                // lambda_1 + lambda_2
+    const double sum = std::sqrt(I1 + 2.0 * std::sqrt(I2));                  // lambda_1 + lambda_2
     const double diff = std::sqrt(std::max(0.0, I1 - 2.0 * std::sqrt(I2)));  // lambda_1 - lambda_2
     e(k, 0) = 0.5 * (sum + diff) - 1.0;
     e(k, 1) = 0.5 * (sum - diff) - 1.0;

@@ -23,14 +23,15 @@ void sphere_surface(double radius, int rings, int segments, Eigen::MatrixX3d& v,
   for (int i = 0; i <= rings; ++i)
     for (int j = 0; j < segments; ++j) {
       const double theta = M_PI * i / rings, phi = 2.0 * M_PI * j / segments;
-      v.row(i * segments + j) << radius * std::sin(theta) * std::cos(phi), radius * std::sin(theta) * std::sin(phi),
-          radius * std::cos(theta);
+      v.row(i * segments + j) << radius * std::sin(theta) * std::cos(phi),
+          radius * std::sin(theta) * std::sin(phi), radius * std::cos(theta);
     }
   f.resize(2 * rings * segments, 3);
   int k = 0;
   for (int i = 0; i < rings; ++i)
     for (int j = 0; j < segments; ++j) {
-      const int a = i * segments + j, b = i * segments + (j + 1) % segments, c = a + segments, d = b + segments;
+      const int a = i * segments + j, b = i * segments + (j + 1) % segments, c = a + segments,
+                d = b + segments;
       f.row(k++) << a, c, b;
       f.row(k++) << b, c, d;
     }
@@ -83,8 +84,8 @@ InterlockingMacroScene parse_interlocking_macro_scene(const SceneNode& root) {
     if (auto v = m->find("bending_stiffness")) d.bending_stiffness = v->non_negative();
   }
   if (auto s = n.find("drape")) {
-    s->expect_keys({"width", "divisions", "areal_weight", "sphere_radius", "contact_activation", "contact_stiffness",
-                    "max_iterations"});
+    s->expect_keys({"width", "divisions", "areal_weight", "sphere_radius", "contact_activation",
+                    "contact_stiffness", "max_iterations"});
     if (auto v = s->find("width")) d.width = v->positive();
     if (auto v = s->find("divisions")) {
       d.divisions = v->integer(2);
@@ -99,13 +100,14 @@ InterlockingMacroScene parse_interlocking_macro_scene(const SceneNode& root) {
   return scene;
 }
 
-bool run_interlocking_macro(const InterlockingMacroScene& scene, const std::string& out_dir, std::ostream* log) {
+bool run_interlocking_macro(const InterlockingMacroScene& scene, const std::string& out_dir,
+                            std::ostream* log) {
   const auto t0 = std::chrono::steady_clock::now();
   const interlocking::BoundaryFit fit = interlocking::fit_boundary(scene.limit_strains, scene.order);
   if (log)
-    *log << "boundary fit of order " << scene.order << " to " << fit.samples << " native limits: rms residual "
-         << fit.rms_residual << ", max " << fit.max_residual << "; uniaxial limit "
-         << interlocking::macro_uniaxial_limit(fit) << "\n";
+    *log << "boundary fit of order " << scene.order << " to " << fit.samples
+         << " native limits: rms residual " << fit.rms_residual << ", max " << fit.max_residual
+         << "; uniaxial limit " << interlocking::macro_uniaxial_limit(fit) << "\n";
   const interlocking::DrapeResult r = interlocking::drape_over_sphere(fit, scene.drape);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const bool ok = r.newton.converged() && r.margins.minCoeff() > 0.0 && r.gaps.minCoeff() > 0.0;
@@ -122,49 +124,48 @@ bool run_interlocking_macro(const InterlockingMacroScene& scene, const std::stri
   ordered_json coefficients = ordered_json::array();
   for (double c : fit.coefficients) coefficients.push_back(c);
   const interlocking::MacroSheetMaterial& m = scene.drape.material;
-  ordered_json report = {
-      {"scene", scene.name},
-      {"status", ok ? "converged" : "failed"},
-      {"fit",
-       {{"order", scene.order},
-        {"samples", fit.samples},
-        {"chebyshev_coefficients", coefficients},
-        {"rms_residual", fit.rms_residual},
-        {"max_residual", fit.max_residual},
-        {"min_radius", fit.min_radius},
-        {"uniaxial_limit", interlocking::macro_uniaxial_limit(fit)},
-        {"equibiaxial_stretch_limit", fit.radius(1.0)},
-        {"equibiaxial_compression_limit", fit.radius(-1.0)}}},
-      {"material",
-       {{"stiffness", m.stiffness},
-        {"barrier_stiffness", m.barrier_stiffness},
-        {"barrier_activation", m.barrier_activation},
-        {"bending_stiffness", scene.drape.bending_stiffness}}},
-      {"newton",
-       {{"status", to_string(r.newton.status)},
-        {"message", r.newton.message},
-        {"iterations", r.newton.iterations},
-        {"final_residual", r.newton.final_residual},
-        {"energy", r.newton.final_energy}}},
-      {"drape",
-       {{"vertices", nv},
-        {"triangles", r.flat.num_elements()},
-        {"min_margin", r.margins.minCoeff()},
-        {"barrier_elements", r.barrier_elements},
-        {"max_principal_strain", r.principal_strains.col(0).maxCoeff()},
-        {"min_principal_strain", r.principal_strains.col(1).minCoeff()},
-        {"min_gap", r.gaps.minCoeff()},
-        {"contact_vertices", r.contact_vertices},
-        {"sagitta_bound", r.sagitta_bound},
-        {"lowest_z", r.positions(Eigen::seq(2, Eigen::last, 3)).minCoeff()}}},
-      {"files", {"sheet.vtu", "sphere.vtu", "boundary_fit.png"}},
-      {"seconds", seconds}};
+  ordered_json report = {{"scene", scene.name},
+                         {"status", ok ? "converged" : "failed"},
+                         {"fit",
+                          {{"order", scene.order},
+                           {"samples", fit.samples},
+                           {"chebyshev_coefficients", coefficients},
+                           {"rms_residual", fit.rms_residual},
+                           {"max_residual", fit.max_residual},
+                           {"min_radius", fit.min_radius},
+                           {"uniaxial_limit", interlocking::macro_uniaxial_limit(fit)},
+                           {"equibiaxial_stretch_limit", fit.radius(1.0)},
+                           {"equibiaxial_compression_limit", fit.radius(-1.0)}}},
+                         {"material",
+                          {{"stiffness", m.stiffness},
+                           {"barrier_stiffness", m.barrier_stiffness},
+                           {"barrier_activation", m.barrier_activation},
+                           {"bending_stiffness", scene.drape.bending_stiffness}}},
+                         {"newton",
+                          {{"status", to_string(r.newton.status)},
+                           {"message", r.newton.message},
+                           {"iterations", r.newton.iterations},
+                           {"final_residual", r.newton.final_residual},
+                           {"energy", r.newton.final_energy}}},
+                         {"drape",
+                          {{"vertices", nv},
+                           {"triangles", r.flat.num_elements()},
+                           {"min_margin", r.margins.minCoeff()},
+                           {"barrier_elements", r.barrier_elements},
+                           {"max_principal_strain", r.principal_strains.col(0).maxCoeff()},
+                           {"min_principal_strain", r.principal_strains.col(1).minCoeff()},
+                           {"min_gap", r.gaps.minCoeff()},
+                           {"contact_vertices", r.contact_vertices},
+                           {"sagitta_bound", r.sagitta_bound},
+                           {"lowest_z", r.positions(Eigen::seq(2, Eigen::last, 3)).minCoeff()}}},
+                         {"files", {"sheet.vtu", "sphere.vtu", "boundary_fit.png"}},
+                         {"seconds", seconds}};
   write_report(out_dir, report);
   if (log)
-    *log << "drape: " << to_string(r.newton.status) << " in " << r.newton.iterations << " Newton iterations; margin >= "
-         << r.margins.minCoeff() << " (" << r.barrier_elements << " of " << r.flat.num_elements()
-         << " elements in the barrier's reach), " << r.contact_vertices << " vertices on the sphere, min gap "
-         << r.gaps.minCoeff() << "\n";
+    *log << "drape: " << to_string(r.newton.status) << " in " << r.newton.iterations
+         << " Newton iterations; margin >= " << r.margins.minCoeff() << " (" << r.barrier_elements << " of "
+         << r.flat.num_elements() << " elements in the barrier's reach), " << r.contact_vertices
+         << " vertices on the sphere, min gap " << r.gaps.minCoeff() << "\n";
   return ok;
 }
 

@@ -25,6 +25,7 @@ InterlockingMacroScene parse_interlocking_macro_scene(const SceneNode& root);
 
 // The fit, then the drape; writes out_dir/{report.json, sheet.vtu, sphere.vtu, boundary_fit.png}.
 // True when Newton converged and the drape is admissible (every margin and gap positive).
-bool run_interlocking_macro(const InterlockingMacroScene& scene, const std::string& out_dir, std::ostream* log);
+bool run_interlocking_macro(const InterlockingMacroScene& scene, const std::string& out_dir,
+                            std::ostream* log);
 
 }  // namespace tailor

@@ -46,12 +46,17 @@ TEST(MacroBoundaryFit, RecoversAKnownBoundary) {
   }
   const BoundaryFit fit = fit_boundary(samples, 2);
   ASSERT_EQ(fit.coefficients.size(), 3U);
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(fit.coefficients[static_cast<std::size_t>(k)], truth.coefficients[static_cast<std::size_t>(k)], 1e-14);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(fit.coefficients[static_cast<std::size_t>(k)],
+                truth.coefficients[static_cast<std::size_t>(k)], 1e-14);
   EXPECT_LT(fit.max_residual, 1e-14);
   // One order lower cannot represent T_2: the residual shows it.
   EXPECT_GT(fit_boundary(samples, 1).rms_residual, 1e-3);
-  EXPECT_NEAR(boundary_margin(fit, truth.radius_at_angle(0.3) * Eigen::Vector2d(std::cos(0.3), std::sin(0.3))), 0.0, 1e-14);
-  EXPECT_THROW(fit_boundary(std::vector<Eigen::Vector2d>(samples.begin(), samples.begin() + 2), 2), std::invalid_argument);
+  EXPECT_NEAR(
+      boundary_margin(fit, truth.radius_at_angle(0.3) * Eigen::Vector2d(std::cos(0.3), std::sin(0.3))), 0.0,
+      1e-14);
+  EXPECT_THROW(fit_boundary(std::vector<Eigen::Vector2d>(samples.begin(), samples.begin() + 2), 2),
+               std::invalid_argument);
 }
 
 // check_energy_term (central differences of value, gradient, Hessian) on a sheet with elements
@@ -69,8 +74,8 @@ TEST(MacroSheetTerm, PassesTheDerivativeCheckWithAndWithoutTheBarrier) {
   const Eigen::VectorXd g = term.margins(x);
   int in_barrier = 0;
   for (int k = 0; k < g.size(); ++k) in_barrier += g[k] < material.barrier_activation;
-  std::printf("margins %.4f .. %.4f, %d of %d elements in the barrier's reach\n", g.minCoeff(), g.maxCoeff(), in_barrier,
-              static_cast<int>(g.size()));
+  std::printf("margins %.4f .. %.4f, %d of %d elements in the barrier's reach\n", g.minCoeff(), g.maxCoeff(),
+              in_barrier, static_cast<int>(g.size()));
   ASSERT_GT(g.minCoeff(), 0.0);
   ASSERT_GT(in_barrier, 0);
   ASSERT_LT(in_barrier, g.size());
@@ -103,7 +108,8 @@ TEST(MacroSheetTerm, StepsStayInsideTheAdmissibleSet) {
   const Vector dx = deformed(flat, F, 0.0) - x;
   const double t = term.max_step(x, dx);
   const Vector x1 = x + t * dx;
-  std::printf("max_step %.6f: strain %.6f of the limit %.6f\n", t, 0.5 * t, known_fit().radius(1.0 / std::sqrt(2.0)));
+  std::printf("max_step %.6f: strain %.6f of the limit %.6f\n", t, 0.5 * t,
+              known_fit().radius(1.0 / std::sqrt(2.0)));
   EXPECT_GT(t, 0.0);
   EXPECT_LT(t, 1.0);
   EXPECT_GT(term.margins(x1).minCoeff(), 0.19);  // a fifth of the rest margin 1, up to the bisection
@@ -158,16 +164,16 @@ TEST(MacroModel, SheetDrapesOverASphere) {
   spec.material.barrier_stiffness = 1.0;
   spec.bending_stiffness = 1e-3;
   const DrapeResult r = drape_over_sphere(known_fit(), spec);
-  std::printf("drape: %s in %d iterations; margins %.4f .. %.4f, %d barrier elements, %d contact vertices, "
-              "lowest z %.4f\n",
-              to_string(r.newton.status).c_str(), r.newton.iterations, r.margins.minCoeff(), r.margins.maxCoeff(),
-              r.barrier_elements, r.contact_vertices, r.positions(Eigen::seq(2, Eigen::last, 3)).minCoeff());
+  std::printf(
+      "drape: %s in %d iterations; margins %.4f .. %.4f, %d barrier elements, %d contact vertices, "
+      "lowest z %.4f\n",
+      to_string(r.newton.status).c_str(), r.newton.iterations, r.margins.minCoeff(), r.margins.maxCoeff(),
+      r.barrier_elements, r.contact_vertices, r.positions(Eigen::seq(2, Eigen::last, 3)).minCoeff());
   EXPECT_TRUE(r.newton.converged()) << r.newton.report();
   EXPECT_GT(r.margins.minCoeff(), 0.0);
   EXPECT_GT(r.gaps.minCoeff(), 0.0);
   EXPECT_GT(r.contact_vertices, 1);
 }
-
 
 // The comparison with the native scale. Reference: the native square ring net (R = 1, r = 0.2,
 // s0 = 1.5) swept along 16 principal rays; its uniaxial 0-degree limit is the closed form of its
@@ -198,11 +204,12 @@ TEST(MacroModel, PulledStripLocksAtTheNativeUniaxialLimit) {
   material.stiffness = 1.0;
   material.barrier_stiffness = 1.0;
   const PullResult pull = pull_strip(fit, material, 200.0);
-  std::printf("fit: rms residual %.2e, max %.2e; macro uniaxial limit %.6f; strip pulled to %.6f (margin %.2e, %s, "
-              "%d iterations); native 0 deg %.6f, 45 deg %.6f (macro - native at 45 deg: %.6f)\n",
-              fit.rms_residual, fit.max_residual, macro_uniaxial_limit(fit), pull.strain, pull.min_margin,
-              to_string(pull.newton.status).c_str(), pull.newton.iterations, native_0.strain, native_45.strain,
-              macro_uniaxial_limit(fit) - native_45.strain);
+  std::printf(
+      "fit: rms residual %.2e, max %.2e; macro uniaxial limit %.6f; strip pulled to %.6f (margin %.2e, %s, "
+      "%d iterations); native 0 deg %.6f, 45 deg %.6f (macro - native at 45 deg: %.6f)\n",
+      fit.rms_residual, fit.max_residual, macro_uniaxial_limit(fit), pull.strain, pull.min_margin,
+      to_string(pull.newton.status).c_str(), pull.newton.iterations, native_0.strain, native_45.strain,
+      macro_uniaxial_limit(fit) - native_45.strain);
   ASSERT_TRUE(pull.newton.converged()) << pull.newton.report();
   ASSERT_TRUE(native_0.locked && native_45.locked);
   EXPECT_GT(pull.min_margin, 0.0);

@@ -1,11 +1,12 @@
 // The "interlocking_macro" scene kind: a small drape's outputs, and the refusal of unknown keys and
 // bad boundaries with file and key path.
+#include "problems/interlocking/macro_scene.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
-#include "problems/interlocking/macro_scene.hpp"
 #include "problems/scene_error.hpp"
 #include "problems/scene_kinds.hpp"
 
@@ -28,7 +29,8 @@ TEST(InterlockingMacroScene, DrapeWritesItsOutputs) {
   const SceneFile file = scene_from_text(kScene, "small.json");
   InterlockingMacroScene scene = parse_interlocking_macro_scene(file.node());
   scene.name = "small_drape";
-  const std::string out = (std::filesystem::temp_directory_path() / "tailor_interlocking_macro_scene_test").string();
+  const std::string out =
+      (std::filesystem::temp_directory_path() / "tailor_interlocking_macro_scene_test").string();
   std::filesystem::remove_all(out);
   ASSERT_TRUE(run_interlocking_macro(scene, out, nullptr));
   for (const char* f : {"report.json", "sheet.vtu", "sphere.vtu", "boundary_fit.png"})
@@ -48,7 +50,8 @@ TEST(InterlockingMacroScene, UnknownKeysAndBadBoundariesAreRefusedWithTheirPath)
     FAIL() << "accepted an unknown key";
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("interlocking_macro.drape.sphere_radios"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("interlocking_macro.drape.sphere_radios"), std::string::npos)
+        << e.what();
   }
   std::string high = kScene;
   high.replace(high.find("\"order\": 2"), 10, "\"order\": 9");  // 5 distinct directions cannot fix order 9

@@ -35,8 +35,9 @@ TEST(InterlockingMacroScene, DrapeWritesItsOutputs) {
   ASSERT_TRUE(run_interlocking_macro(scene, out, nullptr));
   for (const char* f : {"report.json", "sheet.vtu", "sphere.vtu", "boundary_fit.png"})
     EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
-  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/report.json"));
-  EXPECT_EQ(report["status"], "converged");
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["status"].get<std::string>(), "converged");
   EXPECT_GT(report["drape"]["min_margin"].get<double>(), 0.0);
   EXPECT_GT(report["drape"]["contact_vertices"].get<int>(), 0);
   EXPECT_EQ(report["fit"]["samples"].get<int>(), 8);

@@ -455,7 +455,7 @@ std::vector<SceneKind> builtin_scene_kinds() {
        {{"simulate", simulate_interlocking, "the strain-space boundary of a periodic interlocking cell"},
         {"gradcheck", gradcheck_interlocking, "Taylor test of the limit design functional"},
         {"run", run_interlocking, "design element radii for target deformation limits, then re-sweep"}}},
-      {"interlocking_macro",
+      {"macro_sheet",
        "an \"interlocking_macro\" section (docs/interlocking.md)",
        [](const nlohmann::json& d) { return has_section(d, "interlocking_macro"); },
        {{"simulate", simulate_interlocking_macro, "drape the macro-scale interlocking sheet over a sphere"}}},

@@ -9,6 +9,7 @@
 
 #include "problems/scene_error.hpp"
 #include "problems/scene_kinds.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor::interlocking_macro_scene_test {
 namespace {
@@ -60,6 +61,18 @@ TEST(InterlockingMacroScene, UnknownKeysAndBadBoundariesAreRefusedWithTheirPath)
   std::string odd = kScene;
   odd.replace(odd.find("\"divisions\": 6"), 14, "\"divisions\": 5");
   EXPECT_THROW(parse_interlocking_macro_scene(scene_from_text(odd, "odd.json").node()), SceneError);
+}
+
+// The shipped scene is recognised as this kind and parses; its 32 native limits fit at order 12
+// within 2 10^-3 (the docs' figures: rms 8.0 10^-4, largest 1.7 10^-3).
+TEST(InterlockingMacroScene, ShippedSceneParsesAndFits) {
+  const SceneFile file =
+      read_scene_file(std::string(::tailor::testing::source_dir()) + "/scenes/interlocking_macro_drape.json");
+  EXPECT_EQ(recognise_scene_kind(file.document).name, "macro_sheet");
+  const InterlockingMacroScene scene = parse_interlocking_macro_scene(file.node());
+  ASSERT_EQ(scene.limit_strains.size(), 32U);
+  const interlocking::BoundaryFit fit = interlocking::fit_boundary(scene.limit_strains, scene.order);
+  EXPECT_LT(fit.max_residual, 2e-3);
 }
 
 }  // namespace

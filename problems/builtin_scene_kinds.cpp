@@ -21,6 +21,7 @@
 #include "problems/fem/reduced_design.hpp"
 #include "problems/homogenization/homogenize_command.hpp"
 #include "problems/interlocking/interlocking_scene.hpp"
+#include "problems/interlocking/macro_scene.hpp"
 #include "problems/material_fit/material_fit_scene.hpp"
 #include "problems/meshless/meshless_commands.hpp"
 #include "problems/metamaterial/metamaterial_scene.hpp"
@@ -213,6 +214,12 @@ int run_interlocking(const SceneFile& file, const VerbArguments& args, std::ostr
   const InterlockingScene scene = load_interlocking_scene(file);
   if (!scene.design) throw SceneError(file.source + ": interlocking: run needs a \"design\" section");
   return exit_code(run_interlocking_design(scene, output_folder(file, args), &out, args.quiet ? nullptr : &out));
+}
+
+int simulate_interlocking_macro(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
+  InterlockingMacroScene scene = parse_interlocking_macro_scene(file.node());
+  scene.name = file.name();
+  return exit_code(run_interlocking_macro(scene, output_folder(file, args), &out));
 }
 
 TorusSceneSpec load_torus_scene(const SceneFile& file) {
@@ -448,6 +455,10 @@ std::vector<SceneKind> builtin_scene_kinds() {
        {{"simulate", simulate_interlocking, "the strain-space boundary of a periodic interlocking cell"},
         {"gradcheck", gradcheck_interlocking, "Taylor test of the limit design functional"},
         {"run", run_interlocking, "design element radii for target deformation limits, then re-sweep"}}},
+      {"macro_sheet",
+       "an \"interlocking_macro\" section (docs/interlocking.md)",
+       [](const nlohmann::json& d) { return has_section(d, "interlocking_macro"); },
+       {{"simulate", simulate_interlocking_macro, "drape the macro-scale interlocking sheet over a sphere"}}},
       {"rods",
        "a \"rods\" section (docs/rods.md)",
        [](const nlohmann::json& d) { return has_section(d, "rods"); },

@@ -211,8 +211,7 @@ LimitPoint find_limit(const PeriodicRigidCell& cell, const LoadPath& path, const
   const auto [a, b] = closest_pair(cell, cell.full_state(y_hi, path.deformation(s_hi)));
   out.critical_a = a;
   out.critical_b = b;
-  // (Bending patches: x0 is nonlinear in the curvature, the augmented system does not apply.)
-  if (options.refine && a >= 0 && !cell.spec().bending_patch) {
+  if (options.refine && a >= 0) {
     const RefineResult refined = refine_limit(cell, path, options.lock_fraction * cell.activation_distance(), a, b,
                                               y_hi, s_hi);
     // Accept the refined limit only inside the bracket (a far jump is another branch).

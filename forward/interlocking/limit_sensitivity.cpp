@@ -106,6 +106,14 @@ RefineResult refine_limit(const PeriodicRigidCell& cell, const LoadPath& path, d
   }
 }
 
+Vector equilibrium_tangent(const PeriodicRigidCell& cell, const LoadPath& path, const Vector& y, double s) {
+  const Vector x = cell.full_state(y, path.deformation(s));
+  const ReducedContact c = reduced_contact(cell, x, true, HessianMode::exact);
+  if (!(c.energy > 0.0) || !std::isfinite(c.energy)) return Vector::Zero(y.size());
+  const Vector fs = cell.basis().transpose() * (c.full_hessian * path_state_derivative(cell, path, s));
+  return -PseudoInverse(c.hessian).solve(fs);
+}
+
 LimitGradient limit_gradient(const PeriodicRigidCell& cell, const LoadPath& path, int a, int b, const Vector& y,
                              double s) {
   const SparseMatrix& S = cell.basis();

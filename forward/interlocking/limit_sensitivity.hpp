@@ -50,6 +50,13 @@ struct LimitGradient {
 LimitGradient limit_gradient(const PeriodicRigidCell& cell, const LoadPath& path, int body_a, int body_b,
                              const Vector& y, double s);
 
+// The equilibrium path's tangent dy/ds at an equilibrium (y, s) of `path`: H dy/ds = -f_s, H the
+// exact reduced Hessian (pseudo-inverse as above: no motion along its null modes), f_s =
+// S^T H_x dx0/ds. Zero where no pair is within d_hat (then every nearby state is an equilibrium).
+// The ramp's first-order predictor (strain_boundary.cpp): pairs in contact slide along each other
+// instead of closing their gap.
+Vector equilibrium_tangent(const PeriodicRigidCell& cell, const LoadPath& path, const Vector& y, double s);
+
 // A copy of the cell's spec with master radii (R_i, r_i) and lattice L replaced (d_hat kept).
 RigidCellSpec with_parameters(const RigidCellSpec& spec, const Vector& radii, const Eigen::Matrix2d& lattice);
 // The master radii (R_0, r_0, ...) of a spec.

@@ -39,6 +39,9 @@ struct CellElement {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // rest T [length]
   Eigen::Vector3d rotation = Eigen::Vector3d::Zero();  // rest w [rad]
   bool rim = false;  // bending patches: the element is prescribed on the surface (see below)
+  // Bending patches cut from a tiling (disc_patch): the tiling's element this one copies, so that a
+  // design can tie every copy's radii; -1: none (the element is itself).
+  int origin = -1;
 };
 
 struct RigidCellSpec {

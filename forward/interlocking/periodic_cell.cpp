@@ -1,7 +1,6 @@
 // The periodic rigid cell (see periodic_cell.hpp).
 #include "forward/interlocking/periodic_cell.hpp"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -181,9 +180,11 @@ void PeriodicRigidCell::surface_pose_derivative(const Eigen::Matrix2d& K, const 
   const Eigen::Vector3d omega = rigid::skew_vee(dQ * R0 * R.transpose());  // dR R^T = [omega]
   // w = log(R) near the rest rotation (as surface_pose); dR/dw_k R^T = [J_k].
   const rigid::RotationDerivatives d = rigid::rotation_derivatives(rigid::rotation_vector(R, rotation));
-  Eigen::Matrix3d J;
-  for (int k = 0; k < 3; ++k) J.col(k) = rigid::skew_vee(d.first[static_cast<std::size_t>(k)] * d.rotation.transpose());
-  dw = J.inverse() * omega;
+  std::array<Eigen::Vector3d, 3> J;  // columns
+  for (std::size_t k = 0; k < 3; ++k) J[k] = rigid::skew_vee(d.first[k] * d.rotation.transpose());
+  // J^-1 omega by Cramer's rule (the rows of J^-1 are the columns' cross products over det J).
+  const double det = J[0].dot(J[1].cross(J[2]));
+  dw = Eigen::Vector3d(J[1].cross(J[2]).dot(omega), J[2].cross(J[0]).dot(omega), J[0].cross(J[1]).dot(omega)) / det;
 }
 
 Vector PeriodicRigidCell::offset_derivative(const Eigen::Matrix2d& F, const Eigen::Matrix2d& dF) const {

@@ -70,6 +70,11 @@ RampResult ramp(const PeriodicRigidCell& cell, const LoadPath& path, const Vecto
   double step = std::min(options.initial_step, s_to - s_from);
   Vector tangent;
   std::optional<double> tangent_at;  // the s where `tangent` was taken
+  // A ramp step's Newton starts from a prediction near its equilibrium (15-20 iterations on the
+  // bending patches); one that has not converged in 50 is stalling along near-null modes (seen
+  // running to 200 iterations at residuals of 1e-8) and is cheaper retried from a halved step.
+  CellSolveOptions ramp_solve = options.solve;
+  ramp_solve.max_iterations = std::min(ramp_solve.max_iterations, 50);
   while (r.s < s_to) {
     const double s_try = std::min(r.s + step, s_to);
     const Eigen::Matrix2d F_old = path.deformation(r.s), F_new = path.deformation(s_try);
@@ -102,7 +107,7 @@ RampResult ramp(const PeriodicRigidCell& cell, const LoadPath& path, const Vecto
       return r;
     }
     const Vector y_guess = r.y + alpha * (y_pred - r.y);  // the straight path is linear in s
-    const CellSolveResult solve = solve_cell_equilibrium(cell, path.deformation(s_new), y_guess, options.solve);
+    const CellSolveResult solve = solve_cell_equilibrium(cell, path.deformation(s_new), y_guess, ramp_solve);
     ++solves;
     if (!solve.converged) {
       step *= 0.5;

@@ -132,12 +132,12 @@ TEST(InterlockingDesign, RecoversAKnownDesignFromItsLimits) {
 
 // Bending recovery: the curvature limits (single curvature along x and along y) of a square-net
 // disc patch (the centre node and its four links free, the four nearest nodes prescribed) whose x
-// links have R = 1.1 and y links R = 0.95 as targets, designed from R = 1 for both: the variables
+// links have R = 1.1 and y links R = 0.95 as targets, designed from R = 1.05 and 1: the variables
 // name the tiling's link elements, so every copy in the patch follows; MMA recovers the radii.
 TEST(InterlockingDesign, RecoversAKnownPatchFromItsBendingLimits) {
   RigidCellSpec known = disc_patch(square_ring_cell(kRing, {1.1, 0.2}, {0.95, 0.2}, 1.5), 3.1, 0.7);
   known.activation_distance = 1e-3;
-  RigidCellSpec start = disc_patch(square_ring_cell(kRing, kRing, kRing, 1.5), 3.1, 0.7);
+  RigidCellSpec start = disc_patch(square_ring_cell(kRing, {1.05, 0.2}, kRing, 1.5), 3.1, 0.7);
   start.activation_distance = 1e-3;
   ASSERT_EQ(start.elements.size(), 9u);
   std::vector<LimitTarget> targets;
@@ -150,8 +150,12 @@ TEST(InterlockingDesign, RecoversAKnownPatchFromItsBendingLimits) {
       targets.push_back({uniaxial_path(angle), p.strain});
     }
   }
-  std::vector<DesignVariable> variables = {{1, true, 0.85, 1.2}, {2, true, 0.85, 1.2}};
-  LimitDesignFunctional functional(start, variables, targets, {});
+  std::vector<DesignVariable> variables = {{1, true, 0.9, 1.15}, {2, true, 0.9, 1.15}};
+  // Coarse bisection steps (the augmented Newton refines every limit to round-off anyway).
+  LimitOptions limit_options;
+  limit_options.initial_step = 0.05;
+  limit_options.tolerance = 1e-3;
+  LimitDesignFunctional functional(start, variables, targets, limit_options);
   OptimizerOptions options;
   options.backend = OptimizerBackend::nlopt_mma;
   options.max_iterations = 60;

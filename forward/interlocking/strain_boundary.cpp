@@ -83,8 +83,10 @@ RampResult ramp(const PeriodicRigidCell& cell, const LoadPath& path, const Vecto
     // affinely (patches: riding with the surface), or held; the one CCD lets go furthest. Without
     // the tangent, elements sliding along each other in contact are predicted to close their
     // gaps (~d_hat), and CCD then admits only a fraction of that gap per step.
-    // The tangent (an exact Hessian and its eigen-decomposition) only where the affine
-    // prediction is capped.
+    if (!tangent_at || *tangent_at != r.s) {
+      tangent = equilibrium_tangent(cell, path, r.y, r.s);
+      tangent_at = r.s;
+    }
     Vector y_pred = r.y;
     double alpha = 0.0;
     const auto consider = [&](const Vector& y_candidate) {
@@ -95,14 +97,8 @@ RampResult ramp(const PeriodicRigidCell& cell, const LoadPath& path, const Vecto
         y_pred = y_candidate;
       }
     };
+    if (!tangent.isZero()) consider(r.y + (s_try - r.s) * tangent);
     consider(affine_prediction(cell, r.y, F_old, F_new));
-    if (alpha < 1.0) {
-      if (!tangent_at || *tangent_at != r.s) {
-        tangent = equilibrium_tangent(cell, path, r.y, r.s);
-        tangent_at = r.s;
-      }
-      if (!tangent.isZero()) consider(r.y + (s_try - r.s) * tangent);
-    }
     consider(r.y);
     const double s_new = r.s + alpha * (s_try - r.s);
     if (!(s_new - r.s > options.min_step)) {

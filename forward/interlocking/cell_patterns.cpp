@@ -70,8 +70,9 @@ RigidCellSpec disc_patch(const RigidCellSpec& cell, double radius, double rim_wi
   const int K = static_cast<int>(std::ceil((radius + extent) * inverse.norm())) + 1;
   for (int b = -K; b <= K; ++b)
     for (int a = -K; a <= K; ++a)
-      for (const CellElement& e : cell.elements) {
-        CellElement copy = e;
+      for (std::size_t i = 0; i < cell.elements.size(); ++i) {
+        CellElement copy = cell.elements[i];
+        copy.origin = static_cast<int>(i);
         const Eigen::Vector2d t = cell.lattice * Eigen::Vector2d(a, b);
         copy.position += Eigen::Vector3d(t.x(), t.y(), 0.0);
         const double rho = copy.position.head<2>().norm();

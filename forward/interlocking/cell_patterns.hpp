@@ -28,7 +28,8 @@ RigidCellSpec threefold_cell(const tori::TorusShape& node, const tori::TorusShap
 //  three-ring chain: flat rim rings at (-s, 0, 0) and (s, 0, 0) and a free upright link (in the
 //                xz plane) at 0 between them.
 //  disc patch:   every element of the tiling of `cell` whose centre lies within `radius` of the
-//                origin (in xy); those beyond radius - rim_width are the rim.
+//                origin (in xy); those beyond radius - rim_width are the rim. Each copy's `origin`
+//                is its element's index in `cell`.
 RigidCellSpec ring_chain_patch(const tori::TorusShape& node, const tori::TorusShape& link, double spacing);
 RigidCellSpec disc_patch(const RigidCellSpec& cell, double radius, double rim_width);
 

@@ -12,13 +12,10 @@
 namespace tailor::interlocking {
 namespace {
 
-// x = x0(F(s)) + S y; dx/ds (the image translations' rows: G L shift).
-Vector path_state_derivative(const PeriodicRigidCell& cell, const LoadPath& path) {
-  Vector dx = Vector::Zero(6 * cell.num_bodies());
-  for (int k = 0; k < 2; ++k)
-    for (int l = 0; l < 2; ++l)
-      if (path.direction(k, l) != 0.0) dx += path.direction(k, l) * cell.state_derivative_macro(k, l);
-  return dx;
+// x = x0(F(s)) + S y; dx/ds at s (periodic cells: the image translations' rows G L shift, the
+// same at every s; bending patches: the rim poses' derivative, which depends on s).
+Vector path_state_derivative(const PeriodicRigidCell& cell, const LoadPath& path, double s) {
+  return cell.offset_derivative(path.deformation(s), path.direction);
 }
 
 // The critical pair's distance with its gradient in x (full) and in the 16 pair variables.
@@ -67,11 +64,11 @@ RefineResult refine_limit(const PeriodicRigidCell& cell, const LoadPath& path, d
   r.y = y_start;
   r.strain = s_start;
   const SparseMatrix& S = cell.basis();
-  const Vector xs = path_state_derivative(cell, path);
   const double d_hat = cell.activation_distance();
   for (int it = 0;; ++it) {
     r.iterations = it;
     const Vector x = cell.full_state(r.y, path.deformation(r.strain));
+    const Vector xs = path_state_derivative(cell, path, r.strain);
     const ReducedContact c = reduced_contact(cell, x, true, HessianMode::exact);
     const CriticalDistance d = critical_distance(cell, x, a, b);
     if (!std::isfinite(c.energy) || d.degenerate) {
@@ -109,6 +106,14 @@ RefineResult refine_limit(const PeriodicRigidCell& cell, const LoadPath& path, d
   }
 }
 
+Vector equilibrium_tangent(const PeriodicRigidCell& cell, const LoadPath& path, const Vector& y, double s) {
+  const Vector x = cell.full_state(y, path.deformation(s));
+  const ReducedContact c = reduced_contact(cell, x, true, HessianMode::exact);
+  if (!(c.energy > 0.0) || !std::isfinite(c.energy)) return Vector::Zero(y.size());
+  const Vector fs = cell.basis().transpose() * (c.full_hessian * path_state_derivative(cell, path, s));
+  return -PseudoInverse(c.hessian).solve(fs);
+}
+
 LimitGradient limit_gradient(const PeriodicRigidCell& cell, const LoadPath& path, int a, int b, const Vector& y,
                              double s) {
   const SparseMatrix& S = cell.basis();
@@ -118,7 +123,7 @@ LimitGradient limit_gradient(const PeriodicRigidCell& cell, const LoadPath& path
   const ReducedContact c = reduced_contact(cell, x, true, HessianMode::exact);
   const CriticalDistance d = critical_distance(cell, x, a, b);
   const PseudoInverse Hinv(c.hessian);
-  const Vector xs = path_state_derivative(cell, path);
+  const Vector xs = path_state_derivative(cell, path, s);
   const Vector fs = S.transpose() * (c.full_hessian * xs);
   const Vector cy = S.transpose() * d.gradient_x;
   const Vector lambda = Hinv.solve(cy);

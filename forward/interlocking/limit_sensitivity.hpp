@@ -6,7 +6,10 @@
 //   f(y, s, p) = S^T dB/dx (x0(F(s), L) + S y, p) = 0        (equilibrium, n equations)
 //   c(y, s, p) = d_ab(x, p) - lock_fraction d_hat = 0          (the critical pair a, b)
 // with p the master radii (R_i, r_i) and the lattice matrix L. With H = df/dy (the exact
-// reduced Hessian), f_s = S^T H_x dx/ds, c_y = S^T grad_x d_ab, c_s = grad_x d_ab . dx/ds:
+// reduced Hessian), f_s = S^T H_x dx/ds, c_y = S^T grad_x d_ab, c_s = grad_x d_ab . dx/ds
+// (dx/ds = dx0/ds, PeriodicRigidCell::offset_derivative: constant for periodic cells, the rim
+// poses' first derivative in the curvature for bending patches; x0's second derivative enters
+// neither the Newton matrix nor the implicit-function derivative, only f's second derivatives):
 //   [H   f_s] [dy/dp]     [f_p]
 //   [c_y c_s] [ds/dp] = - [c_p],
 // so with the adjoint lambda = H^+ c_y^T (one solve for every parameter)
@@ -15,7 +18,8 @@
 // which c_y, f_s and f_p vanish by symmetry; H^+ is the pseudo-inverse (eigenvalues below
 // 1e-10 of the largest dropped), which is exact for such consistent right-hand sides.
 // f_p for radii: S^T (d2B/dx dp_body) P (TorusContactTerm::add_mixed, P = radii_map());
-// for L_kl: S^T H_x dx/dL_kl (the images move with L); c_p from the pair distance's gradient.
+// for L_kl: S^T H_x dx/dL_kl (the images move with L; zero for patches, which have no images);
+// c_p from the pair distance's gradient.
 #include <string>
 
 #include "forward/interlocking/strain_boundary.hpp"
@@ -45,6 +49,13 @@ struct LimitGradient {
 // At a refined limit (y, s) of `path` with critical pair (a, b).
 LimitGradient limit_gradient(const PeriodicRigidCell& cell, const LoadPath& path, int body_a, int body_b,
                              const Vector& y, double s);
+
+// The equilibrium path's tangent dy/ds at an equilibrium (y, s) of `path`: H dy/ds = -f_s, H the
+// exact reduced Hessian (pseudo-inverse as above: no motion along its null modes), f_s =
+// S^T H_x dx0/ds. Zero where no pair is within d_hat (then every nearby state is an equilibrium).
+// The ramp's first-order predictor (strain_boundary.cpp): pairs in contact slide along each other
+// instead of closing their gap.
+Vector equilibrium_tangent(const PeriodicRigidCell& cell, const LoadPath& path, const Vector& y, double s);
 
 // A copy of the cell's spec with master radii (R_i, r_i) and lattice L replaced (d_hat kept).
 RigidCellSpec with_parameters(const RigidCellSpec& spec, const Vector& radii, const Eigen::Matrix2d& lattice);

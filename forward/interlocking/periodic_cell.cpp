@@ -161,6 +161,52 @@ void PeriodicRigidCell::surface_pose(const Eigen::Matrix2d& K, const Eigen::Vect
   w = rigid::rotation_vector(rigid::rotation_matrix(q) * rigid::rotation_matrix(rotation), rotation);
 }
 
+void PeriodicRigidCell::surface_pose_derivative(const Eigen::Matrix2d& K, const Eigen::Matrix2d& dK,
+                                                const Eigen::Vector3d& position, const Eigen::Vector3d& rotation,
+                                                Eigen::Vector3d& dT, Eigen::Vector3d& dw) {
+  const Eigen::Vector2d p = position.head<2>(), grad = K * p, dgrad = dK * p;
+  const Eigen::Vector3d m(-grad.x(), -grad.y(), 1.0), dm(-dgrad.x(), -dgrad.y(), 0.0);
+  const Eigen::Vector3d n = m.normalized();
+  const Eigen::Vector3d dn = (dm - n * n.dot(dm)) / m.norm();
+  dT = Eigen::Vector3d(0.0, 0.0, 0.5 * p.dot(dK * p)) + position.z() * dn;
+  // Q = I + [v] + [v]^2 / (1 + c), v = e_z x n, c = n_z (n_z > 0 on a graph surface).
+  const Eigen::Vector3d v = Eigen::Vector3d::UnitZ().cross(n), dv = Eigen::Vector3d::UnitZ().cross(dn);
+  const double c = n.z(), dc = dn.z();
+  const Eigen::Matrix3d V = rigid::cross_matrix(v), dV = rigid::cross_matrix(dv);
+  const Eigen::Matrix3d Q = Eigen::Matrix3d::Identity() + V + V * V / (1.0 + c);
+  const Eigen::Matrix3d dQ = dV + (dV * V + V * dV) / (1.0 + c) - V * V * (dc / ((1.0 + c) * (1.0 + c)));
+  const Eigen::Matrix3d R0 = rigid::rotation_matrix(rotation);
+  const Eigen::Matrix3d R = Q * R0;
+  const Eigen::Vector3d omega = rigid::skew_vee(dQ * R0 * R.transpose());  // dR R^T = [omega]
+  // w = log(R) near the rest rotation (as surface_pose); dR/dw_k R^T = [J_k].
+  const rigid::RotationDerivatives d = rigid::rotation_derivatives(rigid::rotation_vector(R, rotation));
+  std::array<Eigen::Vector3d, 3> J;  // columns
+  for (std::size_t k = 0; k < 3; ++k) J[k] = rigid::skew_vee(d.first[k] * d.rotation.transpose());
+  // J^-1 omega by Cramer's rule (the rows of J^-1 are the columns' cross products over det J).
+  const double det = J[0].dot(J[1].cross(J[2]));
+  dw = Eigen::Vector3d(J[1].cross(J[2]).dot(omega), J[2].cross(J[0]).dot(omega), J[0].cross(J[1]).dot(omega)) / det;
+}
+
+Vector PeriodicRigidCell::offset_derivative(const Eigen::Matrix2d& F, const Eigen::Matrix2d& dF) const {
+  Vector dx0 = Vector::Zero(6 * num_bodies());
+  if (spec_.bending_patch) {
+    const Eigen::Matrix2d K = curvature(F), dK = 0.5 * (dF + dF.transpose());
+    for (int i = 0; i < num_elements(); ++i) {
+      const CellElement& e = spec_.elements[static_cast<std::size_t>(i)];
+      if (!e.rim) continue;
+      Eigen::Vector3d dT, dw;
+      surface_pose_derivative(K, dK, e.position, e.rotation, dT, dw);
+      dx0.segment<3>(6 * i) = dT;
+      dx0.segment<3>(6 * i + 3) = dw;
+    }
+    return dx0;
+  }
+  for (int k = 0; k < 2; ++k)
+    for (int l = 0; l < 2; ++l)
+      if (dF(k, l) != 0.0) dx0 += dF(k, l) * state_derivative_macro(k, l);
+  return dx0;
+}
+
 Vector PeriodicRigidCell::offset(const Eigen::Matrix2d& F) const {
   Vector x0 = Vector::Zero(6 * num_bodies());
   if (spec_.bending_patch) {

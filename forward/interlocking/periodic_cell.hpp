@@ -39,6 +39,9 @@ struct CellElement {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // rest T [length]
   Eigen::Vector3d rotation = Eigen::Vector3d::Zero();  // rest w [rad]
   bool rim = false;  // bending patches: the element is prescribed on the surface (see below)
+  // Bending patches cut from a tiling (disc_patch): the tiling's element this one copies, so that a
+  // design can tie every copy's radii; -1: none (the element is itself).
+  int origin = -1;
 };
 
 struct RigidCellSpec {
@@ -61,8 +64,8 @@ struct RigidCellSpec {
   // prescribed on it: rest position (x, y, z) goes to (x, y, f(x, y)) + z n(x, y) and rest rotation
   // R to Q R, Q the smallest rotation taking e_z to the normal n. The others are free (6 DOFs
   // each). Rim-rim pairs are contact pairs too (a collision of prescribed elements also locks).
-  // Needs broad_phase; x0(F) is nonlinear in K, so the macro derivatives and the augmented
-  // Newton of limit_sensitivity.hpp do not apply.
+  // Needs broad_phase. x0(F) is nonlinear in K; its first derivative along a curvature path
+  // (offset_derivative) is what the augmented Newton and the limit derivatives need.
   bool bending_patch = false;
 };
 
@@ -92,6 +95,17 @@ class PeriodicRigidCell {
   static Eigen::Matrix2d curvature(const Eigen::Matrix2d& F);
   static void surface_pose(const Eigen::Matrix2d& K, const Eigen::Vector3d& position, const Eigen::Vector3d& rotation,
                            Eigen::Vector3d& T, Eigen::Vector3d& w);
+  // The derivative (dT, dw) of surface_pose along a curvature direction dK (symmetric), exact:
+  // n = m / |m|, m = (-K p, 1); Q = I + [v] + [v]^2 / (1 + n_z), v = e_z x n (the smallest
+  // rotation, the same as surface_pose's axis-angle form); dw from the angular velocity
+  // vee(dR R^T) of R = Q R0 by the inverse of the rotation vector's Jacobian (rigid/rotation.hpp).
+  static void surface_pose_derivative(const Eigen::Matrix2d& K, const Eigen::Matrix2d& dK,
+                                      const Eigen::Vector3d& position, const Eigen::Vector3d& rotation,
+                                      Eigen::Vector3d& dT, Eigen::Vector3d& dw);
+  // dx0/ds along F(s) with dF/ds = dF at F: periodic cells, the image translations' rows
+  // (F L k)' = dF L k (independent of F); bending patches, the rim poses' derivative along
+  // dK = sym(dF) at K = curvature(F) (nonlinear in K).
+  Vector offset_derivative(const Eigen::Matrix2d& F, const Eigen::Matrix2d& dF) const;
   Vector full_state(const Vector& y, const Eigen::Matrix2d& F) const;  // x0(F) + S y
   // y of the rest placement (the anchor's translation is in x0, not in y).
   Vector rest_free_state() const;

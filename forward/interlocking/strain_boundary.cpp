@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "forward/interlocking/limit_sensitivity.hpp"
+#include "forward/rigid/rotation.hpp"
 
 namespace tailor::interlocking {
 namespace {
@@ -16,12 +18,24 @@ namespace {
 Vector affine_prediction(const PeriodicRigidCell& cell, const Vector& y, const Eigen::Matrix2d& F_old,
                          const Eigen::Matrix2d& F_new) {
   if (cell.spec().bending_patch) {
-    // Free elements ride on the surface: z grows by the paraboloid's change below them.
-    const Eigen::Matrix2d dK = PeriodicRigidCell::curvature(F_new) - PeriodicRigidCell::curvature(F_old);
+    // Free elements ride with the surface's local frame, as the rim does: an element at p = T_xy,
+    // a height h along the normal (approximately (T_z - f(p)) n_z), moves with the frame's origin
+    // (p, f(p)) + h n(p) and turns by Q_new Q_old^T (Q the smallest rotation taking e_z to n), so
+    // that interlocked free and rim elements tilt together instead of the rim turning into them.
+    const Eigen::Matrix2d K_old = PeriodicRigidCell::curvature(F_old), K_new = PeriodicRigidCell::curvature(F_new);
     Vector q = cell.full_state(y, F_old).head(6 * cell.num_elements());
     for (int i = 0; i < cell.num_elements(); ++i) {
+      if (cell.spec().elements[static_cast<std::size_t>(i)].rim) continue;
       const Eigen::Vector2d p = q.segment<2>(6 * i);
-      q[6 * i + 2] += 0.5 * p.dot(dK * p);
+      const Eigen::Vector2d slope = K_old * p;
+      const double h = (q[6 * i + 2] - 0.5 * p.dot(slope)) / std::sqrt(1.0 + slope.squaredNorm());
+      Eigen::Vector3d T_old, w_old, T_new, w_new;
+      PeriodicRigidCell::surface_pose(K_old, Eigen::Vector3d(p.x(), p.y(), h), Eigen::Vector3d::Zero(), T_old, w_old);
+      PeriodicRigidCell::surface_pose(K_new, Eigen::Vector3d(p.x(), p.y(), h), Eigen::Vector3d::Zero(), T_new, w_new);
+      const Eigen::Vector3d w = q.segment<3>(6 * i + 3);
+      q.segment<3>(6 * i) += T_new - T_old;
+      q.segment<3>(6 * i + 3) = rigid::rotation_vector(
+          rigid::rotation_matrix(w_new) * rigid::rotation_matrix(w_old).transpose() * rigid::rotation_matrix(w), w);
     }
     return cell.basis().topRows(6 * cell.num_elements()).transpose() * q;
   }
@@ -54,20 +68,38 @@ RampResult ramp(const PeriodicRigidCell& cell, const LoadPath& path, const Vecto
   r.y = r.y_unlocked = y_from;
   const double lock_distance = options.lock_fraction * cell.activation_distance();
   double step = std::min(options.initial_step, s_to - s_from);
+  Vector tangent;
+  std::optional<double> tangent_at;  // the s where `tangent` was taken
+  // A ramp step's Newton starts from a prediction near its equilibrium (15-20 iterations on the
+  // bending patches); one that has not converged in 50 is stalling along near-null modes (seen
+  // running to 200 iterations at residuals of 1e-8) and is cheaper retried from a halved step.
+  CellSolveOptions ramp_solve = options.solve;
+  ramp_solve.max_iterations = std::min(ramp_solve.max_iterations, 50);
   while (r.s < s_to) {
     const double s_try = std::min(r.s + step, s_to);
     const Eigen::Matrix2d F_old = path.deformation(r.s), F_new = path.deformation(s_try);
     const Vector x_old = cell.full_state(r.y, F_old);
-    // Two predictions: the masters moved affinely, or held; the one CCD lets go further.
-    Vector y_pred = affine_prediction(cell, r.y, F_old, F_new);
-    double alpha = contact_max_step(cell, x_old, cell.full_state(y_pred, F_new) - x_old);
-    if (alpha < 1.0) {
-      const double alpha_held = contact_max_step(cell, x_old, cell.full_state(r.y, F_new) - x_old);
-      if (alpha_held > alpha) {
-        alpha = alpha_held;
-        y_pred = r.y;
-      }
+    // Predictions: the equilibrium path's tangent (where pairs touch), the masters moved
+    // affinely (patches: riding with the surface), or held; the one CCD lets go furthest. Without
+    // the tangent, elements sliding along each other in contact are predicted to close their
+    // gaps (~d_hat), and CCD then admits only a fraction of that gap per step.
+    if (!tangent_at || *tangent_at != r.s) {
+      tangent = equilibrium_tangent(cell, path, r.y, r.s);
+      tangent_at = r.s;
     }
+    Vector y_pred = r.y;
+    double alpha = 0.0;
+    const auto consider = [&](const Vector& y_candidate) {
+      if (alpha == 1.0) return;
+      const double a = contact_max_step(cell, x_old, cell.full_state(y_candidate, F_new) - x_old);
+      if (a > alpha) {
+        alpha = a;
+        y_pred = y_candidate;
+      }
+    };
+    if (!tangent.isZero()) consider(r.y + (s_try - r.s) * tangent);
+    consider(affine_prediction(cell, r.y, F_old, F_new));
+    consider(r.y);
     const double s_new = r.s + alpha * (s_try - r.s);
     if (!(s_new - r.s > options.min_step)) {
       r.stalled = true;
@@ -75,7 +107,7 @@ RampResult ramp(const PeriodicRigidCell& cell, const LoadPath& path, const Vecto
       return r;
     }
     const Vector y_guess = r.y + alpha * (y_pred - r.y);  // the straight path is linear in s
-    const CellSolveResult solve = solve_cell_equilibrium(cell, path.deformation(s_new), y_guess, options.solve);
+    const CellSolveResult solve = solve_cell_equilibrium(cell, path.deformation(s_new), y_guess, ramp_solve);
     ++solves;
     if (!solve.converged) {
       step *= 0.5;
@@ -211,8 +243,7 @@ LimitPoint find_limit(const PeriodicRigidCell& cell, const LoadPath& path, const
   const auto [a, b] = closest_pair(cell, cell.full_state(y_hi, path.deformation(s_hi)));
   out.critical_a = a;
   out.critical_b = b;
-  // (Bending patches: x0 is nonlinear in the curvature, the augmented system does not apply.)
-  if (options.refine && a >= 0 && !cell.spec().bending_patch) {
+  if (options.refine && a >= 0) {
     const RefineResult refined = refine_limit(cell, path, options.lock_fraction * cell.activation_distance(), a, b,
                                               y_hi, s_hi);
     // Accept the refined limit only inside the bracket (a far jump is another branch).

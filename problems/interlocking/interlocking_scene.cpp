@@ -108,7 +108,12 @@ InterlockingDesignSpec parse_design(const SceneNode& n, const interlocking::Rigi
     p.expect_keys({"element", "radius", "lower", "upper"});
     DesignVariable v;
     v.element = p.at("element").integer(0);
-    if (v.element >= static_cast<int>(cell.elements.size())) p.at("element").fail("no such element");
+    // A patch's variables name elements of the tiling it was cut from (every copy follows).
+    try {
+      radius_entries(cell, v);
+    } catch (const std::invalid_argument&) {
+      p.at("element").fail(cell.bending_patch ? "no such element in the patch's tiling" : "no such element");
+    }
     v.major = p.at("radius").choice({"major", "minor"}) == "major";
     v.lower = p.at("lower").positive();
     v.upper = p.at("upper").positive();
@@ -117,11 +122,13 @@ InterlockingDesignSpec parse_design(const SceneNode& n, const interlocking::Rigi
   }
   if (d.variables.empty()) n.at("parameters").fail("needs at least one parameter");
   for (const SceneNode& t : n.at("targets").items()) {
-    t.expect_keys({"loading", "angle_degrees", "strain"});
+    // A patch's limits are curvatures: its targets say "curvature" (a cell's "strain").
+    const char* measure = cell.bending_patch ? "curvature" : "strain";
+    t.expect_keys({"loading", "angle_degrees", measure});
     const std::string loading = t.has("loading") ? t.at("loading").choice({"principal", "uniaxial"}) : "uniaxial";
     LimitTarget target;
     target.path = make_path(loading, t.at("angle_degrees").number(), 0.0);
-    target.strain = t.at("strain").number();
+    target.strain = t.at(measure).number();
     d.targets.push_back(target);
   }
   if (d.targets.empty()) n.at("targets").fail("needs at least one target");
@@ -172,8 +179,6 @@ InterlockingScene parse_interlocking_scene(const SceneNode& root) {
     parse_limit_options(*b, scene.boundary.options);
   }
   if (auto d = n.find("design")) {
-    // A patch's limits have no derivative here (its rim placement is nonlinear in the curvature).
-    if (scene.cell.bending_patch) d->fail("designs need a periodic cell, not a bending_patch");
     scene.design = parse_design(*d, scene.cell);
   }
   return scene;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include <stdexcept>
+
 #include "forward/tori/torus_distance.hpp"
 
 namespace tailor {
@@ -12,11 +14,23 @@ namespace tailor {
 using interlocking::PeriodicRigidCell;
 using interlocking::RigidCellSpec;
 
+std::vector<int> radius_entries(const RigidCellSpec& spec, const DesignVariable& variable) {
+  std::vector<int> out;
+  for (std::size_t i = 0; i < spec.elements.size(); ++i) {
+    const int origin = spec.elements[i].origin >= 0 ? spec.elements[i].origin : static_cast<int>(i);
+    if (origin == variable.element) out.push_back(2 * static_cast<int>(i) + (variable.major ? 0 : 1));
+  }
+  if (out.empty())
+    throw std::invalid_argument("limit design: no element " + std::to_string(variable.element) + " in the cell");
+  return out;
+}
+
 LimitDesignFunctional::LimitDesignFunctional(RigidCellSpec base, std::vector<DesignVariable> variables,
                                              std::vector<LimitTarget> targets, interlocking::LimitOptions options)
     : base_(std::move(base)), variables_(std::move(variables)), targets_(std::move(targets)), options_(options) {
   // Freeze d_hat at the base design's (the criterion's distance must not move with z).
   base_ = interlocking::with_parameters(base_, interlocking::master_radii(base_), base_.lattice);
+  for (const DesignVariable& v : variables_) entries_.push_back(radius_entries(base_, v));
   states_.resize(targets_.size());
   limits_.assign(targets_.size(), 0.0);
 }
@@ -24,13 +38,14 @@ LimitDesignFunctional::LimitDesignFunctional(RigidCellSpec base, std::vector<Des
 Vector LimitDesignFunctional::initial_design() const {
   const Vector radii = interlocking::master_radii(base_);
   Vector z(size());
-  for (int i = 0; i < size(); ++i) z[i] = radii[variables_[static_cast<std::size_t>(i)].index()];
+  for (int i = 0; i < size(); ++i) z[i] = radii[entries_[static_cast<std::size_t>(i)].front()];
   return z;
 }
 
 RigidCellSpec LimitDesignFunctional::spec_at(const Vector& z) const {
   Vector radii = interlocking::master_radii(base_);
-  for (int i = 0; i < size(); ++i) radii[variables_[static_cast<std::size_t>(i)].index()] = z[i];
+  for (int i = 0; i < size(); ++i)
+    for (const int e : entries_[static_cast<std::size_t>(i)]) radii[e] = z[i];
   return interlocking::with_parameters(base_, radii, base_.lattice);
 }
 
@@ -93,7 +108,8 @@ double LimitDesignFunctional::evaluate(const Vector& z, Vector* gradient) {
       const interlocking::LimitGradient g =
           interlocking::limit_gradient(*cell, path, state.a, state.b, state.y, state.strain);
       ++counters_.adjoint_solves;
-      for (int i = 0; i < size(); ++i) (*gradient)[i] += residual * g.radii[variables_[static_cast<std::size_t>(i)].index()];
+      for (int i = 0; i < size(); ++i)
+        for (const int e : entries_[static_cast<std::size_t>(i)]) (*gradient)[i] += residual * g.radii[e];
     }
   }
   counters_.forward_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -104,7 +120,8 @@ std::vector<Constraint> LimitDesignFunctional::margin_constraints(double margin,
   const PeriodicRigidCell cell(base_);
   const Vector x = cell.full_state(cell.rest_free_state(), Eigen::Matrix2d::Identity());
   std::vector<Constraint> out;
-  for (const tori::TorusPair& pair : cell.contact().close_pairs(x, cell.radii_parameters(), reach, false)) {
+  // (Through the cell's broad phase: a patch's rim-rim pairs, which the contact term skips, count.)
+  for (const tori::TorusPair& pair : interlocking::contact_close_pairs(cell, x, reach, false)) {
     Constraint c;
     c.name = "margin " + cell.pair_label(pair.a, pair.b);
     // The rest placement does not move with z: the poses are the base cell's, the shapes z's.
@@ -119,11 +136,11 @@ std::vector<Constraint> LimitDesignFunctional::margin_constraints(double margin,
       const tori::TorusDistance d = tori::torus_distance(pa, pb, gradient != nullptr, distance_options);
       if (gradient) {
         gradient->setZero(size());
-        for (int i = 0; i < size(); ++i) {
-          const int index = variables_[static_cast<std::size_t>(i)].index();
-          if (index / 2 == ma) (*gradient)[i] -= d.gradient[12 + index % 2];
-          if (index / 2 == mb) (*gradient)[i] -= d.gradient[14 + index % 2];
-        }
+        for (int i = 0; i < size(); ++i)
+          for (const int index : entries_[static_cast<std::size_t>(i)]) {
+            if (index / 2 == ma) (*gradient)[i] -= d.gradient[12 + index % 2];
+            if (index / 2 == mb) (*gradient)[i] -= d.gradient[14 + index % 2];
+          }
       }
       return margin - d.distance;
     };

@@ -8,6 +8,9 @@
 // by the augmented Newton (the same branch as z moves); a path whose continuation fails is swept
 // afresh. Non-penetration margins: the rest placement's pair distances d_ab(z) >= margin for the
 // pairs within reach at the start (margin_constraints), so that every design can be built.
+// Bending patches (RigidCellSpec::bending_patch) are designed the same way: the targets are
+// curvature limits, and a variable's `element` names an element of the tiling the patch was cut
+// from (CellElement::origin), so that it sets the radius of every copy (the gradient sums them).
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,11 +27,14 @@ struct LimitTarget {
 };
 
 struct DesignVariable {
-  int element = 0;
+  int element = 0;    // a master, or for a patch cut from a tiling the tiling's element
   bool major = true;  // R (true) or r
   double lower = 0.0, upper = 0.0;
-  int index() const { return 2 * element + (major ? 0 : 1); }  // into master_radii
 };
+
+// The entries of master_radii(spec) a variable sets: R or r of every element whose origin (its
+// own index when it has none) is `element`. Throws std::invalid_argument when there is none.
+std::vector<int> radius_entries(const interlocking::RigidCellSpec& spec, const DesignVariable& variable);
 
 class LimitDesignFunctional final : public ReducedFunctional {
  public:
@@ -51,6 +57,7 @@ class LimitDesignFunctional final : public ReducedFunctional {
   double evaluate(const Vector& z, Vector* gradient);
   interlocking::RigidCellSpec base_;
   std::vector<DesignVariable> variables_;
+  std::vector<std::vector<int>> entries_;  // radius_entries of each variable
   std::vector<LimitTarget> targets_;
   interlocking::LimitOptions options_;
   struct PathState {

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "adjoint/taylor_test.hpp"
 #include "forward/interlocking/cell_patterns.hpp"
 #include "forward/interlocking/interpenetration_check.hpp"
+#include "forward/interlocking/limit_sensitivity.hpp"
 #include "forward/interlocking/strain_boundary.hpp"
 
 namespace tailor::interlocking::boundary_validation_test {
@@ -102,21 +104,23 @@ TEST(InterlockingBoundary, ThreefoldMailLocksSymmetrically) {
 // R - (s - R cos alpha) - 2 r. That reaches lock_fraction d_hat at
 //   cos alpha* = (s - R + 2 r + d_hat / 2) / R,   kappa* = tan(alpha*) / s.
 // Downward bending locks at the same |kappa|; bending across the chain (about x) never locks.
+// The bisection stops at 1e-4; the augmented Newton (the rim's dx0/ds) locates the limit to
+// round-off, so the closed form is met to 1e-10.
 TEST(InterlockingBending, ThreeRingChainLocksAtTheClosedFormCurvature) {
   const PeriodicRigidCell cell(ring_chain_patch(kRing, kRing, kSpacing));
   LimitOptions options;
-  options.tolerance = 1e-7;
   const Vector y_rest = rest_equilibrium(cell);
   const double alpha = std::acos((kSpacing - 1.0 + 0.4 + 0.5 * cell.activation_distance()) / 1.0);
   const double expected = std::tan(alpha) / kSpacing;
   const LimitPoint up = find_limit(cell, uniaxial_path(0.0), y_rest, options);
   const LimitPoint down = find_limit(cell, principal_path(M_PI), y_rest, options);
   const LimitPoint across = find_limit(cell, uniaxial_path(0.5 * M_PI), y_rest, options);
-  std::printf("three-ring chain: bending limit %.9f (down %.9f), closed form %.9f; %d solves, %zu active\n",
+  std::printf("three-ring chain: bending limit %.12f (down %.12f), closed form %.12f; %d solves, %zu active\n",
               up.strain, down.strain, expected, up.solves, up.active.size());
   ASSERT_TRUE(up.locked && down.locked) << up.status << " / " << down.status;
-  EXPECT_NEAR(up.strain, expected, 2.0 * options.tolerance);
-  EXPECT_NEAR(down.strain, expected, 2.0 * options.tolerance);
+  EXPECT_TRUE(up.refined && down.refined);
+  EXPECT_NEAR(up.strain, expected, 1e-10);
+  EXPECT_NEAR(down.strain, expected, 1e-10);
   EXPECT_EQ(up.active.size(), 2u);  // the link against both rim rings
   EXPECT_FALSE(across.locked);
   expect_apart(cell, up);
@@ -150,6 +154,78 @@ TEST(InterlockingBending, ThreefoldPatchBendsSymmetrically) {
   }
   EXPECT_NEAR(b[1].strain, b[0].strain, 2.0 * options.tolerance);
   EXPECT_GT(std::abs(b[2].strain - b[0].strain), 1e-2);
+}
+
+// The rim map's derivative dx0/ds (exact, through the normal, the smallest rotation and the
+// rotation vector's Jacobian) against central differences of x0 on a curved threefold patch
+// whose rim holds flat nodes and upright links (rest rotations about x).
+TEST(InterlockingBending, RimMapDerivativeMatchesDifferences) {
+  const PeriodicRigidCell cell(disc_patch(threefold_cell(kRing, kRing, kSpacing), 3.2, 0.7));
+  LoadPath path = uniaxial_path(0.4);
+  path.offset << 0.05, 0.1, -0.02, 0.3;  // an unsymmetric F: the patch uses sym(F) - I
+  for (double s : {0.0, 0.2}) {
+    const Vector exact = cell.offset_derivative(path.deformation(s), path.direction);
+    const double h = 1e-5;
+    const Vector fd = (cell.offset(path.deformation(s + h)) - cell.offset(path.deformation(s - h))) / (2.0 * h);
+    std::printf("rim map derivative at s = %.1f: |exact| %.6f, |exact - differences| %.3e\n", s, exact.norm(),
+                (exact - fd).norm());
+    EXPECT_GT(exact.tail(exact.size() - 6).norm(), 0.1);
+    EXPECT_LT((exact - fd).norm(), 1e-8 * exact.norm());
+  }
+}
+
+// s*(radii) of a bending limit, each evaluation continuing the last lock-up state by the
+// augmented Newton; the gradient from the implicit function theorem (limit_gradient).
+class BendingLimit final : public ReducedFunctional {
+ public:
+  BendingLimit(const RigidCellSpec& base, const LoadPath& path, double gradient_scale)
+      : base_(with_parameters(base, master_radii(base), base.lattice)), path_(path), scale_(gradient_scale) {
+    const PeriodicRigidCell cell(base_);
+    const LimitPoint p = find_limit(cell, path_, rest_equilibrium(cell));
+    EXPECT_TRUE(p.locked && p.refined) << p.status;
+    y_ = p.y;
+    s_ = p.strain;
+    a_ = p.critical_a;
+    b_ = p.critical_b;
+  }
+  int size() const override { return static_cast<int>(master_radii(base_).size()); }
+  Vector z0() const { return master_radii(base_); }
+  double value(const Vector& z) override { return evaluate(z, nullptr); }
+  double value_and_gradient(const Vector& z, Vector& gradient) override { return evaluate(z, &gradient); }
+
+ private:
+  double evaluate(const Vector& z, Vector* gradient) {
+    const PeriodicRigidCell cell(with_parameters(base_, z, base_.lattice));
+    const RefineResult r =
+        refine_limit(cell, path_, LimitOptions{}.lock_fraction * cell.activation_distance(), a_, b_, y_, s_);
+    if (!r.converged) throw EvaluationError(r.message);
+    if (gradient) *gradient = scale_ * limit_gradient(cell, path_, a_, b_, r.y, r.strain).radii;
+    return r.strain;
+  }
+  RigidCellSpec base_;
+  LoadPath path_;
+  double scale_;
+  Vector y_;
+  double s_ = 0.0;
+  int a_ = -1, b_ = -1;
+};
+
+// Taylor test of a bending limit in every radius: a chain patch with unequal rings (rim rings
+// R = 1, r = 0.2; link R = 1.05, r = 0.18) bent along the chain, where the tilted rim rings'
+// pose derivative enters f_s and c_s; the gradient scaled by 1.001 fails.
+TEST(InterlockingBending, BendingLimitDerivativePassesTheTaylorTest) {
+  const RigidCellSpec chain = ring_chain_patch(kRing, {1.05, 0.18}, kSpacing);
+  TaylorTestOptions options;
+  options.initial_step = 1e-4;
+  options.seed = 5;
+  BendingLimit limit(chain, uniaxial_path(0.0), 1.0);
+  const TaylorTestResult r = taylor_test(limit, limit.z0(), options);
+  std::printf("%s", r.table().c_str());
+  EXPECT_TRUE(r.passed()) << r.message;
+  EXPECT_GE(r.rate1, 1.9);
+  EXPECT_NEAR(r.rate0, 1.0, 0.1);
+  BendingLimit wrong(chain, uniaxial_path(0.0), 1.001);
+  EXPECT_FALSE(taylor_test(wrong, wrong.z0(), options).passed());
 }
 
 }  // namespace

@@ -130,6 +130,46 @@ TEST(InterlockingDesign, RecoversAKnownDesignFromItsLimits) {
   EXPECT_NEAR(result.z[1], 0.95, 1e-6);
 }
 
+// Bending recovery: the curvature limits (single curvature along x and along y) of a square-net
+// disc patch (the centre node and its four links free, the four nearest nodes prescribed) whose x
+// links have R = 1.1 and y links R = 0.95 as targets, designed from R = 1.05 and 1: the variables
+// name the tiling's link elements, so every copy in the patch follows; MMA recovers the radii.
+TEST(InterlockingDesign, RecoversAKnownPatchFromItsBendingLimits) {
+  RigidCellSpec known = disc_patch(square_ring_cell(kRing, {1.1, 0.2}, {0.95, 0.2}, 1.5), 3.1, 0.7);
+  known.activation_distance = 1e-3;
+  RigidCellSpec start = disc_patch(square_ring_cell(kRing, {1.05, 0.2}, kRing, 1.5), 3.1, 0.7);
+  start.activation_distance = 1e-3;
+  ASSERT_EQ(start.elements.size(), 9u);
+  std::vector<LimitTarget> targets;
+  {
+    const PeriodicRigidCell cell(known);
+    const Vector y = rest_equilibrium(cell);
+    for (double angle : {0.0, 0.5 * M_PI}) {
+      const LimitPoint p = find_limit(cell, uniaxial_path(angle), y);
+      ASSERT_TRUE(p.locked && p.refined) << p.status;
+      targets.push_back({uniaxial_path(angle), p.strain});
+    }
+  }
+  std::vector<DesignVariable> variables = {{1, true, 0.9, 1.15}, {2, true, 0.9, 1.15}};
+  // Coarse bisection steps (the augmented Newton refines every limit to round-off anyway).
+  LimitOptions limit_options;
+  limit_options.initial_step = 0.05;
+  limit_options.tolerance = 1e-3;
+  LimitDesignFunctional functional(start, variables, targets, limit_options);
+  OptimizerOptions options;
+  options.backend = OptimizerBackend::nlopt_mma;
+  options.max_iterations = 60;
+  options.gradient_tolerance = 1e-12;
+  options.checkpoint_every = 0;
+  const OptimizerResult result = minimize(functional, functional.initial_design(), functional.bounds(),
+                                          functional.margin_constraints(0.02, 0.3), options);
+  std::printf("bending targets %.10f, %.10f; recovered R_x = %.10f, R_y = %.10f (known 1.1, 0.95), objective %.3e, "
+              "%d evaluations\n",
+              targets[0].strain, targets[1].strain, result.z[0], result.z[1], result.objective, result.evaluations);
+  EXPECT_NEAR(result.z[0], 1.1, 1e-6);
+  EXPECT_NEAR(result.z[1], 0.95, 1e-6);
+}
+
 // The margin constraint's gradient (pair distances at the rest placement) against differences.
 TEST(InterlockingDesign, MarginConstraintGradient) {
   std::vector<DesignVariable> variables = {{0, true, 0.5, 1.5}, {0, false, 0.1, 0.3}, {1, true, 0.5, 1.5}};

@@ -61,7 +61,7 @@ std::string top_usage(const CLI::App& app) {
   for (const Verb* verb : registered_verbs()) s << "  " << verb->synopsis << "\n" << indented(verb->help, 6);
   s << "\nscene kinds (a scene file is of the first kind that matches its top-level JSON):\n";
   for (const SceneKind* kind : registered_scene_kinds()) {
-    s << "  " << std::left << std::setw(16) << kind->name << kind->recognised_by << "\n";
+    s << "  " << std::left << std::setw(15) << kind->name << ' ' << kind->recognised_by << "\n";
     s << std::string(18, ' ') << "verbs: " << kind->verb_list() << "\n";
   }
   s << "\nflags of every verb:\n"
@@ -78,7 +78,7 @@ std::string verb_usage(const Verb& verb, const CLI::App& command, const CLI::App
   s << "usage: tailor " << verb.synopsis << "\n\n" << indented(verb.help, 2) << "\nscene kinds:\n";
   for (const SceneKind* kind : registered_scene_kinds())
     if (const KindVerb* entry = kind->find_verb(verb.name)) {
-      s << "  " << std::left << std::setw(16) << kind->name << kind->recognised_by << "\n";
+      s << "  " << std::left << std::setw(15) << kind->name << ' ' << kind->recognised_by << "\n";
       if (!entry->note.empty()) s << std::string(18, ' ') << entry->note << "\n";
     }
   s << "\nflags:\n" << option_lines(command) << option_lines(app);

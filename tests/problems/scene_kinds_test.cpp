@@ -61,6 +61,8 @@ TEST(SceneKinds, AMisspelledKeyIsRefusedByEveryVerbNamingTheSceneAndTheKeyPath) 
       {"meshless_capsule.json", "meshless", "/meshless", "spacng", "meshless.spacng"},
       {"interlocking_square_design.json", "interlocking", "/interlocking/cell", "patern", "interlocking.cell.patern"},
       {"rig/arm_jiggle.json", "rig_dynamics", "/rig_dynamics", "time_stp", "rig_dynamics.time_stp"},
+      {"interlocking_macro_drape.json", "macro_sheet", "/interlocking_macro/drape", "widht",
+       "interlocking_macro.drape.widht"},
   };
   int checked = 0;
   for (const auto& c : cases) {
@@ -83,7 +85,7 @@ TEST(SceneKinds, AMisspelledKeyIsRefusedByEveryVerbNamingTheSceneAndTheKeyPath) 
       }
     }
   }
-  EXPECT_EQ(checked, 2 * 32);  // every verb of every kind, from its file and from memory
+  EXPECT_EQ(checked, 2 * 33);  // every verb of every kind, from its file and from memory
 }
 
 TEST(SceneKinds, AFileAndADocumentInMemory) {

@@ -56,6 +56,8 @@ nlohmann::ordered_json meshless_discretization_json(const MeshlessScene& S) {
                              {"neighbour_distance", r.neighbour_distance},
                              {"support_radius", r.support_radius},
                              {"fewest_neighbours", r.min_neighbours},
+                             {"quadric_fits", r.quadric_fits},
+                             {"linear_fits", r.linear_fits},
                              {"largest_boundary_gap_degrees", r.max_boundary_gap * 180.0 / M_PI}};
   }
   return j;

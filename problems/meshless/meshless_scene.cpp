@@ -58,7 +58,7 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
   spec.source = root.source();
   spec.directory = directory;
   const SceneNode g = root.at("meshless");
-  g.expect_keys({"points", "shape", "surface_spacing", "implicit_support_factor", "spacing", "quadrature_order",
+  g.expect_keys({"points", "shape", "surface_spacing", "implicit_support_factor", "implicit_fit", "spacing", "quadrature_order",
                  "boundary_depth", "basis", "support_factor"});
   if (g.has("points") == g.has("shape")) g.fail("expected exactly one of \"points\" (a file) and \"shape\"");
   if (g.has("points")) {
@@ -69,6 +69,8 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
   }
   if (g.has("surface_spacing")) spec.surface_spacing = g.at("surface_spacing").positive();
   if (g.has("implicit_support_factor")) spec.implicit.support_factor = g.at("implicit_support_factor").positive();
+  if (g.has("implicit_fit"))
+    spec.implicit.fit = g.at("implicit_fit").choice({"quadric", "linear"}) == "quadric" ? ImplicitFit::quadric : ImplicitFit::linear;
   spec.sampling.spacing = g.at("spacing").positive();
   spec.sampling.quadrature_order = 2;
   if (g.has("quadrature_order")) {

@@ -43,6 +43,13 @@ nlohmann::ordered_json meshless_discretization_json(const MeshlessScene& S) {
                               {"volume", S.sampling.volume()},
                               {"cells_inside", S.sampling.cells_inside},
                               {"cells_cut", S.sampling.cells_cut},
+                              {"cells_refined", S.sampling.cells_refined},
+                              {"finest_node_level", S.sampling.level.maxCoeff()},
+                              {"covering", {{"points", S.covering.points},
+                                            {"points_repaired", S.covering.points_repaired},
+                                            {"nodes_enlarged", S.covering.nodes_enlarged},
+                                            {"largest_support_growth", S.covering.largest_growth},
+                                            {"passes", S.covering.passes}}},
                               {"leaves_cut", S.sampling.leaves_cut},
                               {"fewest_covering_nodes", fewest},
                               {"basis_size", S.mls->basis_size()},
@@ -76,7 +83,11 @@ void write_meshless_fields(const MeshlessScene& S, const Vector& x, const Vector
   Eigen::VectorXd region(n);
   for (int a = 0; a < n; ++a) region[a] = S.region_of_node[static_cast<std::size_t>(a)];
   write_points_vtu((dir / "nodes.vtu").string(), S.sampling.nodes,
-                   {{"coefficient_displacement", 3, x - S.rest()}, {"youngs_modulus", 1, p.head(n)}, {"region", 1, region}});
+                   {{"coefficient_displacement", 3, x - S.rest()},
+                    {"youngs_modulus", 1, p.head(n)},
+                    {"region", 1, region},
+                    {"node_level", 1, S.sampling.level.cast<double>()},
+                    {"support_radius", 1, S.mls->options().support_factor * S.patch_spacing}});
   write_points_vtu((dir / "samples.vtu").string(), S.samples, {{"displacement", 3, meshless_sample_displacements(S, x)}});
 }
 

@@ -59,7 +59,7 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
   spec.directory = directory;
   const SceneNode g = root.at("meshless");
   g.expect_keys({"points", "shape", "surface_spacing", "implicit_support_factor", "implicit_fit", "spacing", "quadrature_order",
-                 "boundary_depth", "basis", "support_factor"});
+                 "boundary_depth", "max_level", "refine_thin", "refine", "covering_condition", "basis", "support_factor"});
   if (g.has("points") == g.has("shape")) g.fail("expected exactly one of \"points\" (a file) and \"shape\"");
   if (g.has("points")) {
     const std::filesystem::path file(g.at("points").string());
@@ -80,6 +80,23 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
   if (g.has("boundary_depth")) {
     spec.sampling.boundary_depth = g.at("boundary_depth").integer(0);
     if (spec.sampling.boundary_depth > 8) g.at("boundary_depth").fail("expected 0 to 8");
+  }
+  if (g.has("max_level")) {
+    spec.sampling.max_level = g.at("max_level").integer(0);
+    if (spec.sampling.max_level > 6) g.at("max_level").fail("expected 0 to 6");
+  }
+  if (g.has("refine_thin")) spec.sampling.refine_thin = g.at("refine_thin").boolean();
+  if (const auto refine = g.find("refine"))
+    for (const SceneNode& r : refine->items()) {
+      r.expect_keys({"box", "level"});
+      const MeshlessBox b = parse_meshless_box(r.at("box"));
+      const int level = r.at("level").integer(1);
+      if (level > spec.sampling.max_level) r.at("level").fail("expected at most meshless.max_level (" + std::to_string(spec.sampling.max_level) + ")");
+      spec.sampling.refine_boxes.push_back({b.lo, b.hi, level});
+    }
+  if (g.has("covering_condition")) {
+    spec.covering.target_condition = g.at("covering_condition").positive();
+    if (!(spec.covering.target_condition > 1.0)) g.at("covering_condition").fail("expected a number above 1");
   }
   if (g.has("basis")) spec.mls.basis = g.at("basis").choice({"linear", "quadratic"}) == "linear" ? MlsBasis::linear : MlsBasis::quadratic;
   if (g.has("support_factor")) spec.mls.support_factor = g.at("support_factor").positive();
@@ -218,7 +235,12 @@ std::unique_ptr<MeshlessScene> build_meshless_scene(const MeshlessSceneSpec& spe
     S.sampling = sample_shape(shape, spec.sampling);
     if (S.samples.rows() == 0) S.samples = S.sampling.points;
     auto t2 = Clock::now();
-    S.mls = std::make_shared<MlsShapeFunctions>(S.sampling.nodes, S.sampling.spacing, spec.mls);
+    // Patches sized so that every quadrature point and every surface sample is covered.
+    Eigen::MatrixXd covered(S.sampling.points.rows() + (S.surface ? S.samples.rows() : 0), 3);
+    covered.topRows(S.sampling.points.rows()) = S.sampling.points;
+    if (S.surface) covered.bottomRows(S.samples.rows()) = S.samples;
+    S.patch_spacing = cover_points(S.sampling.nodes, S.sampling.spacing, covered, spec.mls, spec.covering, &S.covering);
+    S.mls = std::make_shared<MlsShapeFunctions>(S.sampling.nodes, S.patch_spacing, spec.mls);
     S.quadrature = std::make_shared<MeshlessQuadrature>(build_meshless_quadrature(*S.mls, S.sampling.points, S.sampling.weights));
     auto t3 = Clock::now();
     S.seconds_implicit = std::chrono::duration<double>(t1 - t0).count();

@@ -302,25 +302,33 @@ std::unique_ptr<MeshlessScene> build_meshless_scene(const MeshlessSceneSpec& spe
     if (count == 0) throw SceneError(source + ": " + key + ": the box holds no node");
     const Eigen::Vector3d c = center ? *center : Eigen::Vector3d(centroid / static_cast<double>(count));
     const Eigen::Matrix3d R = rotation_matrix(w);
+    MeshlessScene::Handle handle{{}, Eigen::MatrixXd(static_cast<Eigen::Index>(count), 3), w, c};
     for (std::size_t i = first; i < constrained.size(); ++i) {
       const Eigen::Vector3d X = S.sampling.nodes.row(constrained[i]).transpose();
       targets.push_back(c + R * (X - c) + d);
+      handle.nodes.push_back(constrained[i]);
+      handle.targets.row(static_cast<Eigen::Index>(i - first)) = targets.back().transpose();
     }
+    return handle;
   };
   for (std::size_t i = 0; i < spec.fixed.size(); ++i)
     hold(spec.fixed[i], Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), std::nullopt, "fixed[" + std::to_string(i) + "].box");
+  const std::size_t fixed_count = constrained.size();
   for (std::size_t i = 0; i < spec.handles.size(); ++i)
-    hold(spec.handles[i], spec.handle_displacements[i], spec.handle_rotations[i], spec.handle_centers[i],
-         "handles[" + std::to_string(i) + "].box");
-  if (!constrained.empty()) {
-    Eigen::MatrixXd t(static_cast<Eigen::Index>(targets.size()), 3);
-    for (std::size_t i = 0; i < targets.size(); ++i) t.row(static_cast<Eigen::Index>(i)) = targets[i].transpose();
+    S.handles.push_back(hold(spec.handles[i], spec.handle_displacements[i], spec.handle_rotations[i], spec.handle_centers[i],
+                             "handles[" + std::to_string(i) + "].box"));
+  const auto transformation = [&](std::size_t count) {
+    Eigen::MatrixXd t(static_cast<Eigen::Index>(count), 3);
+    for (std::size_t i = 0; i < count; ++i) t.row(static_cast<Eigen::Index>(i)) = targets[i].transpose();
     try {
-      S.model->set_elimination(mls_transformation(*S.mls, constrained, t).elimination);
+      return mls_transformation(*S.mls, std::vector<int>(constrained.begin(), constrained.begin() + static_cast<std::ptrdiff_t>(count)), t)
+          .elimination;
     } catch (const std::invalid_argument& e) {
       throw SceneError(source + ": fixed/handles: " + e.what());
     }
-  }
+  };
+  if (!constrained.empty()) S.model->set_elimination(transformation(constrained.size()));
+  if (!S.handles.empty()) S.fixed_elimination = fixed_count > 0 ? transformation(fixed_count) : Elimination::identity(3 * n);
   return scene;
 }
 

@@ -95,6 +95,16 @@ struct MeshlessScene {
   std::shared_ptr<MlsShapeFunctions> mls;
   std::shared_ptr<MeshlessQuadrature> quadrature;
   std::unique_ptr<Model> model;
+  // The handles' nodes and their target positions c + R (X - c) + d, R = exp([w]_x).
+  struct Handle {
+    std::vector<int> nodes;
+    Eigen::MatrixXd targets;  // nodes.size() x 3
+    Eigen::Vector3d rotation = Eigen::Vector3d::Zero(), center = Eigen::Vector3d::Zero();
+  };
+  std::vector<Handle> handles;
+  // With handles: the elimination of the `fixed` boxes alone (the handles act in the warped
+  // modal dynamics as springs, so the modes leave their nodes free).
+  std::optional<Elimination> fixed_elimination;
   Vector p;                      // [E per node, nu per node]
   std::vector<int> region_of_node;  // 0: no region, r + 1: spec.regions[r]
   Eigen::MatrixXd samples;       // output points: the surface samples, else the quadrature points

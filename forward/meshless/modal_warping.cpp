@@ -141,15 +141,19 @@ WarpedModalSimulator::WarpedModalSimulator(ModalWarpingOperators operators, Eige
   // The stiffness the modes step with: Lambda, or K' = Lambda + k G^T G in the basis V.
   Eigen::VectorXd stiffness = lambda_;
   if (!handles_.empty()) {
-    Eigen::MatrixXd K = Eigen::MatrixXd(lambda_.asDiagonal());
+    // K' = Lambda + k sum (L_i^T L_i + weight C_i^T C_i), by loops over the 3 x r rows (plain
+    // loops: Eigen's dynamic products cost seconds of compile time here).
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(r, r);
+    for (Eigen::Index j = 0; j < r; ++j) K(j, j) = lambda_[j];
+    const auto add_rows = [&](const Eigen::MatrixXd& rows, Eigen::Index first, double weight) {
+      for (Eigen::Index c = first; c < first + 3; ++c)
+        for (Eigen::Index a = 0; a < r; ++a)
+          for (Eigen::Index b = 0; b < r; ++b) K(a, b) += weight * rows(c, a) * rows(c, b);
+    };
     for (const ModalHandle& h : handles_)
       for (int i : h.points) {
-        const auto L = operators_.displacement.middleRows(3 * static_cast<Eigen::Index>(i), 3);
-        K.noalias() += stiffness_ * L.transpose() * L;
-        if (h.rotation) {
-          const auto C = operators_.rotation.middleRows(3 * static_cast<Eigen::Index>(i), 3);
-          K.noalias() += stiffness_ * h.rotation_weight * C.transpose() * C;
-        }
+        add_rows(operators_.displacement, 3 * static_cast<Eigen::Index>(i), stiffness_);
+        if (h.rotation) add_rows(operators_.rotation, 3 * static_cast<Eigen::Index>(i), stiffness_ * h.rotation_weight);
       }
     symmetric_eigen<Eigen::Dynamic>(K, stiffness, basis_);
   }
@@ -181,17 +185,26 @@ void WarpedModalSimulator::move_handle(int h, const Eigen::MatrixXd& displacemen
 }
 
 Eigen::VectorXd WarpedModalSimulator::handle_force() const {
-  Eigen::VectorXd force = Eigen::VectorXd::Zero(q_.size());
+  const Eigen::Index r = q_.size();
+  Eigen::VectorXd force = Eigen::VectorXd::Zero(r);
+  // force += weight * rows^T target, rows the 3 x r block of `rows` starting at `first`.
+  const auto add = [&](const Eigen::MatrixXd& rows, Eigen::Index first, const Eigen::Vector3d& target, double weight) {
+    for (Eigen::Index a = 0; a < r; ++a)
+      force[a] += weight * (rows(first, a) * target[0] + rows(first + 1, a) * target[1] + rows(first + 2, a) * target[2]);
+  };
   for (const ModalHandle& h : handles_)
     for (std::size_t k = 0; k < h.points.size(); ++k) {
       const Eigen::Index i = 3 * static_cast<Eigen::Index>(h.points[k]);
-      const auto L = operators_.displacement.middleRows(i, 3);
-      const auto C = operators_.rotation.middleRows(i, 3);
       // The linear displacement whose warp is d_i: W(w)^-1 d_i at the target (or current) rotation.
-      const Eigen::Vector3d w = h.rotation ? *h.rotation : Eigen::Vector3d(C * q_);
+      Eigen::Vector3d w = Eigen::Vector3d::Zero();
+      if (h.rotation) {
+        w = *h.rotation;
+      } else {
+        for (Eigen::Index a = 0; a < r; ++a) w += operators_.rotation.block<3, 1>(i, a) * q_[a];
+      }
       const Eigen::Vector3d g = inverse_warping_matrix(w) * h.displacements.row(static_cast<Eigen::Index>(k)).transpose();
-      force.noalias() += stiffness_ * (L.transpose() * g);
-      if (h.rotation) force.noalias() += stiffness_ * h.rotation_weight * (C.transpose() * *h.rotation);
+      add(operators_.displacement, i, g, stiffness_);
+      if (h.rotation) add(operators_.rotation, i, *h.rotation, stiffness_ * h.rotation_weight);
     }
   return force;
 }
@@ -223,12 +236,15 @@ void WarpedModalSimulator::step(const Eigen::VectorXd& modal_force) {
   if (modal_force.size() != q_.size()) throw std::invalid_argument("WarpedModalSimulator::step: one force per mode expected");
   // Without handles the modes are the stepping basis; with handles, the modes of K' (V^T q).
   const bool rotate = basis_.size() > 0;
+  const Eigen::Index r = q_.size();
   Eigen::VectorXd q = q_, v = v_, f = modal_force;
   if (rotate) {
-    f += handle_force();
-    q = basis_.transpose() * q_;
-    v = basis_.transpose() * v_;
-    f = basis_.transpose() * f;
+    const Eigen::VectorXd total = modal_force + handle_force();
+    for (Eigen::Index j = 0; j < r; ++j) {  // V^T q, V^T v, V^T f (loops: see the constructor)
+      q[j] = basis_.col(j).dot(q_);
+      v[j] = basis_.col(j).dot(v_);
+      f[j] = basis_.col(j).dot(total);
+    }
   }
   for (Eigen::Index j = 0; j < q.size(); ++j) {
     const Eigen::Vector2d s = transition_[static_cast<std::size_t>(j)] * Eigen::Vector2d(q[j], v[j]) +
@@ -236,8 +252,17 @@ void WarpedModalSimulator::step(const Eigen::VectorXd& modal_force) {
     q[j] = s[0];
     v[j] = s[1];
   }
-  q_ = rotate ? Eigen::VectorXd(basis_ * q) : q;
-  v_ = rotate ? Eigen::VectorXd(basis_ * v) : v;
+  if (!rotate) {
+    q_ = q;
+    v_ = v;
+    return;
+  }
+  q_.setZero();
+  v_.setZero();
+  for (Eigen::Index j = 0; j < r; ++j) {
+    q_ += q[j] * basis_.col(j);
+    v_ += v[j] * basis_.col(j);
+  }
 }
 
 void WarpedModalSimulator::displacements(Eigen::VectorXd& u, bool warp) const {

@@ -4,7 +4,7 @@
 //   f(X) = sum_i w_i(X) Q_i(X) / sum_i w_i(X),   w_i = W(|X - p_i| / rho),
 // W the C2 Wendland function (1 - r)^4 (4 r + 1) on [0, 1]: the multi-level partition of unity
 // of Ohtake et al. (2003) at one level, with the samples as centres. Local fits:
-//   quadric (default): in the frame (t1, t2, n_i) at p_i, (u, v, w) = the coordinates of X - p_i,
+//   quadric (the meshless scene's default): in the frame (t1, t2, n_i) at p_i, (u, v, w) = the coordinates of X - p_i,
 //     Q_i(X) = w - h_i(u, v),  h_i = a u^2 + b u v + c v^2 + d u + e v + g,
 //     Ohtake et al.'s local bivariate quadric: weighted least squares (weights w_j(p_i)) to the
 //     heights of the neighbours within rho and to the slopes their normals give
@@ -14,7 +14,9 @@
 //     out of the fit), where fewer than 6 neighbours take part, where the normal equations'
 //     condition number exceeds 1e8, or where the fit bends by more than rho over rho (|a|, |b|,
 //     |c| > 1 / rho);
-//   linear: Q_i(X) = (X - p_i) . n_i, the tangent plane (the implicit moving-least-squares
+//   linear (this struct's default, for callers that size no MLS patches: the quadrics' zero
+//     level can pass just inside a node lattice's planes, where uncovered points then appear;
+//     covering_patches.hpp repairs them): Q_i(X) = (X - p_i) . n_i, the tangent plane (the implicit moving-least-squares
 //     surface of Shen, O'Brien & Shewchuk 2004 and Kolluri 2005). The tangent planes of a convex
 //     surface lie outside it, so its zero set sits outside by O(rho^2 curvature); the quadrics
 //     remove that term.
@@ -59,7 +61,7 @@ enum class ImplicitFit { linear, quadric };
 
 struct ImplicitSurfaceOptions {
   double support_factor = 2.0;  // rho = support_factor * the median 6th-neighbour distance
-  ImplicitFit fit = ImplicitFit::quadric;  // the local fits Q_i (see above)
+  ImplicitFit fit = ImplicitFit::linear;  // the local fits Q_i (see above)
   bool check_samples = true;    // the checks above (isolated, inconsistent, open, inward)
 };
 

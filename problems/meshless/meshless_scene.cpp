@@ -69,6 +69,7 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
   }
   if (g.has("surface_spacing")) spec.surface_spacing = g.at("surface_spacing").positive();
   if (g.has("implicit_support_factor")) spec.implicit.support_factor = g.at("implicit_support_factor").positive();
+  spec.implicit.fit = ImplicitFit::quadric;  // the scene sizes its patches (cover_points)
   if (g.has("implicit_fit"))
     spec.implicit.fit = g.at("implicit_fit").choice({"quadric", "linear"}) == "quadric" ? ImplicitFit::quadric : ImplicitFit::linear;
   spec.sampling.spacing = g.at("spacing").positive();

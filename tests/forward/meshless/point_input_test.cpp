@@ -197,7 +197,7 @@ TEST(ImplicitSurface, SphereFromPointsInsideOutsideAndVolume) {
   EXPECT_GT(surface->value(Eigen::Vector3d(3, 0, 0)), 0.0);
   // The classifying distance has the sign of the side and does not exceed the true distance
   // |1 - |X|| by more than the O(rho^2) error of f near the surface; the quadrics' f is closer.
-  auto quadric = std::make_shared<ImplicitSurface>(fibonacci_sphere(2000));
+  auto quadric = std::make_shared<ImplicitSurface>(fibonacci_sphere(2000), ImplicitSurfaceOptions{2.0, ImplicitFit::quadric, true});
   for (int i = 0; i < 400; ++i) {
     const Eigen::Vector3d X = Eigen::Vector3d::Random() * 1.5;
     const double exact = X.norm() - 1.0;
@@ -258,7 +258,7 @@ TEST(ImplicitSurface, QuadricFitsRemoveTheCurvatureOffset) {
   double linear_error[3], quadric_error[3], rho[3];
   for (int level = 0; level < 3; ++level) {
     const OrientedPoints points = fibonacci_sphere(counts[level]);
-    const ImplicitSurface quadric(points);
+    const ImplicitSurface quadric(points, {2.0, ImplicitFit::quadric, true});
     const ImplicitSurface linear(points, {2.0, ImplicitFit::linear, false});
     EXPECT_EQ(quadric.report().quadric_fits, counts[level]);
     EXPECT_EQ(linear.report().linear_fits, counts[level]);
@@ -290,7 +290,7 @@ TEST(ImplicitSurface, QuadricFitsRemoveTheCurvatureOffset) {
 // implicit surface's, and the quadrics shrink it.
 TEST(ImplicitSurface, QuadricFitsShrinkTheCapsuleVolumeError) {
   const OrientedPoints points = read_oriented_points(std::string(::tailor::testing::source_dir()) + "/scenes/meshless_capsule.ply");
-  auto quadric = std::make_shared<ImplicitSurface>(points);
+  auto quadric = std::make_shared<ImplicitSurface>(points, ImplicitSurfaceOptions{2.0, ImplicitFit::quadric, true});
   auto linear = std::make_shared<ImplicitSurface>(points, ImplicitSurfaceOptions{2.0, ImplicitFit::linear, false});
   const AnalyticShape implicit = ImplicitSurface::shape(quadric);
   // Radius 0.5 about the segment through the samples' bounding box centre along x, 5 long.

@@ -111,6 +111,17 @@ py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::obj
 py::tuple modes(const SceneDocument& doc, const std::string& out_dir, int count, py::object log) {
   require_verb(doc, "modes");
   PythonStream out(std::move(log), /*check_signals=*/true);
+  if (!is_mesh_scene(doc.kind())) {
+    // Another kind's own handler (meshless solids): its report and files, no fields.
+    const int code = without_gil([&] {
+      VerbArguments args;
+      args.out_dir = out_dir;
+      args.count = count;
+      return dispatch(doc, "modes", args, out);
+    });
+    out.flush();
+    return py::make_tuple(code, py::dict());
+  }
   auto run = without_gil([&] {
     const Scene scene = parse_mesh_scene(doc);
     return std::make_shared<ModesRun>(modes_scene(scene, count, out_dir, &out));

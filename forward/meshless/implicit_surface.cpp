@@ -1,11 +1,14 @@
 #include "forward/meshless/implicit_surface.hpp"
 
 #include <Eigen/Geometry>
+#include <array>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
+
+#include "forward/core/symmetric_eigen.hpp"
 
 namespace tailor {
 
@@ -77,6 +80,11 @@ namespace {
 
 double wendland(double r) { return r >= 1.0 ? 0.0 : std::pow(1.0 - r, 4) * (4.0 * r + 1.0); }
 
+// A unit tangent t1 of the plane with normal n (t2 = n x t1 completes the frame).
+Eigen::Vector3d tangent_of(const Eigen::Vector3d& n) {
+  return (std::abs(n[0]) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(n).normalized();
+}
+
 }  // namespace
 
 ImplicitSurface::~ImplicitSurface() = default;
@@ -107,6 +115,88 @@ ImplicitSurface::ImplicitSurface(OrientedPoints points, ImplicitSurfaceOptions o
   report_.support_radius = options_.support_factor * report_.neighbour_distance;
   grid_ = std::make_unique<Grid>(P, report_.support_radius);
   if (options_.check_samples) check_samples();
+  if (options_.fit == ImplicitFit::quadric) {
+    fit_quadrics();
+  } else {
+    report_.linear_fits = n;
+  }
+}
+
+void ImplicitSurface::fit_quadrics() {
+  // Ohtake et al. 2003, local bivariate quadric, in coordinates scaled by rho so that the normal
+  // equations are O(1): H = h / rho = A U^2 + B U V + C V^2 + D U + E V + G, U = u / rho,
+  // V = v / rho; height rows [U^2, UV, V^2, U, V, 1] . c = H_j and slope rows
+  // [2U, V, 0, 1, 0, 0] . c = -m_u / m_w, [0, U, 2V, 0, 1, 0] . c = -m_v / m_w, each weighted by
+  // w_j = W(|p_j - p_i| / rho).
+  const Eigen::MatrixXd& P = points_.positions;
+  const Eigen::MatrixXd& N = points_.normals;
+  const double rho = report_.support_radius;
+  const int n = points_.size();
+  fits_.assign(static_cast<std::size_t>(n), LocalFit{});
+  using Row = Eigen::Matrix<double, 6, 1>;
+  for (int i = 0; i < n; ++i) {
+    LocalFit& fit = fits_[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d p = P.row(i).transpose(), normal = N.row(i).transpose();
+    fit.t1 = tangent_of(normal);
+    fit.t2 = normal.cross(fit.t1);
+    Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
+    Row rhs = Row::Zero();
+    auto add = [&](const Row& row, double target, double weight) {
+      normal_matrix.noalias() += weight * row * row.transpose();
+      rhs += weight * target * row;
+    };
+    int used = 0;
+    bool sharp = false;
+    for (int j : neighbours(p, rho)) {
+      const Eigen::Vector3d m = N.row(j).transpose(), d = (P.row(j).transpose() - p) / rho;
+      const double cosine = normal.dot(m);
+      if (cosine < 0.0) continue;  // an opposite sheet (a thin wall's other side)
+      if (cosine < std::sqrt(0.5)) {
+        sharp = true;
+        break;
+      }
+      const double weight = wendland(d.norm());
+      if (!(weight > 0.0)) continue;
+      const double U = d.dot(fit.t1), V = d.dot(fit.t2), H = d.dot(normal);
+      const double mu = m.dot(fit.t1), mv = m.dot(fit.t2);
+      add((Row() << U * U, U * V, V * V, U, V, 1.0).finished(), H, weight);
+      add((Row() << 2.0 * U, V, 0.0, 1.0, 0.0, 0.0).finished(), -mu / cosine, weight);
+      add((Row() << 0.0, U, 2.0 * V, 0.0, 1.0, 0.0).finished(), -mv / cosine, weight);
+      ++used;
+    }
+    bool quadric = !sharp && used >= 6;
+    Row coefficients = Row::Zero();
+    if (quadric) {
+      Row values;
+      Eigen::Matrix<double, 6, 6> vectors;
+      symmetric_eigen<6>(normal_matrix, values, vectors);
+      quadric = values[0] > 1e-8 * values[5];
+      if (quadric) {
+        coefficients = vectors * ((vectors.transpose() * rhs).array() / values.array()).matrix();
+        quadric = coefficients.head<3>().cwiseAbs().maxCoeff() <= 1.0;
+      }
+    }
+    if (!quadric) {
+      ++report_.linear_fits;
+      continue;
+    }
+    ++report_.quadric_fits;
+    fit.a = coefficients[0] / rho;
+    fit.b = coefficients[1] / rho;
+    fit.c = coefficients[2] / rho;
+    fit.d = coefficients[3];
+    fit.e = coefficients[4];
+    fit.g = coefficients[5] * rho;
+  }
+}
+
+double ImplicitSurface::local_value(int i, const Eigen::Vector3d& X) const {
+  const Eigen::Vector3d d = X - points_.positions.row(i).transpose();
+  const double w = d.dot(points_.normals.row(i).transpose());
+  if (fits_.empty()) return w;
+  const LocalFit& fit = fits_[static_cast<std::size_t>(i)];
+  const double u = d.dot(fit.t1), v = d.dot(fit.t2);
+  return w - (fit.a * u * u + fit.b * u * v + fit.c * v * v + fit.d * u + fit.e * v + fit.g);
 }
 
 std::vector<int> ImplicitSurface::neighbours(const Eigen::Vector3d& X, double radius) const {
@@ -129,10 +219,9 @@ double ImplicitSurface::value(const Eigen::Vector3d& X) const {
   const double rho = report_.support_radius;
   double sum = 0.0, weight = 0.0;
   grid_->rings(X, 0, 1, [&](int i) {
-    const Eigen::Vector3d d = X - points_.positions.row(i).transpose();
-    const double w = wendland(d.norm() / rho);
+    const double w = wendland((X - points_.positions.row(i).transpose()).norm() / rho);
     if (w <= 0.0) return;
-    sum += w * d.dot(points_.normals.row(i).transpose());
+    sum += w * local_value(i, X);
     weight += w;
   });
   if (weight > 0.0) return sum / weight;
@@ -167,7 +256,7 @@ void ImplicitSurface::check_samples() {
       throw PointInputError(file + ": " + points_.describe(i) + " is isolated: " + std::to_string(near.size()) +
                             " other points within the support radius " + std::to_string(rho));
     // A tangent frame at p.
-    const Eigen::Vector3d t1 = (std::abs(n[0]) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(n).normalized();
+    const Eigen::Vector3d t1 = tangent_of(n);
     const Eigen::Vector3d t2 = n.cross(t1);
     angles.clear();
     bool feature = false;  // a sharp edge or corner nearby: neighbours with normals apart by over 45 degrees

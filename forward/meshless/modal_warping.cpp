@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/fem/linear_simplices.hpp"
 #include <stdexcept>
 #include <string>
@@ -27,6 +28,15 @@ Eigen::Matrix2d exponential(const Eigen::Matrix2d& M) {
   }
   for (int s = 0; s < squarings; ++s) result = result * result;
   return result;
+}
+
+// W(w)^-1 in closed form (W is the left Jacobian of SO(3)): I - [w]_x / 2 + c [w]_x^2,
+// c = (1 - t sin t / (2 (1 - cos t))) / t^2, by its series 1/12 + t^2/720 below t = 1e-3; t < 2 pi.
+Eigen::Matrix3d inverse_warping_matrix(const Eigen::Vector3d& w) {
+  const double t = w.norm();
+  const Eigen::Matrix3d K = rigid::cross_matrix(w);
+  const double c = t < 1e-3 ? 1.0 / 12.0 + t * t / 720.0 : (1.0 - t * std::sin(t) / (2.0 * (1.0 - std::cos(t)))) / (t * t);
+  return Eigen::Matrix3d::Identity() - 0.5 * K + c * K * K;
 }
 
 }  // namespace
@@ -106,19 +116,53 @@ double ModalRayleighDamping::ratio(double eigenvalue) const {
 }
 
 WarpedModalSimulator::WarpedModalSimulator(ModalWarpingOperators operators, Eigen::VectorXd eigenvalues,
-                                           ModalRayleighDamping damping, double time_step)
-    : operators_(std::move(operators)), lambda_(std::move(eigenvalues)) {
+                                           ModalRayleighDamping damping, double time_step, std::vector<ModalHandle> handles,
+                                           double handle_stiffness)
+    : operators_(std::move(operators)), lambda_(std::move(eigenvalues)), handles_(std::move(handles)),
+      stiffness_(handle_stiffness) {
   const Eigen::Index r = lambda_.size();
   if (operators_.displacement.cols() != r || operators_.rotation.cols() != r)
     throw std::invalid_argument("WarpedModalSimulator: one eigenvalue per mode");
   if (!(time_step > 0.0)) throw std::invalid_argument("WarpedModalSimulator: the time step must be positive");
   if (!(damping.alpha >= 0.0) || !(damping.beta >= 0.0))
     throw std::invalid_argument("WarpedModalSimulator: Rayleigh coefficients must be non-negative");
+  if (!handles_.empty() && !(stiffness_ > 0.0))
+    throw std::invalid_argument("WarpedModalSimulator: handles need a positive handle stiffness");
+  for (const ModalHandle& h : handles_) {
+    if (h.displacements.rows() != static_cast<Eigen::Index>(h.points.size()) || h.displacements.cols() != 3 ||
+        !(h.rotation_weight > 0.0))
+      throw std::invalid_argument("WarpedModalSimulator: a handle needs one target displacement per point and a positive rotation weight");
+    for (int i : h.points)
+      if (i < 0 || i >= operators_.num_points())
+        throw std::invalid_argument("WarpedModalSimulator: handle point " + std::to_string(i) + " out of range");
+  }
   q_ = Eigen::VectorXd::Zero(r);
   v_ = Eigen::VectorXd::Zero(r);
+  // The stiffness the modes step with: Lambda, or K' = Lambda + k G^T G in the basis V.
+  Eigen::VectorXd stiffness = lambda_;
+  if (!handles_.empty()) {
+    // K' = Lambda + k sum (L_i^T L_i + weight C_i^T C_i), by loops over the 3 x r rows (plain
+    // loops: Eigen's dynamic products cost seconds of compile time here).
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(r, r);
+    for (Eigen::Index j = 0; j < r; ++j) K(j, j) = lambda_[j];
+    const auto add_rows = [&](const Eigen::MatrixXd& rows, Eigen::Index first, double weight) {
+      for (Eigen::Index c = first; c < first + 3; ++c)
+        for (Eigen::Index a = 0; a < r; ++a)
+          for (Eigen::Index b = 0; b < r; ++b) K(a, b) += weight * rows(c, a) * rows(c, b);
+    };
+    for (const ModalHandle& h : handles_)
+      for (int i : h.points) {
+        add_rows(operators_.displacement, 3 * static_cast<Eigen::Index>(i), stiffness_);
+        if (h.rotation) add_rows(operators_.rotation, 3 * static_cast<Eigen::Index>(i), stiffness_ * h.rotation_weight);
+      }
+    symmetric_eigen<Eigen::Dynamic>(K, stiffness, basis_);
+  }
+  const double largest = r > 0 ? stiffness.cwiseAbs().maxCoeff() : 0.0;
   for (Eigen::Index j = 0; j < r; ++j) {
-    const double lambda = lambda_[j];
-    if (!(lambda > 0.0)) throw std::invalid_argument("WarpedModalSimulator: mode " + std::to_string(j) + " has eigenvalue <= 0");
+    const double lambda = stiffness[j];
+    if (!(lambda > 1e-12 * largest) || !std::isfinite(lambda))
+      throw std::invalid_argument("WarpedModalSimulator: mode " + std::to_string(j) + " has stiffness " +
+                                  std::to_string(lambda) + " (<= 0" + (handles_.empty() ? "" : ": no handle holds it") + ")");
     Eigen::Matrix2d A;
     A << 0.0, 1.0, -lambda, -(damping.alpha + damping.beta * lambda);
     const Eigen::Matrix2d T = exponential(A * time_step);
@@ -127,6 +171,42 @@ WarpedModalSimulator::WarpedModalSimulator(ModalWarpingOperators operators, Eige
     // is (I - T) [1 / lambda, 0].
     forcing_.push_back((Eigen::Matrix2d::Identity() - T) * Eigen::Vector2d(1.0 / lambda, 0.0));
   }
+}
+
+void WarpedModalSimulator::move_handle(int h, const Eigen::MatrixXd& displacements,
+                                       const std::optional<Eigen::Vector3d>& rotation) {
+  if (h < 0 || h >= static_cast<int>(handles_.size())) throw std::invalid_argument("move_handle: no handle " + std::to_string(h));
+  ModalHandle& handle = handles_[static_cast<std::size_t>(h)];
+  if (displacements.rows() != handle.displacements.rows() || displacements.cols() != 3 ||
+      rotation.has_value() != handle.rotation.has_value())
+    throw std::invalid_argument("move_handle: the same points and kind of handle expected");
+  handle.displacements = displacements;
+  handle.rotation = rotation;
+}
+
+Eigen::VectorXd WarpedModalSimulator::handle_force() const {
+  const Eigen::Index r = q_.size();
+  Eigen::VectorXd force = Eigen::VectorXd::Zero(r);
+  // force += weight * rows^T target, rows the 3 x r block of `rows` starting at `first`.
+  const auto add = [&](const Eigen::MatrixXd& rows, Eigen::Index first, const Eigen::Vector3d& target, double weight) {
+    for (Eigen::Index a = 0; a < r; ++a)
+      force[a] += weight * (rows(first, a) * target[0] + rows(first + 1, a) * target[1] + rows(first + 2, a) * target[2]);
+  };
+  for (const ModalHandle& h : handles_)
+    for (std::size_t k = 0; k < h.points.size(); ++k) {
+      const Eigen::Index i = 3 * static_cast<Eigen::Index>(h.points[k]);
+      // The linear displacement whose warp is d_i: W(w)^-1 d_i at the target (or current) rotation.
+      Eigen::Vector3d w = Eigen::Vector3d::Zero();
+      if (h.rotation) {
+        w = *h.rotation;
+      } else {
+        for (Eigen::Index a = 0; a < r; ++a) w += operators_.rotation.block<3, 1>(i, a) * q_[a];
+      }
+      const Eigen::Vector3d g = inverse_warping_matrix(w) * h.displacements.row(static_cast<Eigen::Index>(k)).transpose();
+      add(operators_.displacement, i, g, stiffness_);
+      if (h.rotation) add(operators_.rotation, i, *h.rotation, stiffness_ * h.rotation_weight);
+    }
+  return force;
 }
 
 void WarpedModalSimulator::set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
@@ -153,11 +233,35 @@ Eigen::VectorXd WarpedModalSimulator::modal_force(const Eigen::VectorXd& forces)
 }
 
 void WarpedModalSimulator::step(const Eigen::VectorXd& modal_force) {
-  for (Eigen::Index j = 0; j < q_.size(); ++j) {
-    const Eigen::Vector2d s = transition_[static_cast<std::size_t>(j)] * Eigen::Vector2d(q_[j], v_[j]) +
-                              forcing_[static_cast<std::size_t>(j)] * modal_force[j];
-    q_[j] = s[0];
-    v_[j] = s[1];
+  if (modal_force.size() != q_.size()) throw std::invalid_argument("WarpedModalSimulator::step: one force per mode expected");
+  // Without handles the modes are the stepping basis; with handles, the modes of K' (V^T q).
+  const bool rotate = basis_.size() > 0;
+  const Eigen::Index r = q_.size();
+  Eigen::VectorXd q = q_, v = v_, f = modal_force;
+  if (rotate) {
+    const Eigen::VectorXd total = modal_force + handle_force();
+    for (Eigen::Index j = 0; j < r; ++j) {  // V^T q, V^T v, V^T f (loops: see the constructor)
+      q[j] = basis_.col(j).dot(q_);
+      v[j] = basis_.col(j).dot(v_);
+      f[j] = basis_.col(j).dot(total);
+    }
+  }
+  for (Eigen::Index j = 0; j < q.size(); ++j) {
+    const Eigen::Vector2d s = transition_[static_cast<std::size_t>(j)] * Eigen::Vector2d(q[j], v[j]) +
+                              forcing_[static_cast<std::size_t>(j)] * f[j];
+    q[j] = s[0];
+    v[j] = s[1];
+  }
+  if (!rotate) {
+    q_ = q;
+    v_ = v;
+    return;
+  }
+  q_.setZero();
+  v_.setZero();
+  for (Eigen::Index j = 0; j < r; ++j) {
+    q_ += q[j] * basis_.col(j);
+    v_ += v[j] * basis_.col(j);
   }
 }
 

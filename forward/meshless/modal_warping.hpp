@@ -20,7 +20,21 @@
 // The step is exact for a force constant over the step (the 2 x 2 matrix exponential per mode),
 // so it is stable and undamped numerically at any step. A force f applied at X_i is rotated into
 // the local frame, f_q = L_i^T R_i^T f with R_i = exp([w_i]_x) (Choi & Ko section 4.2).
+//
+// Handles (position and rotation, for manipulation) are stiff penalty springs in the reduced
+// coordinates: a handle holds evaluation points i at warped displacements d_i and, for a
+// rotation handle, their rotation vectors at w_t. In the warped model both are linear in q once
+// the rotation is known: w_i = C_i q = w_t and u_i = W(w_t) L_i q = d_i, i.e. L_i q = W(w_t)^-1 d_i.
+// (A position-only handle takes W at the current w_i = C_i q, updated every step: a fixed point
+// the damped dynamics settle into.) The penalty k/2 sum |G q - g|^2 (rotation rows weighted by
+// the handle's squared size) turns the modal stiffness into K' = Lambda + k G^T G, which couples
+// the modes; its eigenvectors V (K' = V Lambda' V^T, V^T V = I) decouple them again, with the
+// Rayleigh damping alpha + beta lambda'_j of K' per new mode, so the step stays exact for a force
+// constant over the step and the stiff springs stay stable at any step. The handle force
+// k G^T g enters like an applied modal force. Rigid modes (lambda = 0) are allowed when the
+// handles hold them (K' positive definite); a zero-stiffness mode left free is refused.
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "forward/core/types.hpp"
@@ -56,11 +70,21 @@ struct ModalRayleighDamping {
   double ratio(double eigenvalue) const;  // zeta for lambda = omega^2
 };
 
+// A handle on evaluation points of the operators (see above).
+struct ModalHandle {
+  std::vector<int> points;                  // rows of the operators held
+  Eigen::MatrixXd displacements;            // points.size() x 3: target warped displacements d_i
+  std::optional<Eigen::Vector3d> rotation;  // target rotation vector w_t (rotation handles)
+  double rotation_weight = 1.0;             // [length^2] of the rotation rows (the handle's size^2)
+};
+
 class WarpedModalSimulator {
  public:
-  // eigenvalues: lambda_j > 0 of the mass-normalized modes behind `operators`; time_step > 0.
+  // eigenvalues: lambda_j >= 0 of the mass-normalized modes behind `operators`; time_step > 0;
+  // handle_stiffness k [1/s^2] (> 0 with handles). std::invalid_argument for bad sizes, a handle
+  // point out of range, or a mode of zero stiffness that no handle holds.
   WarpedModalSimulator(ModalWarpingOperators operators, Eigen::VectorXd eigenvalues, ModalRayleighDamping damping,
-                       double time_step);
+                       double time_step, std::vector<ModalHandle> handles = {}, double handle_stiffness = 0.0);
 
   int num_modes() const { return static_cast<int>(q_.size()); }
   const Eigen::VectorXd& amplitudes() const { return q_; }
@@ -71,14 +95,21 @@ class WarpedModalSimulator {
   Eigen::VectorXd modal_force(int point, const Eigen::Vector3d& force) const;
   // Modal force of forces at every point (3m, interleaved): sum_i L_i^T R_i^T f_i.
   Eigen::VectorXd modal_force(const Eigen::VectorXd& forces) const;
-  // One step with the modal force held constant over it.
+  // One step with the modal force (and the handles' force) held constant over it.
   void step(const Eigen::VectorXd& modal_force);
+  // Moves handle h to new targets (same points): interactive manipulation.
+  void move_handle(int h, const Eigen::MatrixXd& displacements, const std::optional<Eigen::Vector3d>& rotation);
+  const std::vector<ModalHandle>& handles() const { return handles_; }
   // Warped (or, with warp = false, linear) displacements at all points (3m), into `u`.
   void displacements(Eigen::VectorXd& u, bool warp = true) const;
 
  private:
+  Eigen::VectorXd handle_force() const;  // k G^T g at the current state
   ModalWarpingOperators operators_;
   Eigen::VectorXd lambda_, q_, v_;
+  std::vector<ModalHandle> handles_;
+  double stiffness_ = 0.0;
+  Eigen::MatrixXd basis_;  // V: the modes of K' (empty without handles)
   std::vector<Eigen::Matrix2d> transition_;  // per mode: exp(A h)
   std::vector<Eigen::Vector2d> forcing_;     // per mode: response to a unit constant force
 };

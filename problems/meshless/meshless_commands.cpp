@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <ostream>
 
@@ -43,6 +44,13 @@ nlohmann::ordered_json meshless_discretization_json(const MeshlessScene& S) {
                               {"volume", S.sampling.volume()},
                               {"cells_inside", S.sampling.cells_inside},
                               {"cells_cut", S.sampling.cells_cut},
+                              {"cells_refined", S.sampling.cells_refined},
+                              {"finest_node_level", S.sampling.level.maxCoeff()},
+                              {"covering", {{"points", S.covering.points},
+                                            {"points_repaired", S.covering.points_repaired},
+                                            {"nodes_enlarged", S.covering.nodes_enlarged},
+                                            {"largest_support_growth", S.covering.largest_growth},
+                                            {"passes", S.covering.passes}}},
                               {"leaves_cut", S.sampling.leaves_cut},
                               {"fewest_covering_nodes", fewest},
                               {"basis_size", S.mls->basis_size()},
@@ -56,6 +64,8 @@ nlohmann::ordered_json meshless_discretization_json(const MeshlessScene& S) {
                              {"neighbour_distance", r.neighbour_distance},
                              {"support_radius", r.support_radius},
                              {"fewest_neighbours", r.min_neighbours},
+                             {"quadric_fits", r.quadric_fits},
+                             {"linear_fits", r.linear_fits},
                              {"largest_boundary_gap_degrees", r.max_boundary_gap * 180.0 / M_PI}};
   }
   return j;
@@ -74,7 +84,11 @@ void write_meshless_fields(const MeshlessScene& S, const Vector& x, const Vector
   Eigen::VectorXd region(n);
   for (int a = 0; a < n; ++a) region[a] = S.region_of_node[static_cast<std::size_t>(a)];
   write_points_vtu((dir / "nodes.vtu").string(), S.sampling.nodes,
-                   {{"coefficient_displacement", 3, x - S.rest()}, {"youngs_modulus", 1, p.head(n)}, {"region", 1, region}});
+                   {{"coefficient_displacement", 3, x - S.rest()},
+                    {"youngs_modulus", 1, p.head(n)},
+                    {"region", 1, region},
+                    {"node_level", 1, S.sampling.level.cast<double>()},
+                    {"support_radius", 1, S.mls->options().support_factor * S.patch_spacing}});
   write_points_vtu((dir / "samples.vtu").string(), S.samples, {{"displacement", 3, meshless_sample_displacements(S, x)}});
 }
 
@@ -117,6 +131,9 @@ bool simulate_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& o
 
 bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
   const auto scene = load_meshless(root, options, log);
+  // With handles the modes leave the handles' nodes free (the fixed boxes alone held): the
+  // handles act in the warped dynamics as springs.
+  if (scene->fixed_elimination) scene->model->set_elimination(*scene->fixed_elimination);
   const MeshlessScene& S = *scene;
   const MeshlessSceneSpec& spec = S.spec;
   ModalAnalysisOptions modal;
@@ -132,15 +149,42 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
   const double modal_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::filesystem::path dir(options.out_dir);
   std::filesystem::create_directories(dir);
-  // Evaluation points: the samples, then the point of modes.force.
+  // Evaluation points: the samples, the point of modes.force, the handles' nodes.
   Eigen::MatrixXd points = S.samples;
   if (spec.modal_force) {
     points.conservativeResize(points.rows() + 1, 3);
     points.row(points.rows() - 1) = spec.modal_force->at.transpose();
   }
+  const int force_point = static_cast<int>(points.rows()) - 1;
+  std::vector<ModalHandle> handles;
+  for (const MeshlessScene::Handle& h : S.handles) {
+    ModalHandle handle;
+    handle.displacements.resize(static_cast<Eigen::Index>(h.nodes.size()), 3);
+    handle.rotation = h.rotation;
+    handle.rotation_weight = 0.0;
+    for (std::size_t i = 0; i < h.nodes.size(); ++i) {
+      const Eigen::Vector3d X = S.sampling.nodes.row(h.nodes[i]).transpose();
+      handle.points.push_back(static_cast<int>(points.rows()));
+      points.conservativeResize(points.rows() + 1, 3);
+      points.row(points.rows() - 1) = X.transpose();
+      handle.displacements.row(static_cast<Eigen::Index>(i)) = h.targets.row(static_cast<Eigen::Index>(i)) - X.transpose();
+      handle.rotation_weight += (X - h.center).squaredNorm() / static_cast<double>(h.nodes.size());
+    }
+    if (!(handle.rotation_weight > 0.0)) handle.rotation_weight = S.size() * S.size();
+    handles.push_back(std::move(handle));
+  }
+  // With handles the rigid modes (zero stiffness, held by the handles' springs) join the modes.
+  Eigen::MatrixXd modes = m.modes;
+  Eigen::VectorXd eigenvalues = m.eigenvalues;
+  if (!handles.empty() && m.rigid_modes.cols() > 0) {
+    modes.resize(m.modes.rows(), m.rigid_modes.cols() + m.modes.cols());
+    modes << m.rigid_modes, m.modes;
+    eigenvalues.resize(modes.cols());
+    eigenvalues << Eigen::VectorXd::Zero(m.rigid_modes.cols()), m.eigenvalues;
+  }
   ModalWarpingOperators ops;
   try {
-    ops = modal_warping_operators(*S.mls, m.modes, points);
+    ops = modal_warping_operators(*S.mls, modes, points);
   } catch (const MeshlessPointError& e) {
     throw SceneError(spec.source + ": modes.force.at: " + e.what());
   }
@@ -161,9 +205,18 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
   report["rigid_modes"] = m.rigid_modes.cols();
   if (log) *log << "frequencies [Hz]: " << m.frequencies.transpose() << "\n";
   if (spec.steps > 0) {
-    if (!spec.modal_force) throw SceneError(spec.source + ": modes.steps: needs modes.force");
-    WarpedModalSimulator sim(ops, m.eigenvalues, spec.damping, spec.time_step);
-    const int at = static_cast<int>(points.rows()) - 1, samples = static_cast<int>(S.samples.rows());
+    if (!spec.modal_force && handles.empty()) throw SceneError(spec.source + ": modes.steps: needs modes.force or handles");
+    // Handle springs stiffer than every mode by 1e4: their targets are met to ~1e-4 of the
+    // elastic response (docs/meshless.md, "Modal warping").
+    const double handle_stiffness = 1e4 * eigenvalues.cwiseAbs().maxCoeff();
+    std::unique_ptr<WarpedModalSimulator> simulator;
+    try {
+      simulator = std::make_unique<WarpedModalSimulator>(ops, eigenvalues, spec.damping, spec.time_step, handles, handle_stiffness);
+    } catch (const std::invalid_argument& e) {
+      throw SceneError(spec.source + ": handles: " + e.what());
+    }
+    WarpedModalSimulator& sim = *simulator;
+    const int at = force_point, samples = static_cast<int>(S.samples.rows());
     std::vector<std::pair<double, std::string>> frames;
     std::vector<double> step_seconds;
     std::filesystem::create_directories(dir / "frames");
@@ -171,7 +224,8 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
     double largest_rotation = 0.0;
     for (int k = 1; k <= spec.steps; ++k) {
       const auto s0 = std::chrono::steady_clock::now();
-      const Eigen::VectorXd f = k <= spec.steps / 2 ? sim.modal_force(at, spec.modal_force->force) : Eigen::VectorXd::Zero(sim.num_modes());
+      const Eigen::VectorXd f = spec.modal_force && k <= spec.steps / 2 ? sim.modal_force(at, spec.modal_force->force)
+                                                                        : Eigen::VectorXd::Zero(sim.num_modes());
       sim.step(f);
       sim.displacements(u, true);
       step_seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count());
@@ -186,7 +240,27 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
       }
     }
     write_pvd((dir / "result.pvd").string(), frames);
+    // The handles' errors at the last step: warped displacement against the target, rotation
+    // vector against the handle's.
+    double handle_position_error = 0.0, handle_rotation_error = 0.0;
+    const Eigen::VectorXd w_end = ops.rotation * sim.amplitudes();
+    for (const ModalHandle& h : handles)
+      for (std::size_t i = 0; i < h.points.size(); ++i) {
+        const Eigen::Index row = 3 * static_cast<Eigen::Index>(h.points[i]);
+        handle_position_error = std::max(handle_position_error,
+                                         (u.segment<3>(row) - h.displacements.row(static_cast<Eigen::Index>(i)).transpose()).norm());
+        handle_rotation_error = std::max(handle_rotation_error, (w_end.segment<3>(row) - *h.rotation).norm());
+      }
+    double final_smallest = std::numeric_limits<double>::infinity(), final_largest = 0.0;
+    for (Eigen::Index i = 0; i < samples; ++i) {
+      final_smallest = std::min(final_smallest, w_end.segment<3>(3 * i).norm());
+      final_largest = std::max(final_largest, w_end.segment<3>(3 * i).norm());
+    }
     report["warped_dynamics"] = {{"steps", spec.steps},
+                                 {"final_rotation_angles", {final_smallest, final_largest}},
+                                 {"handles", handles.size()},
+                                 {"handle_position_error", handle_position_error},
+                                 {"handle_rotation_error", handle_rotation_error},
                                  {"time_step", spec.time_step},
                                  {"frames", frames.size()},
                                  {"median_seconds_per_step", median_of(step_seconds)},

@@ -58,8 +58,8 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
   spec.source = root.source();
   spec.directory = directory;
   const SceneNode g = root.at("meshless");
-  g.expect_keys({"points", "shape", "surface_spacing", "implicit_support_factor", "spacing", "quadrature_order",
-                 "boundary_depth", "basis", "support_factor"});
+  g.expect_keys({"points", "shape", "surface_spacing", "implicit_support_factor", "implicit_fit", "spacing", "quadrature_order",
+                 "boundary_depth", "max_level", "refine_thin", "refine", "covering_condition", "basis", "support_factor"});
   if (g.has("points") == g.has("shape")) g.fail("expected exactly one of \"points\" (a file) and \"shape\"");
   if (g.has("points")) {
     const std::filesystem::path file(g.at("points").string());
@@ -69,6 +69,9 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
   }
   if (g.has("surface_spacing")) spec.surface_spacing = g.at("surface_spacing").positive();
   if (g.has("implicit_support_factor")) spec.implicit.support_factor = g.at("implicit_support_factor").positive();
+  spec.implicit.fit = ImplicitFit::quadric;  // the scene sizes its patches (cover_points)
+  if (g.has("implicit_fit"))
+    spec.implicit.fit = g.at("implicit_fit").choice({"quadric", "linear"}) == "quadric" ? ImplicitFit::quadric : ImplicitFit::linear;
   spec.sampling.spacing = g.at("spacing").positive();
   spec.sampling.quadrature_order = 2;
   if (g.has("quadrature_order")) {
@@ -78,6 +81,23 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
   if (g.has("boundary_depth")) {
     spec.sampling.boundary_depth = g.at("boundary_depth").integer(0);
     if (spec.sampling.boundary_depth > 8) g.at("boundary_depth").fail("expected 0 to 8");
+  }
+  if (g.has("max_level")) {
+    spec.sampling.max_level = g.at("max_level").integer(0);
+    if (spec.sampling.max_level > 6) g.at("max_level").fail("expected 0 to 6");
+  }
+  if (g.has("refine_thin")) spec.sampling.refine_thin = g.at("refine_thin").boolean();
+  if (const auto refine = g.find("refine"))
+    for (const SceneNode& r : refine->items()) {
+      r.expect_keys({"box", "level"});
+      const MeshlessBox b = parse_meshless_box(r.at("box"));
+      const int level = r.at("level").integer(1);
+      if (level > spec.sampling.max_level) r.at("level").fail("expected at most meshless.max_level (" + std::to_string(spec.sampling.max_level) + ")");
+      spec.sampling.refine_boxes.push_back({b.lo, b.hi, level});
+    }
+  if (g.has("covering_condition")) {
+    spec.covering.target_condition = g.at("covering_condition").positive();
+    if (!(spec.covering.target_condition > 1.0)) g.at("covering_condition").fail("expected a number above 1");
   }
   if (g.has("basis")) spec.mls.basis = g.at("basis").choice({"linear", "quadratic"}) == "linear" ? MlsBasis::linear : MlsBasis::quadratic;
   if (g.has("support_factor")) spec.mls.support_factor = g.at("support_factor").positive();
@@ -216,7 +236,12 @@ std::unique_ptr<MeshlessScene> build_meshless_scene(const MeshlessSceneSpec& spe
     S.sampling = sample_shape(shape, spec.sampling);
     if (S.samples.rows() == 0) S.samples = S.sampling.points;
     auto t2 = Clock::now();
-    S.mls = std::make_shared<MlsShapeFunctions>(S.sampling.nodes, S.sampling.spacing, spec.mls);
+    // Patches sized so that every quadrature point and every surface sample is covered.
+    Eigen::MatrixXd covered(S.sampling.points.rows() + (S.surface ? S.samples.rows() : 0), 3);
+    covered.topRows(S.sampling.points.rows()) = S.sampling.points;
+    if (S.surface) covered.bottomRows(S.samples.rows()) = S.samples;
+    S.patch_spacing = cover_points(S.sampling.nodes, S.sampling.spacing, covered, spec.mls, spec.covering, &S.covering);
+    S.mls = std::make_shared<MlsShapeFunctions>(S.sampling.nodes, S.patch_spacing, spec.mls);
     S.quadrature = std::make_shared<MeshlessQuadrature>(build_meshless_quadrature(*S.mls, S.sampling.points, S.sampling.weights));
     auto t3 = Clock::now();
     S.seconds_implicit = std::chrono::duration<double>(t1 - t0).count();
@@ -278,25 +303,33 @@ std::unique_ptr<MeshlessScene> build_meshless_scene(const MeshlessSceneSpec& spe
     if (count == 0) throw SceneError(source + ": " + key + ": the box holds no node");
     const Eigen::Vector3d c = center ? *center : Eigen::Vector3d(centroid / static_cast<double>(count));
     const Eigen::Matrix3d R = rotation_matrix(w);
+    MeshlessScene::Handle handle{{}, Eigen::MatrixXd(static_cast<Eigen::Index>(count), 3), w, c};
     for (std::size_t i = first; i < constrained.size(); ++i) {
       const Eigen::Vector3d X = S.sampling.nodes.row(constrained[i]).transpose();
       targets.push_back(c + R * (X - c) + d);
+      handle.nodes.push_back(constrained[i]);
+      handle.targets.row(static_cast<Eigen::Index>(i - first)) = targets.back().transpose();
     }
+    return handle;
   };
   for (std::size_t i = 0; i < spec.fixed.size(); ++i)
     hold(spec.fixed[i], Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), std::nullopt, "fixed[" + std::to_string(i) + "].box");
+  const std::size_t fixed_count = constrained.size();
   for (std::size_t i = 0; i < spec.handles.size(); ++i)
-    hold(spec.handles[i], spec.handle_displacements[i], spec.handle_rotations[i], spec.handle_centers[i],
-         "handles[" + std::to_string(i) + "].box");
-  if (!constrained.empty()) {
-    Eigen::MatrixXd t(static_cast<Eigen::Index>(targets.size()), 3);
-    for (std::size_t i = 0; i < targets.size(); ++i) t.row(static_cast<Eigen::Index>(i)) = targets[i].transpose();
+    S.handles.push_back(hold(spec.handles[i], spec.handle_displacements[i], spec.handle_rotations[i], spec.handle_centers[i],
+                             "handles[" + std::to_string(i) + "].box"));
+  const auto transformation = [&](std::size_t count) {
+    Eigen::MatrixXd t(static_cast<Eigen::Index>(count), 3);
+    for (std::size_t i = 0; i < count; ++i) t.row(static_cast<Eigen::Index>(i)) = targets[i].transpose();
     try {
-      S.model->set_elimination(mls_transformation(*S.mls, constrained, t).elimination);
+      return mls_transformation(*S.mls, std::vector<int>(constrained.begin(), constrained.begin() + static_cast<std::ptrdiff_t>(count)), t)
+          .elimination;
     } catch (const std::invalid_argument& e) {
       throw SceneError(source + ": fixed/handles: " + e.what());
     }
-  }
+  };
+  if (!constrained.empty()) S.model->set_elimination(transformation(constrained.size()));
+  if (!S.handles.empty()) S.fixed_elimination = fixed_count > 0 ? transformation(fixed_count) : Elimination::identity(3 * n);
   return scene;
 }
 

@@ -15,6 +15,7 @@
 #include "adjoint/static_functional.hpp"
 #include "forward/core/model.hpp"
 #include "forward/fem/material.hpp"
+#include "forward/meshless/covering_patches.hpp"
 #include "forward/meshless/implicit_surface.hpp"
 #include "forward/meshless/meshless_quadrature.hpp"
 #include "forward/meshless/modal_warping.hpp"
@@ -45,6 +46,7 @@ struct MeshlessSceneSpec {
   std::optional<AnalyticShape> shape;
   OctreeSamplingOptions sampling;
   MlsOptions mls;
+  CoveringOptions covering;
   // Material.
   MaterialKind material = MaterialKind::neo_hookean;
   double youngs_modulus = 1000.0, poisson_ratio = 0.3, density = 1.0;
@@ -88,9 +90,21 @@ struct MeshlessScene {
   MeshlessSceneSpec spec;
   std::shared_ptr<const ImplicitSurface> surface;  // point input only
   OctreeSampling sampling;
+  Eigen::VectorXd patch_spacing;  // per node: R_a / support_factor after cover_points
+  CoveringReport covering;
   std::shared_ptr<MlsShapeFunctions> mls;
   std::shared_ptr<MeshlessQuadrature> quadrature;
   std::unique_ptr<Model> model;
+  // The handles' nodes and their target positions c + R (X - c) + d, R = exp([w]_x).
+  struct Handle {
+    std::vector<int> nodes;
+    Eigen::MatrixXd targets;  // nodes.size() x 3
+    Eigen::Vector3d rotation = Eigen::Vector3d::Zero(), center = Eigen::Vector3d::Zero();
+  };
+  std::vector<Handle> handles;
+  // With handles: the elimination of the `fixed` boxes alone (the handles act in the warped
+  // modal dynamics as springs, so the modes leave their nodes free).
+  std::optional<Elimination> fixed_elimination;
   Vector p;                      // [E per node, nu per node]
   std::vector<int> region_of_node;  // 0: no region, r + 1: spec.regions[r]
   Eigen::MatrixXd samples;       // output points: the surface samples, else the quadrature points

@@ -3,6 +3,7 @@
 // implicit function feeding the octree sampling (volumes against the exact ones).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -16,6 +17,7 @@
 #include "forward/meshless/meshless_quadrature.hpp"
 #include "forward/meshless/octree_sampling.hpp"
 #include "forward/meshless/point_cloud_io.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace tailor::point_input_test {
 namespace {
@@ -182,7 +184,8 @@ TEST(PointInput, MeshesAreSampledWithOutwardNormalsAndOpenOnesRefused) {
 }
 
 TEST(ImplicitSurface, SphereFromPointsInsideOutsideAndVolume) {
-  auto surface = std::make_shared<ImplicitSurface>(fibonacci_sphere(2000));
+  const ImplicitSurfaceOptions linear_fits{2.0, ImplicitFit::linear, true};
+  auto surface = std::make_shared<ImplicitSurface>(fibonacci_sphere(2000), linear_fits);
   const ImplicitSurfaceReport& r = surface->report();
   EXPECT_GE(r.min_neighbours, 3);
   // Near the surface f approximates the signed distance |X| - 1.
@@ -193,31 +196,126 @@ TEST(ImplicitSurface, SphereFromPointsInsideOutsideAndVolume) {
   EXPECT_LT(surface->value(Eigen::Vector3d::Zero()), 0.0);
   EXPECT_GT(surface->value(Eigen::Vector3d(3, 0, 0)), 0.0);
   // The classifying distance has the sign of the side and does not exceed the true distance
-  // |1 - |X|| by more than the O(rho^2) error of f near the surface.
+  // |1 - |X|| by more than the O(rho^2) error of f near the surface; the quadrics' f is closer.
+  auto quadric = std::make_shared<ImplicitSurface>(fibonacci_sphere(2000), ImplicitSurfaceOptions{2.0, ImplicitFit::quadric, true});
   for (int i = 0; i < 400; ++i) {
     const Eigen::Vector3d X = Eigen::Vector3d::Random() * 1.5;
-    const double d = surface->classifying_distance(X), exact = X.norm() - 1.0;
-    EXPECT_LE(std::abs(d), std::abs(exact) + 0.01) << X.transpose();
-    if (std::abs(exact) > 0.01) {
-      EXPECT_GE(d * exact, 0.0) << X.transpose();
+    const double exact = X.norm() - 1.0;
+    for (const ImplicitSurface* fit : {surface.get(), quadric.get()}) {
+      const double d = fit->classifying_distance(X);
+      EXPECT_LE(std::abs(d), std::abs(exact) + (fit == quadric.get() ? 1e-3 : 0.01)) << X.transpose();
+      if (std::abs(exact) > 0.01) {
+        EXPECT_GE(d * exact, 0.0) << X.transpose();
+      }
     }
   }
   // The volume of the octree quadrature inside f = 0. The tangent planes of a convex surface
-  // lie outside it, so the zero level set sits outside by O(rho^2 curvature): the error falls
-  // with the sample spacing squared (4x more points: rho / 2, error / 4), towards the clipped
-  // quadrature's own error (5.7e-4 on the exact sphere at this depth, docs/meshless.md).
+  // lie outside it, so the linear fits' zero level sits outside by O(rho^2 curvature): the
+  // error falls with the sample spacing squared (4x more points: rho / 2, error / 4), towards
+  // the clipped quadrature's own error (5.7e-4 on the exact sphere at this depth,
+  // docs/meshless.md). The quadrics' zero level is at the quadrature's error already.
   const double exact = 4.0 / 3.0 * M_PI;
   const OctreeSampling s = sample_shape(ImplicitSurface::shape(surface), {0.25, 2, 2});
-  auto finer = std::make_shared<ImplicitSurface>(fibonacci_sphere(8000));
+  auto finer = std::make_shared<ImplicitSurface>(fibonacci_sphere(8000), linear_fits);
   const OctreeSampling f = sample_shape(ImplicitSurface::shape(finer), {0.25, 2, 2});
-  std::printf("implicit sphere: 2000 points, rho = %.4f: volume error %.2e; 8000 points, rho = %.4f: %.2e\n",
-              r.support_radius, s.volume() / exact - 1.0, finer->report().support_radius, f.volume() / exact - 1.0);
+  const OctreeSampling q = sample_shape(ImplicitSurface::shape(quadric), {0.25, 2, 2});
+  std::printf("implicit sphere, linear fits: 2000 points, rho = %.4f: volume error %.2e; 8000 points, rho = %.4f: "
+              "%.2e; quadric fits, 2000 points: %.2e\n",
+              r.support_radius, s.volume() / exact - 1.0, finer->report().support_radius, f.volume() / exact - 1.0,
+              q.volume() / exact - 1.0);
   EXPECT_NEAR(s.volume() / exact, 1.0, 1.2e-2);
   EXPECT_NEAR(f.volume() / exact, 1.0, 4e-3);
   EXPECT_LT(std::abs(f.volume() / exact - 1.0), 0.5 * std::abs(s.volume() / exact - 1.0));
+  EXPECT_LT(std::abs(q.volume() / exact - 1.0), 1e-3);
   const MlsShapeFunctions mls(s.nodes, s.spacing);
   const MeshlessQuadrature quadrature = build_meshless_quadrature(mls, s.points, s.weights);
   EXPECT_LT(quadrature.max_condition, 1e4);
+}
+
+// The zero level's radius along `directions` rays through the centre of the unit sphere
+// (bisection of f on [0.5, 1.5]); returns the largest |r - 1|.
+double zero_level_radius_error(const ImplicitSurface& surface, int directions) {
+  const OrientedPoints rays = fibonacci_sphere(directions);
+  double worst = 0.0;
+  for (int k = 0; k < directions; ++k) {
+    const Eigen::Vector3d u = rays.normals.row(k).transpose();
+    double inside = 0.5, outside = 1.5;
+    for (int iteration = 0; iteration < 50; ++iteration) {
+      const double mid = 0.5 * (inside + outside);
+      (surface.value(mid * u) <= 0.0 ? inside : outside) = mid;
+    }
+    worst = std::max(worst, std::abs(0.5 * (inside + outside) - 1.0));
+  }
+  return worst;
+}
+
+// Ohtake et al.'s local quadrics remove the tangent planes' O(rho^2 curvature) offset of the
+// zero level. Reference: the exact unit sphere the samples lie on. Each 4x more samples halves
+// rho; the linear fits' radius error falls at rate 2 in rho (the offset of the tangent planes,
+// ~ rho^2 / R), the quadrics' much faster and far lower.
+TEST(ImplicitSurface, QuadricFitsRemoveTheCurvatureOffset) {
+  const int counts[] = {1000, 4000, 16000};
+  double linear_error[3], quadric_error[3], rho[3];
+  for (int level = 0; level < 3; ++level) {
+    const OrientedPoints points = fibonacci_sphere(counts[level]);
+    const ImplicitSurface quadric(points, {2.0, ImplicitFit::quadric, true});
+    const ImplicitSurface linear(points, {2.0, ImplicitFit::linear, false});
+    EXPECT_EQ(quadric.report().quadric_fits, counts[level]);
+    EXPECT_EQ(linear.report().linear_fits, counts[level]);
+    rho[level] = quadric.report().support_radius;
+    linear_error[level] = zero_level_radius_error(linear, 200);
+    quadric_error[level] = zero_level_radius_error(quadric, 200);
+    std::printf("sphere, %5d points, rho = %.4f: zero-level radius error linear %.3e, quadric %.3e\n", counts[level],
+                rho[level], linear_error[level], quadric_error[level]);
+  }
+  for (int level = 1; level < 3; ++level) {
+    const double scale = std::log(rho[level - 1] / rho[level]);
+    const double linear_rate = std::log(linear_error[level - 1] / linear_error[level]) / scale;
+    const double quadric_rate = std::log(quadric_error[level - 1] / quadric_error[level]) / scale;
+    std::printf("rates in rho: linear %.2f, quadric %.2f\n", linear_rate, quadric_rate);
+    EXPECT_NEAR(linear_rate, 2.0, 0.25);
+    EXPECT_GT(quadric_rate, 3.5);
+  }
+  // The linear fits' offset is ~ c rho^2 / R (c ~ 0.07 for these weights); the quadrics' error is
+  // over 500 times smaller at every spacing.
+  for (int level = 0; level < 3; ++level) {
+    EXPECT_GT(linear_error[level], 0.05 * rho[level] * rho[level]);
+    EXPECT_LT(quadric_error[level], 2e-3 * linear_error[level]);
+  }
+}
+
+// The shipped capsule's samples (scenes/meshless_capsule.ply): its volume from the octree
+// quadrature inside the implicit surface against the same quadrature inside the exact capsule
+// (a segment's distance less the radius, on the same cell lattice): the difference is the
+// implicit surface's, and the quadrics shrink it.
+TEST(ImplicitSurface, QuadricFitsShrinkTheCapsuleVolumeError) {
+  const OrientedPoints points = read_oriented_points(std::string(::tailor::testing::source_dir()) + "/scenes/meshless_capsule.ply");
+  auto quadric = std::make_shared<ImplicitSurface>(points, ImplicitSurfaceOptions{2.0, ImplicitFit::quadric, true});
+  auto linear = std::make_shared<ImplicitSurface>(points, ImplicitSurfaceOptions{2.0, ImplicitFit::linear, false});
+  const AnalyticShape implicit = ImplicitSurface::shape(quadric);
+  // Radius 0.5 about the segment through the samples' bounding box centre along x, 5 long.
+  const Eigen::Vector3d centre = 0.5 * (implicit.lo + implicit.hi);
+  const double radius = 0.5, half_segment = 2.0;
+  AnalyticShape capsule = implicit;
+  capsule.name = "exact capsule";
+  capsule.inside_value = nullptr;
+  capsule.signed_distance = [=](const Eigen::Vector3d& X) {
+    Eigen::Vector3d d = X - centre;
+    d[0] -= std::clamp(d[0], -half_segment, half_segment);
+    return d.norm() - radius;
+  };
+  const double exact = M_PI * radius * radius * (2.0 * half_segment) + 4.0 / 3.0 * M_PI * std::pow(radius, 3);
+  const OctreeSamplingOptions options{0.25, 2, 2};
+  const double reference = sample_shape(capsule, options).volume();
+  const double linear_volume = sample_shape(ImplicitSurface::shape(linear), options).volume();
+  const double quadric_volume = sample_shape(implicit, options).volume();
+  std::printf("capsule volume (exact %.5f): quadrature in the exact capsule %.5f, implicit linear fits %.5f (%+.2e), "
+              "quadric fits %.5f (%+.2e)\n",
+              exact, reference, linear_volume, linear_volume / reference - 1.0, quadric_volume,
+              quadric_volume / reference - 1.0);
+  EXPECT_EQ(quadric->report().linear_fits, 0);
+  EXPECT_GT(linear_volume / reference - 1.0, 1e-3);  // the tangent planes' outward offset
+  EXPECT_LT(std::abs(quadric_volume / reference - 1.0), 0.1 * (linear_volume / reference - 1.0));
 }
 
 TEST(ImplicitSurface, RefusesInconsistentOpenAndInwardSampleSets) {

@@ -71,6 +71,14 @@ TEST(MeshlessScene, ErrorsNameTheFileAndTheKeyOrPoint) {
   d["fixed"][0]["box"]["hi"] = {6, 6, 6};
   EXPECT_NE(scene_error(d).find("fixed[0].box: the box holds no node"), std::string::npos) << scene_error(d);
   d = bar_scene();
+  d["meshless"]["refine"] = nlohmann::json::parse(R"([{"box": {"lo": [0, 0, 0], "hi": [1, 1, 1]}, "level": 2}])");
+  d["meshless"]["max_level"] = 1;
+  EXPECT_NE(scene_error(d).find("bar.json: meshless.refine[0].level: expected at most meshless.max_level (1)"),
+            std::string::npos)
+      << scene_error(d);
+  d["meshless"]["refine"][0]["levels"] = 1;
+  EXPECT_NE(scene_error(d).find("meshless.refine[0].levels"), std::string::npos) << scene_error(d);
+  d = bar_scene();
   d["loads"]["forces"][0]["at"] = {9, 9, 9};
   EXPECT_NE(scene_error(d).find("loads.forces[0].at: outside the solid"), std::string::npos) << scene_error(d);
   // A point file with a point that has no normal: file and line named.
@@ -105,6 +113,34 @@ TEST(MeshlessScene, SimulateWritesTheReportAndPointFiles) {
   const std::string text((std::istreambuf_iterator<char>(vtu)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("Name=\"displacement\" NumberOfComponents=\"3\""), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(options.out_dir + "/nodes.vtu"));
+}
+
+// Node levels from a refinement box: the root cells meeting the closed box [0, 1]^3 of the bar
+// (h = 0.5: 3 x 2 x 2 of them, x up to 1.5) get nodes at h / 2 (a 7 x 5 x 5 lattice in place
+// of 4 x 3 x 3); the report gives the levels and the covering, nodes.vtu each node's level and
+// support radius.
+TEST(MeshlessScene, RefinementBoxGivesFinerNodesAndTheReportSaysSo) {
+  nlohmann::json d = bar_scene();
+  d["meshless"]["max_level"] = 1;
+  d["meshless"]["refine"] = nlohmann::json::parse(R"([{"box": {"lo": [0, 0, 0], "hi": [1, 1, 1]}, "level": 1}])");
+  const SceneNode root(d, kBarSource, "");
+  MeshlessVerbOptions options;
+  options.name = "bar";
+  options.out_dir = out_dir("refined");
+  std::ostringstream log;
+  ASSERT_TRUE(simulate_meshless_scene(root, options, &log)) << log.str();
+  const nlohmann::json report = read_json(options.out_dir + "/report.json");
+  const nlohmann::json& r = report["discretization"];
+  EXPECT_EQ(r["nodes"].get<int>(), 63 + 7 * 5 * 5 - 4 * 3 * 3) << r.dump();
+  EXPECT_EQ(r["cells_refined"].get<int>(), 2 * 2 * 3);
+  EXPECT_EQ(r["finest_node_level"].get<int>(), 1);
+  EXPECT_EQ(r["covering"]["points"].get<int>(), r["quadrature_points"].get<int>());
+  EXPECT_GE(r["fewest_covering_nodes"].get<int>(), 4);
+  EXPECT_TRUE(report["converged"].get<bool>());
+  std::ifstream vtu(options.out_dir + "/nodes.vtu");
+  const std::string text((std::istreambuf_iterator<char>(vtu)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("Name=\"node_level\""), std::string::npos);
+  EXPECT_NE(text.find("Name=\"support_radius\""), std::string::npos);
 }
 
 // A rotation handle on the end x = 3 of a bar held nowhere else: the neo-Hookean equilibrium
@@ -161,6 +197,35 @@ TEST(MeshlessScene, ModesWithWarpedDynamics) {
   EXPECT_EQ(report["warped_dynamics"]["frames"].get<int>(), 4);
   EXPECT_TRUE(std::filesystem::exists(options.out_dir + "/result.pvd"));
   EXPECT_TRUE(std::filesystem::exists(options.out_dir + "/frames/frame_20.vtu"));
+}
+
+// A rotation handle in the warped modal dynamics: the bar held nowhere else, its end x = 0
+// turned by 90 degrees about z. The modes leave the handle free (6 rigid modes join the 4
+// elastic ones), the handle's springs pull the body round, and at the end of the damped steps
+// the handle's nodes sit on their targets and their rotation vectors on the handle's, and every
+// sample's rotation angle is 90 degrees: the whole bar has turned rigidly.
+TEST(MeshlessScene, RotationHandleTurnsTheWarpedModalBody) {
+  nlohmann::json d = bar_scene();
+  d.erase("fixed");
+  d["modes"].erase("force");
+  d["modes"]["rayleigh"] = {{"alpha", 4.0}, {"beta", 0.001}};
+  d["modes"]["steps"] = 300;
+  d["modes"]["frame_every"] = 100;
+  d["handles"] = nlohmann::json::parse(
+      R"([{"box": {"lo": [-1, -1, -1], "hi": [0, 2, 2]}, "rotation": {"axis": [0, 0, 1], "degrees": 90}}])");
+  const SceneNode root(d, kBarSource, "");
+  MeshlessVerbOptions options;
+  options.name = "bar";
+  options.out_dir = out_dir("modes_handle");
+  ASSERT_TRUE(modes_meshless_scene(root, options, nullptr));
+  const nlohmann::json report = read_json(options.out_dir + "/report.json");
+  const nlohmann::json& w = report["warped_dynamics"];
+  EXPECT_EQ(report["rigid_modes"].get<int>(), 6);
+  EXPECT_EQ(w["handles"].get<int>(), 1);
+  EXPECT_LT(w["handle_position_error"].get<double>(), 1e-6) << w.dump();
+  EXPECT_LT(w["handle_rotation_error"].get<double>(), 1e-6) << w.dump();
+  EXPECT_NEAR(w["final_rotation_angles"][0].get<double>(), M_PI / 2, 1e-6) << w.dump();
+  EXPECT_NEAR(w["final_rotation_angles"][1].get<double>(), M_PI / 2, 1e-6) << w.dump();
 }
 
 TEST(MeshlessScene, GradcheckAndRunRecoverTheTipModulus) {

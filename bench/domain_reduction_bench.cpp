@@ -25,6 +25,8 @@
 //          [--interface-modes 30]
 //          [--overlap-layers 2] [--youngs 5e6] [--bases global,domains,overlapping] [--no-reference]
 //          [--out FILE]
+//        domain_reduction_bench --twist T [--twist-cells 24] [--twist-steps 40] [--twist-size 51]
+//          [--twist-domains 6]   (the twisted bar with per-domain rotations, below)
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>

@@ -19,11 +19,10 @@ struct StepSystem {
   Vector b, f_B;
 };
 
-StepSystem step_system(const Matrix& B, const SparseMatrix& mass, const SparseMatrix& damping, const Vector& f,
-                       const SubspaceState& c, double h) {
+StepSystem step_system(const Matrix& B, const Matrix& MB, const Matrix& CB, const Vector& f, const SubspaceState& c,
+                       double h) {
   StepSystem s;
   s.B = B;
-  const Matrix MB = mass * B, CB = damping * B;
   s.A = B.transpose() * ((4.0 / (h * h)) * MB + (2.0 / h) * CB);
   s.A = 0.5 * (s.A + s.A.transpose()).eval();
   s.b = MB.transpose() * (4.0 / h * c.v + c.a) + CB.transpose() * c.v;
@@ -61,14 +60,21 @@ RotatingSubspaceDynamics::RotatingSubspaceDynamics(const Model& elastic, const M
     throw std::invalid_argument("RotatingSubspaceDynamics: time_step > 0, Rayleigh coefficients >= 0, "
                                 "max_newton_iterations >= 1 and newton_tolerance > 0 are needed");
   vertex_mass_ = vertex_masses(mass_);
-  damping_ = options_.rayleigh_mass * mass_;
-  if (options_.rayleigh_stiffness > 0.0) damping_ += options_.rayleigh_stiffness * stiffness(rest_, HessianMode::exact);
+  if (options_.rayleigh_stiffness > 0.0)
+    for (const auto& term : elastic_.terms()) rest_hessians_.push_back(term->hessian(rest_, p_, HessianMode::exact));
 }
 
-SparseMatrix RotatingSubspaceDynamics::stiffness(const Vector& x, HessianMode mode) const {
-  SparseMatrix k(x.size(), x.size());
-  for (const auto& term : elastic_.terms()) k += term->hessian(x, p_, mode);
-  return k;
+// Products with the sum of the terms' Hessians, term by term (no sparse sum is formed).
+Matrix RotatingSubspaceDynamics::stiffness_times(const Vector& x, HessianMode mode, const Matrix& B) const {
+  Matrix kb = Matrix::Zero(B.rows(), B.cols());
+  for (const auto& term : elastic_.terms()) kb += term->hessian(x, p_, mode) * B;
+  return kb;
+}
+
+Matrix RotatingSubspaceDynamics::damping_times(const Matrix& B) const {
+  Matrix cb = options_.rayleigh_mass * (mass_ * B);
+  for (const SparseMatrix& k : rest_hessians_) cb += options_.rayleigh_stiffness * (k * B);
+  return cb;
 }
 
 Matrix RotatingSubspaceDynamics::step_basis(const Vector& u) const {
@@ -83,18 +89,18 @@ SubspaceState RotatingSubspaceDynamics::initial_state(const Vector& v0) const {
   SubspaceState s;
   s.u = Vector::Zero(rest_.size());
   s.v = basis_ * mq.solve(MB.transpose() * v0);
-  s.a = basis_ * mq.solve(basis_.transpose() * (external_force_ - damping_ * s.v));
+  s.a = basis_ * mq.solve(basis_.transpose() * (external_force_ - damping_times(Matrix(s.v))));
   return s;
 }
 
 void RotatingSubspaceDynamics::step_potential(const SubspaceState& c, const Matrix& B, const Vector& dq,
                                               double* value, Vector* gradient, Matrix* hessian) const {
-  const StepSystem s = step_system(B, mass_, damping_, external_force_, c, options_.time_step);
+  const StepSystem s = step_system(B, mass_ * B, damping_times(B), external_force_, c, options_.time_step);
   const Vector x = rest_ + c.u + B * dq;
   if (value) *value = 0.5 * dq.dot(s.A * dq) - s.b.dot(dq) + elastic_.energy(x, p_) - s.f_B.dot(dq);
   if (gradient) *gradient = s.A * dq - s.b + B.transpose() * elastic_.gradient(x, p_) - s.f_B;
   if (hessian) {
-    *hessian = s.A + B.transpose() * (stiffness(x, HessianMode::exact) * B);
+    *hessian = s.A + B.transpose() * stiffness_times(x, HessianMode::exact, B);
     *hessian = 0.5 * (*hessian + hessian->transpose()).eval();
   }
 }
@@ -114,7 +120,7 @@ bool RotatingSubspaceDynamics::step(const SubspaceState& current, SubspaceState&
     c.v = B * mq.solve(MB.transpose() * current.v);
     c.a = B * mq.solve(MB.transpose() * current.a);
   }
-  const StepSystem s = step_system(B, mass_, damping_, external_force_, c, h);
+  const StepSystem s = step_system(B, MB, damping_times(B), external_force_, c, h);
   const auto potential = [&](const Vector& dq, double elastic) {
     return 0.5 * dq.dot(s.A * dq) - s.b.dot(dq) + elastic - s.f_B.dot(dq);
   };
@@ -141,11 +147,11 @@ bool RotatingSubspaceDynamics::step(const SubspaceState& current, SubspaceState&
     // The exact Jacobian; where it is not positive definite (StVK under compression), the
     // element Hessians projected to PSD instead (a descent direction for the line search; the
     // minimizer is the same, only the path to it changes), as the full-space Newton does.
-    Matrix jacobian = s.A + B.transpose() * (stiffness(x, HessianMode::exact) * B);
+    Matrix jacobian = s.A + B.transpose() * stiffness_times(x, HessianMode::exact, B);
     jacobian = 0.5 * (jacobian + jacobian.transpose()).eval();
     Eigen::LDLT<Matrix> ldlt(jacobian);
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
-      jacobian = s.A + B.transpose() * (stiffness(x, HessianMode::projected) * B);
+      jacobian = s.A + B.transpose() * stiffness_times(x, HessianMode::projected, B);
       ldlt.compute(0.5 * (jacobian + jacobian.transpose()));
     }
     const Vector step = -ldlt.solve(residual);

@@ -20,6 +20,7 @@
 // mesh: the rotated basis changes every step, so no reduced polynomial is precomputed).
 // Units: time in s, alpha in 1/s, beta in s; u, v, a full-space (num_dofs), from the rest state.
 #include <string>
+#include <vector>
 
 #include "forward/core/model.hpp"
 #include "forward/mesh/mesh.hpp"
@@ -69,11 +70,13 @@ class RotatingSubspaceDynamics {
   double smallest_volume_ratio(const Vector& u) const;
 
  private:
-  SparseMatrix stiffness(const Vector& x, HessianMode mode) const;  // d2E/dx2, every term
+  Matrix stiffness_times(const Vector& x, HessianMode mode, const Matrix& B) const;  // (d2E/dx2) B
+  Matrix damping_times(const Matrix& B) const;                                       // C B
+  std::vector<SparseMatrix> rest_hessians_;                                          // per term, for C
   const Model& elastic_;
   const Mesh& mesh_;
   Vector p_, rest_;
-  SparseMatrix mass_, damping_;
+  SparseMatrix mass_;
   Vector external_force_, vertex_mass_;
   Matrix basis_, weights_;
   RotatingSubspaceOptions options_;

@@ -25,6 +25,8 @@
 //          [--interface-modes 30]
 //          [--overlap-layers 2] [--youngs 5e6] [--bases global,domains,overlapping] [--no-reference]
 //          [--out FILE]
+//        domain_reduction_bench --twist T [--twist-cells 24] [--twist-steps 40] [--twist-size 51]
+//          [--twist-domains 6]   (the twisted bar with per-domain rotations, below)
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -43,6 +45,9 @@
 #include "forward/fem/mass.hpp"
 #include "forward/reduction/domain_decomposition.hpp"
 #include "forward/reduction/domain_partition.hpp"
+#include "forward/reduction/domain_rotations.hpp"
+#include "forward/reduction/free_stiffness_factor.hpp"
+#include "forward/mesh/generate.hpp"
 #include "forward/reduction/local_reduced_stvk.hpp"
 #include "forward/reduction/mass_orthonormal_basis.hpp"
 #include "forward/reduction/modal_analysis.hpp"
@@ -50,6 +55,7 @@
 #include "forward/reduction/overlapping_domains.hpp"
 #include "forward/reduction/projected_reduced_model.hpp"
 #include "forward/reduction/reduced_dynamics.hpp"
+#include "forward/reduction/rotating_subspace_dynamics.hpp"
 #include "tailor_version.hpp"
 
 namespace tailor::bench::domain_reduction_bench {
@@ -225,6 +231,214 @@ Row run_basis(const std::string& kind, const Scene& scene, const Settings& s, co
   return row;
 }
 
+
+// ---- Large rotations: a bar twisted by a dead torque (docs/reduction.md, "Per-domain rotations").
+// A 4 x 0.5 x 0.5 StVK bar (E = 1e6, nu = 0.3, density 100, consistent mass), clamped at x = 0,
+// no gravity; a dead torque T about the bar's axis on its free end (tangential forces on the end
+// vertices, f_v = T (e_x x r_v) / sum |r_v|^2, r_v from the end face's centre). Newmark, h =
+// 0.02 s, Rayleigh beta = 1e-3 s, every basis stepped by RotatingSubspaceDynamics (the same
+// incremental potential and Newton), rotations off or on; "full" is the same scheme with the
+// identity on the free DOFs as its basis (full-space Newmark). Reported: steps completed, total
+// energy at the last step and its largest value (0 at rest; with damping it must not rise),
+// smallest element volume ratio, trajectory error against full space over the steps both completed.
+struct TwistSettings {
+  double torque = 0.0, time_step = 0.02;
+  int along = 24, across = 3, steps = 40, size = 51, domains = 6, overlap_layers = 2;
+};
+
+struct TwistRow {
+  std::string basis;
+  bool rotations = false;
+  int r = 0, completed = 0;
+  double precompute_s = 0, steps_per_s = 0, newton_per_step = 0, final_energy = 0, largest_energy = 0;
+  double smallest_volume_ratio = 1, trajectory_error = 0, tip_angle = 0;
+  std::string message;
+};
+
+// The end face's twist angle: the mean rotation of its vertices about the axis (atan2 of the
+// cross and dot products of the rest and current radial vectors in the y-z plane).
+double twist_angle(const Mesh& mesh, const std::vector<int>& tip, const Vector& u) {
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  for (int v : tip) c += mesh.rest_positions.row(v).tail<2>().transpose();
+  c /= static_cast<double>(tip.size());
+  double sum = 0.0;
+  int count = 0;
+  for (int v : tip) {
+    const Eigen::Vector2d r = mesh.rest_positions.row(v).tail<2>().transpose() - c;
+    if (r.norm() < 1e-9) continue;
+    const Eigen::Vector2d q = r + u.segment<2>(3 * v + 1);
+    sum += std::atan2(r.x() * q.y() - r.y() * q.x(), r.dot(q));
+    ++count;
+  }
+  return count > 0 ? sum / count : 0.0;
+}
+
+TwistRow twist_run(const std::string& kind, bool rotations, const bench::Cantilever& bar, const Vector& p,
+                   const SparseMatrix& mass, const Vector& torque, const TwistSettings& t, const Matrix& reference,
+                   Matrix* trajectory) {
+  TwistRow row;
+  row.basis = kind;
+  row.rotations = rotations;
+  const auto t0 = Clock::now();
+  const Model& model = *bar.model;
+  const Mesh& mesh = bar.mesh;
+  const Eigen::VectorXi partition = partition_elements(mesh, kind == "global" || kind == "full" ? 1 : t.domains);
+  Matrix basis, weights = domain_vertex_weights(mesh, partition);
+  if (kind == "full") {
+    std::vector<bool> fixed(static_cast<std::size_t>(bar.rest.size()), false);
+    for (int dof : bar.fixed_dofs) fixed[static_cast<std::size_t>(dof)] = true;
+    basis = Matrix::Zero(bar.rest.size(), bar.rest.size() - static_cast<Eigen::Index>(bar.fixed_dofs.size()));
+    for (Eigen::Index i = 0, c = 0; i < bar.rest.size(); ++i)
+      if (!fixed[static_cast<std::size_t>(i)]) basis(i, c++) = 1.0;
+  } else if (kind == "domains") {
+    DomainDecompositionOptions options;
+    options.fixed_interface_modes = 4;
+    options.derivative_modes = 1;
+    options.boundary_derivative_modes = 1;
+    options.interface_modes = 6;
+    options.loads = Matrix(torque);
+    basis = domain_decomposition(model, mesh, bar.rest, p, mass, partition, options).basis;
+  } else {
+    // Global candidates: the torque's static response, the lowest modes and the modal derivatives
+    // of the lowest m modes and the response; the first `local` M-orthonormal columns.
+    const int local = kind == "global" ? t.size : std::max(1, t.size / t.domains);
+    int m = 1;
+    while (m + 1 + (m + 1) * (m + 2) / 2 < local) ++m;
+    ModalAnalysisOptions modal;
+    modal.count = std::max(m, local);
+    const ModalAnalysis modes = modal_analysis(model, 3, bar.rest, p, mass, modal);
+    const Vector response = FreeStiffnessFactor(model, bar.rest, p).solve(torque);
+    Matrix seeds(bar.rest.size(), m + 1);
+    seeds << response / std::sqrt(response.dot(mass * response)), modes.modes.leftCols(m);
+    const Matrix psi = modal_derivatives(model, bar.rest, p, seeds);
+    Matrix all(bar.rest.size(), 1 + m + psi.cols() + modes.modes.cols() - m);
+    all << seeds, psi, modes.modes.rightCols(modes.modes.cols() - m);
+    basis = mass_orthonormal_basis(all, mass);
+    basis = basis.leftCols(std::min<Eigen::Index>(local, basis.cols())).eval();
+    if (kind == "overlapping") {
+      OverlappingDomainOptions options;
+      options.overlap_layers = t.overlap_layers;
+      weights = overlapping_domains(model, mesh, bar.rest, p, mass, partition, options).weights;
+      basis = mass_orthonormal_basis(blended_basis(weights, basis, 3), mass, 1e-8);
+    }
+  }
+  row.r = static_cast<int>(basis.cols());
+  RotatingSubspaceOptions options;
+  options.time_step = t.time_step;
+  options.rayleigh_stiffness = kBeta;
+  options.rotations = rotations;
+  const RotatingSubspaceDynamics dynamics(model, mesh, p, bar.rest, mass, torque, basis, weights, options);
+  row.precompute_s = seconds_since(t0);
+  SubspaceState state = dynamics.initial_state(Vector::Zero(bar.rest.size()));
+  if (trajectory) *trajectory = Matrix::Zero(bar.rest.size(), t.steps + 1);
+  std::vector<double> wall;
+  int newton_total = 0;
+  double error2 = 0.0, norm2 = 0.0;
+  row.largest_energy = 0.0;
+  for (int n = 0; n < t.steps; ++n) {
+    SubspaceState next;
+    int newton = 0;
+    const auto ts = Clock::now();
+    const bool ok = dynamics.step(state, next, newton, row.message);
+    wall.push_back(seconds_since(ts));
+    if (!ok) {
+      row.message = "step " + std::to_string(n + 1) + ": " + row.message;
+      break;
+    }
+    state = std::move(next);
+    newton_total += newton;
+    row.completed = n + 1;
+    row.final_energy = dynamics.total_energy(state);
+    row.largest_energy = std::max(row.largest_energy, row.final_energy);
+    row.smallest_volume_ratio = std::min(row.smallest_volume_ratio, dynamics.smallest_volume_ratio(state.u));
+    row.tip_angle = twist_angle(mesh, bar.tip_vertices, state.u);
+    if (trajectory) trajectory->col(n + 1) = state.u;
+    if (reference.cols() > n + 1) {
+      const Vector e = state.u - reference.col(n + 1);
+      error2 += e.dot(mass * e);
+      norm2 += reference.col(n + 1).dot(mass * reference.col(n + 1));
+    }
+  }
+  row.steps_per_s = wall.empty() ? 0.0 : 1.0 / median(wall);
+  row.newton_per_step = row.completed > 0 ? static_cast<double>(newton_total) / row.completed : 0.0;
+  row.trajectory_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : std::nan("");
+  if (row.message.empty()) row.message = "all steps converged";
+  std::printf("  %-12s %-3s r = %4d: %d/%d steps, E last %.4g (largest %.4g), min J %.3f, twist %.2f rad, "
+              "error %.3e, %.1f steps/s, %.2f Newton/step; %s\n",
+              row.basis.c_str(), rotations ? "rot" : "", row.r, row.completed, t.steps, row.final_energy,
+              row.largest_energy, row.smallest_volume_ratio, row.tip_angle, row.trajectory_error, row.steps_per_s,
+              row.newton_per_step, row.message.c_str());
+  std::fflush(stdout);
+  return row;
+}
+
+int run_twist(const TwistSettings& t, const std::string& out) {
+  bench::Cantilever bar;
+  bar.mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 0.5, 0.5), t.along, t.across, t.across);
+  const int m = bar.mesh.num_elements();
+  bar.model = std::make_unique<Model>(3 * bar.mesh.num_vertices());
+  const int youngs = bar.model->parameter_layout().add("youngs_modulus", m);
+  const int poisson = bar.model->parameter_layout().add("poisson_ratio", m);
+  bar.model->add(std::make_unique<ElasticTerm<3>>(bar.mesh, make_material<3>(MaterialKind::stvk), youngs, poisson));
+  bar.rest.resize(3 * bar.mesh.num_vertices());
+  for (int v = 0; v < bar.mesh.num_vertices(); ++v) {
+    bar.rest.segment<3>(3 * v) = bar.mesh.rest_positions.row(v).transpose();
+    if (bar.mesh.rest_positions(v, 0) < 1e-9)
+      for (int k = 0; k < 3; ++k) bar.fixed_dofs.push_back(3 * v + k);
+    if (bar.mesh.rest_positions(v, 0) > 4 - 1e-9) bar.tip_vertices.push_back(v);
+  }
+  bar.model->set_elimination(Elimination::dirichlet(bar.fixed_dofs, bar.rest));
+  const Vector p = bench::cantilever_parameters(bar, 1e6, kPoisson);
+  const SparseMatrix mass = mass_matrix(bar.mesh, Eigen::VectorXd::Constant(m, 100.0), MassLumping::consistent);
+  Vector torque = Vector::Zero(bar.rest.size());
+  double r2 = 0.0;
+  for (int v : bar.tip_vertices) r2 += (bar.mesh.rest_positions.row(v).tail<2>() - Eigen::RowVector2d(0.25, 0.25)).squaredNorm();
+  for (int v : bar.tip_vertices) {
+    const Eigen::Vector2d r = bar.mesh.rest_positions.row(v).tail<2>().transpose() - Eigen::Vector2d(0.25, 0.25);
+    torque[3 * v + 1] = -t.torque * r.y() / r2;
+    torque[3 * v + 2] = t.torque * r.x() / r2;
+  }
+  std::printf("tailor %s, twisted bar: %d tets, torque %g, %d Newmark steps of %g s, r = %d, %d domains\n",
+              version_string, m, t.torque, t.steps, t.time_step, t.size, t.domains);
+  Matrix reference;
+  std::vector<TwistRow> rows;
+  rows.push_back(twist_run("full", false, bar, p, mass, torque, t, reference, &reference));
+  reference.conservativeResize(Eigen::NoChange, rows.front().completed + 1);  // errors over the full run's steps
+  for (const std::string kind : {"global", "domains", "overlapping"})
+    for (const bool rotations : {false, true})
+      rows.push_back(twist_run(kind, rotations, bar, p, mass, torque, t, reference, nullptr));
+  std::printf("\n%-12s %-9s %5s %7s %12s %12s %7s %8s %11s %9s %8s\n", "basis", "rotations", "r", "steps", "E last",
+              "E largest", "min J", "twist", "traj. error", "steps/s", "Newton");
+  for (const TwistRow& row : rows)
+    std::printf("%-12s %-9s %5d %4d/%-2d %12.4g %12.4g %7.3f %8.2f %11.3e %9.1f %8.2f\n", row.basis.c_str(),
+                row.rotations ? "yes" : "no", row.r, row.completed, t.steps, row.final_energy, row.largest_energy,
+                row.smallest_volume_ratio, row.tip_angle, row.trajectory_error, row.steps_per_s, row.newton_per_step);
+  bench::Json json = bench::report("domain_reduction_twist");
+  json["tets"] = m;
+  json["torque"] = t.torque;
+  json["steps"] = t.steps;
+  json["time_step"] = t.time_step;
+  json["domains"] = t.domains;
+  json["size"] = t.size;
+  bench::Json results = bench::Json::array();
+  for (const TwistRow& r : rows)
+    results.push_back({{"basis", r.basis},
+                       {"rotations", r.rotations},
+                       {"r", r.r},
+                       {"completed_steps", r.completed},
+                       {"final_energy", r.final_energy},
+                       {"largest_energy", r.largest_energy},
+                       {"smallest_volume_ratio", r.smallest_volume_ratio},
+                       {"twist_angle", r.tip_angle},
+                       {"trajectory_error", r.trajectory_error},
+                       {"precompute_s", r.precompute_s},
+                       {"steps_per_s", r.steps_per_s},
+                       {"newton_per_step", r.newton_per_step},
+                       {"message", r.message}});
+  json["results"] = results;
+  return bench::write_report(out, json, "domain_reduction_bench") ? 0 : 1;
+}
+
 }  // namespace
 
 int run(int argc, char** argv) {
@@ -247,8 +461,16 @@ int run(int argc, char** argv) {
   cli.number("--youngs", s.youngs, "Young's modulus", 0.0);
   cli.flag("--no-reference", [&] { s.reference = false; }, "skip the full-space run (no errors reported)");
   cli.choices("--bases", bases, "bases to run", {"global", "domains", "overlapping"});
+  TwistSettings twist;
+  cli.number("--twist", twist.torque, "run the twisted-bar case with this end torque instead (rotations off / on)",
+             0.0);
+  cli.integer("--twist-cells", twist.along, "twisted bar: cells along (3 x 3 across)", 1);
+  cli.integer("--twist-steps", twist.steps, "twisted bar: Newmark steps", 1);
+  cli.integer("--twist-size", twist.size, "twisted bar: r of the global basis (overlapping: r / domains per domain)", 1);
+  cli.integer("--twist-domains", twist.domains, "twisted bar: METIS domains", 1);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
+  if (twist.torque > 0.0) return run_twist(twist, out);
   int threads = 1;
 #ifdef _OPENMP
   threads = omp_get_max_threads();

@@ -34,7 +34,7 @@ subset=(
   "problems_meshless_tests|"                # meshless scenes and their point files
   "forward_interlocking_tests|"             # periodic rigid cells, the boundary search
   "problems_interlocking_tests|"           # interlocking scenes, the limit's derivative checks
-  "forward_reduction_tests|KrylovRecurrence|DomainPartition|DomainDecomposition|OverlappingDomains|LocalReducedStvk"  # local reduced models
+  "forward_reduction_tests|KrylovRecurrence|DomainPartition|DomainDecomposition|OverlappingDomains|LocalReducedStvk|DomainRotations|RotatingSubspaceDynamics"  # local reduced models
   "forward_rig_tests|RigDerivatives|RigInput|PoseSpaceBasis|ConstrainedModes|MovingRestShape|RigInverse"  # rigs, their derivatives, per-pose bases
   "problems_rig_tests|"                     # rig_dynamics scenes and rig files
   "studio_tests|"                           # the studio server's messages, token, Host/Origin and path checks

@@ -19,7 +19,6 @@
 #include <string>
 #include <vector>
 
-#include <suitesparse/cholmod.h>  // the bench target has no SuiteSparse include folder
 
 #include "bench_cli.hpp"
 #include "forward/fem/elastic_term.hpp"
@@ -32,6 +31,7 @@
 #include "forward/meshless/octree_sampling.hpp"
 #include "forward/reduction/modal_analysis.hpp"
 #include "forward/solve/newton.hpp"
+#include "forward/solve/sparse_cholesky.hpp"
 
 namespace tailor::bench::meshless_bench {
 
@@ -209,35 +209,6 @@ struct NewtonRow {
 
 double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
-// nnz(L) and the factorization flops CHOLMOD's symbolic analysis predicts for the upper
-// triangle `upper` under one fill-reducing ordering (CHOLMOD_AMD, CHOLMOD_METIS, CHOLMOD_NESDIS).
-std::pair<double, double> ordering_cost(const SparseMatrix& upper, int ordering) {
-  cholmod_common common;
-  cholmod_start(&common);
-  common.nmethods = 1;
-  common.method[0].ordering = ordering;
-  common.supernodal = CHOLMOD_SUPERNODAL;
-  cholmod_sparse a{};
-  a.nrow = static_cast<std::size_t>(upper.rows());
-  a.ncol = static_cast<std::size_t>(upper.cols());
-  a.nzmax = static_cast<std::size_t>(upper.nonZeros());
-  a.p = const_cast<int*>(upper.outerIndexPtr());
-  a.i = const_cast<int*>(upper.innerIndexPtr());
-  a.x = const_cast<double*>(upper.valuePtr());
-  a.stype = 1;
-  a.itype = CHOLMOD_INT;
-  a.xtype = CHOLMOD_REAL;
-  a.dtype = CHOLMOD_DOUBLE;
-  a.sorted = 1;
-  a.packed = 1;
-  cholmod_factor* factor = cholmod_analyze(&a, &common);
-  const std::pair<double, double> cost =
-      factor && common.status == CHOLMOD_OK ? std::pair<double, double>(common.lnz, common.fl) : std::pair<double, double>(NAN, NAN);
-  if (factor) cholmod_free_factor(&factor, &common);
-  cholmod_finish(&common);
-  return cost;
-}
-
 NewtonRow time_newton(const std::string& method, const Model& model, const Vector& p, const Vector& rest, int nodes) {
   NewtonRow r;
   r.method = method;
@@ -259,9 +230,9 @@ NewtonRow time_newton(const std::string& method, const Model& model, const Vecto
   if (!result.converged()) throw std::runtime_error(method + ": Newton did not converge: " + result.message);
   r.factor_nonzeros = solver.factorization().factor_nonzeros();
   r.factor_flops = solver.factorization().factorization_flops();
-  r.amd = ordering_cost(solver.hessian(), CHOLMOD_AMD);
-  r.metis = ordering_cost(solver.hessian(), CHOLMOD_METIS);
-  r.nesdis = ordering_cost(solver.hessian(), CHOLMOD_NESDIS);
+  r.amd = estimate_factor_cost(solver.hessian(), FillOrdering::amd);
+  r.metis = estimate_factor_cost(solver.hessian(), FillOrdering::metis);
+  r.nesdis = estimate_factor_cost(solver.hessian(), FillOrdering::nesdis);
   std::vector<double> total, assembly, factorization, solve, line_search;
   for (const NewtonIteration& it : result.history) {
     total.push_back(it.assembly_seconds + it.factorization_seconds + it.solve_seconds + it.line_search_seconds);

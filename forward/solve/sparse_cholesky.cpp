@@ -2,6 +2,7 @@
 
 #include <cholmod.h>
 
+#include <limits>
 #include <stdexcept>
 
 #include "forward/solve/threads.hpp"
@@ -79,6 +80,27 @@ struct SparseCholesky::Impl {
   std::size_t ldlt_analyzed_nnz = 0;
   CholmodFactor* active = nullptr;
 };
+
+std::pair<double, double> estimate_factor_cost(const SparseMatrix& upper, FillOrdering ordering) {
+  if (upper.rows() != upper.cols() || !upper.isCompressed())
+    throw std::invalid_argument("estimate_factor_cost: expected a square compressed matrix");
+  cholmod_common common;
+  cholmod_start(&common);
+  common.print = 0;
+  common.nmethods = 1;
+  common.method[0].ordering = ordering == FillOrdering::amd     ? CHOLMOD_AMD
+                              : ordering == FillOrdering::metis ? CHOLMOD_METIS
+                                                                : CHOLMOD_NESDIS;
+  common.supernodal = CHOLMOD_SUPERNODAL;
+  cholmod_sparse a = view(upper);
+  cholmod_factor* factor = cholmod_analyze(&a, &common);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::pair<double, double> cost =
+      factor && common.status == CHOLMOD_OK ? std::make_pair(common.lnz, common.fl) : std::make_pair(nan, nan);
+  if (factor) cholmod_free_factor(&factor, &common);
+  cholmod_finish(&common);
+  return cost;
+}
 
 SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
 SparseCholesky::~SparseCholesky() = default;

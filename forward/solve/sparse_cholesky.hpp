@@ -10,6 +10,7 @@
 #include <Eigen/LU>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "forward/core/types.hpp"
 
@@ -22,6 +23,14 @@ struct FactorizationResult {
   std::string message;            // why not, when !success or when LDL^T was needed
   bool kept = false;              // NewtonSolver::factorize_hessian: the kept factor of a constant Hessian
 };
+
+// Fill-reducing orderings CHOLMOD can analyse a pattern with.
+enum class FillOrdering { amd, metis, nesdis };
+
+// The nonzeros of L and the flops of a numeric factorization that CHOLMOD's symbolic analysis
+// predicts for the upper triangle `upper` (square, compressed) under one ordering, supernodal;
+// NaN for both when the analysis fails. For comparing orderings; SparseCholesky chooses its own.
+std::pair<double, double> estimate_factor_cost(const SparseMatrix& upper, FillOrdering ordering);
 
 class SparseCholesky {
  public:

@@ -56,5 +56,24 @@ TEST(SparseCholesky, ReportsSingularMatrix) {
   EXPECT_THROW(chol.solve(Vector::Ones(3)), std::logic_error);
 }
 
+// An arrow matrix (vertex 0 coupled to every other) fills L completely in the natural order;
+// a fill-reducing ordering eliminates the hub last, with no fill: nnz(L) = 2n - 1.
+TEST(SparseCholesky, EstimatedFactorCostOfEachOrdering) {
+  const int n = 40;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < n; ++i) t.emplace_back(i, i, 2.0 * n);
+  for (int i = 1; i < n; ++i) t.emplace_back(0, i, -1.0);
+  SparseMatrix arrow(n, n);
+  arrow.setFromTriplets(t.begin(), t.end());
+  arrow.makeCompressed();
+  for (const FillOrdering ordering : {FillOrdering::amd, FillOrdering::metis, FillOrdering::nesdis}) {
+    const auto [nonzeros, flops] = estimate_factor_cost(arrow, ordering);
+    EXPECT_EQ(nonzeros, 2.0 * n - 1.0);
+    EXPECT_GT(flops, 0.0);
+    EXPECT_LT(flops, 20.0 * n);  // the natural order's complete fill would take O(n^3)
+  }
+  EXPECT_THROW(estimate_factor_cost(SparseMatrix(3, 4), FillOrdering::amd), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace tailor::sparse_cholesky_test

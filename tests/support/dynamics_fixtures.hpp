@@ -59,4 +59,19 @@ struct Cantilever {
   int num_elements() const { return mesh.num_elements(); }
 };
 
+// The descent solver's test bar: `cells` x 1 x 1 cells of 6 tets, cells / 12 long, E = 1e4,
+// under gravity, with Rayleigh damping (alpha 0.1, beta 1e-3).
+inline CantileverOptions descent_bar_options(int cells, MaterialKind material = MaterialKind::neo_hookean) {
+  CantileverOptions o;
+  o.material = material;
+  o.cells = cells;
+  o.length = cells / 12.0;
+  o.youngs_modulus = 1e4;
+  o.gravity = Eigen::Vector3d(0, 0, -9.81);
+  o.rayleigh = true;
+  o.alpha = 0.1;
+  o.beta = 1e-3;
+  return o;
+}
+
 }  // namespace tailor::testing

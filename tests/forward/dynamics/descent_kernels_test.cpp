@@ -37,19 +37,6 @@ namespace {
 using namespace tailor::testing;
 namespace dk = descent_kernels;
 
-CantileverOptions bar_options(int cells, MaterialKind material = MaterialKind::neo_hookean) {
-  CantileverOptions o;
-  o.material = material;
-  o.cells = cells;
-  o.length = cells / 12.0;
-  o.youngs_modulus = 1e4;
-  o.gravity = Eigen::Vector3d(0, 0, -9.81);
-  o.rayleigh = true;
-  o.alpha = 0.1;
-  o.beta = 1e-3;
-  return o;
-}
-
 const ElasticTerm<3>& elastic_of(const Model& model) {
   for (const auto& t : model.terms())
     if (const auto* e = dynamic_cast<const ElasticTerm<3>*>(t.get())) return *e;
@@ -76,7 +63,7 @@ void shape(const ElasticTerm<3>& term, int k, double* G) {
 }
 
 void compare_with_element_loop(MaterialKind kind, int material) {
-  Cantilever c(bar_options(12, kind));
+  Cantilever c(descent_bar_options(12, kind));
   const ElasticTerm<3>& term = elastic_of(*c.model);
   const Vector x = randomly_deformed(c.rest, 0.15, 7);
   const int m = static_cast<int>(term.elements().size());
@@ -175,7 +162,7 @@ TEST(DescentKernels, ProjectionClampsNegativeEigenvalues) {
 }
 
 TEST(DescentKernels, HostPassMatchesTheAssembledModel) {
-  Cantilever c(bar_options(12));
+  Cantilever c(descent_bar_options(12));
   TimeIntegrator integrator(*c.model, TimeIntegratorOptions{});
   DynamicState s = integrator.initial_state(c.rest, Vector::Zero(c.rest.size()), c.p);
   integrator.configure_step(s, c.p);
@@ -229,7 +216,7 @@ DescentOptions vertex_block_options() {
 }
 
 TEST(DescentKernels, SolverWithTheRuleNeverRaisesTheEnergyAndReachesNewton) {
-  Cantilever c(bar_options(48));
+  Cantilever c(descent_bar_options(48));
   TimeIntegratorOptions io;
   io.time_step = 0.05;
   TimeIntegrator integrator(*c.model, io);
@@ -247,7 +234,7 @@ TEST(DescentKernels, SolverWithTheRuleNeverRaisesTheEnergyAndReachesNewton) {
   EXPECT_LE(rise, 1e-12 * std::abs(r.initial_energy));
   EXPECT_GT(r.rejections, 0) << "the rule never acted";
   // Converged descent against Newton's step (relative tolerance 1e-10) from a gentler start.
-  Cantilever d(bar_options(12));
+  Cantilever d(descent_bar_options(12));
   TimeIntegratorOptions jo;
   jo.time_step = 0.02;
   TimeIntegrator newton(*d.model, jo);
@@ -263,7 +250,7 @@ TEST(DescentKernels, SolverWithTheRuleNeverRaisesTheEnergyAndReachesNewton) {
 }
 
 TEST(DescentKernels, RuleIteratesAreTheSameForOneAndTwoThreads) {
-  Cantilever c(bar_options(48));
+  Cantilever c(descent_bar_options(48));
   const int saved = omp_get_max_threads();
   auto run = [&](int threads) {
     omp_set_num_threads(threads);
@@ -283,7 +270,7 @@ TEST(DescentKernels, RuleIteratesAreTheSameForOneAndTwoThreads) {
 }
 
 TEST(DescentKernels, DeviceSelection) {
-  Cantilever c(bar_options(12));
+  Cantilever c(descent_bar_options(12));
   DescentOptions o;
   o.device = DescentDevice::automatic;
   if (!cuda_device_usable()) {
@@ -298,7 +285,7 @@ TEST(DescentKernels, DeviceSelection) {
   }
   // The rule does not cover the corotated material: refused on the CPU, and "auto" keeps the
   // projected-Hessian CPU path.
-  Cantilever corotated(bar_options(12, MaterialKind::corotated));
+  Cantilever corotated(descent_bar_options(12, MaterialKind::corotated));
   EXPECT_FALSE(VertexBlockModel::check(*corotated.model).empty());
   EXPECT_THROW(DescentSolver(*corotated.model, vertex_block_options()), std::invalid_argument);
   o.device = DescentDevice::automatic;
@@ -309,7 +296,7 @@ TEST(DescentKernels, DeviceSelection) {
 #ifdef TAILOR_HAVE_CUDA
 TEST(DescentKernels, DevicePassMatchesTheHost) {
   if (!cuda_device_usable()) GTEST_SKIP() << "no CUDA device";
-  Cantilever c(bar_options(24));
+  Cantilever c(descent_bar_options(24));
   TimeIntegrator integrator(*c.model, TimeIntegratorOptions{});
   DynamicState s = integrator.initial_state(c.rest, Vector::Zero(c.rest.size()), c.p);
   integrator.configure_step(s, c.p);
@@ -334,7 +321,7 @@ TEST(DescentKernels, DevicePassMatchesTheHost) {
 
 TEST(DescentKernels, DeviceIteratesMatchTheCpuAndNeverRaiseTheEnergy) {
   if (!cuda_device_usable()) GTEST_SKIP() << "no CUDA device";
-  Cantilever c(bar_options(24));
+  Cantilever c(descent_bar_options(24));
   TimeIntegratorOptions io;
   io.time_step = 0.02;
   auto run = [&](DescentDevice device) {

@@ -28,21 +28,6 @@ namespace {
 
 using namespace tailor::testing;
 
-// A bar of `cells` x 1 x 1 cells of 6 tets, cells / 12 long.
-CantileverOptions bar_options(int cells, MaterialKind material = MaterialKind::neo_hookean) {
-  CantileverOptions o;
-  o.material = material;
-  o.cells = cells;
-  o.length = cells / 12.0;
-  o.youngs_modulus = 1e4;
-  o.density = 1.0;
-  o.gravity = Eigen::Vector3d(0, 0, -9.81);
-  o.rayleigh = true;
-  o.alpha = 0.1;
-  o.beta = 1e-3;
-  return o;
-}
-
 TimeIntegratorOptions step_options(double h) {
   TimeIntegratorOptions o;
   o.time_step = h;
@@ -58,7 +43,7 @@ Vector swing_velocity(const Cantilever& c, double tip_speed) {
 }
 
 TEST(DescentSolver, BlockInverseMatchesTheAssembledHessiansDiagonalBlocks) {
-  Cantilever c(bar_options(24));
+  Cantilever c(descent_bar_options(24));
   TimeIntegrator integrator(*c.model, step_options(0.01));
   DynamicState s = integrator.initial_state(c.rest, swing_velocity(c, 5.0), c.p);
   integrator.configure_step(s, c.p);
@@ -88,7 +73,7 @@ TEST(DescentSolver, BlockInverseMatchesTheAssembledHessiansDiagonalBlocks) {
 TEST(DescentSolver, AcceptedIteratesNeverRaiseTheIncrementalPotential) {
   // Large deformation: the bar starts squeezed to half its length (Neo-Hookean stresses of
   // the order of E) and swinging; the first gradient step inverts elements.
-  Cantilever c(bar_options(48));
+  Cantilever c(descent_bar_options(48));
   TimeIntegrator integrator(*c.model, step_options(0.05));
   Vector squeezed = c.rest;
   for (int i = 0; i < c.mesh.num_vertices(); ++i) squeezed[3 * i] *= 0.5;
@@ -129,7 +114,7 @@ TEST(DescentSolver, AcceptedIteratesNeverRaiseTheIncrementalPotential) {
 TEST(DescentSolver, ConvergesToNewtonsMinimizer) {
   // Three steps, each from Newton's state of the step before; the state error of descent
   // falls with its tolerance (the error is about the residual over the smallest stiffness).
-  Cantilever c(bar_options(12));
+  Cantilever c(descent_bar_options(12));
   TimeIntegrator newton(*c.model, step_options(0.02));
   DynamicState reference = newton.initial_state(c.rest, swing_velocity(c, 5.0), c.p);
   auto descend = [&](const DynamicState& from, double tolerance) {
@@ -159,7 +144,7 @@ TEST(DescentSolver, ConvergesToNewtonsMinimizer) {
 }
 
 TEST(DescentSolver, IteratesAreTheSameForOneAndTwoThreads) {
-  Cantilever c(bar_options(48));
+  Cantilever c(descent_bar_options(48));
   ASSERT_GT(c.num_elements(), 256);  // the element loop's threshold for running in parallel
   const int saved = omp_get_max_threads();
   auto run = [&](int threads) {
@@ -181,7 +166,7 @@ TEST(DescentSolver, IteratesAreTheSameForOneAndTwoThreads) {
 }
 
 TEST(DescentSolver, ChebyshevAccelerationNeedsFewerPasses) {
-  Cantilever c(bar_options(12));
+  Cantilever c(descent_bar_options(12));
   TimeIntegrator integrator(*c.model, step_options(0.02));
   const DynamicState start = integrator.initial_state(c.rest, swing_velocity(c, 5.0), c.p);
   auto passes = [&](std::optional<double> rho) {
@@ -203,7 +188,7 @@ TEST(DescentSolver, ChebyshevAccelerationNeedsFewerPasses) {
 TEST(DescentSolver, RhoEstimateAgainstTheIterationMatrix) {
   // Linear material: H is constant, so the plain iteration is the linear map I - alpha D^-1 H
   // whose spectral radius the estimate aims at.
-  Cantilever c(bar_options(12, MaterialKind::linear));
+  Cantilever c(descent_bar_options(12, MaterialKind::linear));
   TimeIntegrator integrator(*c.model, step_options(0.02));
   DynamicState s = integrator.initial_state(c.rest, swing_velocity(c, 5.0), c.p);
   DescentOptions o;
@@ -238,7 +223,7 @@ TEST(DescentSolver, RhoEstimateAgainstTheIterationMatrix) {
 }
 
 TEST(DescentSolver, RefusesCouplingConstraints) {
-  Cantilever c(bar_options(12));
+  Cantilever c(descent_bar_options(12));
   const int n = c.model->num_dofs();
   SparseMatrix S(n, n - 1);
   std::vector<Triplet> t;

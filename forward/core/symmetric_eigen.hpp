@@ -1,6 +1,7 @@
 #pragma once
-// Eigen-decomposition of a small dense symmetric matrix, compiled once for every size
-// (forward/core/symmetric_eigen.cpp, Eigen's SelfAdjointEigenSolver on a run-time size). Each
+// Dense decompositions compiled once (forward/core/symmetric_eigen.cpp): the eigen-decomposition
+// of a small symmetric matrix for every size (Eigen's SelfAdjointEigenSolver on a run-time size),
+// the generalized symmetric-definite problem and the singular value decomposition. Each
 // fixed-size instantiation of Eigen's solver costs seconds of compile time in every translation
 // unit that names it. The run-time size costs, per call with eigenvectors, 0.16 us against
 // 0.13 us at 2x2, 0.61 against 0.41 us at 3x3, 1.08 against 0.92 us at 4x4, 5.1 against 4.7 us at
@@ -28,5 +29,22 @@ void symmetric_eigen(const Eigen::Matrix<double, N, N>& A, Eigen::Matrix<double,
 
 // The eigenvalues of a symmetric matrix, ascending.
 Eigen::VectorXd symmetric_eigenvalues(const Eigen::MatrixXd& A);
+
+// The dense generalized problem A x = lambda B x, A symmetric, B symmetric positive definite
+// (Eigen's GeneralizedSelfAdjointEigenSolver, compiled once: an instantiation costs several
+// seconds of compile time in each unit that names it). Eigenvalues ascending, eigenvectors the
+// B-orthonormal columns of `vectors`. Reads the lower triangles. Returns false, leaving the
+// outputs unspecified, when the solver fails (B not positive definite).
+bool generalized_symmetric_eigen(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, Eigen::VectorXd& values,
+                                 Eigen::MatrixXd& vectors);
+
+// A = U diag(singular_values) V^T by one-sided Jacobi rotations (Eigen's JacobiSVD, compiled
+// once), singular values descending; U is rows x rows and V cols x cols (full), or left empty
+// when not asked for.
+struct SingularValueDecomposition {
+  Eigen::VectorXd singular_values;
+  Eigen::MatrixXd U, V;
+};
+SingularValueDecomposition singular_value_decomposition(const Eigen::MatrixXd& A, bool compute_u, bool compute_v);
 
 }  // namespace tailor

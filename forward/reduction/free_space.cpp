@@ -1,7 +1,6 @@
 #include "forward/reduction/free_space.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -69,12 +68,15 @@ Matrix admissible_rigid_modes(const Model& model, const Vector& x, int dim,
   // (lost^T lost, rigid^T rigid) with tiny eigenvalues (an inadmissible motion loses at least
   // one vertex's share, ~1 / num_vertices; the dense solver's round-off is ~1e-16).
   const Matrix g_lost = lost.transpose() * lost, g_rigid = rigid.transpose() * rigid;
-  Eigen::GeneralizedSelfAdjointEigenSolver<Matrix> split(g_lost, g_rigid);
+  Vector split_values;
+  Matrix split_vectors;
+  if (!generalized_symmetric_eigen(g_lost, g_rigid, split_values, split_vectors))
+    throw std::runtime_error("admissible_rigid_modes: the rigid motions are linearly dependent");
   std::vector<Eigen::Index> keep;
-  for (Eigen::Index k = 0; k < split.eigenvalues().size(); ++k)
-    if (split.eigenvalues()[k] < 1e-10) keep.push_back(k);
+  for (Eigen::Index k = 0; k < split_values.size(); ++k)
+    if (split_values[k] < 1e-10) keep.push_back(k);
   if (keep.empty()) return Matrix(elim.num_free(), 0);
-  Matrix modes = y * split.eigenvectors()(Eigen::all, keep);
+  Matrix modes = y * split_vectors(Eigen::all, keep);
   // M-orthonormalize: modes <- modes L^{-T} with L L^T = modes^T M modes.
   const Matrix gram = modes.transpose() * (free_mass_matrix * modes);
   Eigen::LLT<Matrix> llt(gram);

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/solve/sparse_cholesky.hpp"
 
 namespace tailor {
@@ -69,8 +70,9 @@ GeneralizedEigenResult dense_solve(const SparseMatrix& A, const SparseMatrix& B,
   const Matrix a = Matrix(A), b = Matrix(B);
   // Symmetrize: the solvers read one triangle only; averaging makes both count.
   const Matrix as = 0.5 * (a + a.transpose()), bs = 0.5 * (b + b.transpose());
-  Eigen::GeneralizedSelfAdjointEigenSolver<Matrix> solver(as, bs, Eigen::ComputeEigenvectors | Eigen::Ax_lBx);
-  if (solver.info() != Eigen::Success) {
+  Vector values;
+  Matrix vectors;
+  if (!generalized_symmetric_eigen(as, bs, values, vectors)) {
     result.message = "dense generalized eigensolver failed (" + why + "; B may not be positive definite)";
     return result;
   }
@@ -78,7 +80,7 @@ GeneralizedEigenResult dense_solve(const SparseMatrix& A, const SparseMatrix& B,
   const Eigen::Index k = deflation.cols();
   std::vector<Eigen::Index> keep;
   if (k > 0) {
-    const Vector inside = (deflation.transpose() * (bs * solver.eigenvectors())).colwise().squaredNorm();
+    const Vector inside = (deflation.transpose() * (bs * vectors)).colwise().squaredNorm();
     std::vector<Eigen::Index> order(static_cast<std::size_t>(inside.size()));
     for (Eigen::Index i = 0; i < inside.size(); ++i) order[static_cast<std::size_t>(i)] = i;
     std::stable_sort(order.begin(), order.end(), [&](Eigen::Index i, Eigen::Index j) { return inside[i] > inside[j]; });
@@ -89,8 +91,8 @@ GeneralizedEigenResult dense_solve(const SparseMatrix& A, const SparseMatrix& B,
   } else {
     for (Eigen::Index i = 0; i < count; ++i) keep.push_back(i);
   }
-  result.eigenvalues = solver.eigenvalues()(keep);  // ascending
-  result.eigenvectors = solver.eigenvectors()(Eigen::all, keep);
+  result.eigenvalues = values(keep);  // ascending
+  result.eigenvectors = vectors(Eigen::all, keep);
   normalize_signs(result.eigenvectors);
   result.converged = count;
   result.success = true;

@@ -1,10 +1,10 @@
 #include "forward/rig/pose_space_basis.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/SVD>
 #include <set>
 #include <stdexcept>
 
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/reduction/constrained_modes.hpp"
 #include "forward/reduction/mass_orthonormal_basis.hpp"
 #include "forward/reduction/modal_derivatives.hpp"
@@ -31,8 +31,8 @@ Matrix procrustes_rotation(const Matrix& basis, const Matrix& reference, const S
   if (basis.rows() != reference.rows() || basis.cols() != reference.cols() || mass.rows() != basis.rows())
     throw std::invalid_argument("procrustes: bases of different sizes");
   const Matrix cross = basis.transpose() * (mass * reference);
-  Eigen::JacobiSVD<Matrix> svd(cross, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  return svd.matrixU() * svd.matrixV().transpose();
+  const SingularValueDecomposition svd = singular_value_decomposition(cross, true, true);
+  return svd.U * svd.V.transpose();
 }
 
 Matrix example_pose_basis(const Rig& rig, const RiggedBody& body, const Vector& pose, const SparseMatrix& mass,

@@ -1,11 +1,10 @@
 // Free common rigid motions (see free_motions.hpp).
 #include "forward/rigid/free_motions.hpp"
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
 #include <cmath>
 #include <sstream>
 
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/rigid/rigid_body_system.hpp"
 
 namespace tailor::rigid {
@@ -23,19 +22,21 @@ std::vector<FreeMotion> free_motions(const Matrix& motions, const std::vector<in
   }
   double scale = 0.0;
   for (int k = 0; k < 6; ++k) scale = std::max(scale, V.col(k).squaredNorm());
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(gram);
+  Eigen::Matrix<double, 6, 1> gram_values;
+  Eigen::Matrix<double, 6, 6> gram_vectors;
+  symmetric_eigen(gram, gram_values, gram_vectors);
   std::vector<Eigen::Matrix<double, 6, 1>> null;
   for (int k = 0; k < 6; ++k)
-    if (eigen.eigenvalues()[k] <= 1e-10 * scale) null.push_back(eigen.eigenvectors().col(k));
+    if (gram_values[k] <= 1e-10 * scale) null.push_back(gram_vectors.col(k));
   std::vector<FreeMotion> out;
   if (null.empty()) return out;
   // Split the null space into pure translations (no rotation part) and the rest.
   const int k = static_cast<int>(null.size());
   Matrix N(6, k);
   for (int j = 0; j < k; ++j) N.col(j) = null[static_cast<std::size_t>(j)];
-  const Eigen::JacobiSVD<Matrix> svd(N.bottomRows(3), Eigen::ComputeFullV);
-  const Eigen::VectorXd& sigma = svd.singularValues();
-  const Matrix W = N * svd.matrixV();  // columns: combinations by the size of their rotation part
+  const SingularValueDecomposition svd = singular_value_decomposition(N.bottomRows(3), false, true);
+  const Eigen::VectorXd& sigma = svd.singular_values;
+  const Matrix W = N * svd.V;  // columns: combinations by the size of their rotation part
   std::vector<FreeMotion> translations, rotations;
   for (int j = 0; j < k; ++j) {
     FreeMotion m;

@@ -51,7 +51,4 @@ def test_meshless_modes_and_gradcheck(tmp_path):
     check = scene.gradcheck(out_dir=tmp_path / "gradcheck")
     assert check.ok
     assert check["rate1"] >= 1.9
-    # No Python functional for this kind: a SceneError names the kinds that have one.
-    with pytest.raises(tailor.SceneError, match="this is a meshless scene"):
-        scene.functional()
 

@@ -13,6 +13,7 @@
 
 #include "bindings.hpp"
 #include "problems/meshless/meshless_runs.hpp"
+#include "problems/scene_node.hpp"
 
 namespace py = pybind11;
 

@@ -13,6 +13,7 @@
 #include "problems/fem/modes_command.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
+#include "problems/meshless/meshless_runs.hpp"
 #include "problems/scene_kinds.hpp"
 #include "problems/scene_node.hpp"
 #include "python_stream.hpp"
@@ -92,6 +93,23 @@ py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::obj
     fields["rest_positions"] = view(keep, run->setup.mesh.rest_positions);
     fields["elements"] = view(keep, run->setup.mesh.elements);
     code = run->solution.converged ? kSuccess : kFailure;
+  } else if (kind == "meshless") {
+    auto run = without_gil([&] {
+      MeshlessVerbOptions options;
+      options.name = doc.file.name();
+      options.directory = doc.file.directory();
+      options.out_dir = out_dir;
+      apply_thread_flags(VerbArguments{}, std::nullopt);
+      return std::make_shared<MeshlessSimulation>(simulate_meshless(doc.file.node(), options, &out));
+    });
+    const auto keep = owner(run);
+    const MeshlessFields& f = run->fields;
+    for (const auto& [name, array] : {std::pair{"rest_positions", &f.rest_positions}, {"displacement", &f.displacement},
+                                      {"positions", &f.positions}, {"coefficient_displacement", &f.coefficient_displacement},
+                                      {"samples", &f.samples}, {"sample_displacement", &f.sample_displacement}})
+      fields[name] = view(keep, *array);
+    fields["youngs_modulus"] = view(keep, f.youngs_modulus);
+    code = run->converged ? kSuccess : kFailure;
   } else if (kind == "dynamic") {
     code = without_gil([&] {
       const Scene scene = parse_mesh_scene(doc);

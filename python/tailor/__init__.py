@@ -424,7 +424,9 @@ class Scene:
     def simulate(self, out_dir=None, log=None, youngs_modulus=None, poisson_ratio=None):
         """`tailor simulate`: static equilibrium or time integration; the report as a Report.
         Static scenes' fields: displacement, positions, stresses, youngs_modulus, poisson_ratio,
-        density, rest_positions, elements. log: a file-like object for the solver's output (None: quiet).
+        density, rest_positions, elements. Meshless scenes': rest_positions (the nodes),
+        displacement and positions (the MLS field at the nodes), coefficient_displacement,
+        youngs_modulus (per node), samples and sample_displacement. log: a file-like object for the solver's output (None: quiet).
         youngs_modulus, poisson_ratio: per-element values (float64 vectors of one entry per
         element; E > 0, nu in (-1, 0.5)) replacing the scene's for this solve (static scenes;
         a ValueError names the first bad entry)."""

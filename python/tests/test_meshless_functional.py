@@ -133,3 +133,22 @@ def test_functional_needs_an_inverse_section():
     document.pop("inverse")
     with pytest.raises(tailor.SceneError, match=r"bar: functional\(\) needs an \"inverse\" section"):
         tailor.load(document, name="bar").functional()
+
+
+def test_jax_adapter_passes_check_grads(bar_regions):
+    # As python/tests/test_jax.py on the FEM bar; skipped where JAX is not installed.
+    jax = pytest.importorskip("jax", reason="JAX is not installed (not packaged for Debian 12; tailor.jax needs it)")
+    jax.config.update("jax_enable_x64", True)
+    import jax.numpy as jnp
+    from jax.test_util import check_grads
+
+    import tailor.jax
+
+    J = bar_regions
+    tip = np.flatnonzero(J.rest_positions[:, 0] > J.rest_positions[:, 0].max() - 1e-12)[:3]
+    z = jnp.asarray(J.x0 + np.array([0.1, -0.2]))
+    np.testing.assert_allclose(np.asarray(tailor.jax.state(J, z)), J.state(np.asarray(z)), rtol=1e-15)
+    check_grads(lambda z: tailor.jax.state(J, z)[tip], (z,), order=1, modes=("rev",), eps=1e-6, atol=1e-8,
+                rtol=1e-5)
+    check_grads(lambda z: tailor.jax.objective(J, z), (z,), order=1, modes=("rev",), eps=1e-6, atol=1e-10,
+                rtol=1e-5)

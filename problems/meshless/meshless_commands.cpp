@@ -214,9 +214,9 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
   if (log) *log << "frequencies [Hz]: " << m.frequencies.transpose() << "\n";
   if (spec.steps > 0) {
     if (!spec.modal_force && handles.empty()) throw SceneError(spec.source + ": modes.steps: needs modes.force or handles");
-    // Handle springs stiffer than every mode by 1e4: their targets are met to ~1e-4 of the
-    // elastic response (docs/meshless.md, "Modal warping").
-    const double handle_stiffness = 1e4 * eigenvalues.cwiseAbs().maxCoeff();
+    // Handle springs stiffer than every mode by modes.handle_stiffness (default 1e4: their
+    // targets are met to ~1e-4 of the elastic response; docs/meshless.md, "Modal warping").
+    const double handle_stiffness = spec.handle_stiffness * eigenvalues.cwiseAbs().maxCoeff();
     std::unique_ptr<WarpedModalSimulator> simulator;
     try {
       simulator = std::make_unique<WarpedModalSimulator>(ops, eigenvalues, spec.damping, spec.time_step, handles, handle_stiffness);
@@ -269,6 +269,7 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
                                  {"handles", handles.size()},
                                  {"handle_position_error", handle_position_error},
                                  {"handle_rotation_error", handle_rotation_error},
+                                 {"handle_stiffness", handle_stiffness},
                                  {"time_step", spec.time_step},
                                  {"frames", frames.size()},
                                  {"median_seconds_per_step", median_of(step_seconds)},

@@ -93,3 +93,41 @@ def test_meshless_simulate_fields_match_the_clis_point_files(cli, tmp_path):
     np.testing.assert_array_equal(again.point_data["displacement"], f["displacement"])
     np.testing.assert_array_equal(again.point_data["youngs_modulus"], f["youngs_modulus"])
     assert "sample_displacement" not in again.point_data
+
+
+def test_modes_handle_stiffness_is_a_scene_key(tmp_path):
+    # The bar held by nothing but a 90-degree rotation handle at x = 0 in the warped modal
+    # dynamics (as MeshlessScene.RotationHandleTurnsTheWarpedModalBody): the springs' stiffness,
+    # k = modes.handle_stiffness times the largest modal eigenvalue, sets how closely the
+    # handle's nodes reach their targets.
+    document = json.loads(json.dumps(BAR))
+    document.pop("fixed")
+    document.pop("inverse")
+    document["modes"] = {"count": 4, "rayleigh": {"alpha": 4.0, "beta": 0.001}, "steps": 300, "frame_every": 300}
+    document["handles"] = [{"box": {"lo": [-1, -1, -1], "hi": [0, 2, 2]}, "rotation": {"axis": [0, 0, 1], "degrees": 90}}]
+
+    def warped(stiffness=None):
+        d = json.loads(json.dumps(document))
+        if stiffness is not None:
+            d["modes"]["handle_stiffness"] = stiffness
+        report = tailor.load(d, name="bar").modes(count=4, out_dir=tmp_path / f"k{stiffness}")
+        assert report.ok
+        return report["warped_dynamics"]
+
+    default, explicit, soft = warped(), warped(1e4), warped(3.0)
+    # The default is 1e4, as before the key existed.
+    assert default["handle_stiffness"] == explicit["handle_stiffness"]
+    assert default["handle_position_error"] == explicit["handle_position_error"] < 1e-6
+    # Springs only 3 times the stiffest mode leave the handle visibly off its targets.
+    assert soft["handle_stiffness"] == pytest.approx(3e-4 * default["handle_stiffness"], rel=1e-12)
+    assert soft["handle_position_error"] > 1e3 * default["handle_position_error"]
+    for bad, message in ((0, r"modes\.handle_stiffness: expected a number > 0"),
+                         ("stiff", r"modes\.handle_stiffness")):
+        d = json.loads(json.dumps(document))
+        d["modes"]["handle_stiffness"] = bad
+        with pytest.raises(tailor.SceneError, match=message):
+            tailor.load(d, name="bar").modes(count=4)
+    d = json.loads(json.dumps(document))
+    d["modes"]["handle_stifness"] = 1e4
+    with pytest.raises(tailor.SceneError, match=r"bar: modes\.handle_stifness: unknown key"):
+        tailor.load(d, name="bar").modes(count=4)

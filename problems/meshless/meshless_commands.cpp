@@ -309,7 +309,7 @@ bool gradcheck_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& 
   return passed;
 }
 
-bool run_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+MeshlessRun run_meshless(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
   const MeshlessDesign design = load_meshless_design(root, options, "run", log);
   const MeshlessScene& S = *design.scene;
   const MeshlessInverse* inverse = design.inverse.get();
@@ -321,7 +321,9 @@ bool run_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& option
   const double final_value = f.value(result.z);
   const std::filesystem::path dir(options.out_dir);
   std::filesystem::create_directories(dir);
-  write_meshless_fields(meshless_fields(S, meshless_node_values(S), f.state(), f.parameters()), S, dir);
+  MeshlessRun out{result.converged() || result.status == OptimizerStatus::max_iterations, to_string(result.status),
+                  result.z, meshless_fields(S, meshless_node_values(S), f.state(), f.parameters())};
+  write_meshless_fields(out.fields, S, dir);
   nlohmann::ordered_json report;
   report["status"] = to_string(result.status);
   report["message"] = result.message;
@@ -339,7 +341,11 @@ bool run_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& option
   if (log)
     *log << "status " << to_string(result.status) << " after " << result.history.size() << " iterations: J " << initial << " -> "
          << final_value << "\nwrote " << path << ", nodes.vtu and samples.vtu\n";
-  return result.converged() || result.status == OptimizerStatus::max_iterations;
+  return out;
+}
+
+bool run_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+  return run_meshless(root, options, log).succeeded;
 }
 
 }  // namespace tailor

@@ -1,6 +1,6 @@
 #pragma once
 // The meshless verbs as values, for callers that want more than the files (the Python module):
-// simulate's fields, and the scene with its inverse problem as `tailor gradcheck` and `tailor
+// simulate's and run's fields, and the scene with its inverse problem as `tailor gradcheck` and `tailor
 // run` build it (problems/meshless/meshless_commands.cpp; the same functions, no second copy).
 #include <iosfwd>
 #include <memory>
@@ -18,6 +18,15 @@ struct MeshlessSimulation {
 };
 // `tailor simulate` (writes report.json, nodes.vtu and samples.vtu into options.out_dir).
 MeshlessSimulation simulate_meshless(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log);
+
+struct MeshlessRun {
+  bool succeeded = false;  // converged, or stopped at the iteration limit (the command line's exit 0)
+  std::string status;      // the optimizer's
+  Vector design;           // z at the end
+  MeshlessFields fields;   // at the equilibrium of z, with its parameters
+};
+// `tailor run` (writes report.json, nodes.vtu and samples.vtu into options.out_dir).
+MeshlessRun run_meshless(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log);
 
 // The scene and its design functional (inverse depends on scene: declared after it, destroyed first).
 struct MeshlessDesign {

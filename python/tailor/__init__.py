@@ -452,7 +452,8 @@ class Scene:
         """`tailor run`: minimizes the objective with the scene's back-end. Fields: design (z),
         design_values, youngs_modulus (per element), displacement, rest_positions, elements;
         fields["status"] is the optimizer's status ("interrupted" after Ctrl-C: the run stops
-        and still reports).
+        and still reports). Meshless scenes: simulate()'s fields at the best design, design
+        and status.
         progress: one line per iteration to log (default: when log is given)."""
         if progress is None:
             progress = log is not None

@@ -152,3 +152,30 @@ def test_jax_adapter_passes_check_grads(bar_regions):
                 rtol=1e-5)
     check_grads(lambda z: tailor.jax.objective(J, z), (z,), order=1, modes=("rev",), eps=1e-6, atol=1e-10,
                 rtol=1e-5)
+
+
+def test_run_returns_the_recovered_design_and_its_fields(tmp_path):
+    # The tip region's modulus recovered from the field at three nodes along the bar, as
+    # MeshlessScene.GradcheckAndRunRecoverTheTipModulus does from C++: the observations are the
+    # state of the bar whose tip region is twice as stiff (E0 2000 in BAR_REGIONS).
+    truth = tailor.load(BAR_REGIONS, name="truth").functional()
+    u = truth.state(truth.x0)
+    X = truth.rest_positions
+    document = copy.deepcopy(BAR_REGIONS)
+    document["regions"][0]["youngs_modulus"] = 1000
+    document["inverse"]["observations"] = []
+    for x in (1, 2, 3):
+        node = np.flatnonzero(np.all(np.isclose(X, [x, 0.5, 0.5]), axis=1))[0]
+        document["inverse"]["observations"].append({"at": [x, 0.5, 0.5], "displacement": u[node].tolist()})
+    scene = tailor.load(document, name="bar")
+    report = scene.run(out_dir=tmp_path / "run")
+    assert report.ok and report.fields["status"] == "converged", report.fields["status"]
+    # z = log(E / E0) per region [outside the regions, tip]: the tip's modulus doubles.
+    np.testing.assert_allclose(report.fields["design"], [0, np.log(2)], atol=1e-6)
+    np.testing.assert_allclose(report.fields["design"], report["z"], rtol=0, atol=0)
+    tip = report.fields["rest_positions"][:, 0] >= 1.5
+    np.testing.assert_allclose(report.fields["youngs_modulus"][tip], 2000, rtol=1e-5)
+    np.testing.assert_allclose(report.fields["displacement"], u, atol=1e-6 * np.abs(u).max())
+    # SciPy on the functional from Python reaches the same design.
+    result = tailor.scipy_minimize(scene.functional())
+    np.testing.assert_allclose(result.x, report.fields["design"], atol=1e-6)

@@ -13,6 +13,7 @@
 #include "problems/fem/modes_command.hpp"
 #include "problems/fem/scene.hpp"
 #include "problems/json_text.hpp"
+#include "problems/meshless/meshless_runs.hpp"
 #include "problems/scene_kinds.hpp"
 #include "problems/scene_node.hpp"
 #include "python_stream.hpp"
@@ -63,6 +64,15 @@ std::shared_ptr<const void> owner(const std::shared_ptr<T>& p) {
   return std::static_pointer_cast<const void>(p);
 }
 
+// A meshless solid's fields (problems/meshless/meshless_fields.hpp) as views kept alive by `keep`.
+void add_meshless_fields(py::dict& fields, const std::shared_ptr<const void>& keep, const MeshlessFields& f) {
+  for (const auto& [name, array] : {std::pair{"rest_positions", &f.rest_positions}, {"displacement", &f.displacement},
+                                    {"positions", &f.positions}, {"coefficient_displacement", &f.coefficient_displacement},
+                                    {"samples", &f.samples}, {"sample_displacement", &f.sample_displacement}})
+    fields[name] = view(keep, *array);
+  fields["youngs_modulus"] = view(keep, f.youngs_modulus);
+}
+
 // youngs_modulus and poisson_ratio: per-element values replacing the scene's (static scenes).
 py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::object log,
                    std::optional<Eigen::VectorXd> youngs_modulus,
@@ -92,6 +102,17 @@ py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::obj
     fields["rest_positions"] = view(keep, run->setup.mesh.rest_positions);
     fields["elements"] = view(keep, run->setup.mesh.elements);
     code = run->solution.converged ? kSuccess : kFailure;
+  } else if (kind == "meshless") {
+    auto run = without_gil([&] {
+      MeshlessVerbOptions options;
+      options.name = doc.file.name();
+      options.directory = doc.file.directory();
+      options.out_dir = out_dir;
+      apply_thread_flags(VerbArguments{}, std::nullopt);
+      return std::make_shared<MeshlessSimulation>(simulate_meshless(doc.file.node(), options, &out));
+    });
+    add_meshless_fields(fields, owner(run), run->fields);
+    code = run->converged ? kSuccess : kFailure;
   } else if (kind == "dynamic") {
     code = without_gil([&] {
       const Scene scene = parse_mesh_scene(doc);
@@ -183,6 +204,20 @@ py::tuple run(const SceneDocument& doc, const std::string& out_dir, py::object l
     fields["elements"] = view(keep, result->problem->setup.mesh.elements);
     fields["status"] = to_string(result->result.status);
     code = result->result.converged() ? kSuccess : kFailure;
+  } else if (kind == "meshless" && !checkpoint_every && !resume) {  // the handler refuses those flags
+    auto result = without_gil([&] {
+      MeshlessVerbOptions options;
+      options.name = doc.file.name();
+      options.directory = doc.file.directory();
+      options.out_dir = out_dir;
+      options.progress = progress ? &out : nullptr;
+      apply_thread_flags(VerbArguments{}, std::nullopt);
+      return std::make_shared<MeshlessRun>(run_meshless(doc.file.node(), options, &out));
+    });
+    add_meshless_fields(fields, owner(result), result->fields);
+    fields["design"] = view(owner(result), result->design);
+    fields["status"] = result->status;
+    code = result->succeeded ? kSuccess : kFailure;
   } else {
     code = without_gil([&] {
       VerbArguments args;

@@ -28,6 +28,7 @@ void bind_functional(pybind11::module_& m);
 void bind_rod_functional(pybind11::module_& m);
 void bind_dynamic_functional(pybind11::module_& m);
 void bind_cell_functional(pybind11::module_& m);
+void bind_meshless_functional(pybind11::module_& m);
 
 // The static or dynamic scene (docs/scenes.md), named as the command line names it, with its
 // solver.threads applied as the command line does.

@@ -36,4 +36,5 @@ PYBIND11_MODULE(_tailor, m) {
   tailor::python::bind_rod_functional(m);
   tailor::python::bind_dynamic_functional(m);
   tailor::python::bind_cell_functional(m);
+  tailor::python::bind_meshless_functional(m);
 }

@@ -11,7 +11,7 @@
 #include "forward/reduction/modal_analysis.hpp"
 #include "forward/solve/newton.hpp"
 #include "problems/json_text.hpp"
-#include "problems/meshless/meshless_scene.hpp"
+#include "problems/meshless/meshless_runs.hpp"
 #include "problems/meshless/meshless_vtu.hpp"
 #include "problems/optimizer_report.hpp"
 #include "problems/report_file.hpp"
@@ -71,25 +71,18 @@ nlohmann::ordered_json meshless_discretization_json(const MeshlessScene& S) {
   return j;
 }
 
-// The MLS field's displacement at the samples (3 per sample).
-Eigen::VectorXd meshless_sample_displacements(const MeshlessScene& S, const Vector& x) {
-  const Vector u = x - S.rest();
-  Eigen::VectorXd out(3 * S.samples.rows());
-  for (Eigen::Index i = 0; i < S.samples.rows(); ++i) out.segment<3>(3 * i) = S.mls->interpolate(u, S.samples.row(i).transpose());
-  return out;
-}
-
-void write_meshless_fields(const MeshlessScene& S, const Vector& x, const Vector& p, const std::filesystem::path& dir) {
+void write_meshless_fields(const MeshlessFields& f, const MeshlessScene& S, const std::filesystem::path& dir) {
   const int n = S.num_nodes();
   Eigen::VectorXd region(n);
   for (int a = 0; a < n; ++a) region[a] = S.region_of_node[static_cast<std::size_t>(a)];
   write_points_vtu((dir / "nodes.vtu").string(), S.sampling.nodes,
-                   {{"coefficient_displacement", 3, x - S.rest()},
-                    {"youngs_modulus", 1, p.head(n)},
+                   {{"displacement", 3, as_interleaved(f.displacement)},
+                    {"coefficient_displacement", 3, as_interleaved(f.coefficient_displacement)},
+                    {"youngs_modulus", 1, f.youngs_modulus},
                     {"region", 1, region},
                     {"node_level", 1, S.sampling.level.cast<double>()},
                     {"support_radius", 1, S.mls->options().support_factor * S.patch_spacing}});
-  write_points_vtu((dir / "samples.vtu").string(), S.samples, {{"displacement", 3, meshless_sample_displacements(S, x)}});
+  write_points_vtu((dir / "samples.vtu").string(), S.samples, {{"displacement", 3, as_interleaved(f.sample_displacement)}});
 }
 
 double median_of(std::vector<double> v) {
@@ -100,7 +93,17 @@ double median_of(std::vector<double> v) {
 
 }  // namespace
 
-bool simulate_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+MeshlessDesign load_meshless_design(const SceneNode& root, const MeshlessVerbOptions& options, const std::string& verb,
+                                    std::ostream* log) {
+  MeshlessDesign design;
+  design.scene = load_meshless(root, options, log);
+  if (!design.scene->spec.inverse)
+    throw SceneError(design.scene->spec.source + ": " + verb + " needs an \"inverse\" section");
+  design.inverse = build_meshless_inverse(*design.scene);
+  return design;
+}
+
+MeshlessSimulation simulate_meshless(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
   const auto scene = load_meshless(root, options, log);
   const MeshlessScene& S = *scene;
   NewtonOptions newton;
@@ -111,10 +114,11 @@ bool simulate_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& o
   const Vector x = S.model->elimination().expand(y);
   const std::filesystem::path dir(options.out_dir);
   std::filesystem::create_directories(dir);
-  write_meshless_fields(S, x, S.p, dir);
-  const Eigen::VectorXd u = meshless_sample_displacements(S, x);
+  MeshlessSimulation out{r.converged(), meshless_fields(S, meshless_node_values(S), x, S.p)};
+  write_meshless_fields(out.fields, S, dir);
   double largest = 0.0;
-  for (Eigen::Index i = 0; i < u.size() / 3; ++i) largest = std::max(largest, u.segment<3>(3 * i).norm());
+  for (Eigen::Index i = 0; i < out.fields.sample_displacement.rows(); ++i)
+    largest = std::max(largest, out.fields.sample_displacement.row(i).norm());
   nlohmann::ordered_json report;
   report["scene"] = S.spec.name;
   report["discretization"] = meshless_discretization_json(S);
@@ -126,7 +130,11 @@ bool simulate_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& o
   if (log)
     *log << (r.converged() ? "converged" : "NOT converged") << " after " << r.iterations << " Newton iterations; largest sample displacement "
          << largest << "\nwrote " << path << ", nodes.vtu and samples.vtu\n";
-  return r.converged();
+  return out;
+}
+
+bool simulate_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+  return simulate_meshless(root, options, log).converged;
 }
 
 bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
@@ -206,9 +214,9 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
   if (log) *log << "frequencies [Hz]: " << m.frequencies.transpose() << "\n";
   if (spec.steps > 0) {
     if (!spec.modal_force && handles.empty()) throw SceneError(spec.source + ": modes.steps: needs modes.force or handles");
-    // Handle springs stiffer than every mode by 1e4: their targets are met to ~1e-4 of the
-    // elastic response (docs/meshless.md, "Modal warping").
-    const double handle_stiffness = 1e4 * eigenvalues.cwiseAbs().maxCoeff();
+    // Handle springs stiffer than every mode by modes.handle_stiffness (default 1e4: their
+    // targets are met to ~1e-4 of the elastic response; docs/meshless.md, "Modal warping").
+    const double handle_stiffness = spec.handle_stiffness * eigenvalues.cwiseAbs().maxCoeff();
     std::unique_ptr<WarpedModalSimulator> simulator;
     try {
       simulator = std::make_unique<WarpedModalSimulator>(ops, eigenvalues, spec.damping, spec.time_step, handles, handle_stiffness);
@@ -261,6 +269,7 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
                                  {"handles", handles.size()},
                                  {"handle_position_error", handle_position_error},
                                  {"handle_rotation_error", handle_rotation_error},
+                                 {"handle_stiffness", handle_stiffness},
                                  {"time_step", spec.time_step},
                                  {"frames", frames.size()},
                                  {"median_seconds_per_step", median_of(step_seconds)},
@@ -275,9 +284,9 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
 }
 
 bool gradcheck_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
-  const auto scene = load_meshless(root, options, log);
-  if (!scene->spec.inverse) throw SceneError(scene->spec.source + ": gradcheck needs an \"inverse\" section");
-  const auto inverse = build_meshless_inverse(*scene);
+  const MeshlessDesign design = load_meshless_design(root, options, "gradcheck", log);
+  const MeshlessScene* scene = design.scene.get();
+  const MeshlessInverse* inverse = design.inverse.get();
   TaylorTestOptions taylor;
   taylor.seed = options.seed.value_or(scene->spec.inverse->seed);
   const TaylorTestResult gradient = taylor_test(*inverse->functional, inverse->z0, taylor);
@@ -300,11 +309,10 @@ bool gradcheck_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& 
   return passed;
 }
 
-bool run_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
-  const auto scene = load_meshless(root, options, log);
-  const MeshlessScene& S = *scene;
-  if (!S.spec.inverse) throw SceneError(S.spec.source + ": run needs an \"inverse\" section");
-  const auto inverse = build_meshless_inverse(S);
+MeshlessRun run_meshless(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+  const MeshlessDesign design = load_meshless_design(root, options, "run", log);
+  const MeshlessScene& S = *design.scene;
+  const MeshlessInverse* inverse = design.inverse.get();
   StaticFunctional& f = *inverse->functional;
   OptimizerOptions optimizer = S.spec.inverse->optimizer;
   optimizer.progress = options.progress;
@@ -313,7 +321,9 @@ bool run_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& option
   const double final_value = f.value(result.z);
   const std::filesystem::path dir(options.out_dir);
   std::filesystem::create_directories(dir);
-  write_meshless_fields(S, f.state(), f.parameters(), dir);
+  MeshlessRun out{result.converged() || result.status == OptimizerStatus::max_iterations, to_string(result.status),
+                  result.z, meshless_fields(S, meshless_node_values(S), f.state(), f.parameters())};
+  write_meshless_fields(out.fields, S, dir);
   nlohmann::ordered_json report;
   report["status"] = to_string(result.status);
   report["message"] = result.message;
@@ -331,7 +341,11 @@ bool run_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& option
   if (log)
     *log << "status " << to_string(result.status) << " after " << result.history.size() << " iterations: J " << initial << " -> "
          << final_value << "\nwrote " << path << ", nodes.vtu and samples.vtu\n";
-  return result.converged() || result.status == OptimizerStatus::max_iterations;
+  return out;
+}
+
+bool run_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+  return run_meshless(root, options, log).succeeded;
 }
 
 }  // namespace tailor

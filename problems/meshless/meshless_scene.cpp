@@ -157,7 +157,7 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
     if (solver->has("max_newton_iterations")) spec.max_newton_iterations = solver->at("max_newton_iterations").integer(1);
   }
   if (const auto modes = root.find("modes")) {
-    modes->expect_keys({"count", "rayleigh", "time_step", "steps", "force", "frame_every"});
+    modes->expect_keys({"count", "rayleigh", "time_step", "steps", "force", "frame_every", "handle_stiffness"});
     if (modes->has("count")) spec.mode_count = modes->at("count").integer(1);
     if (const auto r = modes->find("rayleigh")) {
       r->expect_keys({"alpha", "beta"});
@@ -168,6 +168,7 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
     if (modes->has("steps")) spec.steps = modes->at("steps").integer(0);
     if (modes->has("frame_every")) spec.frame_every = modes->at("frame_every").integer(1);
     if (const auto f = modes->find("force")) spec.modal_force = parse_meshless_force(*f);
+    if (modes->has("handle_stiffness")) spec.handle_stiffness = modes->at("handle_stiffness").positive();
   }
   if (const auto inv = root.find("inverse")) {
     inv->expect_keys({"design", "per", "observations", "regularization", "optimizer", "gradcheck"});

@@ -70,6 +70,10 @@ struct MeshlessSceneSpec {
   double time_step = 0.01;
   int steps = 0;  // warped modal frames to simulate (0: none)
   std::optional<MeshlessPointForce> modal_force;  // applied during the first half of the steps
+  // The handles' spring stiffness k in the warped dynamics, as a multiple of the largest modal
+  // eigenvalue (docs/meshless.md, "Modal warping"): 1e4 meets the targets to ~1e-4 of the
+  // elastic response; smaller values leave the handles soft.
+  double handle_stiffness = 1e4;
   int frame_every = 10;
   // Inverse design.
   struct Inverse {

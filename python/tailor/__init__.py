@@ -37,6 +37,7 @@ try:
     from ._tailor import DynamicFunctional as _DynamicFunctional
     from ._tailor import CellFunctional as _CellFunctional
     from ._tailor import RodFunctional as _RodFunctional
+    from ._tailor import MeshlessFunctional as _MeshlessFunctional
     from ._tailor import Scene as _Scene
 except ImportError as _error:
     import sys as _sys
@@ -46,7 +47,7 @@ from .optimize import scipy_minimize
 from .studio import studio
 
 __all__ = [
-    "CellFunctional", "DynamicFunctional", "EvaluationError", "Functional", "MeshError", "Report", "RodFunctional", "Scene",
+    "CellFunctional", "DynamicFunctional", "EvaluationError", "Functional", "MeshError", "MeshlessFunctional", "Report", "RodFunctional", "Scene",
     "SceneError", "__version__",
     "fields", "gradcheck", "homogenize", "load", "modes", "run", "scipy_minimize", "simulate",
 ]
@@ -250,6 +251,37 @@ class RodFunctional(_FunctionalBase, _StaticProducts):
         self._name, self._source = scene.name, scene.source
 
 
+class MeshlessFunctional(_FunctionalBase, _StaticProducts):
+    """J(z) of a meshless scene's inverse problem (docs/meshless.md, "Scenes"), as `tailor run`
+    and `tailor gradcheck` see it: z is log E per region (the first variable the nodes outside
+    every region) or per node, J the observations' misfit (plus the regularization); value,
+    gradient, Hessian-vector and Gauss-Newton products, taylor_test(). The design is unbounded.
+
+    The state is the MLS field's displacement at the nodes, u(X_b) = sum_a phi_a(X_b) (x_a - X_a),
+    one row per node (num_nodes x 3, float64; rest_positions are the nodes). The DOFs x_a are
+    coefficients, not values (MLS shape functions do not interpolate); vjp(z, dL_du) and jvp(z, dz)
+    act on the values through that linear map. fields(z) adds the coefficients, the samples with
+    their displacement and E per node.
+    """
+
+    bounds = None
+
+    def __init__(self, scene):
+        self._f = _MeshlessFunctional(scene._doc)
+        self._name, self._source = scene.name, scene.source
+
+    def fields(self, z):
+        """The fields at the equilibrium of z, as simulate()'s (float64 copies): rest_positions,
+        displacement and positions (num_nodes x 3, the field's values at the nodes),
+        coefficient_displacement (x_a - X_a), youngs_modulus (per node), samples and
+        sample_displacement (num_samples x 3)."""
+        return self._f.fields(np.asarray(z, dtype=np.float64))
+
+    def youngs_modulus(self, z):
+        """E per node at z."""
+        return self.fields(z)["youngs_modulus"]
+
+
 class DynamicFunctional(_FunctionalBase):
     """J(z) of a dynamic scene's trajectory objective (dynamics.objective, docs/scenes.md), as
     `tailor gradcheck` tests it: the design is log E and log density per element and, with
@@ -392,7 +424,9 @@ class Scene:
     def simulate(self, out_dir=None, log=None, youngs_modulus=None, poisson_ratio=None):
         """`tailor simulate`: static equilibrium or time integration; the report as a Report.
         Static scenes' fields: displacement, positions, stresses, youngs_modulus, poisson_ratio,
-        density, rest_positions, elements. log: a file-like object for the solver's output (None: quiet).
+        density, rest_positions, elements. Meshless scenes': rest_positions (the nodes),
+        displacement and positions (the MLS field at the nodes), coefficient_displacement,
+        youngs_modulus (per node), samples and sample_displacement. log: a file-like object for the solver's output (None: quiet).
         youngs_modulus, poisson_ratio: per-element values (float64 vectors of one entry per
         element; E > 0, nu in (-1, 0.5)) replacing the scene's for this solve (static scenes;
         a ValueError names the first bad entry)."""
@@ -418,7 +452,8 @@ class Scene:
         """`tailor run`: minimizes the objective with the scene's back-end. Fields: design (z),
         design_values, youngs_modulus (per element), displacement, rest_positions, elements;
         fields["status"] is the optimizer's status ("interrupted" after Ctrl-C: the run stops
-        and still reports).
+        and still reports). Meshless scenes: simulate()'s fields at the best design, design
+        and status.
         progress: one line per iteration to log (default: when log is given)."""
         if progress is None:
             progress = log is not None
@@ -438,7 +473,8 @@ class Scene:
 
     def functional(self):
         """The reduced functional of the scene's inverse problem: a Functional for static FEM
-        scenes, a RodFunctional for rod scenes (each with an "inverse" section), a
+        scenes, a RodFunctional for rod scenes, a MeshlessFunctional for meshless scenes (each
+        with an "inverse" section), a
         DynamicFunctional for dynamic scenes (of their dynamics.objective), a CellFunctional for
         periodic cells with a "design" section; other kinds are a SceneError naming the
         supported ones."""
@@ -450,8 +486,10 @@ class Scene:
             return DynamicFunctional(self)
         if self.kind == "cell_design":
             return CellFunctional(self)
-        raise SceneError(f"{self.source}: functional() needs a static FEM or a rods scene with an \"inverse\" "
-                         f"section, a dynamic scene with a dynamics.objective, or a periodic cell with a "
+        if self.kind == "meshless":
+            return MeshlessFunctional(self)
+        raise SceneError(f"{self.source}: functional() needs a static FEM, a rods or a meshless scene with an "
+                         f"\"inverse\" section, a dynamic scene with a dynamics.objective, or a periodic cell with a "
                          f"\"design\" section; this is a {self.kind} scene (its designs run through run() and "
                          f"gradcheck(), docs/python.md)")
 

@@ -4,22 +4,27 @@ A field set is a dict of NumPy arrays with the mesh: "rest_positions" (num_verti
 "elements" (num_elements x (dim + 1), int32), plus per-vertex arrays (num_vertices rows:
 displacement, positions) and per-element arrays (num_elements rows: youngs_modulus, stresses).
 A report's fields (Report.fields) and a functional's fields at a design (Functional.fields(z))
-are such sets. meshio (Debian python3-meshio) and matplotlib (python3-matplotlib) are imported
-only when used.
+are such sets. A point set without "elements" (the nodes of a meshless solid) is written as one
+vertex cell per point; its "samples" and "sample_*" arrays index another point set and are left
+out (pass {"rest_positions": f["samples"], "displacement": f["sample_displacement"]} for those).
+meshio (Debian python3-meshio) and matplotlib (python3-matplotlib) are imported only when used.
 """
 from __future__ import annotations
 
 import numpy as np
 
 _POINT_NAMES = {"displacement", "positions", "rest_positions"}
-_CELL_TYPES = {(2, 3): "triangle", (3, 4): "tetra"}
+_CELL_TYPES = {(2, 3): "triangle", (3, 4): "tetra", (2, 1): "vertex", (3, 1): "vertex"}
 
 
 def _mesh(fields):
-    if "rest_positions" not in fields or "elements" not in fields:
-        raise ValueError("these fields have no mesh (rest_positions and elements); "
-                         "only reports of simulate and run, and Functional.fields(z), have one")
+    """(points, elements): elements are one vertex cell per point for a point set (no "elements")."""
+    if "rest_positions" not in fields:
+        raise ValueError("these fields have no mesh or points (rest_positions); "
+                         "only reports of simulate and run, and the functionals' fields(z), have one")
     points = np.asarray(fields["rest_positions"], dtype=np.float64)
+    if "elements" not in fields:
+        return points, np.arange(points.shape[0]).reshape(-1, 1)
     elements = np.asarray(fields["elements"])
     return points, elements
 
@@ -27,12 +32,15 @@ def _mesh(fields):
 def split(fields):
     """(point_data, cell_data): the arrays of `fields` by what their rows index."""
     points, elements = _mesh(fields)
+    point_set = "elements" not in fields  # its per-point arrays are point data
     point_data, cell_data = {}, {}
     for name, value in fields.items():
         if name in ("rest_positions", "elements") or not isinstance(value, np.ndarray) or value.ndim == 0:
             continue
+        if name == "samples" or name.startswith("sample_"):
+            continue
         rows = value.shape[0]
-        if rows == points.shape[0] and (name in _POINT_NAMES or rows != elements.shape[0]):
+        if rows == points.shape[0] and (point_set or name in _POINT_NAMES or rows != elements.shape[0]):
             point_data[name] = value
         elif rows == elements.shape[0]:
             cell_data[name] = value
@@ -40,8 +48,9 @@ def split(fields):
 
 
 def to_meshio(fields):
-    """The fields as a meshio.Mesh: rest positions (padded to 3D), the simplices, per-vertex
-    arrays as point data and per-element arrays as cell data."""
+    """The fields as a meshio.Mesh: rest positions (padded to 3D), the simplices (a vertex cell
+    per point for a point set), per-vertex arrays as point data and per-element arrays as cell
+    data."""
     import meshio
 
     points, elements = _mesh(fields)
@@ -70,6 +79,8 @@ def plot(fields, name="youngs_modulus", ax=None, deformed=True):
     import matplotlib.pyplot as plt
 
     points, elements = _mesh(fields)
+    if "elements" not in fields:
+        raise ValueError("plot draws per-element fields of a mesh; these fields are a point set")
     values = np.asarray(fields[name])
     if values.ndim != 1 or values.shape[0] != elements.shape[0]:
         raise ValueError(f"{name!r} is not a per-element scalar field")

@@ -60,8 +60,8 @@ def test_verbs_that_need_an_inverse_section():
 
 
 def test_functional_of_another_kind_names_the_supported_ones():
-    with pytest.raises(tailor.SceneError, match=r"box_drop\.json: functional\(\) needs a static FEM or a "
-                       r"rods scene with an \"inverse\" section, a dynamic scene with a dynamics\.objective, "
+    with pytest.raises(tailor.SceneError, match=r"box_drop\.json: functional\(\) needs a static FEM, a rods "
+                       r"or a meshless scene with an \"inverse\" section, a dynamic scene with a dynamics\.objective, "
                        r"or a periodic cell with a \"design\" section; this is a rigid_bodies scene"):
         tailor.load(str(scene_path("contact/box_drop.json"))).functional()
 

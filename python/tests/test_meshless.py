@@ -51,7 +51,83 @@ def test_meshless_modes_and_gradcheck(tmp_path):
     check = scene.gradcheck(out_dir=tmp_path / "gradcheck")
     assert check.ok
     assert check["rate1"] >= 1.9
-    # No Python functional for this kind: a SceneError names the kinds that have one.
-    with pytest.raises(tailor.SceneError, match="this is a meshless scene"):
-        scene.functional()
 
+
+
+def test_meshless_simulate_fields_match_the_clis_point_files(cli, tmp_path):
+    # simulate()'s arrays against the VTU files and the report `tailor simulate` writes.
+    meshio = pytest.importorskip("meshio", reason="meshio is not installed (python3-meshio)")
+    import numpy as np
+
+    report = tailor.load(BAR, name="bar").simulate(out_dir=tmp_path / "python")
+    f = report.fields
+    assert f["rest_positions"].shape == (63, 3) and f["displacement"].shape == (63, 3)
+    assert f["coefficient_displacement"].shape == (63, 3) and f["youngs_modulus"].shape == (63,)
+    assert f["samples"].shape == f["sample_displacement"].shape == (192, 3)
+    np.testing.assert_array_equal(f["positions"], f["rest_positions"] + f["displacement"])
+    np.testing.assert_array_equal(f["youngs_modulus"], 1000)
+    path = tmp_path / "bar.json"
+    path.write_text(json.dumps(BAR))
+    code, output = cli("simulate", path, tmp_path / "cli")
+    assert code == 0, output
+    samples = meshio.read(tmp_path / "cli" / "samples.vtu")
+    np.testing.assert_allclose(samples.points, f["samples"], rtol=1e-9)  # the VTU holds 10 digits
+    np.testing.assert_allclose(samples.point_data["displacement"], f["sample_displacement"], rtol=1e-9, atol=1e-14)
+    largest = np.linalg.norm(f["sample_displacement"], axis=1).max()
+    assert read_json(tmp_path / "cli" / "report.json")["max_sample_displacement"] == pytest.approx(largest, rel=1e-12)
+    nodes = meshio.read(tmp_path / "cli" / "nodes.vtu")
+    for name in ("displacement", "coefficient_displacement", "youngs_modulus"):
+        np.testing.assert_allclose(nodes.point_data[name].reshape(f[name].shape), f[name], rtol=1e-9, atol=1e-14)
+    # The field at the nodes is the shape functions' combination of the coefficients: at the tip
+    # node (3, 0.5, 0.5), where the force acts, its value equals the field the samples interpolate
+    # there to the Newton tolerance, and neither equals the node's own coefficient.
+    tip = np.flatnonzero(np.all(np.isclose(f["rest_positions"], [3, 0.5, 0.5]), axis=1))[0]
+    assert abs(f["displacement"][tip, 2] - f["coefficient_displacement"][tip, 2]) > 1e-4 * abs(f["displacement"][tip, 2])
+    # The functional at z0 solves the same equilibrium.
+    J = tailor.load(BAR, name="bar").functional()
+    np.testing.assert_allclose(J.state(J.x0), f["displacement"], rtol=0, atol=1e-9 * np.abs(f["displacement"]).max())
+    # The nodes as a point set through meshio (one vertex cell each), written and read back.
+    report.write(tmp_path / "nodes_again.vtu")
+    again = meshio.read(tmp_path / "nodes_again.vtu")
+    assert again.cells[0].type == "vertex" and len(again.cells[0].data) == 63
+    np.testing.assert_array_equal(again.point_data["displacement"], f["displacement"])
+    np.testing.assert_array_equal(again.point_data["youngs_modulus"], f["youngs_modulus"])
+    assert "sample_displacement" not in again.point_data
+
+
+def test_modes_handle_stiffness_is_a_scene_key(tmp_path):
+    # The bar held by nothing but a 90-degree rotation handle at x = 0 in the warped modal
+    # dynamics (as MeshlessScene.RotationHandleTurnsTheWarpedModalBody): the springs' stiffness,
+    # k = modes.handle_stiffness times the largest modal eigenvalue, sets how closely the
+    # handle's nodes reach their targets.
+    document = json.loads(json.dumps(BAR))
+    document.pop("fixed")
+    document.pop("inverse")
+    document["modes"] = {"count": 4, "rayleigh": {"alpha": 4.0, "beta": 0.001}, "steps": 300, "frame_every": 300}
+    document["handles"] = [{"box": {"lo": [-1, -1, -1], "hi": [0, 2, 2]}, "rotation": {"axis": [0, 0, 1], "degrees": 90}}]
+
+    def warped(stiffness=None):
+        d = json.loads(json.dumps(document))
+        if stiffness is not None:
+            d["modes"]["handle_stiffness"] = stiffness
+        report = tailor.load(d, name="bar").modes(count=4, out_dir=tmp_path / f"k{stiffness}")
+        assert report.ok
+        return report["warped_dynamics"]
+
+    default, explicit, soft = warped(), warped(1e4), warped(3.0)
+    # The default is 1e4, as before the key existed.
+    assert default["handle_stiffness"] == explicit["handle_stiffness"]
+    assert default["handle_position_error"] == explicit["handle_position_error"] < 1e-6
+    # Springs only 3 times the stiffest mode leave the handle visibly off its targets.
+    assert soft["handle_stiffness"] == pytest.approx(3e-4 * default["handle_stiffness"], rel=1e-12)
+    assert soft["handle_position_error"] > 1e3 * default["handle_position_error"]
+    for bad, message in ((0, r"modes\.handle_stiffness: expected a number > 0"),
+                         ("stiff", r"modes\.handle_stiffness")):
+        d = json.loads(json.dumps(document))
+        d["modes"]["handle_stiffness"] = bad
+        with pytest.raises(tailor.SceneError, match=message):
+            tailor.load(d, name="bar").modes(count=4)
+    d = json.loads(json.dumps(document))
+    d["modes"]["handle_stifness"] = 1e4
+    with pytest.raises(tailor.SceneError, match=r"bar: modes\.handle_stifness: unknown key"):
+        tailor.load(d, name="bar").modes(count=4)

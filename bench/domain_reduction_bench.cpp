@@ -265,7 +265,7 @@ struct TwistRow {
   bool rotations = false;
   int r = 0, completed = 0;
   double precompute_s = 0, steps_per_s = 0, newton_per_step = 0, final_energy = 0, largest_energy = 0;
-  double smallest_volume_ratio = 1, trajectory_error = 0, tip_angle = 0;
+  double smallest_volume_ratio = 1, trajectory_error = 0, tip_angle = 0, largest_tip_angle = 0;
   std::string message;
 };
 
@@ -369,6 +369,7 @@ TwistRow twist_run(const std::string& kind, const std::string& blend, const benc
     row.largest_energy = std::max(row.largest_energy, row.final_energy);
     row.smallest_volume_ratio = std::min(row.smallest_volume_ratio, dynamics.smallest_volume_ratio(state.u));
     row.tip_angle = twist_angle(mesh, bar.tip_vertices, state.u);
+    row.largest_tip_angle = std::max(row.largest_tip_angle, std::abs(row.tip_angle));
     if (trajectory) trajectory->col(n + 1) = state.u;
     if (reference.cols() > n + 1) {
       const Vector e = state.u - reference.col(n + 1);
@@ -380,10 +381,10 @@ TwistRow twist_run(const std::string& kind, const std::string& blend, const benc
   row.newton_per_step = row.completed > 0 ? static_cast<double>(newton_total) / row.completed : 0.0;
   row.trajectory_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : std::nan("");
   if (row.message.empty()) row.message = "all steps converged";
-  std::printf("  %-12s %-10s r = %4d: %d/%d steps, E last %.4g (largest %.4g), min J %.3f, twist %.2f rad, "
-              "error %.3e, %.1f steps/s, %.2f Newton/step; %s\n",
-              row.basis.c_str(), blend.c_str(), row.r, row.completed, t.steps, row.final_energy,
-              row.largest_energy, row.smallest_volume_ratio, row.tip_angle, row.trajectory_error, row.steps_per_s,
+  std::printf("  %-12s %-10s r = %4d: %d/%d steps, E last %.4g (largest %.4g), min J %.3f, twist %.2f rad "
+              "(largest %.2f), error %.3e, %.1f steps/s, %.2f Newton/step; %s\n",
+              row.basis.c_str(), blend.c_str(), row.r, row.completed, t.steps, row.final_energy, row.largest_energy,
+              row.smallest_volume_ratio, row.tip_angle, row.largest_tip_angle, row.trajectory_error, row.steps_per_s,
               row.newton_per_step, row.message.c_str());
   std::fflush(stdout);
   return row;
@@ -469,6 +470,7 @@ int run_twist(const TwistSettings& t, const std::string& out) {
                        {"largest_energy", r.largest_energy},
                        {"smallest_volume_ratio", r.smallest_volume_ratio},
                        {"twist_angle", r.tip_angle},
+                       {"largest_twist_angle", r.largest_tip_angle},
                        {"trajectory_error", r.trajectory_error},
                        {"precompute_s", r.precompute_s},
                        {"steps_per_s", r.steps_per_s},

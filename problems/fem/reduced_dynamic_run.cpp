@@ -228,8 +228,12 @@ DynamicRun simulate_reduced_dynamic_scene(const Scene& scene, const std::string&
                                                       : RotationBlend::quaternion;
     r.max_newton_iterations = options.max_newton_iterations;
     r.newton_tolerance = options.newton_tolerance;
-    turning = std::make_unique<RotatingSubspaceDynamics>(*s.elastic, mesh, s.p0, s.x0, s.mass, s.loads, basis,
-                                                         weights, r);
+    try {
+      turning = std::make_unique<RotatingSubspaceDynamics>(*s.elastic, mesh, s.p0, s.x0, s.mass, s.loads, basis,
+                                                           weights, r);
+    } catch (const std::invalid_argument& e) {
+      reduction_fail(scene, reduction.key + ".rotations", e.what());
+    }
   } else {
     dynamics = std::make_unique<ReducedDynamics>(*energy, options, Matrix(), load);
   }

@@ -26,7 +26,9 @@
 //          [--overlap-layers 2] [--youngs 5e6] [--bases global,domains,overlapping] [--no-reference]
 //          [--out FILE]
 //        domain_reduction_bench --twist T [--twist-cells 24] [--twist-steps 40] [--twist-size 51]
-//          [--twist-domains 6]   (the twisted bar with per-domain rotations, below)
+//          [--twist-domains 6] [--twist-load end|distributed] [--twist-bend g] [--twist-time-step 0.02]
+//          [--twist-material stvk|neo_hookean] [--twist-interface-modes 6] [--twist-fixed-interface-modes 4]
+//          [--twist-blends linear,quaternion,nearest]   (the twisted bar with per-domain rotations, below)
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -234,24 +236,36 @@ Row run_basis(const std::string& kind, const Scene& scene, const Settings& s, co
 
 // ---- Large rotations: a bar twisted by a dead torque (docs/reduction.md, "Per-domain rotations").
 // A 4 x 0.5 x 0.5 StVK bar (E = 1e6, nu = 0.3, density 100, consistent mass), clamped at x = 0,
-// no gravity; a dead torque T about the bar's axis on its free end (tangential forces on the end
-// vertices, f_v = T (e_x x r_v) / sum |r_v|^2, r_v from the end face's centre). Newmark, h =
+// no gravity; a dead torque T about the bar's axis, either on its free end (tangential forces on
+// the end vertices, f_v = T (e_x x r_v) / sum |r_v|^2, r_v from the axis) or distributed over the
+// whole bar like a body load (f_v = T m_v (e_x x r_v) / sum m_v |r_v|^2, m_v the vertex masses:
+// no end face is crushed), optionally with a dead transverse body load m_v g (-e_z) that bends
+// the bar (--twist-bend g). Newmark, h =
 // 0.02 s, Rayleigh beta = 1e-3 s, every basis stepped by RotatingSubspaceDynamics (the same
-// incremental potential and Newton), rotations off or on; "full" is the same scheme with the
+// incremental potential and Newton), rotations off or on with each chosen blend; "full" is the same scheme with the
 // identity on the free DOFs as its basis (full-space Newmark). Reported: steps completed, total
 // energy at the last step and its largest value (0 at rest; with damping it must not rise),
 // smallest element volume ratio, trajectory error against full space over the steps both completed.
 struct TwistSettings {
-  double torque = 0.0, time_step = 0.02;
+  double torque = 0.0, time_step = 0.02, bend = 0.0;
   int along = 24, across = 3, steps = 40, size = 51, domains = 6, overlap_layers = 2;
+  int fixed_interface_modes = 4, interface_modes = 6;  // the domain basis (interface_modes 0: every interface DOF)
+  std::string load = "end";                   // "end" or "distributed"
+  std::string material = "stvk";              // or "neo_hookean"
+  std::vector<std::string> blends = {"linear"};  // rotation blends of the rows with rotations
 };
 
+RotationBlend parse_blend(const std::string& name) {
+  return name == "quaternion" ? RotationBlend::quaternion
+                              : name == "nearest" ? RotationBlend::nearest : RotationBlend::linear;
+}
+
 struct TwistRow {
-  std::string basis;
+  std::string basis, blend = "no";
   bool rotations = false;
   int r = 0, completed = 0;
   double precompute_s = 0, steps_per_s = 0, newton_per_step = 0, final_energy = 0, largest_energy = 0;
-  double smallest_volume_ratio = 1, trajectory_error = 0, tip_angle = 0;
+  double smallest_volume_ratio = 1, trajectory_error = 0, tip_angle = 0, largest_tip_angle = 0;
   std::string message;
 };
 
@@ -273,11 +287,13 @@ double twist_angle(const Mesh& mesh, const std::vector<int>& tip, const Vector& 
   return count > 0 ? sum / count : 0.0;
 }
 
-TwistRow twist_run(const std::string& kind, bool rotations, const bench::Cantilever& bar, const Vector& p,
+TwistRow twist_run(const std::string& kind, const std::string& blend, const bench::Cantilever& bar, const Vector& p,
                    const SparseMatrix& mass, const Vector& torque, const TwistSettings& t, const Matrix& reference,
                    Matrix* trajectory) {
   TwistRow row;
+  const bool rotations = blend != "no";
   row.basis = kind;
+  row.blend = blend;
   row.rotations = rotations;
   const auto t0 = Clock::now();
   const Model& model = *bar.model;
@@ -292,10 +308,10 @@ TwistRow twist_run(const std::string& kind, bool rotations, const bench::Cantile
       if (!fixed[static_cast<std::size_t>(i)]) basis(i, c++) = 1.0;
   } else if (kind == "domains") {
     DomainDecompositionOptions options;
-    options.fixed_interface_modes = 4;
+    options.fixed_interface_modes = t.fixed_interface_modes;
     options.derivative_modes = 1;
     options.boundary_derivative_modes = 1;
-    options.interface_modes = 6;
+    options.interface_modes = t.interface_modes;
     options.loads = Matrix(torque);
     basis = domain_decomposition(model, mesh, bar.rest, p, mass, partition, options).basis;
   } else {
@@ -327,6 +343,7 @@ TwistRow twist_run(const std::string& kind, bool rotations, const bench::Cantile
   options.time_step = t.time_step;
   options.rayleigh_stiffness = kBeta;
   options.rotations = rotations;
+  if (rotations) options.blend = parse_blend(blend);
   const RotatingSubspaceDynamics dynamics(model, mesh, p, bar.rest, mass, torque, basis, weights, options);
   row.precompute_s = seconds_since(t0);
   SubspaceState state = dynamics.initial_state(Vector::Zero(bar.rest.size()));
@@ -352,6 +369,7 @@ TwistRow twist_run(const std::string& kind, bool rotations, const bench::Cantile
     row.largest_energy = std::max(row.largest_energy, row.final_energy);
     row.smallest_volume_ratio = std::min(row.smallest_volume_ratio, dynamics.smallest_volume_ratio(state.u));
     row.tip_angle = twist_angle(mesh, bar.tip_vertices, state.u);
+    row.largest_tip_angle = std::max(row.largest_tip_angle, std::abs(row.tip_angle));
     if (trajectory) trajectory->col(n + 1) = state.u;
     if (reference.cols() > n + 1) {
       const Vector e = state.u - reference.col(n + 1);
@@ -363,10 +381,10 @@ TwistRow twist_run(const std::string& kind, bool rotations, const bench::Cantile
   row.newton_per_step = row.completed > 0 ? static_cast<double>(newton_total) / row.completed : 0.0;
   row.trajectory_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : std::nan("");
   if (row.message.empty()) row.message = "all steps converged";
-  std::printf("  %-12s %-3s r = %4d: %d/%d steps, E last %.4g (largest %.4g), min J %.3f, twist %.2f rad, "
-              "error %.3e, %.1f steps/s, %.2f Newton/step; %s\n",
-              row.basis.c_str(), rotations ? "rot" : "", row.r, row.completed, t.steps, row.final_energy,
-              row.largest_energy, row.smallest_volume_ratio, row.tip_angle, row.trajectory_error, row.steps_per_s,
+  std::printf("  %-12s %-10s r = %4d: %d/%d steps, E last %.4g (largest %.4g), min J %.3f, twist %.2f rad "
+              "(largest %.2f), error %.3e, %.1f steps/s, %.2f Newton/step; %s\n",
+              row.basis.c_str(), blend.c_str(), row.r, row.completed, t.steps, row.final_energy, row.largest_energy,
+              row.smallest_volume_ratio, row.tip_angle, row.largest_tip_angle, row.trajectory_error, row.steps_per_s,
               row.newton_per_step, row.message.c_str());
   std::fflush(stdout);
   return row;
@@ -379,7 +397,8 @@ int run_twist(const TwistSettings& t, const std::string& out) {
   bar.model = std::make_unique<Model>(3 * bar.mesh.num_vertices());
   const int youngs = bar.model->parameter_layout().add("youngs_modulus", m);
   const int poisson = bar.model->parameter_layout().add("poisson_ratio", m);
-  bar.model->add(std::make_unique<ElasticTerm<3>>(bar.mesh, make_material<3>(MaterialKind::stvk), youngs, poisson));
+  const MaterialKind material = t.material == "neo_hookean" ? MaterialKind::neo_hookean : MaterialKind::stvk;
+  bar.model->add(std::make_unique<ElasticTerm<3>>(bar.mesh, make_material<3>(material), youngs, poisson));
   bar.rest.resize(3 * bar.mesh.num_vertices());
   for (int v = 0; v < bar.mesh.num_vertices(); ++v) {
     bar.rest.segment<3>(3 * v) = bar.mesh.rest_positions.row(v).transpose();
@@ -391,45 +410,67 @@ int run_twist(const TwistSettings& t, const std::string& out) {
   const Vector p = bench::cantilever_parameters(bar, 1e6, kPoisson);
   const SparseMatrix mass = mass_matrix(bar.mesh, Eigen::VectorXd::Constant(m, 100.0), MassLumping::consistent);
   Vector torque = Vector::Zero(bar.rest.size());
-  double r2 = 0.0;
-  for (int v : bar.tip_vertices) r2 += (bar.mesh.rest_positions.row(v).tail<2>() - Eigen::RowVector2d(0.25, 0.25)).squaredNorm();
-  for (int v : bar.tip_vertices) {
-    const Eigen::Vector2d r = bar.mesh.rest_positions.row(v).tail<2>().transpose() - Eigen::Vector2d(0.25, 0.25);
-    torque[3 * v + 1] = -t.torque * r.y() / r2;
-    torque[3 * v + 2] = t.torque * r.x() / r2;
+  const bool distributed = t.load == "distributed";
+  const Vector vertex_mass = vertex_masses(mass);
+  std::vector<int> loaded = bar.tip_vertices;
+  if (distributed) {
+    loaded.clear();
+    for (int v = 0; v < bar.mesh.num_vertices(); ++v) loaded.push_back(v);
   }
-  std::printf("tailor %s, twisted bar: %d tets, torque %g, %d Newmark steps of %g s, r = %d, %d domains\n",
-              version_string, m, t.torque, t.steps, t.time_step, t.size, t.domains);
+  double r2 = 0.0;
+  for (int v : loaded)
+    r2 += (distributed ? vertex_mass[v] : 1.0) *
+          (bar.mesh.rest_positions.row(v).tail<2>() - Eigen::RowVector2d(0.25, 0.25)).squaredNorm();
+  for (int v : loaded) {
+    const double weight = distributed ? vertex_mass[v] : 1.0;
+    const Eigen::Vector2d r = bar.mesh.rest_positions.row(v).tail<2>().transpose() - Eigen::Vector2d(0.25, 0.25);
+    torque[3 * v + 1] = -t.torque * weight * r.y() / r2;
+    torque[3 * v + 2] = t.torque * weight * r.x() / r2;
+  }
+  for (int v = 0; v < bar.mesh.num_vertices(); ++v) torque[3 * v + 2] -= t.bend * vertex_mass[v];
+  for (int dof : bar.fixed_dofs) torque[dof] = 0.0;
+  std::printf("tailor %s, twisted %s bar: %d tets, %s torque %g, bend %g, %d Newmark steps of %g s, r = %d, %d domains\n",
+              version_string, t.material.c_str(), m, t.load.c_str(), t.torque, t.bend, t.steps, t.time_step, t.size, t.domains);
   Matrix reference;
   std::vector<TwistRow> rows;
-  rows.push_back(twist_run("full", false, bar, p, mass, torque, t, reference, &reference));
+  rows.push_back(twist_run("full", "no", bar, p, mass, torque, t, reference, &reference));
   reference.conservativeResize(Eigen::NoChange, rows.front().completed + 1);  // errors over the full run's steps
+  std::vector<std::string> blends = {"no"};
+  blends.insert(blends.end(), t.blends.begin(), t.blends.end());
   for (const std::string kind : {"global", "domains", "overlapping"})
-    for (const bool rotations : {false, true})
-      rows.push_back(twist_run(kind, rotations, bar, p, mass, torque, t, reference, nullptr));
-  std::printf("\n%-12s %-9s %5s %7s %12s %12s %7s %8s %11s %9s %8s\n", "basis", "rotations", "r", "steps", "E last",
+    for (const std::string& blend : blends)  // one domain: every blend is its one rotation
+      if (kind != "global" || blend == blends[std::min<std::size_t>(1, blends.size() - 1)] || blend == "no")
+        rows.push_back(twist_run(kind, blend, bar, p, mass, torque, t, reference, nullptr));
+  std::printf("\n%-12s %-10s %5s %7s %12s %12s %7s %8s %11s %9s %8s\n", "basis", "rotations", "r", "steps", "E last",
               "E largest", "min J", "twist", "traj. error", "steps/s", "Newton");
   for (const TwistRow& row : rows)
-    std::printf("%-12s %-9s %5d %4d/%-2d %12.4g %12.4g %7.3f %8.2f %11.3e %9.1f %8.2f\n", row.basis.c_str(),
-                row.rotations ? "yes" : "no", row.r, row.completed, t.steps, row.final_energy, row.largest_energy,
+    std::printf("%-12s %-10s %5d %4d/%-2d %12.4g %12.4g %7.3f %8.2f %11.3e %9.1f %8.2f\n", row.basis.c_str(),
+                row.blend.c_str(), row.r, row.completed, t.steps, row.final_energy, row.largest_energy,
                 row.smallest_volume_ratio, row.tip_angle, row.trajectory_error, row.steps_per_s, row.newton_per_step);
   bench::Json json = bench::report("domain_reduction_twist");
   json["tets"] = m;
   json["torque"] = t.torque;
+  json["load"] = t.load;
+  json["material"] = t.material;
+  json["bend"] = t.bend;
   json["steps"] = t.steps;
   json["time_step"] = t.time_step;
+  json["interface_modes"] = t.interface_modes;
+  json["fixed_interface_modes"] = t.fixed_interface_modes;
   json["domains"] = t.domains;
   json["size"] = t.size;
   bench::Json results = bench::Json::array();
   for (const TwistRow& r : rows)
     results.push_back({{"basis", r.basis},
                        {"rotations", r.rotations},
+                       {"blend", r.blend},
                        {"r", r.r},
                        {"completed_steps", r.completed},
                        {"final_energy", r.final_energy},
                        {"largest_energy", r.largest_energy},
                        {"smallest_volume_ratio", r.smallest_volume_ratio},
                        {"twist_angle", r.tip_angle},
+                       {"largest_twist_angle", r.largest_tip_angle},
                        {"trajectory_error", r.trajectory_error},
                        {"precompute_s", r.precompute_s},
                        {"steps_per_s", r.steps_per_s},
@@ -468,6 +509,16 @@ int run(int argc, char** argv) {
   cli.integer("--twist-steps", twist.steps, "twisted bar: Newmark steps", 1);
   cli.integer("--twist-size", twist.size, "twisted bar: r of the global basis (overlapping: r / domains per domain)", 1);
   cli.integer("--twist-domains", twist.domains, "twisted bar: METIS domains", 1);
+  cli.integer("--twist-interface-modes", twist.interface_modes,
+              "twisted bar: interface excitations of the domain basis (0: every interface DOF)", 0);
+  cli.integer("--twist-fixed-interface-modes", twist.fixed_interface_modes, "twisted bar: per domain", 0);
+  cli.number("--twist-time-step", twist.time_step, "twisted bar: Newmark time step h", 0.0);
+  cli.choice("--twist-load", twist.load, "twisted bar: torque on the end face or distributed over the bar",
+              {"end", "distributed"});
+  cli.choice("--twist-material", twist.material, "twisted bar: material", {"stvk", "neo_hookean"});
+  cli.number("--twist-bend", twist.bend, "twisted bar: transverse dead body load per unit mass (-z)", 0.0);
+  cli.choices("--twist-blends", twist.blends, "twisted bar: rotation blends of the rows with rotations",
+              {"linear", "quaternion", "nearest"});
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   if (twist.torque > 0.0) return run_twist(twist, out);

@@ -9,6 +9,40 @@
 #include "forward/core/symmetric_eigen.hpp"
 
 namespace tailor {
+namespace {
+
+// The unit quaternion (w, x, y, z) of a rotation matrix; Shepperd's method: the largest of
+// 1 + trace and 1 + 2 R_kk - trace under the square root, for accuracy at every angle.
+Eigen::Vector4d quaternion_of(const Eigen::Matrix3d& R) {
+  const double t = R.trace();
+  Eigen::Vector4d q;
+  if (t >= R(0, 0) && t >= R(1, 1) && t >= R(2, 2)) {
+    const double s = 2.0 * std::sqrt(1.0 + t);
+    q << 0.25 * s, (R(2, 1) - R(1, 2)) / s, (R(0, 2) - R(2, 0)) / s, (R(1, 0) - R(0, 1)) / s;
+  } else if (R(0, 0) >= R(1, 1) && R(0, 0) >= R(2, 2)) {
+    const double s = 2.0 * std::sqrt(1.0 + R(0, 0) - R(1, 1) - R(2, 2));
+    q << (R(2, 1) - R(1, 2)) / s, 0.25 * s, (R(0, 1) + R(1, 0)) / s, (R(0, 2) + R(2, 0)) / s;
+  } else if (R(1, 1) >= R(2, 2)) {
+    const double s = 2.0 * std::sqrt(1.0 + R(1, 1) - R(0, 0) - R(2, 2));
+    q << (R(0, 2) - R(2, 0)) / s, (R(0, 1) + R(1, 0)) / s, 0.25 * s, (R(1, 2) + R(2, 1)) / s;
+  } else {
+    const double s = 2.0 * std::sqrt(1.0 + R(2, 2) - R(0, 0) - R(1, 1));
+    q << (R(1, 0) - R(0, 1)) / s, (R(0, 2) + R(2, 0)) / s, (R(1, 2) + R(2, 1)) / s, 0.25 * s;
+  }
+  return q;
+}
+
+// The rotation matrix of a unit quaternion (w, x, y, z).
+Eigen::Matrix3d rotation_of(const Eigen::Vector4d& q) {
+  const double w = q[0], x = q[1], y = q[2], z = q[3];
+  Eigen::Matrix3d R;
+  R << 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),  //
+      2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),   //
+      2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y);
+  return R;
+}
+
+}  // namespace
 
 Matrix domain_vertex_weights(const Mesh& mesh, const Eigen::VectorXi& element_domain) {
   if (element_domain.size() != mesh.num_elements())
@@ -85,17 +119,39 @@ std::vector<Eigen::Matrix3d> fit_domain_rotations(const Mesh& mesh, const Vector
   return rotations;
 }
 
-Matrix rotate_basis(const Matrix& basis, const Matrix& weights, const std::vector<Eigen::Matrix3d>& rotations) {
+Eigen::Matrix3d blend_rotations(const Eigen::Ref<const Eigen::RowVectorXd>& weights,
+                                const std::vector<Eigen::Matrix3d>& rotations, RotationBlend blend) {
+  if (blend == RotationBlend::linear) {
+    Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+    for (Eigen::Index d = 0; d < weights.size(); ++d)
+      if (weights[d] != 0.0) sum += weights[d] * rotations[static_cast<std::size_t>(d)];
+    return sum;
+  }
+  Eigen::Index heaviest = 0;
+  weights.maxCoeff(&heaviest);
+  if (weights[heaviest] <= 0.0) return Eigen::Matrix3d::Identity();
+  if (blend == RotationBlend::nearest) return rotations[static_cast<std::size_t>(heaviest)];
+  // q and -q are the same rotation: align every quaternion with the heaviest domain's before
+  // summing, so that the normalized sum interpolates along the shorter arc.
+  const Eigen::Vector4d reference = quaternion_of(rotations[static_cast<std::size_t>(heaviest)]);
+  Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+  for (Eigen::Index d = 0; d < weights.size(); ++d) {
+    if (weights[d] == 0.0) continue;
+    const Eigen::Vector4d q = quaternion_of(rotations[static_cast<std::size_t>(d)]);
+    sum += (q.dot(reference) < 0.0 ? -weights[d] : weights[d]) * q;
+  }
+  return rotation_of(sum / sum.norm());
+}
+
+Matrix rotate_basis(const Matrix& basis, const Matrix& weights, const std::vector<Eigen::Matrix3d>& rotations,
+                    RotationBlend blend) {
   const Eigen::Index nv = weights.rows();
   if (basis.rows() != 3 * nv || static_cast<Eigen::Index>(rotations.size()) != weights.cols())
     throw std::invalid_argument("rotate_basis: the basis needs 3 rows per weight row and one rotation per domain");
   Matrix rotated(basis.rows(), basis.cols());
-  for (Eigen::Index v = 0; v < nv; ++v) {
-    Eigen::Matrix3d blend = Eigen::Matrix3d::Zero();
-    for (Eigen::Index d = 0; d < weights.cols(); ++d)
-      if (weights(v, d) != 0.0) blend += weights(v, d) * rotations[static_cast<std::size_t>(d)];
-    rotated.middleRows(3 * v, 3).noalias() = blend * basis.middleRows(3 * v, 3);
-  }
+  for (Eigen::Index v = 0; v < nv; ++v)
+    rotated.middleRows(3 * v, 3).noalias() = blend_rotations(weights.row(v), rotations, blend) *
+                                             basis.middleRows(3 * v, 3);
   return rotated;
 }
 

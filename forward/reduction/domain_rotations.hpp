@@ -12,6 +12,11 @@
 // coordinates rotate local modes the same way). A vertex's columns are carried by the blend of
 // its domains' rotations with the domain weights, sum_d w_d(v) R_d (linear blend skinning of the
 // rotated domain frames): the rotated basis is B(u) = Rbar(u) Phi, row block v = Rbar_v Phi_v.
+// Linear blending of rotations that differ by more than a fraction of a radian is no rotation: it
+// shrinks the blended columns (the candy-wrapper artefact of linear blend skinning). Two blends
+// avoid it: the normalized blend of the domains' unit quaternions (sign-aligned; the rotation part
+// of dual-quaternion skinning, Kavan et al. 2008), and rigid frames on a partition (each vertex
+// takes the rotation of its heaviest domain).
 // Positions and displacements are vertex-interleaved (x, y, z); 3D only.
 #include <vector>
 
@@ -38,8 +43,21 @@ std::vector<Eigen::Matrix3d> fit_domain_rotations(const Mesh& mesh, const Vector
 // requires det F > 0.
 Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& F);
 
-// B = Rbar Phi: row block v of `basis` (num_vertices * 3 x r) times sum_d weights(v, d) R_d.
-Matrix rotate_basis(const Matrix& basis, const Matrix& weights, const std::vector<Eigen::Matrix3d>& rotations);
+// How a vertex's rotation is formed from its domains' rotations R_d and weights w_d(v).
+enum class RotationBlend {
+  linear,      // sum_d w_d R_d (linear blend skinning; not a rotation where the R_d differ)
+  quaternion,  // the rotation of the unit quaternion sum_d w_d s_d q_d / |.|, s_d = sign(q_d . q_heaviest)
+  nearest,     // R_d of the domain with the largest w_d(v) (rigid frames on a partition)
+};
+
+// The blended rotation (or, for linear, blended matrix) of one vertex from its row of weights.
+Eigen::Matrix3d blend_rotations(const Eigen::Ref<const Eigen::RowVectorXd>& weights,
+                                const std::vector<Eigen::Matrix3d>& rotations, RotationBlend blend);
+
+// B = Rbar Phi: row block v of `basis` (num_vertices * 3 x r) times the blend of the rotations
+// with weights(v, :).
+Matrix rotate_basis(const Matrix& basis, const Matrix& weights, const std::vector<Eigen::Matrix3d>& rotations,
+                    RotationBlend blend = RotationBlend::linear);
 
 // Per-vertex masses of a mass matrix: the row sums of a vertex's x rows (= rho V / 4 summed over
 // its tets for the consistent and the lumped tet mass).

@@ -79,7 +79,7 @@ Matrix RotatingSubspaceDynamics::damping_times(const Matrix& B) const {
 
 Matrix RotatingSubspaceDynamics::step_basis(const Vector& u) const {
   if (!options_.rotations) return basis_;
-  return rotate_basis(basis_, weights_, fit_domain_rotations(mesh_, u, vertex_mass_, weights_));
+  return rotate_basis(basis_, weights_, fit_domain_rotations(mesh_, u, vertex_mass_, weights_), options_.blend);
 }
 
 SubspaceState RotatingSubspaceDynamics::initial_state(const Vector& v0) const {

@@ -24,6 +24,7 @@
 
 #include "forward/core/model.hpp"
 #include "forward/mesh/mesh.hpp"
+#include "forward/reduction/domain_rotations.hpp"
 
 namespace tailor {
 
@@ -32,6 +33,7 @@ struct RotatingSubspaceOptions {
   double rayleigh_mass = 0.0;       // alpha [1/s], >= 0
   double rayleigh_stiffness = 0.0;  // beta [s], >= 0
   bool rotations = true;            // false: the fixed basis Phi
+  RotationBlend blend = RotationBlend::linear;  // how a vertex's domains' rotations combine
   int max_newton_iterations = 30;
   double newton_tolerance = 1e-10;  // on |gradient| relative to the sizes of its parts
 };

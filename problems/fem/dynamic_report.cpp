@@ -85,6 +85,8 @@ void write_dynamic_report_json(const std::string& path, const Scene& scene, cons
                            {"reduced_coordinates", r.r},
                            {"domains", r.domains},
                            {"energy", r.energy},
+                           {"rotations", r.rotations},
+                           {"rotation_blend", r.rotation_blend},
                            {"polynomial_groups", r.groups},
                            {"largest_group", r.largest_group},
                            {"precomputation_seconds", {{"basis", r.basis_seconds}, {"energy", r.energy_seconds}}}};

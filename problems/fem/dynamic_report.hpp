@@ -31,6 +31,7 @@ struct DynamicTimings {
 // What a run with dynamics.reduction used (report.json "reduction").
 struct ReducedRunSummary {
   std::string basis, energy;  // as in dynamics.reduction; energy "polynomial" or "projected"
+  std::string rotations = "none", rotation_blend;  // dynamics.reduction.rotations and its blend
   int r = 0;                  // reduced coordinates
   int domains = 0;            // 0 for the global basis
   int groups = 0, largest_group = 0;  // the polynomial's element groups and their most columns

@@ -10,7 +10,7 @@ namespace {
 // dynamics.reduction (docs/reduction.md, "Reduced dynamic scenes").
 DynamicReductionSpec parse_dynamic_reduction(const SceneNode& node) {
   node.expect_keys({"basis", "displacement_modes", "static_responses", "derivative_modes", "krylov_order", "energy",
-                    "domains"});
+                    "domains", "rotations", "rotation_blend"});
   DynamicReductionSpec r;
   r.key = node.path();
   if (auto k = node.find("basis")) r.basis = k->choice({"global", "domains", "overlapping"});
@@ -25,6 +25,17 @@ DynamicReductionSpec parse_dynamic_reduction(const SceneNode& node) {
         node.at(key).fail("applies to the \"global\" and \"overlapping\" bases (\"domains\" takes its modes "
                           "from the \"domains\" keys)");
   if (auto k = node.find("energy")) r.energy = k->choice({"auto", "polynomial", "projected"});
+  if (auto k = node.find("rotations")) {
+    r.rotations = k->choice({"none", "domains"});
+    if (r.rotations == "domains" && r.basis == "global")
+      k->fail("\"domains\" needs \"basis\": \"domains\" or \"overlapping\" (a global basis has no domains to turn)");
+    if (r.rotations == "domains" && r.energy == "polynomial")
+      k->fail("a turning basis has no precomputed polynomial: \"energy\" must be \"auto\" or \"projected\"");
+  }
+  if (auto k = node.find("rotation_blend")) {
+    if (r.rotations != "domains") k->fail("only with \"rotations\": \"domains\"");
+    r.rotation_blend = k->choice({"quaternion", "nearest", "linear"});
+  }
   if (auto k = node.find("domains")) {
     if (r.basis == "global") k->fail("only with \"basis\": \"domains\" or \"overlapping\"");
     k->expect_keys({"count", "from_regions", "fixed_interface_modes", "derivative_modes",

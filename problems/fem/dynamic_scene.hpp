@@ -54,6 +54,8 @@ struct DynamicReductionSpec {
   int derivative_modes = 3;      // global: modes (with the load response) whose Krylov blocks 2..k are added
   int krylov_order = 2;          // 1: none; 2: modal derivatives; up to 4 (nonlinear materials only)
   std::string energy = "auto";   // "polynomial" (StVK, linear), "projected" (any material) or "auto"
+  std::string rotations = "none";            // "domains": the basis turns with each domain (Newmark, projected)
+  std::string rotation_blend = "quaternion";  // with rotations: "quaternion", "nearest" or "linear"
   DynamicDomainsSpec domains;
   std::string key = "dynamics.reduction";
 };

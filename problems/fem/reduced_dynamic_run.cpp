@@ -1,6 +1,6 @@
 // simulate_reduced_dynamic_scene (problems/fem/reduced_dynamic_run.hpp): the basis of
-// dynamics.reduction, its reduced energy, and the steps of ReducedDynamics written as full-space
-// frames.
+// dynamics.reduction, its reduced energy, and the steps of ReducedDynamics (or, with
+// "rotations": "domains", of RotatingSubspaceDynamics) written as full-space frames.
 #include "problems/fem/reduced_dynamic_run.hpp"
 
 #include <algorithm>
@@ -15,6 +15,7 @@
 #include "forward/fem/material.hpp"
 #include "forward/reduction/domain_decomposition.hpp"
 #include "forward/reduction/domain_partition.hpp"
+#include "forward/reduction/domain_rotations.hpp"
 #include "forward/reduction/free_stiffness_factor.hpp"
 #include "forward/reduction/krylov_recurrence.hpp"
 #include "forward/reduction/local_reduced_stvk.hpp"
@@ -24,6 +25,7 @@
 #include "forward/reduction/overlapping_domains.hpp"
 #include "forward/reduction/projected_reduced_model.hpp"
 #include "forward/reduction/reduced_dynamics.hpp"
+#include "forward/reduction/rotating_subspace_dynamics.hpp"
 #include "problems/fem/physics_warnings.hpp"
 #include "problems/output_process.hpp"
 #include "problems/scene_error.hpp"
@@ -89,9 +91,13 @@ Matrix global_basis(const DynamicReductionSpec& spec, const ReducedScene& s, int
   return mass_orthonormal_basis(candidates, s.mass, 1e-6);
 }
 
-// The basis of dynamics.reduction.basis (docs/reduction.md, "Local reduced models").
-Matrix reduced_basis(const DynamicReductionSpec& spec, const ReducedScene& s, const Mesh& mesh, int& domains) {
+// The basis of dynamics.reduction.basis (docs/reduction.md, "Local reduced models"), and the
+// domains' vertex weights (num_vertices x domains; empty for the global basis): the overlap weights
+// or, for a partition, each vertex's volume fraction per domain.
+Matrix reduced_basis(const DynamicReductionSpec& spec, const ReducedScene& s, const Mesh& mesh, int& domains,
+                     Matrix& weights) {
   domains = 0;
+  weights.resize(0, 0);
   if (spec.basis == "global") return global_basis(spec, s, mesh.dim());
   const DynamicDomainsSpec& d = spec.domains;
   const Eigen::VectorXi element_domain = d.from_regions ? domains_from_regions(mesh) : partition_elements(mesh, d.count);
@@ -100,6 +106,7 @@ Matrix reduced_basis(const DynamicReductionSpec& spec, const ReducedScene& s, co
     OverlappingDomainOptions options;
     options.overlap_layers = d.overlap_layers;
     const OverlappingDomains od = overlapping_domains(*s.elastic, mesh, s.x0, s.p0, s.mass, element_domain, options);
+    weights = od.weights;
     return mass_orthonormal_basis(blended_basis(od.weights, global_basis(spec, s, mesh.dim()), mesh.dim()), s.mass,
                                   1e-8);
   }
@@ -110,6 +117,7 @@ Matrix reduced_basis(const DynamicReductionSpec& spec, const ReducedScene& s, co
   options.derivative_modes = s.nonlinear ? d.derivative_modes : 0;
   options.boundary_derivative_modes = s.nonlinear ? d.boundary_derivative_modes : 0;
   if (s.loads.norm() > 0.0) options.loads = Matrix(s.loads);  // interior static responses (Craig-Bampton)
+  weights = domain_vertex_weights(mesh, element_domain);
   return domain_decomposition(*s.elastic, mesh, s.x0, s.p0, s.mass, element_domain, options).basis;
 }
 
@@ -149,6 +157,13 @@ DynamicRun simulate_reduced_dynamic_scene(const Scene& scene, const std::string&
     s.nonlinear = s.nonlinear || b.spline_curves || !make_material<3>(b.kind)->tangent_is_constant();
     s.stvk = s.stvk && !b.spline_curves && b.kind == MaterialKind::stvk;
   }
+  const bool rotating = reduction.rotations == "domains";
+  if (rotating && spec.scheme != TimeScheme::newmark)
+    reduction_fail(scene, "dynamics.scheme",
+                   "\"rotations\": \"domains\" steps with Newmark only (the turning subspace's incremental "
+                   "potential); use \"newmark\"");
+  if (rotating && mesh.dim() != 3)
+    reduction_fail(scene, reduction.key + ".rotations", "per-domain rotations need a 3D mesh");
   if (reduction.energy == "polynomial" && !s.stvk)
     reduction_fail(scene, reduction.key + ".energy",
                    "\"polynomial\" needs every material to be \"stvk\" (the exact reduced polynomial); use "
@@ -157,24 +172,29 @@ DynamicRun simulate_reduced_dynamic_scene(const Scene& scene, const std::string&
   DynamicRun run;
   ReducedRunSummary summary;
   summary.basis = reduction.basis;
+  summary.rotations = reduction.rotations;
+  if (rotating) summary.rotation_blend = reduction.rotation_blend;
   auto t = Clock::now();
-  Matrix basis;
+  Matrix basis, weights;
   try {
-    basis = reduced_basis(reduction, s, mesh, summary.domains);
+    basis = reduced_basis(reduction, s, mesh, summary.domains, weights);
   } catch (const std::exception& e) {  // bad counts for this mesh, a domain not held, a failed eigen solve
     reduction_fail(scene, reduction.key, std::string("the reduced basis cannot be built: ") + e.what());
   }
   summary.basis_seconds = seconds_since(t);
   summary.r = static_cast<int>(basis.cols());
   const bool polynomial =
-      reduction.energy == "polynomial" ||
-      (reduction.energy == "auto" && s.stvk && (reduction.basis != "global" || summary.r <= kLargestGlobalPolynomial));
+      !rotating &&
+      (reduction.energy == "polynomial" ||
+       (reduction.energy == "auto" && s.stvk && (reduction.basis != "global" || summary.r <= kLargestGlobalPolynomial)));
   summary.energy = polynomial ? "polynomial" : "projected";
   t = Clock::now();
   if (summary.r < 1) reduction_fail(scene, reduction.key, "the reduced basis is empty (every column was dropped)");
   std::unique_ptr<ReducedElasticModel> energy;
   try {
-    if (polynomial) {
+    if (rotating) {
+      // No reduced energy: the turning basis is evaluated on the mesh in every step.
+    } else if (polynomial) {
       auto local =
           std::make_unique<LocalReducedStvk>(*s.elastic, mesh, s.p0, basis, 1e-14 * basis.cwiseAbs().maxCoeff());
       summary.groups = local->groups();
@@ -196,7 +216,27 @@ DynamicRun simulate_reduced_dynamic_scene(const Scene& scene, const std::string&
   options.max_newton_iterations = std::max(setup.solver.newton.max_iterations, 30);
   options.newton_tolerance = 1e-10;
   const Vector load = basis.transpose() * s.loads;
-  const ReducedDynamics dynamics(*energy, options, Matrix(), load);
+  std::unique_ptr<ReducedDynamics> dynamics;
+  std::unique_ptr<RotatingSubspaceDynamics> turning;
+  if (rotating) {
+    RotatingSubspaceOptions r;
+    r.time_step = spec.time_step;
+    r.rayleigh_mass = spec.rayleigh_alpha;
+    r.rayleigh_stiffness = spec.rayleigh_beta;
+    r.blend = reduction.rotation_blend == "linear"    ? RotationBlend::linear
+              : reduction.rotation_blend == "nearest" ? RotationBlend::nearest
+                                                      : RotationBlend::quaternion;
+    r.max_newton_iterations = options.max_newton_iterations;
+    r.newton_tolerance = options.newton_tolerance;
+    try {
+      turning = std::make_unique<RotatingSubspaceDynamics>(*s.elastic, mesh, s.p0, s.x0, s.mass, s.loads, basis,
+                                                           weights, r);
+    } catch (const std::invalid_argument& e) {
+      reduction_fail(scene, reduction.key + ".rotations", e.what());
+    }
+  } else {
+    dynamics = std::make_unique<ReducedDynamics>(*energy, options, Matrix(), load);
+  }
   // The full-space report's potential is every term but inertia and damping (elastic, loads,
   // gravity); the loads' terms at rest are a constant the reduced W(q) - f_q^T q lacks.
   double potential_at_rest = 0.0;
@@ -205,7 +245,13 @@ DynamicRun simulate_reduced_dynamic_scene(const Scene& scene, const std::string&
       potential_at_rest += term->value(d.initial_positions, d.p);
   Vector v0 = d.initial_velocities;
   for (int dof : setup.fixed_dofs) v0[dof] = 0.0;
-  ReducedState state = dynamics.initial_state(Vector::Zero(summary.r), project_to_basis(basis, s.mass, v0));
+  // One of the two states is stepped: q (fixed basis) or the full-space state of the turning one.
+  ReducedState state;
+  SubspaceState turned;
+  if (turning)
+    turned = turning->initial_state(v0);
+  else
+    state = dynamics->initial_state(Vector::Zero(summary.r), project_to_basis(basis, s.mass, v0));
   run.reduction = summary;
   run.timings.setup = seconds_since(t_start);
   if (log)
@@ -233,12 +279,18 @@ DynamicRun simulate_reduced_dynamic_scene(const Scene& scene, const std::string&
     const auto t0 = Clock::now();
     full.step = step;
     full.time = step * spec.time_step;
-    full.x = d.initial_positions + basis * state.q;
-    full.v = basis * state.v;
+    full.x = d.initial_positions + (turning ? turned.u : Vector(basis * state.q));
+    full.v = turning ? turned.v : Vector(basis * state.v);
     run.frames.emplace_back(full.time, writes ? write_dynamic_frame(frames, setup, d.rest, full) : std::string());
     run.timings.output += seconds_since(t0);
   };
   auto record = [&](int step, double residual, int iterations, double seconds) {
+    if (turning) {
+      const double kinetic = 0.5 * turned.v.dot(s.mass * turned.v);
+      const double potential = turning->total_energy(turned) - kinetic + potential_at_rest;
+      run.records.push_back({step, step * spec.time_step, kinetic, potential, seconds, residual, iterations});
+      return;
+    }
     const double kinetic = 0.5 * state.v.squaredNorm();  // M_q = I
     const double potential = energy->energy(state.q) - load.dot(state.q) + potential_at_rest;
     run.records.push_back({step, step * spec.time_step, kinetic, potential, seconds, residual, iterations});
@@ -250,14 +302,20 @@ DynamicRun simulate_reduced_dynamic_scene(const Scene& scene, const std::string&
   for (int n = 0; n < spec.steps; ++n) {
     const auto t0 = Clock::now();
     ReducedState next;
+    SubspaceState turned_next;
     int iterations = 0;
     std::string message;
-    if (!dynamics.step(state, next, iterations, message) || !next.q.allFinite()) {
+    const bool ok = turning ? turning->step(turned, turned_next, iterations, message)
+                            : dynamics->step(state, next, iterations, message) && next.q.allFinite();
+    if (!ok) {
       run.completed = false;
       run.message = "step " + std::to_string(n + 1) + " failed: " + (message.empty() ? "not finite" : message);
       break;
     }
-    state = std::move(next);
+    if (turning)
+      turned = std::move(turned_next);
+    else
+      state = std::move(next);
     const int step = n + 1;
     record(step, std::nan(""), iterations, seconds_since(t0));  // not measured: null
     run.steps_done = step;

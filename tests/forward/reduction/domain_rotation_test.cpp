@@ -75,6 +75,44 @@ TEST(DomainRotations, FitRecoversEachDomainsRigidRotation) {
   EXPECT_THROW(rotate_basis(basis, volume_weights, {truth[0]}), std::invalid_argument);
 }
 
+// The blends of two domains' rotations about one axis by angles a and b, weights (1 - t, t): the
+// quaternion blend is a rotation about that axis by atan2((1-t) sin(a/2) + t sin(b/2), (1-t)
+// cos(a/2) + t cos(b/2)) * 2 (nlerp of the half-angle quaternions), in particular by (a + b) / 2 at t = 1/2; the
+// linear blend shrinks by cos((b - a) / 2) there (the candy wrapper); nearest takes the heavier
+// domain's. Also across q ~ -q: angles 3 and -3 (the short arc through pi), which a blend without
+// the sign alignment would send through the identity.
+TEST(DomainRotations, QuaternionBlendIsARotationBetweenTheDomains) {
+  const Eigen::Vector3d axis(1, 2, -0.5);
+  for (const auto& [a, b] : {std::pair{0.3, 1.9}, std::pair{-1.0, 2.0}, std::pair{3.0, -3.0}}) {
+    const std::vector<Eigen::Matrix3d> rotations = {rotation(axis, a), rotation(axis, b)};
+    for (double t : {0.25, 0.5, 0.8}) {
+      const Eigen::RowVector2d w(1 - t, t);
+      // q_a = (cos a/2, sin a/2 k), q_b likewise; q_a . q_b = cos((b - a)/2) < 0 means the short
+      // arc goes through -q_b (which of the two is flipped only changes the overall sign).
+      const double s = std::cos((b - a) / 2) < 0 ? -1.0 : 1.0;
+      const double angle = 2 * std::atan2((1 - t) * std::sin(a / 2) + t * s * std::sin(b / 2),
+                                          (1 - t) * std::cos(a / 2) + t * s * std::cos(b / 2));
+      const Eigen::Matrix3d q = blend_rotations(w, rotations, RotationBlend::quaternion);
+      EXPECT_LT((q - rotation(axis, angle)).norm(), 1e-12) << a << " " << b << " " << t;
+      EXPECT_LT((q.transpose() * q - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+      EXPECT_LT((blend_rotations(w, rotations, RotationBlend::nearest) - rotations[t > 0.5 ? 1 : 0]).norm(), 1e-15);
+      EXPECT_LT((blend_rotations(w, rotations, RotationBlend::linear) - ((1 - t) * rotations[0] + t * rotations[1]))
+                    .norm(),
+                1e-15);
+    }
+    if (a == 3.0) {  // the short arc: halfway between 3 and -3 is pi, not 0
+      EXPECT_LT((blend_rotations(Eigen::RowVector2d(0.5, 0.5), rotations, RotationBlend::quaternion) -
+                 rotation(axis, M_PI))
+                    .norm(),
+                1e-12);
+    } else {  // the candy wrapper: the linear blend's determinant is cos^2((b - a) / 2) (< 1)
+      const double det = blend_rotations(Eigen::RowVector2d(0.5, 0.5), rotations, RotationBlend::linear).determinant();
+      EXPECT_NEAR(det, std::pow(std::cos((b - a) / 2), 2), 1e-12);
+      EXPECT_LT(det, 0.9);
+    }
+  }
+}
+
 struct TwistedBar {
   ElasticBody body;
   Matrix basis, weights;

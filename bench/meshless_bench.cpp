@@ -9,7 +9,11 @@
 // Part 3: one full-space Newton iteration (assembly, factorization, solve, line search; median
 // over the iterations of a solve) of a neo-Hookean 4 x 1 x 1 cantilever under an end shear, on
 // a node lattice of spacing h (41 x 11 x 11 = 4,961 nodes at h = 0.1), against the tet FEM on
-// the same lattice (6 tets per cell, the same vertices and DOFs), both through NewtonSolver.
+// the same lattice (6 tets per cell, the same vertices and DOFs), both through NewtonSolver; the
+// meshless steps by CHOLMOD (direct), by CG with the kept factor (reuse) or by CG preconditioned
+// with a fixed factor, the tets' rest Hessian (fem-pcg) or the meshless one (rest-pcg). The
+// patches of parts 2 and 3 pass through cover_points (grown only where a point is not covered),
+// from the lattice spacing or each node's k-th neighbour (--neighbours).
 #include <algorithm>
 #include <chrono>
 #include <cmath>

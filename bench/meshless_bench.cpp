@@ -365,7 +365,7 @@ SparseMatrix fem_preconditioner(const TetBar& bar, const Eigen::MatrixXd& nodes,
 }
 
 std::vector<NewtonRow> newton_comparison(double h, double load, const std::vector<double>& support_factors,
-                                         const std::vector<std::string>& solvers, int neighbours) {
+                                         const std::vector<std::string>& solvers, int neighbours, bool fem_reuse) {
   constexpr double L = 4.0, E = 1000.0, nu = 0.3;
   std::vector<NewtonRow> rows;
   const auto tet_wall = Clock::now();
@@ -430,8 +430,14 @@ std::vector<NewtonRow> newton_comparison(double h, double load, const std::vecto
       r.preconditioner_cpu = preconditioner_cpu;
     }
   }
-  rows.push_back(time_newton("P1 tets (FEM)", *bar.model, bar.p, bar.rest, static_cast<int>(bar.vertices.rows())));
+  NewtonOptions fem_options;
+  if (fem_reuse) {
+    fem_options.reuse_factorization = FactorReuse::on;
+    fem_options.reuse_max_cg_iterations = 100;
+  }
+  rows.push_back(time_newton("P1 tets (FEM)", *bar.model, bar.p, bar.rest, static_cast<int>(bar.vertices.rows()), fem_options));
   rows.back().model_build = tet_build;
+  rows.back().solver = fem_reuse ? "reuse" : "direct";
   for (NewtonRow& r : rows) r.spacing = h;
   return rows;
 }
@@ -448,6 +454,7 @@ int run(int argc, char** argv) {
   std::vector<std::string> support_text = {"2"};
   std::vector<std::string> solvers = {"direct"};
   int beam_quadrature = 3, neighbours = 0;
+  std::vector<std::string> fem_solver = {"direct"};
   std::string out = "bench_meshless.json";
   bench::Cli cli("meshless_bench", "Meshless precomputation and warped modal frame time against the point count; error against the node count.");
   cli.integers("--points", counts, "point counts of the sampled ball", 100);
@@ -473,6 +480,9 @@ int run(int argc, char** argv) {
                          ? std::string()
                          : "one of direct, reuse, fem-pcg, rest-pcg";
             });
+  cli.names("--fem-solver", fem_solver,
+            "the FEM row's steps: direct (NewtonSolver's defaults) or reuse (CG with the kept factor, as the meshless reuse)",
+            "NAME", [](const std::string& v) { return v == "direct" || v == "reuse" ? std::string() : "direct or reuse"; });
   cli.integer("--beam-quadrature", beam_quadrature, "cantilever: Gauss points per axis per cell", 1);
   cli.integer("--neighbours", neighbours,
               "patches from each node's k-th nearest node (0: the lattice spacing), then grown where a point is not "
@@ -545,7 +555,8 @@ int run(int argc, char** argv) {
     std::printf("%-16s %-8s %4s %6s %7s %10s %6s %10s %9s %4s %5s %8s %8s %9s %9s %9s %9s %9s %9s %9s\n", "method",
                 "solver", "R/h", "nodes", "DOFs", "H entries", "H/row", "L entries", "L flops", "its", "CG", "build",
                 "setup", "iteration", "assembly", "factor", "solve", "l.search", "cpu/it", "P cpu");
-    const std::vector<NewtonRow> timed = newton_comparison(h, newton_load, support_factors, solvers, neighbours);
+    const std::vector<NewtonRow> timed = newton_comparison(h, newton_load, support_factors, solvers, neighbours,
+                                                           fem_solver.size() == 1 && fem_solver[0] == "reuse");
     const NewtonRow& fem = timed.back();
     for (const NewtonRow& r : timed) {
       std::printf("%-16s %-8s %4.3g %6d %7d %10ld %6.1f %10.3g %9.3g %4d %5d %8.3f %8.3f %9.4f %9.4f %9.4f %9.4f %9.4f "

@@ -20,7 +20,7 @@ Eigen::VectorXd neighbour_spacing(const Eigen::MatrixXd& nodes, int k) {
   const double volume = std::max(extent.prod(), std::pow(extent.maxCoeff(), 3) * 1e-9);
   const double c = std::max(std::cbrt(volume * (k + 1) / n), 1e-12 * extent.maxCoeff());
   Eigen::Vector3i size;
-  for (int d = 0; d < 3; ++d) size[d] = std::max(1, static_cast<int>(std::ceil(extent[d] / c)) + 0);
+  for (int d = 0; d < 3; ++d) size[d] = std::max(1, static_cast<int>(std::ceil(extent[d] / c)));
   auto cell_of = [&](const Eigen::Vector3d& X) {
     Eigen::Vector3i i;
     for (int d = 0; d < 3; ++d) i[d] = std::clamp(static_cast<int>(std::floor((X[d] - lo[d]) / c)), 0, size[d] - 1);

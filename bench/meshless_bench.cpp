@@ -9,12 +9,17 @@
 // Part 3: one full-space Newton iteration (assembly, factorization, solve, line search; median
 // over the iterations of a solve) of a neo-Hookean 4 x 1 x 1 cantilever under an end shear, on
 // a node lattice of spacing h (41 x 11 x 11 = 4,961 nodes at h = 0.1), against the tet FEM on
-// the same lattice (6 tets per cell, the same vertices and DOFs), both through NewtonSolver.
+// the same lattice (6 tets per cell, the same vertices and DOFs), both through NewtonSolver; the
+// meshless steps by CHOLMOD (direct), by CG with the kept factor (reuse) or by CG preconditioned
+// with a fixed factor, the tets' rest Hessian (fem-pcg) or the meshless one (rest-pcg). The
+// patches of parts 2 and 3 pass through cover_points (grown only where a point is not covered),
+// from the lattice spacing or each node's k-th neighbour (--neighbours).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,12 +29,14 @@
 #include "forward/fem/elastic_term.hpp"
 #include "forward/mesh/generate.hpp"
 #include "forward/fem/loads.hpp"
+#include "forward/meshless/covering_patches.hpp"
 #include "forward/meshless/essential_conditions.hpp"
 #include "forward/meshless/implicit_surface.hpp"
 #include "forward/meshless/meshless_elastic_term.hpp"
 #include "forward/meshless/modal_warping.hpp"
 #include "forward/meshless/octree_sampling.hpp"
 #include "forward/reduction/modal_analysis.hpp"
+#include "forward/solve/fixed_preconditioner_cg.hpp"
 #include "forward/solve/newton.hpp"
 #include "forward/solve/sparse_cholesky.hpp"
 
@@ -128,21 +135,40 @@ PointCountResult precompute(int n, double spacing, int mode_count, int frames) {
 
 // ---- the cantilever against Timoshenko
 
+// Per-node patches for the lattice nodes of `s`: the spacing from the octree (neighbours = 0) or
+// from each node's neighbours-th nearest node (covering_patches.hpp), then grown by cover_points
+// where a quadrature point fails the covering condition.
+struct Patches {
+  Eigen::VectorXd spacing;
+  CoveringReport covering;
+};
+
+Patches size_patches(const OctreeSampling& s, const MlsOptions& mls, int neighbours) {
+  Patches r;
+  const Eigen::VectorXd initial = neighbours > 0 ? neighbour_spacing(s.nodes, neighbours) : s.spacing;
+  r.spacing = cover_points(s.nodes, initial, s.points, mls, CoveringOptions{}, &r.covering);
+  return r;
+}
+
 struct BeamResult {
   double spacing = 0.0;
-  int nodes = 0;
+  int nodes = 0, points_repaired = 0, nodes_enlarged = 0;
   double deflection = 0.0, error = 0.0, seconds = 0.0;
 };
 
-BeamResult cantilever(double h, double support_factor) {
+BeamResult cantilever(double h, double support_factor, int quadrature_order, int neighbours) {
   constexpr double L = 10.0, E = 1000.0, nu = 0.3;
   BeamResult r;
   r.spacing = h;
   const auto t = Clock::now();
-  const OctreeSampling s = sample_shape(box_shape(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(L, 1, 1)), OctreeSamplingOptions{h, 3, 0});
+  const OctreeSampling s =
+      sample_shape(box_shape(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(L, 1, 1)), OctreeSamplingOptions{h, quadrature_order, 0});
   MlsOptions mls_options;
   mls_options.support_factor = support_factor;
-  auto mls = std::make_shared<MlsShapeFunctions>(s.nodes, s.spacing, mls_options);
+  const Patches patches = size_patches(s, mls_options, neighbours);
+  r.points_repaired = patches.covering.points_repaired;
+  r.nodes_enlarged = patches.covering.nodes_enlarged;
+  auto mls = std::make_shared<MlsShapeFunctions>(s.nodes, patches.spacing, mls_options);
   auto quadrature = std::make_shared<MeshlessQuadrature>(build_meshless_quadrature(*mls, s.points, s.weights));
   const int n = static_cast<int>(s.nodes.rows());
   // End face: 2 x 2 Gauss points per cell face, traction (0, 0, -1).
@@ -194,6 +220,8 @@ BeamResult cantilever(double h, double support_factor) {
 
 struct NewtonRow {
   std::string method;
+  std::string solver = "direct";  // meshless: direct, reuse, fem-pcg, rest-pcg (see run())
+  int neighbours = 0, points_repaired = 0, nodes_enlarged = 0, cg_iterations = 0;
   double spacing = 0.0, support_factor = 0.0;  // support factor: meshless only
   int nodes = 0, dofs = 0, iterations = 0;
   long hessian_entries = 0;  // stored upper-triangle entries of the reduced Hessian
@@ -205,11 +233,13 @@ struct NewtonRow {
   double setup = 0.0;        // solver construction (pattern, symbolic analysis at the first factorization excluded)
   double iteration = 0.0, assembly = 0.0, factorization = 0.0, solve = 0.0, line_search = 0.0;  // medians per iteration
   double cpu_per_iteration = 0.0;  // process CPU seconds of the whole solve (analysis included) over its iterations
+  double preconditioner_cpu = 0.0;  // fem-pcg, rest-pcg: process CPU seconds of assembling and factorizing P once
 };
 
 double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
-NewtonRow time_newton(const std::string& method, const Model& model, const Vector& p, const Vector& rest, int nodes) {
+NewtonRow time_newton(const std::string& method, const Model& model, const Vector& p, const Vector& rest, int nodes,
+                      const NewtonOptions& options = {}) {
   NewtonRow r;
   r.method = method;
   r.nodes = nodes;
@@ -220,7 +250,7 @@ NewtonRow time_newton(const std::string& method, const Model& model, const Vecto
     r.longest_basis_row = std::max<long>(r.longest_basis_row, row_begin[i + 1] - row_begin[i]);
   auto t = Clock::now();
   const double cpu = cpu_seconds();
-  NewtonSolver solver(model);
+  NewtonSolver solver(model, options);
   r.setup = since(t);
   r.setup_cpu = cpu_seconds() - cpu;
   Vector y = model.elimination().restrict_state(rest);
@@ -228,8 +258,10 @@ NewtonRow time_newton(const std::string& method, const Model& model, const Vecto
   const NewtonResult result = solver.solve(p, y);
   r.cpu_per_iteration = (cpu_seconds() - solve_cpu) / std::max(1, result.iterations);
   if (!result.converged()) throw std::runtime_error(method + ": Newton did not converge: " + result.message);
-  r.factor_nonzeros = solver.factorization().factor_nonzeros();
-  r.factor_flops = solver.factorization().factorization_flops();
+  const auto* external = dynamic_cast<const FixedPreconditionerCg*>(options.linear_solver.get());
+  const SparseCholesky& factor = external ? external->preconditioner() : solver.factorization();
+  r.factor_nonzeros = factor.factor_nonzeros();
+  r.factor_flops = factor.factorization_flops();
   r.amd = estimate_factor_cost(solver.hessian(), FillOrdering::amd);
   r.metis = estimate_factor_cost(solver.hessian(), FillOrdering::metis);
   r.nesdis = estimate_factor_cost(solver.hessian(), FillOrdering::nesdis);
@@ -240,6 +272,7 @@ NewtonRow time_newton(const std::string& method, const Model& model, const Vecto
     factorization.push_back(it.factorization_seconds);
     solve.push_back(it.solve_seconds);
     line_search.push_back(it.line_search_seconds);
+    r.cg_iterations += it.cg_iterations;
   }
   r.iterations = result.iterations;
   r.iteration = median(total);
@@ -251,15 +284,100 @@ NewtonRow time_newton(const std::string& method, const Model& model, const Vecto
   return r;
 }
 
-std::vector<NewtonRow> newton_comparison(double h, double load, const std::vector<double>& support_factors) {
+// The P1-tet model on the node lattice of spacing h: the FEM row, and the fem-pcg preconditioner.
+struct TetBar {
+  std::unique_ptr<Model> model;
+  Vector p, rest;
+  Eigen::MatrixXd vertices;
+};
+
+TetBar tet_bar(double h, double load, double L, double E, double nu) {
+  TetBar bar;
+  const int along = static_cast<int>(std::lround(L / h)), across = static_cast<int>(std::lround(1.0 / h));
+  const Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(L, 1, 1), along, across, across);
+  const int n = mesh.num_vertices(), m = mesh.num_elements();
+  bar.model = std::make_unique<Model>(3 * n);
+  Model& model = *bar.model;
+  const int youngs = model.parameter_layout().add("youngs_modulus", m);
+  const int poisson = model.parameter_layout().add("poisson_ratio", m);
+  model.add(std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(MaterialKind::neo_hookean), youngs, poisson));
+  Vector f = Vector::Zero(3 * n);
+  bar.rest.resize(3 * n);
+  std::vector<int> fixed, end;
+  for (int v = 0; v < n; ++v) {
+    bar.rest.segment<3>(3 * v) = mesh.rest_positions.row(v).transpose();
+    if (mesh.rest_positions(v, 0) < 1e-9)
+      for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
+    if (mesh.rest_positions(v, 0) > L - 1e-9) end.push_back(v);
+  }
+  for (int v : end) f[3 * v + 2] = -load / static_cast<double>(end.size());
+  model.add(std::make_unique<ExternalForceTerm>(f));
+  model.set_elimination(Elimination::dirichlet(fixed, bar.rest));
+  bar.p.resize(2 * m);
+  bar.p.head(m).setConstant(E);
+  bar.p.tail(m).setConstant(nu);
+  bar.vertices = mesh.rest_positions;
+  return bar;
+}
+
+// The upper triangle of a model's reduced Hessian at `rest` (exact mode).
+SparseMatrix rest_hessian(const Model& model, const Vector& p, const Vector& rest) {
+  NewtonSolver solver(model);
+  solver.factorize_hessian(p, model.elimination().restrict_state(rest), HessianMode::exact);
+  return solver.hessian();
+}
+
+// The tets' rest Hessian renumbered into the meshless free unknowns: both bars clamp the nodes
+// at x = 0 and keep the others' components free in increasing DOF order, on the same lattice, so
+// a vertex and a node at the same position carry the same three unknowns.
+SparseMatrix fem_preconditioner(const TetBar& bar, const Eigen::MatrixXd& nodes, double h) {
+  const SparseMatrix H = rest_hessian(*bar.model, bar.p, bar.rest);
+  auto key = [h](const Eigen::Vector3d& X) {
+    const long i = std::lround(X[0] / h), j = std::lround(X[1] / h), k = std::lround(X[2] / h);
+    return (i * 100000 + j) * 100000 + k;
+  };
+  std::map<long, int> node_of;
+  for (int a = 0; a < nodes.rows(); ++a) node_of[key(nodes.row(a).transpose())] = a;
+  // Free index of each DOF: the clamped ones (x = 0) have none, the others count up.
+  auto free_index = [](const Eigen::MatrixXd& X) {
+    std::vector<int> index(static_cast<std::size_t>(3 * X.rows()), -1);
+    int next = 0;
+    for (int a = 0; a < X.rows(); ++a)
+      if (X(a, 0) > 1e-9)
+        for (int k = 0; k < 3; ++k) index[static_cast<std::size_t>(3 * a + k)] = next++;
+    return index;
+  };
+  const std::vector<int> tet_free = free_index(bar.vertices), mls_free = free_index(nodes);
+  Eigen::VectorXi to_mls(H.rows());
+  for (int v = 0; v < bar.vertices.rows(); ++v) {
+    const auto found = node_of.find(key(bar.vertices.row(v).transpose()));
+    if (found == node_of.end()) throw std::runtime_error("fem_preconditioner: a tet vertex is no meshless node");
+    for (int k = 0; k < 3; ++k) {
+      const int t = tet_free[static_cast<std::size_t>(3 * v + k)];
+      if (t >= 0) to_mls[t] = mls_free[static_cast<std::size_t>(3 * found->second + k)];
+    }
+  }
+  const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> permutation(to_mls);
+  SparseMatrix upper(H.rows(), H.cols());
+  upper.selfadjointView<Eigen::Upper>() = H.selfadjointView<Eigen::Upper>().twistedBy(permutation);
+  upper.makeCompressed();
+  return upper;
+}
+
+std::vector<NewtonRow> newton_comparison(double h, double load, const std::vector<double>& support_factors,
+                                         const std::vector<std::string>& solvers, int neighbours, bool fem_reuse) {
   constexpr double L = 4.0, E = 1000.0, nu = 0.3;
   std::vector<NewtonRow> rows;
+  const auto tet_wall = Clock::now();
+  const TetBar bar = tet_bar(h, load, L, E, nu);
+  const double tet_build = since(tet_wall);
   for (const double support_factor : support_factors) {
     const auto wall = Clock::now();
     const OctreeSampling s = sample_shape(box_shape(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(L, 1, 1)), OctreeSamplingOptions{h, 2, 0});
     MlsOptions mls_options;
     mls_options.support_factor = support_factor;
-    auto mls = std::make_shared<MlsShapeFunctions>(s.nodes, s.spacing, mls_options);
+    const Patches patches = size_patches(s, mls_options, neighbours);
+    auto mls = std::make_shared<MlsShapeFunctions>(s.nodes, patches.spacing, mls_options);
     auto quadrature = std::make_shared<MeshlessQuadrature>(build_meshless_quadrature(*mls, s.points, s.weights));
     const int n = static_cast<int>(s.nodes.rows());
     // The end load as nodal forces of a uniform traction on x = L (one point per node of the face, weight h^2
@@ -284,41 +402,42 @@ std::vector<NewtonRow> newton_comparison(double h, double load, const std::vecto
     for (std::size_t i = 0; i < clamped.size(); ++i) targets.row(static_cast<Eigen::Index>(i)) = s.nodes.row(clamped[i]);
     model.set_elimination(mls_transformation(*mls, clamped, targets).elimination);
     const Eigen::MatrixXd nt = s.nodes.transpose();
+    const Vector rest = Eigen::Map<const Vector>(nt.data(), nt.size());
     Vector p(2 * n);
     p.head(n).setConstant(E);
     p.tail(n).setConstant(nu);
     const double build = since(wall);
-    rows.push_back(time_newton("meshless (MLS)", model, p, Eigen::Map<const Vector>(nt.data(), nt.size()), n));
-    rows.back().support_factor = support_factor;
-    rows.back().model_build = build;
-  }
-  {
-    const auto wall = Clock::now();
-    const int along = static_cast<int>(std::lround(L / h)), across = static_cast<int>(std::lround(1.0 / h));
-    const Mesh mesh = box_tet_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(L, 1, 1), along, across, across);
-    const int n = mesh.num_vertices(), m = mesh.num_elements();
-    Model model(3 * n);
-    const int youngs = model.parameter_layout().add("youngs_modulus", m);
-    const int poisson = model.parameter_layout().add("poisson_ratio", m);
-    model.add(std::make_unique<ElasticTerm<3>>(mesh, make_material<3>(MaterialKind::neo_hookean), youngs, poisson));
-    Vector rest(3 * n), f = Vector::Zero(3 * n);
-    std::vector<int> fixed, end;
-    for (int v = 0; v < n; ++v) {
-      rest.segment<3>(3 * v) = mesh.rest_positions.row(v).transpose();
-      if (mesh.rest_positions(v, 0) < 1e-9)
-        for (int k = 0; k < 3; ++k) fixed.push_back(3 * v + k);
-      if (mesh.rest_positions(v, 0) > L - 1e-9) end.push_back(v);
+    for (const std::string& solver : solvers) {
+      NewtonOptions options;
+      double preconditioner_cpu = 0.0;
+      if (solver == "reuse") {
+        options.reuse_factorization = FactorReuse::on;
+        options.reuse_max_cg_iterations = 100;
+      } else if (solver == "fem-pcg" || solver == "rest-pcg") {
+        const double cpu = cpu_seconds();
+        const SparseMatrix P = solver == "fem-pcg" ? fem_preconditioner(bar, s.nodes, h) : rest_hessian(model, p, rest);
+        options.linear_solver = std::make_shared<FixedPreconditionerCg>(P);
+        preconditioner_cpu = cpu_seconds() - cpu;
+      }
+      rows.push_back(time_newton("meshless (MLS)", model, p, rest, n, options));
+      NewtonRow& r = rows.back();
+      r.solver = solver;
+      r.support_factor = support_factor;
+      r.model_build = build;
+      r.neighbours = neighbours;
+      r.points_repaired = patches.covering.points_repaired;
+      r.nodes_enlarged = patches.covering.nodes_enlarged;
+      r.preconditioner_cpu = preconditioner_cpu;
     }
-    for (int v : end) f[3 * v + 2] = -load / static_cast<double>(end.size());
-    model.add(std::make_unique<ExternalForceTerm>(f));
-    model.set_elimination(Elimination::dirichlet(fixed, rest));
-    Vector p(2 * m);
-    p.head(m).setConstant(E);
-    p.tail(m).setConstant(nu);
-    const double build = since(wall);
-    rows.push_back(time_newton("P1 tets (FEM)", model, p, rest, n));
-    rows.back().model_build = build;
   }
+  NewtonOptions fem_options;
+  if (fem_reuse) {
+    fem_options.reuse_factorization = FactorReuse::on;
+    fem_options.reuse_max_cg_iterations = 100;
+  }
+  rows.push_back(time_newton("P1 tets (FEM)", *bar.model, bar.p, bar.rest, static_cast<int>(bar.vertices.rows()), fem_options));
+  rows.back().model_build = tet_build;
+  rows.back().solver = fem_reuse ? "reuse" : "direct";
   for (NewtonRow& r : rows) r.spacing = h;
   return rows;
 }
@@ -333,6 +452,9 @@ int run(int argc, char** argv) {
   std::vector<int> newton_cells = {10};
   double newton_load = 2.0;
   std::vector<std::string> support_text = {"2"};
+  std::vector<std::string> solvers = {"direct"};
+  int beam_quadrature = 3, neighbours = 0;
+  std::vector<std::string> fem_solver = {"direct"};
   std::string out = "bench_meshless.json";
   bench::Cli cli("meshless_bench", "Meshless precomputation and warped modal frame time against the point count; error against the node count.");
   cli.integers("--points", counts, "point counts of the sampled ball", 100);
@@ -346,9 +468,26 @@ int run(int argc, char** argv) {
             "LIST", [](const std::string& v) {
               char* end = nullptr;
               const double f = std::strtod(v.c_str(), &end);
-              return end != v.c_str() && *end == '\0' && f > 1.0 && f <= 4.0 ? std::string() : "a number in (1, 4]";
+              return end != v.c_str() && *end == '\0' && f > 0.5 && f <= 4.0 ? std::string() : "a number in (0.5, 4]";
             });
   cli.number("--newton-load", newton_load, "Newton comparison: total end shear", 0.0);
+  cli.names("--newton-solvers", solvers,
+            "meshless Newton steps: direct (CHOLMOD, NewtonSolver's defaults), reuse (CG with the kept factor of an "
+            "earlier iteration, FactorReuse::on), fem-pcg (CG preconditioned by the P1-tet rest Hessian on the same "
+            "lattice), rest-pcg (CG preconditioned by the meshless rest Hessian)",
+            "LIST", [](const std::string& v) {
+              return v == "direct" || v == "reuse" || v == "fem-pcg" || v == "rest-pcg"
+                         ? std::string()
+                         : "one of direct, reuse, fem-pcg, rest-pcg";
+            });
+  cli.names("--fem-solver", fem_solver,
+            "the FEM row's steps: direct (NewtonSolver's defaults) or reuse (CG with the kept factor, as the meshless reuse)",
+            "NAME", [](const std::string& v) { return v == "direct" || v == "reuse" ? std::string() : "direct or reuse"; });
+  cli.integer("--beam-quadrature", beam_quadrature, "cantilever: Gauss points per axis per cell", 1);
+  cli.integer("--neighbours", neighbours,
+              "patches from each node's k-th nearest node (0: the lattice spacing), then grown where a point is not "
+              "covered (cantilever and Newton rows)",
+              0);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   std::vector<double> support_factors;
@@ -385,19 +524,24 @@ int run(int argc, char** argv) {
   Json beams = Json::array();
   if (!(per_unit.size() == 1 && per_unit[0] == 0))
     for (const double support_factor : support_factors) {
-      std::printf("\ncantilever 10 x 1 x 1 against Timoshenko, support factor %g\n%8s %6s %12s %10s %7s %9s\n",
-                  support_factor, "h", "nodes", "deflection", "rel.err", "rate", "seconds");
+      std::printf("\ncantilever 10 x 1 x 1 against Timoshenko, support factor %g, %d Gauss points per axis, patches %s\n"
+                  "%8s %6s %12s %10s %7s %9s %9s %9s\n",
+                  support_factor, beam_quadrature, neighbours > 0 ? "from neighbours" : "from the lattice", "h", "nodes",
+                  "deflection", "rel.err", "rate", "seconds", "repaired", "enlarged");
       std::vector<BeamResult> results;
       for (int c : per_unit) {
         if (c <= 0) continue;
-        const BeamResult b = cantilever(1.0 / c, support_factor);
+        const BeamResult b = cantilever(1.0 / c, support_factor, beam_quadrature, neighbours);
         const double rate =
             results.empty() ? NAN : std::log(results.back().error / b.error) / std::log(results.back().spacing / b.spacing);
-        std::printf("%8.4f %6d %12.6f %10.3e %7.2f %9.3f\n", b.spacing, b.nodes, b.deflection, b.error, rate, b.seconds);
+        std::printf("%8.4f %6d %12.6f %10.3e %7.2f %9.3f %9d %9d\n", b.spacing, b.nodes, b.deflection, b.error, rate,
+                    b.seconds, b.points_repaired, b.nodes_enlarged);
         results.push_back(b);
         beams.push_back({{"support_factor", support_factor}, {"spacing", b.spacing}, {"nodes", b.nodes},
                          {"deflection", b.deflection}, {"relative_error", b.error},
-                         {"rate", std::isfinite(rate) ? Json(rate) : Json()}, {"seconds", b.seconds}});
+                         {"rate", std::isfinite(rate) ? Json(rate) : Json()}, {"seconds", b.seconds},
+                         {"quadrature_order", beam_quadrature}, {"neighbours", neighbours},
+                         {"points_repaired", b.points_repaired}, {"nodes_enlarged", b.nodes_enlarged}});
       }
     }
   json["cantilever"] = beams;
@@ -408,18 +552,23 @@ int run(int argc, char** argv) {
     const double h = 1.0 / cells;
     std::printf("\nNewton iteration, neo-Hookean cantilever 4 x 1 x 1, h = %g, end shear %g (medians per iteration, s)\n", h,
                 newton_load);
-    std::printf("%-16s %4s %6s %7s %10s %6s %10s %9s %4s %8s %8s %9s %9s %9s %9s %9s %9s\n", "method", "R/h", "nodes",
-                "DOFs", "H entries", "H/row", "L entries", "L flops", "its", "build", "setup", "iteration", "assembly",
-                "factor", "solve", "l.search", "cpu/it");
-    const std::vector<NewtonRow> timed = newton_comparison(h, newton_load, support_factors);
+    std::printf("%-16s %-8s %4s %6s %7s %10s %6s %10s %9s %4s %5s %8s %8s %9s %9s %9s %9s %9s %9s %9s\n", "method",
+                "solver", "R/h", "nodes", "DOFs", "H entries", "H/row", "L entries", "L flops", "its", "CG", "build",
+                "setup", "iteration", "assembly", "factor", "solve", "l.search", "cpu/it", "P cpu");
+    const std::vector<NewtonRow> timed = newton_comparison(h, newton_load, support_factors, solvers, neighbours,
+                                                           fem_solver.size() == 1 && fem_solver[0] == "reuse");
     const NewtonRow& fem = timed.back();
     for (const NewtonRow& r : timed) {
-      std::printf("%-16s %4.3g %6d %7d %10ld %6.1f %10.3g %9.3g %4d %8.3f %8.3f %9.4f %9.4f %9.4f %9.4f %9.4f %9.4f\n",
-                  r.method.c_str(), r.support_factor, r.nodes, r.dofs, r.hessian_entries,
+      std::printf("%-16s %-8s %4.3g %6d %7d %10ld %6.1f %10.3g %9.3g %4d %5d %8.3f %8.3f %9.4f %9.4f %9.4f %9.4f %9.4f "
+                  "%9.4f %9.4f\n",
+                  r.method.c_str(), r.solver.c_str(), r.support_factor, r.nodes, r.dofs, r.hessian_entries,
                   (2.0 * static_cast<double>(r.hessian_entries) - r.dofs) / r.dofs, r.factor_nonzeros, r.factor_flops,
-                  r.iterations, r.model_build, r.setup, r.iteration, r.assembly, r.factorization, r.solve, r.line_search,
-                  r.cpu_per_iteration);
-      newton.push_back({{"method", r.method}, {"spacing", r.spacing}, {"support_factor", r.support_factor},
+                  r.iterations, r.cg_iterations, r.model_build, r.setup, r.iteration, r.assembly, r.factorization, r.solve,
+                  r.line_search, r.cpu_per_iteration, r.preconditioner_cpu);
+      newton.push_back({{"method", r.method}, {"solver", r.solver}, {"spacing", r.spacing}, {"support_factor", r.support_factor},
+                        {"neighbours", r.neighbours}, {"points_repaired", r.points_repaired},
+                        {"nodes_enlarged", r.nodes_enlarged}, {"cg_iterations", r.cg_iterations},
+                        {"preconditioner_cpu_s", r.preconditioner_cpu},
                         {"nodes", r.nodes}, {"free_dofs", r.dofs}, {"hessian_entries", r.hessian_entries},
                         {"basis_nonzeros", r.basis_nonzeros}, {"longest_basis_row", r.longest_basis_row},
                         {"factor_nonzeros", r.factor_nonzeros},
@@ -439,9 +588,10 @@ int run(int argc, char** argv) {
                   r.method.c_str(), r.support_factor, r.amd.second, r.metis.second, r.nesdis.second);
     std::printf("\n");
     for (std::size_t k = 0; k + 1 < timed.size(); ++k) {
-      std::printf("meshless (R/h = %g) / FEM per iteration: %.2f wall, %.2f CPU (goal: <= 3)\n", timed[k].support_factor,
-                  timed[k].iteration / fem.iteration, timed[k].cpu_per_iteration / fem.cpu_per_iteration);
-      ratios.push_back({{"spacing", h}, {"support_factor", timed[k].support_factor},
+      std::printf("meshless (R/h = %g, %s) / FEM per iteration: %.2f wall, %.2f CPU (goal: <= 3)\n",
+                  timed[k].support_factor, timed[k].solver.c_str(), timed[k].iteration / fem.iteration,
+                  timed[k].cpu_per_iteration / fem.cpu_per_iteration);
+      ratios.push_back({{"spacing", h}, {"support_factor", timed[k].support_factor}, {"solver", timed[k].solver},
                         {"ratio", timed[k].iteration / fem.iteration},
                         {"cpu_ratio", timed[k].cpu_per_iteration / fem.cpu_per_iteration}});
     }

@@ -31,6 +31,17 @@ struct CoveringReport {
   int passes = 0;             // evaluation passes (1: nothing to repair)
 };
 
+// Per-node spacings from each node's own neighbourhood: s_a = the distance from node a to its
+// k-th nearest other node (nodes n x 3, 1 <= k < n). Handed to MlsShapeFunctions, the patches
+// are R_a = support_factor * s_a: on a lattice of spacing h with k = 6 an interior node gets h
+// (its six face neighbours) and a node on a face, edge or corner sqrt(2) h (it has only 5, 4
+// or 3 neighbours at h), so the support is smallest in the interior and larger where the
+// boundary leaves fewer nodes around a point; scattered or graded nodes get patches that follow
+// their local density. cover_points then grows them only where a point still fails.
+// std::invalid_argument on bad k. A uniform bucket grid finds the neighbours: O(n k) for evenly
+// spread nodes.
+Eigen::VectorXd neighbour_spacing(const Eigen::MatrixXd& nodes, int k);
+
 // The per-node spacings s_a to hand to MlsShapeFunctions (R_a = support_factor * s_a) so that
 // every row of `points` (q x 3) is covered; nodes n x 3, spacing per node (the initial s_a).
 // MeshlessPointError for a point that cannot be covered (see above).

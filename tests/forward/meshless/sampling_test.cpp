@@ -254,5 +254,36 @@ TEST(OctreeSampling, RefinementBoxSetsTheNodeLevel) {
     EXPECT_EQ(s.level[a], (s.nodes.row(a).array() <= 0.75 + 1e-9).all() ? 1 : 0) << s.nodes.row(a);
 }
 
+// neighbour_spacing against a brute-force search, and its values on a lattice: h inside, sqrt(2) h
+// where the boundary leaves a node fewer than six neighbours at h.
+TEST(CoveringPatches, NeighbourSpacingIsTheKthNearestNodesDistance) {
+  const OctreeSampling lattice = sample_shape(box_shape(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 1, 1)), {0.25, 2, 0});
+  const Eigen::MatrixXd& X = lattice.nodes;
+  const Eigen::VectorXd s = neighbour_spacing(X, 6);
+  for (int a = 0; a < X.rows(); ++a) {
+    const Eigen::Vector3d p = X.row(a).transpose();
+    const bool interior = (p.array() > 1e-9).all() && (p.array() < Eigen::Array3d(2, 1, 1) - 1e-9).all();
+    EXPECT_NEAR(s[a], interior ? 0.25 : 0.25 * std::sqrt(2.0), 1e-12) << a;
+  }
+  // Scattered points, clustered at one end: every k against sorting all distances.
+  Eigen::MatrixXd P = Eigen::MatrixXd::Random(300, 3);
+  P.col(0) = P.col(0).array().cube();
+  for (const int k : {1, 4, 10}) {
+    const Eigen::VectorXd fast = neighbour_spacing(P, k);
+    for (int a = 0; a < P.rows(); ++a) {
+      std::vector<double> d;
+      for (int b = 0; b < P.rows(); ++b)
+        if (b != a) d.push_back((P.row(b) - P.row(a)).norm());
+      std::sort(d.begin(), d.end());
+      ASSERT_DOUBLE_EQ(fast[a], d[static_cast<std::size_t>(k - 1)]) << "k = " << k << ", point " << a;
+    }
+  }
+  EXPECT_THROW(neighbour_spacing(P, 0), std::invalid_argument);
+  EXPECT_THROW(neighbour_spacing(P, 300), std::invalid_argument);
+  Eigen::MatrixXd twice(2, 3);
+  twice << 0, 0, 0, 0, 0, 0;
+  EXPECT_THROW(neighbour_spacing(twice, 1), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace tailor::sampling_test

@@ -167,10 +167,12 @@ int compute_modes(const SceneFile& file, const VerbArguments& args, std::ostream
 // relative paths from file.directory(), names the scene file.name() and writes into
 // output_folder(file, args).
 
-// The runs that are not an inverse problem's optimizer keep no checkpoints.
-void refuse_checkpoint_flags(const VerbArguments& args) {
+// Checkpoints are kept by the FEM inverse problem's optimizer only; every other run refuses the
+// flags and names itself, so that a scene which has an optimizer section is not told it lacks one.
+void refuse_checkpoint_flags(const VerbArguments& args, const std::string& run) {
   if (args.resume || args.checkpoint_every)
-    throw UsageError("--resume and --checkpoint-every need a scene with an \"inverse\" section");
+    throw UsageError("--resume and --checkpoint-every are not implemented for " + run +
+                     " (only for FEM scenes with an \"inverse\" section)");
 }
 
 RigidSceneSpec load_rigid_scene(const SceneFile& file) {
@@ -275,7 +277,7 @@ int homogenize_cell(const SceneFile& file, const VerbArguments& args, std::ostre
 }
 
 int design_cell(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  refuse_checkpoint_flags(args);
+  refuse_checkpoint_flags(args, "periodic-cell designs");
   const CellScene cell = load_cell_scene(file);
   const MetamaterialDesignSpec spec = parse_metamaterial_design(file.node(), cell);
   const MetamaterialRun run =
@@ -284,7 +286,7 @@ int design_cell(const SceneFile& file, const VerbArguments& args, std::ostream& 
 }
 
 int fit_material(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  refuse_checkpoint_flags(args);
+  refuse_checkpoint_flags(args, "material fits");
   MaterialFitSpec spec = parse_material_fit_scene(file.node());
   spec.name = file.name();
   const MaterialFitRun fit = run_material_fit(spec, output_folder(file, args), &out, args.quiet ? nullptr : &out);
@@ -292,7 +294,7 @@ int fit_material(const SceneFile& file, const VerbArguments& args, std::ostream&
 }
 
 int design_damping(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  refuse_checkpoint_flags(args);
+  refuse_checkpoint_flags(args, "damping designs");
   return exit_code(run_damping_design_scene(file.node(), output_folder(file, args), &out));
 }
 
@@ -323,14 +325,14 @@ int gradcheck_meshless(const SceneFile& file, const VerbArguments& args, std::os
 }
 
 int run_meshless(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  refuse_checkpoint_flags(args);
+  refuse_checkpoint_flags(args, "meshless scenes");
   return exit_code(run_meshless_scene(file.node(), meshless_options(file, args, out), &out));
 }
 
 // ---- rigged bodies (docs/pose_space.md)
 
 int simulate_rig(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  refuse_checkpoint_flags(args);
+  refuse_checkpoint_flags(args, "rig scenes");
   RigSceneSpec spec = parse_rig_scene(file.node(), file.directory());
   spec.name = file.name();
   return exit_code(run_rig_scene(spec, output_folder(file, args), &out).completed);
@@ -344,7 +346,7 @@ int gradcheck_rig(const SceneFile& file, const VerbArguments& args, std::ostream
 }
 
 int run_rig(const SceneFile& file, const VerbArguments& args, std::ostream& out) {
-  refuse_checkpoint_flags(args);
+  refuse_checkpoint_flags(args, "rig scenes");
   RigSceneSpec spec = parse_rig_scene(file.node(), file.directory());
   spec.name = file.name();
   return exit_code(run_rig_inverse(spec, output_folder(file, args), &out).result.converged());

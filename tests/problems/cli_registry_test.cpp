@@ -165,7 +165,8 @@ TEST_F(CliRegistry, BadFlagValuesExitWithTwoNamingTheFlag) {
       {{"gradcheck", toy_, "--seed"}, "--seed"},
       {{"simulate", toy_, "--out"}, "--out"},
       {{"run", testing::kScenesDir + "/material_fit/spline_fit_neo_hookean.json", "--checkpoint-every", "3"},
-       "--resume and --checkpoint-every need a scene with an \"inverse\" section"},
+       "--resume and --checkpoint-every are not implemented for material fits (only for FEM scenes with an "
+       "\"inverse\" section)"},
   };
   for (const auto& c : cases) {
     const Outcome r = run(c.arguments);

@@ -119,7 +119,7 @@ class ReducedCellEnergy final : public EnergyTerm {
   }
   void hessian_pattern(HessianPattern& pattern) const override {
     for (int j = 0; j < cell_.num_free(); ++j)
-      for (int i = 0; i < cell_.num_free(); ++i) pattern.emplace_back(i, j);
+      for (int i = 0; i < cell_.num_free(); ++i) pattern.push_back({i, j});
   }
 
  private:

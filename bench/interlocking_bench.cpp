@@ -10,7 +10,15 @@
 // evaluation with its gradient. Writes JSON (--out, default bench_interlocking.json) and prints
 // tables.
 //
-// usage: interlocking_bench [--directions 32] [--reference-directions 4] [--cells 1,4,16] [--out FILE]
+// Mesh bodies (--mesh-segments M1,M2,...: rings meshed M x M/2, forward/interlocking/
+// periodic_mesh_*): the chain's uniaxial limit per resolution against the closed form 2 (R - r)
+// - d_hat / 2 over s0, minus 1, with the chordal bound 2 delta / s0 (the convergence table); and
+// the square ring net's first --mesh-directions principal directions, meshed and as implicit tori:
+// CPU seconds per boundary sample (median) and the limits' largest difference. --mesh-only skips
+// the tori cells and the design.
+//
+// usage: interlocking_bench [--directions 32] [--reference-directions 4] [--cells 1,4,16]
+//                           [--mesh-segments 12,16,24] [--mesh-directions 4] [--mesh-only] [--out FILE]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -25,6 +33,7 @@
 #include "forward/core/statistics.hpp"
 #include "forward/interlocking/cell_patterns.hpp"
 #include "forward/interlocking/interpenetration_check.hpp"
+#include "forward/interlocking/periodic_mesh_contact.hpp"
 #include "problems/interlocking/limit_design.hpp"
 
 namespace tailor::bench::interlocking_bench {
@@ -170,6 +179,98 @@ Json design() {
           {"targets", {targets[0].strain, targets[1].strain}}};
 }
 
+double cpu_since(std::clock_t start) { return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC; }
+
+// The chain's uniaxial limit per mesh resolution (see the top of this file).
+Json mesh_chain_convergence(const std::vector<int>& segments) {
+  const double s0 = 1.5, d_hat = 1e-3;
+  const double closed_form = (2.0 * (kRing.major_radius - kRing.minor_radius) - 0.5 * d_hat) / s0 - 1.0;
+  LimitOptions options;
+  options.max_strain = 0.3;
+  options.tolerance = 1e-6;
+  std::printf("\nmeshed chain (R = 1, r = 0.2, s0 = 1.5): uniaxial limit per resolution, closed form %.7f\n",
+              closed_form);
+  std::printf("%10s %10s %12s %12s %12s %12s %8s %12s %10s\n", "segments", "triangles", "limit", "error",
+              "bound", "delta", "solves", "cpu s", "crossing");
+  Json rows = Json::array();
+  for (int major : segments) {
+    RigidCellSpec spec = with_torus_meshes(chain_cell(kRing, kRing, s0, 10.0 * s0), major, major / 2);
+    spec.activation_distance = d_hat;
+    const PeriodicRigidCell cell(spec);
+    const std::clock_t c0 = std::clock();
+    const LimitPoint p = strain_space_boundary(cell, {uniaxial_path(0.0)}, options)[0];
+    const double cpu = cpu_since(c0);
+    const double delta = torus_chordal_bound(kRing, major, major / 2);
+    const MeshIntersectionReport crossing = check_mesh_intersections(cell, cell.full_state(p.y, p.deformation));
+    std::printf("%6d x %-3d %10d %12.7f %12.2e %12.2e %12.2e %8d %12.2f %10ld\n", major, major / 2,
+                static_cast<int>(spec.elements[0].mesh->faces.rows()), p.strain, p.strain - closed_form,
+                2.0 * delta / s0, delta, p.solves, cpu, crossing.intersecting);
+    rows.push_back({{"major_segments", major},
+                    {"minor_segments", major / 2},
+                    {"triangles_per_ring", spec.elements[0].mesh->faces.rows()},
+                    {"locked", p.locked},
+                    {"limit", p.strain},
+                    {"closed_form", closed_form},
+                    {"error", p.strain - closed_form},
+                    {"chordal_bound_on_limit", 2.0 * delta / s0},
+                    {"solves", p.solves},
+                    {"cpu_seconds", cpu},
+                    {"intersecting_triangle_pairs", crossing.intersecting}});
+  }
+  return rows;
+}
+
+// The square net's first `directions` principal samples (of 8 over the turn), meshed against the
+// implicit tori: median CPU seconds per sample and the limits.
+Json mesh_square_net(const std::vector<int>& segments, int directions) {
+  RigidCellSpec tori_spec = square_ring_cell(kRing, kRing, kRing, 1.5);
+  tori_spec.activation_distance = 1e-3;
+  LimitOptions options;
+  options.max_strain = 0.3;
+  const auto sweep = [&](const RigidCellSpec& spec, std::vector<double>& limits, std::vector<double>& cpu) {
+    const PeriodicRigidCell cell(spec);
+    const Vector y_rest = rest_equilibrium(cell);
+    long crossing = 0;
+    for (int k = 0; k < directions; ++k) {
+      const std::clock_t c0 = std::clock();
+      const LimitPoint p = find_limit(cell, principal_path(2.0 * M_PI * k / 8), y_rest, options);
+      cpu.push_back(cpu_since(c0));
+      limits.push_back(p.strain);
+      if (cell.mesh_contact())
+        crossing += check_mesh_intersections(cell, cell.full_state(p.y, p.deformation)).intersecting;
+    }
+    return crossing;
+  };
+  std::vector<double> tori_limits, tori_cpu;
+  sweep(tori_spec, tori_limits, tori_cpu);
+  std::printf("\nsquare ring net, %d principal directions (of 8): meshed rings against implicit tori\n", directions);
+  std::printf("%10s %12s %14s %14s %12s %12s %10s\n", "segments", "triangles", "cpu s/sample", "tori cpu s/s.",
+              "max |diff|", "bound", "crossing");
+  Json rows = Json::array();
+  for (int major : segments) {
+    std::vector<double> limits, cpu;
+    const RigidCellSpec spec = with_torus_meshes(tori_spec, major, major / 2);
+    const long crossing = sweep(spec, limits, cpu);
+    double diff = 0.0;
+    for (std::size_t k = 0; k < limits.size(); ++k) diff = std::max(diff, std::abs(limits[k] - tori_limits[k]));
+    const double bound = 2.0 * torus_chordal_bound(kRing, major, major / 2) / 1.5;
+    const int triangles = 3 * static_cast<int>(spec.elements[0].mesh->faces.rows());
+    std::printf("%6d x %-3d %12d %14.3f %14.4f %12.2e %12.2e %10ld\n", major, major / 2, triangles, median(cpu),
+                median(tori_cpu), diff, bound, crossing);
+    rows.push_back({{"major_segments", major},
+                    {"minor_segments", major / 2},
+                    {"cell_triangles", triangles},
+                    {"median_cpu_seconds_per_sample", median(cpu)},
+                    {"tori_median_cpu_seconds_per_sample", median(tori_cpu)},
+                    {"limits", array(limits)},
+                    {"tori_limits", array(tori_limits)},
+                    {"max_limit_difference", diff},
+                    {"chordal_bound_on_limit", bound},
+                    {"intersecting_triangle_pairs", crossing}});
+  }
+  return rows;
+}
+
 }  // namespace
 
 int run(int argc, char** argv) {
@@ -177,23 +278,38 @@ int run(int argc, char** argv) {
   int reference_directions = 4;
   std::vector<int> cells = {1, 4, 16};
   std::string out = "bench_interlocking.json";
+  std::vector<int> mesh_segments = {12, 16, 24};
+  int mesh_directions = 4;
+  bool mesh_only = false;
   bench::Cli cli("interlocking_bench", "Strain-space boundaries of interlocking cells and limit design.");
   cli.integer("--directions", directions, "uniaxial directions per boundary", 1);
   cli.integer("--reference-directions", reference_directions,
               "directions (the sweep's first) also run without the broad phase, for the before/after figure", 0);
   cli.integers("--cells", cells, "cells by element count (1, 4 or 16)", 1);
+  cli.integers("--mesh-segments", mesh_segments, "mesh bodies: major segments per ring (minor: half; none: 0)", 0);
+  cli.integer("--mesh-directions", mesh_directions, "mesh bodies: principal directions of the square net (of 8)", 0);
+  cli.flag("--mesh-only", mesh_only, "only the mesh-body tables (no tori cells, no design)");
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
   for (int c : cells)
     if (c != 1 && c != 4 && c != 16) return cli.usage_error("--cells: 1, 4 or 16");
+  for (int m : mesh_segments)
+    if (m != 0 && m < 6) return cli.usage_error("--mesh-segments: at least 6 (the minor count is half)");
   bench::Json json = bench::report("interlocking");
-  std::printf("%8s %6s %10s %12s %12s %12s %12s %8s %8s %10s %12s %10s %10s %14s %14s %6s\n", "elements", "dofs",
-              "directions", "s/sample", "cpu s/sample", "s/boundary", "cpu s/bound.", "locked", "refined", "solves", "clearance",
-              "min limit", "max limit", "broad cpu (ref)", "all-pairs cpu", "equal");
   bench::Json boundaries = bench::Json::array();
-  for (int c : cells) boundaries.push_back(boundary(c, directions, reference_directions));
-  json["boundaries"] = boundaries;
-  json["design"] = design();
+  if (!mesh_only) {
+    std::printf("%8s %6s %10s %12s %12s %12s %12s %8s %8s %10s %12s %10s %10s %14s %14s %6s\n", "elements", "dofs",
+                "directions", "s/sample", "cpu s/sample", "s/boundary", "cpu s/bound.", "locked", "refined", "solves", "clearance",
+                "min limit", "max limit", "broad cpu (ref)", "all-pairs cpu", "equal");
+    for (int c : cells) boundaries.push_back(boundary(c, directions, reference_directions));
+    json["boundaries"] = boundaries;
+    json["design"] = design();
+  }
+  mesh_segments.erase(std::remove(mesh_segments.begin(), mesh_segments.end(), 0), mesh_segments.end());
+  if (!mesh_segments.empty()) {
+    json["mesh_chain"] = mesh_chain_convergence(mesh_segments);
+    if (mesh_directions > 0) json["mesh_square_net"] = mesh_square_net(mesh_segments, std::min(mesh_directions, 8));
+  }
   return bench::write_report(out, json, "interlocking_bench") ? 0 : 1;
 }
 

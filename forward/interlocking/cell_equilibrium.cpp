@@ -11,6 +11,7 @@
 
 #include "forward/contact/barrier.hpp"
 #include "forward/core/psd_projection.hpp"
+#include "forward/interlocking/periodic_mesh_contact.hpp"
 #include "forward/tori/torus.hpp"
 
 namespace tailor::interlocking {
@@ -77,12 +78,14 @@ void broad_phase_contact(const PeriodicRigidCell& cell, const Vector& x, double*
 
 std::vector<tori::TorusPair> contact_close_pairs(const PeriodicRigidCell& cell, const Vector& x, double range,
                                                  bool derivatives) {
+  if (const PeriodicMeshContact* mesh = cell.mesh_contact()) return mesh->close_pairs(x, range);  // no derivatives
   if (!cell.spec().broad_phase || !std::isfinite(range))
     return cell.contact().close_pairs(x, cell.radii_parameters(), range, derivatives);
   return close_candidates(cell, x, range, derivatives);
 }
 
 std::vector<tori::TorusPairForce> contact_pair_forces(const PeriodicRigidCell& cell, const Vector& x) {
+  if (const PeriodicMeshContact* mesh = cell.mesh_contact()) return mesh->pair_forces(x);
   if (!cell.spec().broad_phase) return cell.contact().pair_forces(x, cell.radii_parameters());
   std::vector<tori::TorusPairForce> out;
   const double d_hat = cell.activation_distance();
@@ -101,7 +104,10 @@ std::vector<tori::TorusPairForce> contact_pair_forces(const PeriodicRigidCell& c
 ReducedContact reduced_contact(const PeriodicRigidCell& cell, const Vector& x, bool hessian, HessianMode mode) {
   ReducedContact out;
   out.full_gradient = Vector::Zero(x.size());
-  if (cell.spec().broad_phase) {
+  if (const PeriodicMeshContact* mesh = cell.mesh_contact()) {
+    mesh->evaluate(x, &out.energy, &out.full_gradient, nullptr, mode);
+    if (hessian && std::isfinite(out.energy)) mesh->evaluate(x, nullptr, nullptr, &out.full_hessian, mode);
+  } else if (cell.spec().broad_phase) {
     Triplets triplets;
     broad_phase_contact(cell, x, &out.energy, &out.full_gradient, hessian ? &triplets : nullptr, mode);
     if (hessian && std::isfinite(out.energy)) {  // the Hessian only where the energy is finite
@@ -126,7 +132,9 @@ ReducedContact reduced_contact(const PeriodicRigidCell& cell, const Vector& x, b
 
 double contact_energy(const PeriodicRigidCell& cell, const Vector& x) {
   double e = 0.0;
-  if (cell.spec().broad_phase) {
+  if (const PeriodicMeshContact* mesh = cell.mesh_contact()) {
+    mesh->evaluate(x, &e, nullptr, nullptr, HessianMode::exact);
+  } else if (cell.spec().broad_phase) {
     broad_phase_contact(cell, x, &e, nullptr, nullptr, HessianMode::exact);
   } else {
     EnergyRequest request;
@@ -137,6 +145,7 @@ double contact_energy(const PeriodicRigidCell& cell, const Vector& x) {
 }
 
 double smallest_distance(const PeriodicRigidCell& cell, const Vector& x, double range) {
+  if (const PeriodicMeshContact* mesh = cell.mesh_contact()) return mesh->min_distance(x, range);
   if (!cell.spec().broad_phase || !std::isfinite(range))
     return cell.contact().min_distance(x, cell.radii_parameters(), range);
   double best = std::numeric_limits<double>::infinity();
@@ -146,6 +155,7 @@ double smallest_distance(const PeriodicRigidCell& cell, const Vector& x, double 
 }
 
 double contact_max_step(const PeriodicRigidCell& cell, const Vector& q, const Vector& dq) {
+  if (const PeriodicMeshContact* mesh = cell.mesh_contact()) return mesh->max_step(q, dq);
   const tori::TorusContactTerm& term = cell.contact();
   if (!cell.spec().broad_phase) return term.max_step(q, dq);
   // TorusContactTerm::max_step's conservative advancement, pair by pair in the same order, over

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "forward/core/symmetric_eigen.hpp"
 #include "forward/tori/torus_distance.hpp"
@@ -63,6 +64,10 @@ RefineResult refine_limit(const PeriodicRigidCell& cell, const LoadPath& path, d
   RefineResult r;
   r.y = y_start;
   r.strain = s_start;
+  if (cell.mesh_contact()) {  // a mesh pair's distance is a minimum over primitive pairs: not smooth
+    r.message = "mesh cells are not refined (the bisection's bracket is the limit's accuracy)";
+    return r;
+  }
   const SparseMatrix& S = cell.basis();
   const double d_hat = cell.activation_distance();
   for (int it = 0;; ++it) {
@@ -116,6 +121,7 @@ Vector equilibrium_tangent(const PeriodicRigidCell& cell, const LoadPath& path, 
 
 LimitGradient limit_gradient(const PeriodicRigidCell& cell, const LoadPath& path, int a, int b, const Vector& y,
                              double s) {
+  if (cell.mesh_contact()) throw std::invalid_argument("limit_gradient: mesh cells have no limit derivatives");
   const SparseMatrix& S = cell.basis();
   const Eigen::Matrix2d F = path.deformation(s);
   const Vector x = cell.full_state(y, F);

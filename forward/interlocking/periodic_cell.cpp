@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "forward/contact/barrier_stiffness.hpp"
+#include "forward/interlocking/periodic_mesh_contact.hpp"
 #include "forward/rigid/rotation.hpp"
 #include "forward/tori/torus.hpp"
 #include "forward/tori/torus_distance.hpp"
@@ -32,6 +33,11 @@ void validate_cell(const RigidCellSpec& spec) {
   if (n == 0) throw std::invalid_argument("periodic cell: no elements");
   if (!spec.lattice.allFinite() || !(std::abs(spec.lattice.determinant()) > 0.0))
     throw std::invalid_argument("periodic cell: the lattice vectors are not independent");
+  for (const CellElement& e : spec.elements)
+    if ((e.mesh != nullptr) != is_mesh_cell(spec))
+      throw std::invalid_argument("periodic cell: the elements must be all meshes or all implicit tori");
+  if (is_mesh_cell(spec) && spec.bending_patch)
+    throw std::invalid_argument("bending patch: mesh elements are supported in periodic cells only");
   if (spec.bending_patch) {
     int rim = 0;
     for (const CellElement& e : spec.elements) rim += e.rim;
@@ -58,10 +64,13 @@ void validate_cell(const RigidCellSpec& spec) {
   double reach = 0.0;
   for (int i = 0; i < n; ++i) {
     const CellElement& e = spec.elements[static_cast<std::size_t>(i)];
-    tori::validate_shape(e.shape, "periodic cell: element " + std::to_string(i));
+    if (e.mesh)
+      validate_element_mesh(*e.mesh, "periodic cell: element " + std::to_string(i));
+    else
+      tori::validate_shape(e.shape, "periodic cell: element " + std::to_string(i));
     if (!e.position.allFinite() || !e.rotation.allFinite())
       throw std::invalid_argument("periodic cell: element " + std::to_string(i) + " has a non-finite placement");
-    reach = std::max(reach, tori::bounding_radius(e.shape));
+    reach = std::max(reach, e.mesh ? mesh_bounding_radius(*e.mesh) : tori::bounding_radius(e.shape));
   }
   // Shifts in ring K + 1 must stay out of reach: every pair of bounding spheres at least
   // reach_margin of the shortest lattice vector apart.
@@ -89,6 +98,10 @@ PeriodicRigidCell::PeriodicRigidCell(RigidCellSpec spec) : spec_(std::move(spec)
   const int n = num_elements();
   double min_major = spec_.elements.front().shape.major_radius;
   for (const CellElement& e : spec_.elements) min_major = std::min(min_major, e.shape.major_radius);
+  if (is_mesh_cell(spec_)) {  // meshes: the default d_hat follows the smallest mesh radius
+    min_major = mesh_bounding_radius(*spec_.elements.front().mesh);
+    for (const CellElement& e : spec_.elements) min_major = std::min(min_major, mesh_bounding_radius(*e.mesh));
+  }
   d_hat_ = spec_.activation_distance > 0.0 ? spec_.activation_distance : 1e-3 * min_major;
 
   const std::vector<Eigen::Vector2i> shifts =
@@ -119,6 +132,10 @@ PeriodicRigidCell::PeriodicRigidCell(RigidCellSpec spec) : spec_(std::move(spec)
   basis_.resize(6 * num_bodies(), columns);
   basis_.setFromTriplets(triplets.begin(), triplets.end());
 
+  if (is_mesh_cell(spec_)) {
+    build_mesh_contact();
+    return;
+  }
   std::vector<rigid::RigidBody> bodies;
   std::vector<tori::TorusShape> shapes;
   const Vector x = offset(Eigen::Matrix2d::Identity()) + basis_ * rest_free_state();
@@ -351,6 +368,33 @@ std::vector<std::pair<int, int>> PeriodicRigidCell::candidate_pairs(const Vector
   }
   std::sort(out.begin(), out.end());
   return out;
+}
+
+// Mesh bodies: the IPC barrier on their triangles over masters and images (periodic_mesh_contact.hpp);
+// an intersecting rest placement is an input error (distances alone miss an edge through a face).
+void PeriodicRigidCell::build_mesh_contact() {
+  std::vector<std::shared_ptr<const ElementMesh>> meshes;
+  for (int body = 0; body < num_bodies(); ++body) {
+    meshes.push_back(spec_.elements[static_cast<std::size_t>(master(body))].mesh);
+    bounding_.push_back(mesh_bounding_radius(*meshes.back()));
+  }
+  const Vector x = offset(Eigen::Matrix2d::Identity()) + basis_ * rest_free_state();
+  // Images whose bounding spheres stay reach_margin x the shortest lattice vector away from every
+  // master's at rest never take part (the same room for strains as validate_cell's ring K + 1).
+  const double room = spec_.reach_margin * std::min(spec_.lattice.col(0).norm(), spec_.lattice.col(1).norm());
+  std::vector<bool> in_reach(static_cast<std::size_t>(num_bodies()), false);
+  for (int body = 0; body < num_bodies(); ++body)
+    for (int i = 0; i < num_elements() && !in_reach[static_cast<std::size_t>(body)]; ++i)
+      in_reach[static_cast<std::size_t>(body)] =
+          body < num_elements() || (x.segment<3>(6 * body) - x.segment<3>(6 * i)).norm() <
+                                       bounding_[static_cast<std::size_t>(body)] + bounding_[static_cast<std::size_t>(i)] + room;
+  mesh_contact_ = std::make_shared<const PeriodicMeshContact>(meshes, num_elements(), x, in_reach, d_hat_);
+  const MeshIntersectionReport crossing = check_mesh_intersections(*this, x);
+  const double closest = mesh_contact_->min_distance(x, d_hat_);
+  if (!crossing.apart() || !(closest > 0.0))
+    throw std::invalid_argument("periodic cell: mesh elements intersect at rest (" +
+                                std::to_string(crossing.intersecting) + " crossing triangle pairs, distance " +
+                                std::to_string(closest) + ")");
 }
 
 }  // namespace tailor::interlocking

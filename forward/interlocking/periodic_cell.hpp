@@ -34,6 +34,9 @@
 
 namespace tailor::interlocking {
 
+struct ElementMesh;          // periodic_mesh_elements.hpp
+class PeriodicMeshContact;   // periodic_mesh_contact.hpp
+
 struct CellElement {
   tori::TorusShape shape;                              // circular or elliptic tube
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // rest T [length]
@@ -42,6 +45,10 @@ struct CellElement {
   // Bending patches cut from a tiling (disc_patch): the tiling's element this one copies, so that a
   // design can tie every copy's radii; -1: none (the element is itself).
   int origin = -1;
+  // A triangle-mesh body instead of the implicit torus (periodic_mesh_elements.hpp): contact is
+  // then the IPC barrier on the meshes (periodic_mesh_contact.hpp); `shape` is not used by the
+  // contact. A cell's elements are all meshes or all tori.
+  std::shared_ptr<const ElementMesh> mesh = nullptr;
 };
 
 struct RigidCellSpec {
@@ -85,6 +92,9 @@ class PeriodicRigidCell {
   const Eigen::Vector2i& shift(int body) const { return shift_[static_cast<std::size_t>(body)]; }
   double activation_distance() const { return d_hat_; }
   const tori::TorusContactTerm& contact() const { return *contact_; }
+  // Mesh cells (CellElement::mesh): their contact (contact() is not built for them); null for a
+  // cell of implicit tori.
+  const PeriodicMeshContact* mesh_contact() const { return mesh_contact_.get(); }
 
   // The Elimination x = x0(F) + S y at macro F; S is the same for every F.
   Elimination elimination(const Eigen::Matrix2d& F) const;
@@ -144,6 +154,8 @@ class PeriodicRigidCell {
   SparseMatrix basis_;
   std::unique_ptr<rigid::RigidBodySystem> system_;
   std::unique_ptr<tori::TorusContactTerm> contact_;
+  std::shared_ptr<const PeriodicMeshContact> mesh_contact_;
+  void build_mesh_contact();
 };
 
 }  // namespace tailor::interlocking

@@ -8,6 +8,7 @@
 #include <ostream>
 
 #include "forward/interlocking/interpenetration_check.hpp"
+#include "forward/interlocking/periodic_mesh_contact.hpp"
 #include "forward/rigid/rotation.hpp"
 #include "forward/tori/torus.hpp"
 #include "problems/contact/surface_vtu.hpp"
@@ -33,7 +34,13 @@ void write_cell_vtu(const std::string& path, const PeriodicRigidCell& cell, cons
   for (int body = 0; body < cell.num_bodies(); ++body) {
     Eigen::MatrixX3d v;
     Eigen::MatrixX3i f;
-    tori::torus_surface(cell.spec().elements[static_cast<std::size_t>(cell.master(body))].shape, 32, 12, false, v, f);
+    const interlocking::CellElement& element = cell.spec().elements[static_cast<std::size_t>(cell.master(body))];
+    if (element.mesh) {  // mesh bodies: the mesh the contact sees
+      v = element.mesh->vertices;
+      f = element.mesh->faces;
+    } else {
+      tori::torus_surface(element.shape, 32, 12, false, v, f);
+    }
     const Eigen::Matrix3d Q = rigid::rotation_matrix(x.segment<3>(6 * body + 3));
     v = (v * Q.transpose()).rowwise() + x.segment<3>(6 * body).transpose();
     nv += static_cast<int>(v.rows());
@@ -66,6 +73,11 @@ ordered_json cell_json(const interlocking::RigidCellSpec& c, double d_hat) {
                         {"position", {e.position.x(), e.position.y(), e.position.z()}},
                         {"rotation", {e.rotation.x(), e.rotation.y(), e.rotation.z()}},
                         {"rim", e.rim}});
+  for (std::size_t i = 0; i < c.elements.size(); ++i)
+    if (const auto& mesh = c.elements[i].mesh)
+      elements[i]["mesh"] = {{"source", mesh->source},
+                             {"triangles", mesh->faces.rows()},
+                             {"chordal_error", mesh->chordal_error}};
   return {{"elements", elements},
           {"bending_patch", c.bending_patch},
           {"lattice", {{c.lattice(0, 0), c.lattice(1, 0)}, {c.lattice(0, 1), c.lattice(1, 1)}}},
@@ -137,9 +149,15 @@ BoundaryRun sweep(const InterlockingScene& scene, const interlocking::RigidCellS
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count();
     sample_seconds.push_back(seconds);
     const Vector x = cell.full_state(p.y, p.deformation);
-    const interlocking::ClearanceReport clearance = interlocking::check_clearance(cell, x);
+    // Tori: certified clearance; mesh bodies: the exact triangle-triangle intersection test.
+    interlocking::ClearanceReport clearance;
+    interlocking::MeshIntersectionReport crossing;
+    if (cell.mesh_contact())
+      crossing = interlocking::check_mesh_intersections(cell, x);
+    else
+      clearance = interlocking::check_clearance(cell, x);
     const bool stalled = !p.locked && p.status != "free up to max_strain";
-    if (stalled || !clearance.apart()) run.ok = false;
+    if (stalled || (cell.mesh_contact() ? !crossing.apart() : !clearance.apart())) run.ok = false;
     const Eigen::Matrix2d e = macro_strain(p.deformation);  // bending patches: the curvature K
     const std::string measure = spec.bending_patch ? "kappa_" : "eps_";
     ordered_json active = ordered_json::array();
@@ -164,6 +182,12 @@ BoundaryRun sweep(const InterlockingScene& scene, const interlocking::RigidCellS
                            {"active_pairs", active},
                            {"solves", p.solves},
                            {"seconds", seconds}};
+    if (cell.mesh_contact()) {
+      sample.erase("certified_clearance");
+      sample.erase("clearance_elliptic_skipped");
+      sample["mesh_intersection_check"] = {{"triangle_pairs_tested", crossing.triangle_pairs},
+                                           {"intersecting", crossing.intersecting}};
+    }
     if (scene.boundary.vtu) {
       const std::string file = "sample_" + std::to_string(k) + ".vtu";
       write_cell_vtu(out_dir + "/" + file, cell, x);
@@ -171,8 +195,10 @@ BoundaryRun sweep(const InterlockingScene& scene, const interlocking::RigidCellS
     }
     if (log)
       *log << "  " << p.angle * 180.0 / M_PI << " deg: " << p.status << ", s = " << p.strain
-           << (p.refined ? " (refined)" : "") << ", " << p.active.size() << " active pairs, clearance "
-           << clearance.min_lower << "\n";
+           << (p.refined ? " (refined)" : "") << ", " << p.active.size() << " active pairs, "
+           << (cell.mesh_contact() ? "intersecting triangle pairs " + std::to_string(crossing.intersecting)
+                                   : "clearance " + std::to_string(clearance.min_lower))
+           << "\n";
     samples.push_back(sample);
     run.points.push_back(p);
     ++k;

@@ -2,14 +2,26 @@
 #include "problems/interlocking/interlocking_scene.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 
 #include "forward/interlocking/cell_patterns.hpp"
+#include "forward/interlocking/periodic_mesh_elements.hpp"
 #include "problems/optimizer_section.hpp"
 #include "problems/scene_error.hpp"
 
 namespace tailor {
 namespace {
+
+// The radii of a torus among a node's keys (the caller checks the keys).
+tori::TorusShape parse_shape_keys(const SceneNode& n) {
+  tori::TorusShape s;
+  s.major_radius = n.at("major_radius").positive();
+  s.minor_radius = n.at("minor_radius").positive();
+  if (auto r1 = n.find("minor_radius_1")) s.minor_radius_1 = r1->non_negative();
+  if (!(s.minor_radius < s.major_radius)) n.fail("minor_radius must be below major_radius");
+  return s;
+}
 
 tori::TorusShape parse_shape(const SceneNode& n) {
   n.expect_keys({"major_radius", "minor_radius", "minor_radius_1"});
@@ -21,9 +33,45 @@ tori::TorusShape parse_shape(const SceneNode& n) {
   return s;
 }
 
+// A "torus_segments": [major, minor] resolution (docs/interlocking.md, "Mesh bodies in cells").
+std::pair<int, int> parse_torus_segments(const SceneNode& n) {
+  const std::vector<int> k = n.integers(3);
+  if (k.size() != 2) n.fail("needs [major, minor] segment counts");
+  if (k[0] > 256 || k[1] > 256) n.fail("at most 256 segments each way");
+  return {k[0], k[1]};
+}
+
+// An element of pattern "elements" with a "mesh": {"file": "ring.obj"} (OBJ or OFF, relative to
+// the scene file; placed by position and rotation, no radii) or {"torus_segments": [M, m]} (the
+// torus of its radii, meshed).
+interlocking::CellElement parse_mesh_element(const SceneNode& e) {
+  e.expect_keys({"mesh", "major_radius", "minor_radius", "minor_radius_1", "position", "rotation"});
+  const SceneNode m = e.at("mesh");
+  m.expect_keys({"file", "torus_segments"});
+  interlocking::CellElement el;
+  if (m.only_key({"file", "torus_segments"}) == "file") {
+    for (const char* k : {"major_radius", "minor_radius", "minor_radius_1"})
+      if (e.has(k)) e.at(k).fail("a mesh file element has no radii");
+    const std::filesystem::path file =
+        std::filesystem::path(m.source()).parent_path() / m.at("file").string();
+    try {
+      el.mesh = interlocking::read_element_mesh(file.string());
+    } catch (const std::runtime_error& error) {
+      m.at("file").fail(error.what());
+    }
+  } else {
+    el.shape = parse_shape_keys(e);
+    const auto [major, minor] = parse_torus_segments(m.at("torus_segments"));
+    el.mesh = interlocking::torus_mesh(el.shape, major, minor);
+  }
+  el.position = e.at("position").vector(3);
+  if (auto w = e.find("rotation")) el.rotation = w->vector(3);
+  return el;
+}
+
 interlocking::RigidCellSpec parse_cell(const SceneNode& n) {
   n.expect_keys({"pattern", "spacing", "node", "link", "link_x", "link_y", "lateral", "elements", "lattice",
-                 "supercell", "image_rings", "activation_distance", "anchor", "bending_patch"});
+                 "supercell", "image_rings", "activation_distance", "anchor", "bending_patch", "mesh"});
   const std::string pattern = n.at("pattern").choice({"chain", "square_rings", "threefold", "elements"});
   interlocking::RigidCellSpec c;
   auto shape_or = [&](const char* key, const char* fallback) {
@@ -34,6 +82,11 @@ interlocking::RigidCellSpec parse_cell(const SceneNode& n) {
     for (const char* k : {"spacing", "node", "link", "link_x", "link_y", "lateral"})
       if (n.has(k)) n.at(k).fail("only for the patterns chain, square_rings, threefold");
     for (const SceneNode& e : n.at("elements").items()) {
+      if (e.has("mesh")) {
+        if (n.has("mesh")) e.at("mesh").fail("the cell's \"mesh\" already meshes every element");
+        c.elements.push_back(parse_mesh_element(e));
+        continue;
+      }
       e.expect_keys({"major_radius", "minor_radius", "minor_radius_1", "position", "rotation"});
       interlocking::CellElement el;
       el.shape.major_radius = e.at("major_radius").positive();
@@ -60,6 +113,11 @@ interlocking::RigidCellSpec parse_cell(const SceneNode& n) {
                                          shape_or("link_y", "link"), s);
     else
       c = interlocking::threefold_cell(shape_or("node", "node"), shape_or("link", "node"), s);
+  }
+  if (auto m = n.find("mesh")) {  // every element the meshed torus of its radii
+    m->expect_keys({"torus_segments"});
+    const auto [major, minor] = parse_torus_segments(m->at("torus_segments"));
+    c = interlocking::with_torus_meshes(c, major, minor);
   }
   if (auto k = n.find("image_rings")) c.image_rings = k->integer(1);
   if (auto d = n.find("activation_distance")) c.activation_distance = d->positive();
@@ -179,6 +237,8 @@ InterlockingScene parse_interlocking_scene(const SceneNode& root) {
     parse_limit_options(*b, scene.boundary.options);
   }
   if (auto d = n.find("design")) {
+    if (interlocking::is_mesh_cell(scene.cell))
+      d->fail("limit design needs implicit tori (mesh cells have no limit derivatives)");
     scene.design = parse_design(*d, scene.cell);
   }
   return scene;

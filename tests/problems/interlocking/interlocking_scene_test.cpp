@@ -10,6 +10,7 @@
 
 #include "adjoint/taylor_test.hpp"
 #include "forward/interlocking/cell_patterns.hpp"
+#include "forward/interlocking/periodic_mesh_elements.hpp"
 #include "problems/interlocking/interlocking_scene.hpp"
 #include "problems/scene_error.hpp"
 #include "problems/scene_kinds.hpp"
@@ -232,6 +233,56 @@ TEST(InterlockingScene, UnknownKeysAndBadCellsAreRefusedWithTheirPath) {
   std::string overlap = kScene;
   overlap.replace(overlap.find("\"spacing\": 1.5"), 14, "\"spacing\": 1.1");  // nodes 2.2 apart overlap
   EXPECT_THROW(parse_interlocking_scene(scene_from_text(overlap, "overlap.json").node()), SceneError);
+}
+
+// Mesh bodies in a cell: the chain of rings meshed 12 x 6 through the cell's "mesh" key, one
+// uniaxial direction; the report has the lock-up at the closed form within the mesh's chordal
+// bound, the intersection check's counts, the cell's mesh sources and the VTU; unknown mesh keys,
+// a missing mesh file and a design on a mesh cell are refused with their key path.
+const char* kMeshScene = R"({
+  "name": "meshed",
+  "interlocking": {
+    "cell": {"pattern": "chain", "spacing": 1.5, "node": {"major_radius": 1.0, "minor_radius": 0.2},
+             "activation_distance": 0.001, "mesh": {"torus_segments": [12, 6]}},
+    "boundary": {"loading": "uniaxial", "directions": 1, "max_strain": 0.3, "tolerance": 1e-5}
+  }
+})";
+
+TEST(InterlockingScene, MeshCellWritesTheBoundaryAndRefusesBadMeshKeys) {
+  const std::string out = (std::filesystem::temp_directory_path() / "tailor_interlocking_mesh_scene_test").string();
+  std::filesystem::remove_all(out);
+  InterlockingScene scene = parse_interlocking_scene(scene_from_text(kMeshScene, "meshed.json").node());
+  EXPECT_TRUE(is_mesh_cell(scene.cell));
+  EXPECT_TRUE(run_interlocking_boundary(scene, scene.cell, out, nullptr));
+  for (const char* f : {"report.json", "boundary.png", "sample_0.vtu"})
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json& sample = report["boundary"]["samples"][0];
+  EXPECT_TRUE(sample["locked"].get<bool>());
+  // Closed form 2 (R - r) - d_hat / 2 over s0, minus 1; the mesh's bound 2 delta / s0 is 0.09.
+  EXPECT_NEAR(sample["eps_xx"].get<double>(), (1.6 - 0.0005) / 1.5 - 1.0, 1e-4);
+  EXPECT_EQ(sample["mesh_intersection_check"]["intersecting"].get<long>(), 0);
+  EXPECT_GT(sample["mesh_intersection_check"]["triangle_pairs_tested"].get<long>(), 0);
+  EXPECT_EQ(report["boundary"]["cell"]["elements"][0]["mesh"]["source"].get<std::string>(), "torus 12 x 6");
+  EXPECT_TRUE(report["boundary"]["all_certified_apart"].get<bool>());
+
+  const auto refused = [](std::string text, const std::string& from, const std::string& to, const char* path) {
+    text.replace(text.find(from), from.size(), to);
+    try {
+      parse_interlocking_scene(scene_from_text(text, "bad_mesh.json").node());
+      ADD_FAILURE() << "accepted " << to;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("bad_mesh.json"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  };
+  refused(kMeshScene, "\"torus_segments\"", "\"torus_segmnts\"", "interlocking.cell.mesh.torus_segmnts");
+  refused(kMeshScene, "[12, 6]", "[12, 2]", "interlocking.cell.mesh.torus_segments");
+  const std::string file_scene = R"({"interlocking": {"cell": {"pattern": "elements", "lattice": [[3, 0], [0, 15]],
+      "elements": [{"mesh": {"file": "no_such_ring.obj"}, "position": [0, 0, 0]}]}}})";
+  refused(file_scene, "no_such_ring", "no_such_ring", "interlocking.cell.elements[0].mesh.file");
+  refused(kMeshScene, "\"boundary\"", "\"design\": {}, \"boundary\"", "interlocking.design");
 }
 
 }  // namespace

@@ -30,7 +30,7 @@ subset=(
   "forward_contact_tests|"
   "forward_tori_tests|"                     # implicit torus distance, contact term, CCD, chains
   "forward_rigid_tests|"
-  "forward_meshless_tests|MlsShapeFunctions|OctreeSampling|GaussLegendre|MeshlessElasticTerm|EveryMaterial/MeshlessElasticTermTest|MeshlessMass|MlsTransformation|MeshlessAdjoint|PointInput|ModalWarping|ImplicitSurface"  # shape functions, quadrature, the term's derivative checks, point-file readers, warping
+  "forward_meshless_tests|MlsShapeFunctions|OctreeSampling|GaussLegendre|MeshlessElasticTerm|EveryMaterial/MeshlessElasticTermTest|MeshlessMass|MlsTransformation|MeshlessAdjoint|PointInput|ModalWarping|ImplicitSurface|CoveringPatches"  # shape functions, quadrature, the term's derivative checks, point-file readers, warping
   "problems_meshless_tests|"                # meshless scenes and their point files
   "forward_interlocking_tests|"             # periodic rigid cells, the boundary search
   "problems_interlocking_tests|"           # interlocking scenes, the limit's derivative checks
@@ -58,6 +58,7 @@ excluded=(
   "forward_dynamics_tests\\.DescentSolver\\.(AcceptedIterates|ChebyshevAcceleration)"  # thousands of descent passes
   "forward_interlocking_tests\\.InterlockingBending\\.ThreefoldPatchBendsSymmetrically"  # 21-26 Newton solves per direction, 2.4 s in Release
   "problems_interlocking_tests\\.InterlockingDesign\\.RecoversAKnownPatchFromItsBendingLimits"  # an MMA design, 5 s in Release
+  "forward_interlocking_tests\\.PeriodicMeshCell\\.(SquareNetMatchesTheImplicitTori|ChainOfMeshedRingsLocksAtTheClosedFormSpacing)"  # boundary searches through triangle-mesh contact, 0.6-3.7 s in Release
   "forward_rods_tests\\.(RodValidation|ClosedRodValidation)\\."
   "forward_rigid_tests\\.FrictionValidation\\."
   "forward_tori_tests\\.TorusChain\\.HundredAndOneLinks"

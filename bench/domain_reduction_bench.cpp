@@ -18,7 +18,11 @@
 // to the mesh; the Jacobian once per step). Reported per basis: precomputation (wall; every step
 // from the mesh to the reduced model), median steps/s (wall), Newton iterations per step,
 // trajectory error sqrt(sum_n |u_r - u_f|^2_M / sum_n |u_f|^2_M) and peak tip error, and how
-// many steps completed (a failed Newton step stops the run). Writes JSON (--out) and a table.
+// many steps completed (a failed Newton step stops the run). Also per basis: wall and process
+// CPU seconds of every precomputation phase (domain_decomposition's phases, the global modes,
+// the overlap weights, the reduced model), the per-step medians of wall and CPU time and of the
+// part spent evaluating the reduced force and tangent, and /proc/loadavg before and after (CPU
+// seconds are the figure of the work on a shared machine). Writes JSON (--out) and a table.
 //
 // usage: domain_reduction_bench [--tets 64000] [--steps 100] [--size 150] [--domains 5]
 //          [--fixed-interface-modes 11] [--derivative-modes 3] [--boundary-derivative-modes 3]
@@ -560,6 +564,7 @@ int run(int argc, char** argv) {
   scene.gravity_force = scene.mass * g;
   std::printf("tailor %s, local reduced models: %d tets, %d domains, r = %d, %d Newmark steps of %g s, %d threads\n",
               version_string, m, s.domains, s.size, s.steps, kStep, threads);
+  std::fflush(stdout);
   double full_step_s = 0.0;
   auto t = Clock::now();
   Matrix reference;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <ctime>
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -19,67 +20,86 @@ extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const 
 namespace tailor {
 namespace {
 
+// What the precomputation reads of one element of an elastic term: rest shape gradients
+// (row a: grad N_a), vertices, Lame parameters and rest volume.
+struct ElementData {
+  Matrix shape_gradients;
+  std::vector<int> vertices;
+  LameParameters lame{0.0, 0.0};
+  double volume = 0.0;
+};
+template <int Dim>
+ElementData element_data(const ElasticTerm<Dim>& term, const Vector& p, int k) {
+  ElementData out;
+  out.shape_gradients = term.shape_gradients(k);
+  const auto& vertices = term.element_vertices(k);
+  out.vertices.assign(vertices.data(), vertices.data() + vertices.size());
+  out.lame = term.element_lame(p, k);
+  out.volume = term.rest_volume(k);
+  return out;
+}
+
 // Adds sum_e Y_e Y_e^T over the given elements of one elastic term to the lower triangle of
 // gram ((r + P) x (r + P)), with Y_e the element's (r + P) x components columns of
 // reduced_stvk.hpp: the linear strain rows L_e Lw and the pair rows N_e Lw / 2, Lw the Cholesky
-// factor of the element's strain weights V_e W. basis_t: the group's columns, transposed
-// (r x num_dofs). Chunks of elements are filled in parallel (OpenMP) and added by one BLAS
-// rank-k update each (dsyrk, which keeps OpenBLAS's threads): the update is O((r + P)^2) per
-// element and dominates, the fill is O(r^2).
-template <int Dim>
-void add_group_elements(const ElasticTerm<Dim>& term, const Vector& p, const Matrix& basis_t,
+// factor of the element's strain weights V_e W (Psi = 1/2 e^T W e over the independent strain
+// components, off-diagonals counted twice). basis_t: the group's columns, transposed (r x
+// num_dofs). Chunks of elements are filled in parallel (OpenMP) and added by one BLAS rank-k
+// update each (dsyrk, which keeps OpenBLAS's threads): the update is O((r + P)^2) per element
+// and dominates, the fill is O(r^2). One code for 2D and 3D (dim at run time) keeps its
+// compile cost to one instantiation.
+void add_group_elements(int dim, const std::function<ElementData(int)>& element, const Matrix& basis_t,
                         const std::vector<int>& elements, Matrix& gram) {
-  constexpr int kComponents = Dim * (Dim + 1) / 2, kNodes = Dim + 1, kChunk = 256;
+  constexpr int kChunk = 256;
+  const int components = dim * (dim + 1) / 2, nodes = dim + 1;
   const int r = static_cast<int>(basis_t.rows()), pairs = r * (r + 1) / 2, width = r + pairs;
-  int comp_a[kComponents], comp_b[kComponents];  // component c <-> (a, b): diagonal first
-  for (int c = 0, k = Dim; c < Dim; ++c) {
-    comp_a[c] = comp_b[c] = c;
-    for (int d = c + 1; d < Dim; ++d, ++k) comp_a[k] = c, comp_b[k] = d;
+  std::vector<int> comp_a(static_cast<std::size_t>(components)), comp_b(comp_a);  // c <-> (a, b): diagonal first
+  for (int c = 0, k = dim; c < dim; ++c) {
+    comp_a[static_cast<std::size_t>(c)] = comp_b[static_cast<std::size_t>(c)] = c;
+    for (int d = c + 1; d < dim; ++d, ++k) comp_a[static_cast<std::size_t>(k)] = c, comp_b[static_cast<std::size_t>(k)] = d;
   }
-  Matrix y(width, kComponents * kChunk);
+  Matrix y(width, components * kChunk);
   const int total = static_cast<int>(elements.size());
   for (int start = 0; start < total; start += kChunk) {
     const int count = std::min(kChunk, total - start);
     FirstError errors;  // element_lame refuses parameters out of range
 #pragma omp parallel
     {
-      Matrix g(Dim * Dim, r), outer(r, r);  // g row i + Dim b: d(grad u)_ib / dq
-      Eigen::Matrix<double, Eigen::Dynamic, kComponents> linear(r, kComponents), quadratic(pairs, kComponents);
+      Matrix g(dim * dim, r), outer(r, r), linear(r, components), quadratic(pairs, components);  // g: d(grad u)_ib / dq
+      Matrix W(components, components);
 #pragma omp for schedule(static)
       for (int e = 0; e < count; ++e) try {
-        const int k = elements[static_cast<std::size_t>(start + e)];
-        const auto& G = term.shape_gradients(k);
-        const auto& vertices = term.element_vertices(k);
+        const ElementData data = element(elements[static_cast<std::size_t>(start + e)]);
         g.setZero();
-        for (int a = 0; a < kNodes; ++a)
-          for (int i = 0; i < Dim; ++i)
-            for (int b = 0; b < Dim; ++b)
-              g.row(i + Dim * b) += G(a, b) * basis_t.col(Dim * vertices[a] + i).transpose();
-        const LameParameters lame = term.element_lame(p, k);
-        Eigen::Matrix<double, kComponents, kComponents> W = Eigen::Matrix<double, kComponents, kComponents>::Zero();
-        W.template topLeftCorner<Dim, Dim>().setConstant(lame.lambda);
-        for (int c = 0; c < kComponents; ++c) W(c, c) += (c < Dim ? 2.0 : 4.0) * lame.mu;
-        W *= term.rest_volume(k);
-        const Eigen::Matrix<double, kComponents, kComponents> Lw = W.llt().matrixL();
-        for (int c = 0; c < kComponents; ++c) {
-          const int a = comp_a[c], b = comp_b[c];
-          linear.col(c) = 0.5 * (g.row(a + Dim * b) + g.row(b + Dim * a)).transpose();
+        for (int a = 0; a < nodes; ++a)
+          for (int i = 0; i < dim; ++i)
+            for (int b = 0; b < dim; ++b)
+              g.row(i + dim * b) += data.shape_gradients(a, b) *
+                                    basis_t.col(dim * data.vertices[static_cast<std::size_t>(a)] + i).transpose();
+        W.setZero();
+        W.topLeftCorner(dim, dim).setConstant(data.lame.lambda);
+        for (int c = 0; c < components; ++c) W(c, c) += (c < dim ? 2.0 : 4.0) * data.lame.mu;
+        W *= data.volume;
+        const Matrix Lw = W.llt().matrixL();
+        for (int c = 0; c < components; ++c) {
+          const int a = comp_a[static_cast<std::size_t>(c)], b = comp_b[static_cast<std::size_t>(c)];
+          linear.col(c) = 0.5 * (g.row(a + dim * b) + g.row(b + dim * a)).transpose();
           // N_ab = sum_i (grad u)_ia (grad u)_ib = q^T outer q, packed on the pairs.
-          outer.noalias() = g.row(Dim * a).transpose() * g.row(Dim * b);
-          for (int i = 1; i < Dim; ++i) outer.noalias() += g.row(i + Dim * a).transpose() * g.row(i + Dim * b);
+          outer.noalias() = g.row(dim * a).transpose() * g.row(dim * b);
+          for (int i = 1; i < dim; ++i) outer.noalias() += g.row(i + dim * a).transpose() * g.row(i + dim * b);
           for (int s = 0, pair = 0; s < r; ++s) {
             quadratic(pair++, c) = outer(s, s);
             for (int t = s + 1; t < r; ++t) quadratic(pair++, c) = outer(s, t) + outer(t, s);
           }
         }
-        y.block(0, kComponents * e, r, kComponents).noalias() = linear * Lw;
-        y.block(r, kComponents * e, pairs, kComponents).noalias() = 0.5 * quadratic * Lw;
+        y.block(0, components * e, r, components).noalias() = linear * Lw;
+        y.block(r, components * e, pairs, components).noalias() = 0.5 * quadratic * Lw;
       } catch (...) {
         errors.capture(start + e);
       }
     }
     errors.rethrow();
-    const int n = width, kk = kComponents * count, ld = width;
+    const int n = width, kk = components * count, ld = width;
     const double one = 1.0;
     dsyrk_("L", "N", &n, &kk, &one, y.data(), &ld, &one, gram.data(), &ld);
   }
@@ -171,9 +191,9 @@ LocalReducedStvk::LocalReducedStvk(const Model& model, const Mesh& mesh, const V
     for (std::size_t t = 0; t < elastic.size(); ++t) {
       if (members[g][t].empty()) continue;
       if (const auto* t3 = dynamic_cast<const ElasticTerm<3>*>(elastic[t]))
-        add_group_elements<3>(*t3, p, basis_t, members[g][t], gram);
-      else
-        add_group_elements<2>(*dynamic_cast<const ElasticTerm<2>*>(elastic[t]), p, basis_t, members[g][t], gram);
+        add_group_elements(3, [&](int e) { return element_data(*t3, p, e); }, basis_t, members[g][t], gram);
+      else if (const auto* t2 = dynamic_cast<const ElasticTerm<2>*>(elastic[t]))
+        add_group_elements(2, [&](int e) { return element_data(*t2, p, e); }, basis_t, members[g][t], gram);
     }
     group.lower.reserve(static_cast<std::size_t>(width) * (width + 1) / 2);
     for (int j = 0; j < width; ++j) group.lower.insert(group.lower.end(), gram.col(j).data() + j, gram.col(j).data() + width);

@@ -18,7 +18,11 @@
 // to the mesh; the Jacobian once per step). Reported per basis: precomputation (wall; every step
 // from the mesh to the reduced model), median steps/s (wall), Newton iterations per step,
 // trajectory error sqrt(sum_n |u_r - u_f|^2_M / sum_n |u_f|^2_M) and peak tip error, and how
-// many steps completed (a failed Newton step stops the run). Writes JSON (--out) and a table.
+// many steps completed (a failed Newton step stops the run). Also per basis: wall and process
+// CPU seconds of every precomputation phase (domain_decomposition's phases, the global modes,
+// the overlap weights, the reduced model), the per-step medians of wall and CPU time and of the
+// part spent evaluating the reduced force and tangent, and /proc/loadavg before and after (CPU
+// seconds are the figure of the work on a shared machine). Writes JSON (--out) and a table.
 //
 // usage: domain_reduction_bench [--tets 64000] [--steps 100] [--size 150] [--domains 5]
 //          [--fixed-interface-modes 11] [--derivative-modes 3] [--boundary-derivative-modes 3]
@@ -31,6 +35,7 @@
 //          [--twist-blends linear,quaternion,nearest]   (the twisted bar with per-domain rotations, below)
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -82,8 +87,47 @@ struct Settings {
 struct Row {
   std::string basis, energy;
   int r = 0, groups = 1, largest_group = 0, completed = 0;
-  double precompute_s = 0, steps_per_s = 0, newton_per_step = 0, trajectory_error = 0, peak_tip_error = 0;
+  double precompute_s = 0, precompute_cpu_s = 0, steps_per_s = 0, newton_per_step = 0, trajectory_error = 0;
+  double peak_tip_error = 0;
+  // Per step, medians: wall and CPU of the whole step and of the reduced model's evaluations
+  // (force and tangent) in it; the rest of a step is the dense Newton solve and bookkeeping.
+  double step_wall_s = 0, step_cpu_s = 0, evaluate_wall_s = 0, evaluate_cpu_s = 0, evaluations_per_step = 0;
+  double load_before = 0, load_after = 0;  // /proc/loadavg's 1-minute load around the row
+  double coefficient_mb = 0;               // the local polynomial's packed coefficients
+  std::vector<PhaseTiming> phases;         // precomputation, in order
   std::string message;
+};
+
+// The machine's 1-minute load average (0 when unknown): the bench shares the cores.
+double load_average() {
+  std::ifstream in("/proc/loadavg");
+  double load = 0.0;
+  in >> load;
+  return load;
+}
+
+// Times every evaluation of a reduced model (wall and process CPU, accumulated until reset).
+class TimedModel final : public ReducedElasticModel {
+ public:
+  explicit TimedModel(const ReducedElasticModel& inner) : inner_(inner) {}
+  int size() const override { return inner_.size(); }
+  void evaluate(const Vector& q, double* energy, Vector* force, Matrix* stiffness) const override {
+    const auto t0 = Clock::now();
+    const double c0 = bench::cpu_seconds();
+    inner_.evaluate(q, energy, force, stiffness);
+    wall_ += seconds_since(t0);
+    cpu_ += bench::cpu_seconds() - c0;
+    ++count_;
+  }
+  void reset() const { wall_ = cpu_ = 0.0, count_ = 0; }
+  double wall() const { return wall_; }
+  double cpu() const { return cpu_; }
+  int count() const { return count_; }
+
+ private:
+  const ReducedElasticModel& inner_;
+  mutable double wall_ = 0.0, cpu_ = 0.0;
+  mutable int count_ = 0;
 };
 
 struct Scene {
@@ -143,8 +187,9 @@ Matrix modes_and_derivatives(const Scene& scene, const ModalAnalysis& modes, int
 }
 
 // Newmark steps of the reduced model from rest under gravity; errors against the reference.
-void simulate(const ReducedElasticModel& model, const Matrix& basis, ReducedJacobian jacobian, const Scene& scene,
+void simulate(const ReducedElasticModel& untimed, const Matrix& basis, ReducedJacobian jacobian, const Scene& scene,
               const Matrix& reference, int steps, Row& row) {
+  const TimedModel model(untimed);
   ReducedDynamicsOptions options;
   options.integrator = ReducedIntegrator::newmark;
   options.time_step = kStep;
@@ -153,16 +198,22 @@ void simulate(const ReducedElasticModel& model, const Matrix& basis, ReducedJaco
   options.jacobian = jacobian;
   const ReducedDynamics dynamics(model, options, Matrix(), basis.transpose() * scene.gravity_force);
   ReducedState state = dynamics.initial_state(Vector::Zero(basis.cols()), Vector::Zero(basis.cols()));
-  std::vector<double> wall;
+  std::vector<double> wall, cpu, evaluate_wall, evaluate_cpu, evaluations;
   double error2 = 0.0, norm2 = 0.0;
   int newton_total = 0;
   const std::vector<int>& tip = scene.elastic.tip_vertices;
   for (int n = 0; n < steps; ++n) {
     ReducedState next;
     int newton = 0;
+    model.reset();
     const auto t0 = Clock::now();
+    const double c0 = bench::cpu_seconds();
     const bool ok = dynamics.step(state, next, newton, row.message);
     wall.push_back(seconds_since(t0));
+    cpu.push_back(bench::cpu_seconds() - c0);
+    evaluate_wall.push_back(model.wall());
+    evaluate_cpu.push_back(model.cpu());
+    evaluations.push_back(model.count());
     if (!ok || !next.q.allFinite()) break;
     newton_total += newton;
     state = std::move(next);
@@ -175,6 +226,11 @@ void simulate(const ReducedElasticModel& model, const Matrix& basis, ReducedJaco
         std::max(row.peak_tip_error, (tip_point(u, tip) - tip_point(reference.col(n + 1), tip)).norm());
   }
   row.steps_per_s = 1.0 / median(wall);
+  row.step_wall_s = median(wall);
+  row.step_cpu_s = median(cpu);
+  row.evaluate_wall_s = median(evaluate_wall);
+  row.evaluate_cpu_s = median(evaluate_cpu);
+  row.evaluations_per_step = median(evaluations);
   row.newton_per_step = row.completed > 0 ? static_cast<double>(newton_total) / row.completed : 0.0;
   row.trajectory_error = norm2 > 0.0 ? std::sqrt(error2 / norm2) : std::nan("");  // null in JSON
 }
@@ -183,7 +239,10 @@ Row run_basis(const std::string& kind, const Scene& scene, const Settings& s, co
               const Matrix& reference) {
   Row row;
   row.basis = kind;
+  row.load_before = load_average();
   const auto t = Clock::now();
+  const double c = bench::cpu_seconds();
+  PhaseClock clock;
   const auto& mesh = scene.elastic.mesh;
   const auto& model = *scene.elastic.model;
   Matrix basis;
@@ -194,7 +253,10 @@ Row run_basis(const std::string& kind, const Scene& scene, const Settings& s, co
     options.boundary_derivative_modes = s.boundary_derivative_modes;
     options.interface_modes = s.interface_modes;
     options.loads = scene.gravity_force;  // the static correction of the body load (Craig-Bampton)
-    basis = domain_decomposition(model, mesh, scene.elastic.rest, scene.p, scene.mass, domains, options).basis;
+    DomainDecomposition dd = domain_decomposition(model, mesh, scene.elastic.rest, scene.p, scene.mass, domains, options);
+    basis = std::move(dd.basis);
+    row.phases = std::move(dd.phases);
+    clock.restart();
   } else {
     ModalAnalysisOptions modal;
     const int local = kind == "global" ? s.size : s.size / s.domains;
@@ -202,33 +264,50 @@ Row run_basis(const std::string& kind, const Scene& scene, const Settings& s, co
     while (m + m * (m + 1) / 2 < local) ++m;
     modal.count = m;
     const ModalAnalysis modes = modal_analysis(model, 3, scene.elastic.rest, scene.p, scene.mass, modal);
+    clock.add(row.phases, "global modes");
     basis = modes_and_derivatives(scene, modes, local);
+    clock.add(row.phases, "global modal derivatives, M-orthonormalization");
     if (kind == "overlapping") {
       OverlappingDomainOptions options;
       options.overlap_layers = s.overlap_layers;
       const OverlappingDomains od =
           overlapping_domains(model, mesh, scene.elastic.rest, scene.p, scene.mass, domains, options);
+      clock.add(row.phases, "overlap weights (principal directions)");
       basis = mass_orthonormal_basis(blended_basis(od.weights, basis, 3), scene.mass, 1e-8);
+      clock.add(row.phases, "blended basis, M-orthonormalization");
     }
   }
   row.r = static_cast<int>(basis.cols());
   if (kind == "global") {
     row.energy = "projected";
     const ProjectedReducedModel projected(model, scene.p, scene.elastic.rest, basis);
+    clock.add(row.phases, "projected model");
     row.precompute_s = seconds_since(t);
+    row.precompute_cpu_s = bench::cpu_seconds() - c;
     simulate(projected, basis, ReducedJacobian::once_per_step, scene, reference, s.steps, row);
   } else {
     row.energy = "local polynomial";
     const LocalReducedStvk local(model, mesh, scene.p, basis, 1e-14 * basis.cwiseAbs().maxCoeff());
+    clock.add(row.phases, "reduced polynomial (local, grouped)");
     row.groups = local.groups();
     row.largest_group = local.largest_group();
+    row.coefficient_mb = 1e-6 * static_cast<double>(local.coefficient_bytes());
     row.precompute_s = seconds_since(t);
+    row.precompute_cpu_s = bench::cpu_seconds() - c;
     simulate(local, basis, ReducedJacobian::every_iteration, scene, reference, s.steps, row);
   }
-  std::printf("  %-12s r = %3d (%s, %d groups of <= %d columns): precompute %.1f s, %.1f steps/s, %.2f Newton/step, "
-              "trajectory error %.3e, peak tip error %.4f, %d/%d steps\n",
+  row.load_after = load_average();
+  std::printf("  %-12s r = %3d (%s, %d groups of <= %d columns): precompute %.1f s (CPU %.1f s), %.1f steps/s, "
+              "%.2f Newton/step, trajectory error %.3e, peak tip error %.4f, %d/%d steps, load %.1f -> %.1f\n",
               row.basis.c_str(), row.r, row.energy.c_str(), row.groups, row.largest_group, row.precompute_s,
-              row.steps_per_s, row.newton_per_step, row.trajectory_error, row.peak_tip_error, row.completed, s.steps);
+              row.precompute_cpu_s, row.steps_per_s, row.newton_per_step, row.trajectory_error, row.peak_tip_error,
+              row.completed, s.steps, row.load_before, row.load_after);
+  std::printf("    %-52s %9s %9s\n", "phase", "wall s", "CPU s");
+  for (const PhaseTiming& ph : row.phases) std::printf("    %-52s %9.2f %9.2f\n", ph.name.c_str(), ph.wall_s, ph.cpu_s);
+  std::printf("    per step (median): %.2f ms wall, %.2f ms CPU; reduced force + tangent %.2f ms wall, %.2f ms CPU "
+              "in %.0f evaluations; the rest (dense solve) %.2f ms wall\n",
+              1e3 * row.step_wall_s, 1e3 * row.step_cpu_s, 1e3 * row.evaluate_wall_s, 1e3 * row.evaluate_cpu_s,
+              row.evaluations_per_step, 1e3 * (row.step_wall_s - row.evaluate_wall_s));
   std::fflush(stdout);
   return row;
 }
@@ -536,6 +615,7 @@ int run(int argc, char** argv) {
   scene.gravity_force = scene.mass * g;
   std::printf("tailor %s, local reduced models: %d tets, %d domains, r = %d, %d Newmark steps of %g s, %d threads\n",
               version_string, m, s.domains, s.size, s.steps, kStep, threads);
+  std::fflush(stdout);
   double full_step_s = 0.0;
   auto t = Clock::now();
   Matrix reference;
@@ -550,12 +630,13 @@ int run(int argc, char** argv) {
   std::vector<Row> rows;
   for (const std::string& kind : bases) rows.push_back(run_basis(kind, scene, s, domains, reference));
 
-  std::printf("\n%-12s %4s %-17s %7s %12s %9s %9s %13s %11s %9s\n", "basis", "r", "energy", "groups",
-              "precompute s", "steps/s", "Newton", "traj. error", "tip error", "steps");
+  std::printf("\n%-12s %4s %-17s %7s %12s %9s %9s %9s %9s %13s %11s %9s %11s\n", "basis", "r", "energy", "groups",
+              "precompute s", "(CPU s)", "steps/s", "(CPU)", "Newton", "traj. error", "tip error", "steps", "load");
   for (const Row& row : rows)
-    std::printf("%-12s %4d %-17s %7d %12.1f %9.1f %9.2f %13.3e %11.4f %5d/%d\n", row.basis.c_str(), row.r,
-                row.energy.c_str(), row.groups, row.precompute_s, row.steps_per_s, row.newton_per_step,
-                row.trajectory_error, row.peak_tip_error, row.completed, s.steps);
+    std::printf("%-12s %4d %-17s %7d %12.1f %9.1f %9.1f %9.1f %9.2f %13.3e %11.4f %5d/%d %5.1f-%.1f\n",
+                row.basis.c_str(), row.r, row.energy.c_str(), row.groups, row.precompute_s, row.precompute_cpu_s,
+                row.steps_per_s, row.step_cpu_s > 0 ? 1.0 / row.step_cpu_s : 0.0, row.newton_per_step,
+                row.trajectory_error, row.peak_tip_error, row.completed, s.steps, row.load_before, row.load_after);
   std::printf("(%d tets, METIS partition %.2f s; full-space median step %.3f s; steps/s: median wall time per step)\n",
               m, partition_s, full_step_s);
 
@@ -569,22 +650,36 @@ int run(int argc, char** argv) {
   json["time_step"] = kStep;
   json["youngs_modulus"] = s.youngs;
   json["partition_s"] = partition_s;
+  json["load_at_end"] = load_average();
   json["full_space_step_s"] = full_step_s;
   json["reference"] = s.reference;
   bench::Json results = bench::Json::array();
-  for (const Row& r : rows)
+  for (const Row& r : rows) {
+    bench::Json phases = bench::Json::array();
+    for (const PhaseTiming& ph : r.phases) phases.push_back({{"phase", ph.name}, {"wall_s", ph.wall_s}, {"cpu_s", ph.cpu_s}});
     results.push_back({{"basis", r.basis},
                        {"r", r.r},
                        {"energy", r.energy},
                        {"groups", r.groups},
                        {"largest_group", r.largest_group},
+                       {"coefficient_mb", r.coefficient_mb},
                        {"precompute_s", r.precompute_s},
+                       {"precompute_cpu_s", r.precompute_cpu_s},
+                       {"precompute_phases", phases},
                        {"steps_per_s", r.steps_per_s},
+                       {"step_wall_s", r.step_wall_s},
+                       {"step_cpu_s", r.step_cpu_s},
+                       {"evaluate_wall_s_per_step", r.evaluate_wall_s},
+                       {"evaluate_cpu_s_per_step", r.evaluate_cpu_s},
+                       {"evaluations_per_step", r.evaluations_per_step},
+                       {"load_before", r.load_before},
+                       {"load_after", r.load_after},
                        {"newton_per_step", r.newton_per_step},
                        {"trajectory_error", r.trajectory_error},
                        {"peak_tip_error", r.peak_tip_error},
                        {"completed_steps", r.completed},
                        {"message", r.message}});
+  }
   json["results"] = results;
   return bench::write_report(out, json, "domain_reduction_bench") ? 0 : 1;
 }

@@ -73,6 +73,17 @@ Matrix rows_of(const Matrix& a, const std::vector<int>& rows) {
 
 }  // namespace
 
+void PhaseClock::add(std::vector<PhaseTiming>& phases, const std::string& name) {
+  const auto wall = std::chrono::steady_clock::now();
+  const std::clock_t cpu = std::clock();
+  auto it = std::find_if(phases.begin(), phases.end(), [&](const PhaseTiming& t) { return t.name == name; });
+  if (it == phases.end()) it = phases.insert(phases.end(), PhaseTiming{name, 0.0, 0.0});
+  it->wall_s += std::chrono::duration<double>(wall - wall_).count();
+  it->cpu_s += static_cast<double>(cpu - cpu_) / CLOCKS_PER_SEC;
+  wall_ = wall;
+  cpu_ = cpu;
+}
+
 std::vector<int> free_index_of_dofs(const Elimination& elimination) {
   if (!elimination.is_selection())
     throw std::invalid_argument("domain-decomposed reduction needs Dirichlet constraints (a selection elimination)");
@@ -103,6 +114,8 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
                                          const SparseMatrix& mass, const Eigen::VectorXi& element_domain,
                                          const DomainDecompositionOptions& options) {
   const auto begin = std::chrono::steady_clock::now();
+  DomainDecomposition out;
+  PhaseClock clock;
   const int n = model.num_dofs();
   if (n != mesh.dim() * mesh.num_vertices() || x.size() != n || mass.rows() != n || mass.cols() != n)
     throw std::invalid_argument("domain_decomposition: model, mesh, state and mass sizes differ");
@@ -118,6 +131,7 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
   const int domains = domain_count(element_domain);
   const FreeSplit split = split_free_unknowns(mesh, element_domain, domains, dof_to_free);
   const SparseMatrix K = free_stiffness(model, x, p), M = free_mass(model, mass);
+  clock.add(out.phases, "stiffness and mass");
   const Eigen::Index m = K.rows();
   double step = options.step;
   if (step == 0.0) step = 1e-3 * std::max(x.maxCoeff() - x.minCoeff(), 1e-300);
@@ -136,10 +150,12 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
       ModalAnalysisOptions modal;
       modal.count = std::min(n_wanted, static_cast<int>(m) - 1);
       const Matrix global = modal_analysis(model, mesh.dim(), x, p, mass, modal).modes;
+      clock.add(out.phases, "interface excitations: global modes");
       int k = 1;
       while (k + k * (k + 1) / 2 < n_wanted) ++k;
       k = std::min<int>(k, static_cast<int>(global.cols()));
       const Matrix psi = modal_derivatives(model, x, p, global.leftCols(k));
+      clock.add(out.phases, "interface excitations: global modal derivatives");
       Matrix candidates(n, global.cols() + psi.cols());
       candidates << global.leftCols(k), psi, global.rightCols(global.cols() - k);
       const Matrix ordered = mass_orthonormal_basis(candidates, mass, 1e-6);
@@ -148,6 +164,7 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
       excitations = Eigen::HouseholderQR<Matrix>(traces).householderQ() *
                     Matrix::Identity(nb, std::min<Eigen::Index>(traces.cols(), nb));
     }
+    clock.add(out.phases, "interface excitations: traces");
   }
   Matrix driven = Matrix::Zero(m, excitations.cols());
   for (int i = 0; i < nb; ++i) driven.row(B[static_cast<std::size_t>(i)]) = excitations.row(i);
@@ -160,9 +177,11 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
     if (I.empty()) continue;
     factors[static_cast<std::size_t>(d)] = std::make_unique<InteriorFactor>();
     factors[static_cast<std::size_t>(d)]->factorize(sparse_block(K, I, I), d);
+    clock.add(out.phases, "interior factorizations");
     if (driven.cols() > 0) {
       const Matrix response = -factors[static_cast<std::size_t>(d)]->factor.solve_columns(rows_of(coupling, I));
       for (std::size_t i = 0; i < I.size(); ++i) driven.row(I[i]) = response.row(static_cast<Eigen::Index>(i));
+      clock.add(out.phases, "boundary-driven modes");
     }
   }
   // Force differentials of the lowest boundary-driven modes, -F_2[psi_a, psi_b] (free space).
@@ -172,6 +191,7 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
     for (int b = a; b < nbd; ++b, ++c)
       driven_rhs.col(c) = -(S.transpose() * force_derivative(model, x, p, {Vector(S * driven.col(a)),
                                                                           Vector(S * driven.col(b))}, step));
+  clock.add(out.phases, "boundary-driven derivatives: force differentials");
 
   std::vector<Matrix> local(static_cast<std::size_t>(domains));
   const Matrix loads_free = options.loads.size() > 0 ? Matrix(S.transpose() * options.loads) : Matrix(m, 0);
@@ -191,6 +211,7 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
                                  eig.message);
       modes = eig.eigenvectors;
       columns.push_back(modes);
+      clock.add(out.phases, "fixed-interface modes");
     }
     const int r = std::min<int>(options.derivative_modes, static_cast<int>(modes.cols()));
     if (r > 0) {
@@ -209,9 +230,11 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
           for (int i = 0; i < ni; ++i) rhs(i, c) = -h[I[static_cast<std::size_t>(i)]];
         }
       columns.push_back(factor.factor.solve_columns(rhs));
+      clock.add(out.phases, "local modal derivatives");
     }
     if (nbd > 0) columns.push_back(factor.factor.solve_columns(rows_of(driven_rhs, I)));
     if (loads_free.cols() > 0) columns.push_back(factor.factor.solve_columns(rows_of(loads_free, I)));
+    clock.add(out.phases, "boundary-driven derivatives and load responses: solves");
     Eigen::Index total = 0;
     for (const Matrix& c : columns) total += c.cols();
     Matrix& block = local[static_cast<std::size_t>(d)];
@@ -237,9 +260,10 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
   all.rightCols(driven.cols()) = driven;
   source_domain.insert(source_domain.end(), static_cast<std::size_t>(driven.cols()), -1);
 
-  DomainDecomposition out;
+  clock.add(out.phases, "local columns");
   std::vector<int> kept;
   out.basis = mass_orthonormal_basis(Matrix(S * all), mass, options.drop_tolerance, &kept);
+  clock.add(out.phases, "M-orthonormalization");
   for (int k : kept) {
     out.column_domain.push_back(source_domain[static_cast<std::size_t>(k)]);
     if (source_domain[static_cast<std::size_t>(k)] < 0) ++out.boundary_driven_columns;

@@ -32,6 +32,9 @@
 //
 // Needs a model whose constraints are Dirichlet (a selection elimination) and a body on which
 // every K_ii is positive definite. Units: displacement columns, dimensionless after M-normalization.
+#include <chrono>
+#include <ctime>
+#include <string>
 #include <vector>
 
 #include "forward/core/model.hpp"
@@ -49,6 +52,27 @@ struct DomainDecompositionOptions {
   double drop_tolerance = 1e-8;   // mass_orthonormal_basis's
 };
 
+// Wall and process CPU seconds (all threads; CPU > wall means parallel work, CPU < wall a
+// loaded machine) of the named phases of a precomputation, accumulated over calls of `add`.
+struct PhaseTiming {
+  std::string name;
+  double wall_s = 0.0, cpu_s = 0.0;
+};
+class PhaseClock {
+ public:
+  PhaseClock() { restart(); }
+  void restart() {
+    wall_ = std::chrono::steady_clock::now();
+    cpu_ = std::clock();
+  }
+  // Adds the time since the last add/restart to the phase `name` (appended on first use).
+  void add(std::vector<PhaseTiming>& phases, const std::string& name);
+
+ private:
+  std::chrono::steady_clock::time_point wall_;
+  std::clock_t cpu_;
+};
+
 struct DomainDecomposition {
   Matrix basis;                                 // num_dofs x r, basis^T M basis = I
   std::vector<int> column_domain;               // per column: its domain, or -1 (boundary-driven)
@@ -57,6 +81,7 @@ struct DomainDecomposition {
   int domains = 0;
   int boundary_driven_columns = 0;
   double seconds = 0.0;  // wall time of the whole construction
+  std::vector<PhaseTiming> phases;  // where that time went, in order of first use
 };
 
 // element_domain: one entry per mesh element in [0, domains). x: the full state (the rest state),

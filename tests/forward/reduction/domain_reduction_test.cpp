@@ -276,6 +276,34 @@ TEST(LocalReducedStvk, EqualsTheGlobalPolynomial) {
   EXPECT_LT((k1 - k2).norm(), 1e-11 * k2.norm());
 }
 
+// The same in 3D (the tet path of the grouped precomputation), where groups share the
+// boundary-driven columns, and force or tangent alone as in a chord Newton step; another
+// material is refused (the polynomial is exact for StVK only).
+TEST(LocalReducedStvk, EqualsTheGlobalPolynomialIn3dAndRefusesOtherMaterials) {
+  const ElasticBody body = elastic_body(Eigen::Vector3d(4, 1, 1), Eigen::Vector3i(8, 2, 2), MaterialKind::stvk, true);
+  DomainDecompositionOptions options;
+  options.fixed_interface_modes = 3;
+  options.derivative_modes = 1;
+  options.interface_modes = 4;
+  const DomainDecomposition dd = domain_decomposition(*body.model, body.mesh, body.rest, body.p, body.mass,
+                                                      partition_elements(body.mesh, 2), options);
+  const LocalReducedStvk local(*body.model, body.mesh, body.p, dd.basis, 1e-14 * dd.basis.cwiseAbs().maxCoeff());
+  const ReducedStvk global(*body.model, body.p, dd.basis);
+  EXPECT_GE(local.groups(), 2);
+  EXPECT_LT(local.largest_group(), dd.basis.cols());
+  const Vector q = 0.3 * Vector::Random(dd.basis.cols());
+  Vector f1, f2;
+  Matrix k1, k2;
+  local.evaluate(q, nullptr, &f1, nullptr);
+  local.evaluate(q, nullptr, nullptr, &k1);
+  global.evaluate(q, nullptr, &f2, &k2);
+  EXPECT_NEAR(local.energy(q), global.energy(q), 1e-11 * std::abs(global.energy(q)));
+  EXPECT_LT((f1 - f2).norm(), 1e-11 * f2.norm());
+  EXPECT_LT((k1 - k2).norm(), 1e-11 * k2.norm());
+  const ElasticBody neo = elastic_body(Eigen::Vector3d(4, 1, 1), Eigen::Vector3i(4, 1, 1), MaterialKind::neo_hookean, true);
+  EXPECT_THROW(LocalReducedStvk(*neo.model, neo.mesh, neo.p, Matrix::Identity(neo.rest.size(), 3)), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace tailor::domain_reduction_test
 

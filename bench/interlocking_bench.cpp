@@ -17,8 +17,13 @@
 // CPU seconds per boundary sample (median) and the limits' largest difference. --mesh-only skips
 // the tori cells and the design.
 //
+// --bending-convergence: instead, the square ring net's single-curvature limit along x, periodic
+// (curved_periodicity.hpp) against finite paraboloid disc patches of growing radius (rim width
+// 1.6, --patch-radii in tenths): radius, elements, limit, difference to the periodic limit, CPU s.
+//
 // usage: interlocking_bench [--directions 32] [--reference-directions 4] [--cells 1,4,16]
 //                           [--mesh-segments 12,16,24] [--mesh-directions 4] [--mesh-only] [--out FILE]
+//        interlocking_bench --bending-convergence [--patch-radii 31,46,61] [--out FILE]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -34,6 +39,7 @@
 #include "forward/interlocking/cell_patterns.hpp"
 #include "forward/interlocking/interpenetration_check.hpp"
 #include "forward/interlocking/periodic_mesh_contact.hpp"
+#include "forward/interlocking/single_curvature_limit.hpp"
 #include "problems/interlocking/limit_design.hpp"
 
 namespace tailor::bench::interlocking_bench {
@@ -271,6 +277,52 @@ Json mesh_square_net(const std::vector<int>& segments, int directions) {
   return rows;
 }
 
+// Periodic single curvature of the square net along x against disc patches of growing radius.
+Json bending_convergence(const std::vector<int>& radii_tenths) {
+  const RigidCellSpec net = square_ring_cell(kRing, kRing, kRing, 1.5);
+  const PeriodicRigidCell periodic(net);
+  const SingleCurvatureCell curved(periodic, 0.0);
+  std::clock_t c0 = std::clock();
+  const LimitPoint p = find_single_curvature_limit(curved, rest_equilibrium(periodic));
+  const double periodic_cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  const double periodic_clearance =
+      check_clearance(periodic, curved.full_state(p.y, p.strain), 1 << 14).min_lower;
+  std::printf("square net, single curvature along x: periodic limit %.10f (%s, refined %d, clearance %.3e, %.2f cpu s)\n",
+              p.strain, p.status.c_str(), p.refined, periodic_clearance, periodic_cpu);
+  std::printf("%10s %10s %8s %14s %14s %10s %12s %8s\n", "radius", "elements", "free", "limit", "difference",
+              "refined", "clearance", "cpu s");
+  Json rows = Json::array();
+  for (const int tenths : radii_tenths) {
+    const double radius = 0.1 * tenths;
+    const PeriodicRigidCell patch(disc_patch(net, radius, 1.6));
+    int free = 0;
+    for (const CellElement& e : patch.spec().elements) free += !e.rim;
+    LimitOptions options;
+    options.tolerance = 1e-3;
+    c0 = std::clock();
+    const LimitPoint q = find_limit(patch, uniaxial_path(0.0), rest_equilibrium(patch), options);
+    const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+    const double clearance = check_clearance(patch, patch.full_state(q.y, q.deformation), 1 << 14).min_lower;
+    std::printf("%10.1f %10d %8d %14.10f %14.10f %10d %12.3e %8.2f\n", radius, patch.num_elements(), free, q.strain,
+                q.strain - p.strain, q.refined, clearance, cpu);
+    rows.push_back({{"radius", radius},
+                    {"elements", patch.num_elements()},
+                    {"free_elements", free},
+                    {"limit", q.strain},
+                    {"locked", q.locked},
+                    {"refined", q.refined},
+                    {"difference_to_periodic", q.strain - p.strain},
+                    {"certified_clearance", clearance},
+                    {"cpu_seconds", cpu}});
+  }
+  return {{"periodic_limit", p.strain},
+          {"periodic_refined", p.refined},
+          {"periodic_certified_clearance", periodic_clearance},
+          {"periodic_cpu_seconds", periodic_cpu},
+          {"rim_width", 1.6},
+          {"patches", rows}};
+}
+
 }  // namespace
 
 int run(int argc, char** argv) {
@@ -289,8 +341,17 @@ int run(int argc, char** argv) {
   cli.integers("--mesh-segments", mesh_segments, "mesh bodies: major segments per ring (minor: half; none: 0)", 0);
   cli.integer("--mesh-directions", mesh_directions, "mesh bodies: principal directions of the square net (of 8)", 0);
   cli.flag("--mesh-only", mesh_only, "only the mesh-body tables (no tori cells, no design)");
+  bool bending = false;
+  std::vector<int> radii_tenths = {31, 46, 61};
+  cli.flag("--bending-convergence", bending, "periodic single curvature against disc patches of growing radius");
+  cli.integers("--patch-radii", radii_tenths, "disc patch radii in tenths (with --bending-convergence)", 20);
   cli.out(out);
   if (const auto exit = cli.parse(argc, argv)) return *exit;
+  if (bending) {
+    bench::Json json = bench::report("interlocking_bending_convergence");
+    json["bending_convergence"] = bending_convergence(radii_tenths);
+    return bench::write_report(out, json, "interlocking_bench") ? 0 : 1;
+  }
   for (int c : cells)
     if (c != 1 && c != 4 && c != 16) return cli.usage_error("--cells: 1, 4 or 16");
   for (int m : mesh_segments)

@@ -5,10 +5,12 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <ostream>
 
 #include "forward/interlocking/interpenetration_check.hpp"
 #include "forward/interlocking/periodic_mesh_contact.hpp"
+#include "forward/interlocking/single_curvature_limit.hpp"
 #include "forward/rigid/rotation.hpp"
 #include "forward/tori/torus.hpp"
 #include "problems/contact/surface_vtu.hpp"
@@ -145,10 +147,14 @@ BoundaryRun sweep(const InterlockingScene& scene, const interlocking::RigidCellS
   std::vector<double> sample_seconds;
   for (const interlocking::LoadPath& path : scene.boundary.paths()) {
     const auto ts = std::chrono::steady_clock::now();
-    LimitPoint p = interlocking::find_limit(cell, path, y_rest, scene.boundary.options);
+    const bool curved = scene.boundary.single_curvature;
+    std::optional<interlocking::SingleCurvatureCell> bent;
+    if (curved) bent.emplace(cell, path.angle);
+    LimitPoint p = curved ? interlocking::find_single_curvature_limit(*bent, y_rest, scene.boundary.options)
+                          : interlocking::find_limit(cell, path, y_rest, scene.boundary.options);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count();
     sample_seconds.push_back(seconds);
-    const Vector x = cell.full_state(p.y, p.deformation);
+    const Vector x = curved ? bent->full_state(p.y, p.strain) : cell.full_state(p.y, p.deformation);
     // Tori: certified clearance; mesh bodies: the exact triangle-triangle intersection test.
     interlocking::ClearanceReport clearance;
     interlocking::MeshIntersectionReport crossing;
@@ -159,7 +165,7 @@ BoundaryRun sweep(const InterlockingScene& scene, const interlocking::RigidCellS
     const bool stalled = !p.locked && p.status != "free up to max_strain";
     if (stalled || (cell.mesh_contact() ? !crossing.apart() : !clearance.apart())) run.ok = false;
     const Eigen::Matrix2d e = macro_strain(p.deformation);  // bending patches: the curvature K
-    const std::string measure = spec.bending_patch ? "kappa_" : "eps_";
+    const std::string measure = spec.bending_patch || curved ? "kappa_" : "eps_";
     ordered_json active = ordered_json::array();
     for (const interlocking::ActivePair& a : p.active)
       active.push_back({{"pair", a.label},
@@ -208,6 +214,7 @@ BoundaryRun sweep(const InterlockingScene& scene, const interlocking::RigidCellS
   run.json = {{"cell", cell_json(spec, cell.activation_distance())},
               {"loading", scene.boundary.loading},
               {"shear", scene.boundary.shear},
+              {"single_curvature", scene.boundary.single_curvature},
               {"lock_criterion",
                {{"smallest_distance_at_most", scene.boundary.options.lock_fraction * cell.activation_distance()},
                 {"lock_fraction", scene.boundary.options.lock_fraction}}},
@@ -218,8 +225,9 @@ BoundaryRun sweep(const InterlockingScene& scene, const interlocking::RigidCellS
               {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
               {"all_certified_apart", run.ok}};
   write_boundary_plot(out_dir + "/boundary.png",
-                      scene.name + (spec.bending_patch ? " curvature-space boundary" : " strain-space boundary"),
-                      scene.boundary.loading, run.points, spec.bending_patch);
+                      scene.name + (spec.bending_patch || scene.boundary.single_curvature ? " curvature-space boundary"
+                                                                                          : " strain-space boundary"),
+                      scene.boundary.loading, run.points, spec.bending_patch || scene.boundary.single_curvature);
   return run;
 }
 

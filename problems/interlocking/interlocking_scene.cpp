@@ -229,12 +229,23 @@ InterlockingScene parse_interlocking_scene(const SceneNode& root) {
   scene.cell = parse_cell(n.at("cell"));
   if (auto b = n.find("boundary")) {
     b->expect_keys({"loading", "directions", "shear", "vtu", "max_strain", "tolerance", "initial_step",
-                    "lock_fraction"});
+                    "lock_fraction", "single_curvature"});
     if (auto l = b->find("loading")) scene.boundary.loading = l->choice({"principal", "uniaxial"});
     if (auto d = b->find("directions")) scene.boundary.directions = d->integer(1);
     if (auto s = b->find("shear")) scene.boundary.shear = s->number();
     if (auto v = b->find("vtu")) scene.boundary.vtu = v->boolean();
     parse_limit_options(*b, scene.boundary.options);
+    if (auto c = b->find("single_curvature")) {
+      scene.boundary.single_curvature = c->boolean();
+      if (scene.boundary.single_curvature) {
+        if (scene.cell.bending_patch) c->fail("needs a periodic cell (not cell.bending_patch)");
+        if (scene.boundary.loading != "uniaxial") c->fail("needs \"loading\": \"uniaxial\" (the curvature's direction)");
+        if (scene.boundary.shear != 0.0) c->fail("does not take a shear");
+        if (n.find("design")) c->fail("has no limit design (remove \"design\" or single_curvature)");
+        if (interlocking::is_mesh_cell(scene.cell))
+          c->fail("needs implicit tori (the curved cell's contact has no mesh bodies)");
+      }
+    }
   }
   if (auto d = n.find("design")) {
     if (interlocking::is_mesh_cell(scene.cell))

@@ -20,6 +20,9 @@ struct InterlockingBoundarySpec {
   int directions = 32;
   double shear = 0.0;  // a fixed eps_xy of every path (a mixed state)
   bool vtu = true;     // sample_<k>.vtu per direction
+  // Periodic single curvature (curved_periodicity.hpp): each uniaxial direction t bends the
+  // periodic cell to curvature s along t (the cylinder's screw-motion periodicity), s the curvature.
+  bool single_curvature = false;
   interlocking::LimitOptions options;
   std::vector<interlocking::LoadPath> paths() const;
 };

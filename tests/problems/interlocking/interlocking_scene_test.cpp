@@ -283,6 +283,38 @@ TEST(InterlockingScene, MeshCellWritesTheBoundaryAndRefusesBadMeshKeys) {
       "elements": [{"mesh": {"file": "no_such_ring.obj"}, "position": [0, 0, 0]}]}}})";
   refused(file_scene, "no_such_ring", "no_such_ring", "interlocking.cell.elements[0].mesh.file");
   refused(kMeshScene, "\"boundary\"", "\"design\": {}, \"boundary\"", "interlocking.design");
+  refused(kMeshScene, "\"boundary\": {", "\"boundary\": {\"single_curvature\": true, ",
+          "interlocking.boundary.single_curvature");
+}
+
+// Periodic single curvature as an option of the sweep: 0 and 90 degrees bend the square net to
+// the same refined limit (its symmetry), reported as curvatures; the option is refused with its
+// path for principal loading and for bending patches.
+TEST(InterlockingScene, SingleCurvatureSweepAndItsRefusals) {
+  std::string text = kScene;
+  text.replace(text.find("\"loading\": \"principal\", \"directions\": 4"), 39,
+               "\"loading\": \"uniaxial\", \"single_curvature\": true, \"directions\": 2, \"vtu\": false");
+  const std::string out = (std::filesystem::temp_directory_path() / "tailor_interlocking_curvature_test").string();
+  std::filesystem::remove_all(out);
+  InterlockingScene scene = parse_interlocking_scene(scene_from_text(text, "curved.json").node());
+  ASSERT_TRUE(scene.boundary.single_curvature);
+  scene.name = "curved";
+  EXPECT_TRUE(run_interlocking_boundary(scene, scene.cell, out, nullptr));
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json& samples = report["boundary"]["samples"];
+  ASSERT_EQ(samples.size(), 2u);
+  EXPECT_TRUE(samples[0]["refined"].get<bool>() && samples[1]["refined"].get<bool>());
+  EXPECT_NEAR(samples[0]["kappa_xx"].get<double>(), samples[1]["kappa_yy"].get<double>(), 1e-9);
+  EXPECT_GT(samples[0]["certified_clearance"].get<double>(), 0.0);
+  std::string principal = text;
+  principal.replace(principal.find("\"uniaxial\""), 10, "\"principal\"");
+  try {
+    parse_interlocking_scene(scene_from_text(principal, "principal.json").node());
+    FAIL() << "accepted single_curvature with principal loading";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("interlocking.boundary.single_curvature"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -50,14 +50,16 @@ void fourier_row(double theta, int order, double* row) {
 
 }  // namespace
 
-double BendingLimitFit::limit(double theta) const {
+double BendingLimitFit::compliance(double theta) const {
   const int order = static_cast<int>(coefficients.size() - 1) / 2;
-  double kappa = coefficients[0];
+  double c = coefficients[0];
   for (int k = 1; k <= order; ++k)
-    kappa += coefficients[static_cast<std::size_t>(2 * k - 1)] * std::cos(2.0 * k * theta) +
-             coefficients[static_cast<std::size_t>(2 * k)] * std::sin(2.0 * k * theta);
-  return kappa;
+    c += coefficients[static_cast<std::size_t>(2 * k - 1)] * std::cos(2.0 * k * theta) +
+         coefficients[static_cast<std::size_t>(2 * k)] * std::sin(2.0 * k * theta);
+  return c;
 }
+
+double BendingLimitFit::limit(double theta) const { return 1.0 / compliance(theta); }
 
 BendingLimitFit fit_bending_limits(const std::vector<Eigen::Vector2d>& samples, int order) {
   if (order < 0) throw std::invalid_argument("fit_bending_limits: the order must be >= 0");
@@ -72,7 +74,7 @@ BendingLimitFit fit_bending_limits(const std::vector<Eigen::Vector2d>& samples, 
                                   " needs a finite angle and a positive curvature");
     fourier_row(s.x(), order, row.data());
     for (int k = 0; k < n; ++k) design(i, k) = row[static_cast<std::size_t>(k)];
-    kappa[i] = s.y();
+    kappa[i] = 1.0 / s.y();  // the series is fitted to 1 / kappa (see the header)
     const double t = s.x() - M_PI * std::floor(s.x() / M_PI);  // theta mod pi
     if (std::none_of(distinct.begin(), distinct.end(),
                      [&](double d) { return std::min(std::abs(d - t), M_PI - std::abs(d - t)) < 1e-9; }))
@@ -86,15 +88,21 @@ BendingLimitFit fit_bending_limits(const std::vector<Eigen::Vector2d>& samples, 
   fit.samples = m;
   double squares = 0.0;
   for (int i = 0; i < m; ++i) {
-    const double residual = std::abs(fit.limit(samples[static_cast<std::size_t>(i)].x()) - kappa[i]);
+    const Eigen::Vector2d& sample = samples[static_cast<std::size_t>(i)];
+    const double c = fit.compliance(sample.x());
+    const double residual = c > 0.0 ? std::abs(1.0 / c - sample.y()) : kHingeInfinity;
     squares += residual * residual;
     fit.max_residual = std::max(fit.max_residual, residual);
   }
   fit.rms_residual = std::sqrt(squares / m);
-  fit.min_limit = fit.limit(0.0);
-  for (int k = 1; k < 720; ++k) fit.min_limit = std::min(fit.min_limit, fit.limit(M_PI * k / 720));
-  if (!(fit.min_limit > 0.0))
-    throw std::invalid_argument("fit_bending_limits: the fitted limit is not positive everywhere (lower the order)");
+  double min_compliance = fit.compliance(0.0), max_compliance = min_compliance;
+  for (int k = 1; k < 720; ++k) {
+    min_compliance = std::min(min_compliance, fit.compliance(M_PI * k / 720));
+    max_compliance = std::max(max_compliance, fit.compliance(M_PI * k / 720));
+  }
+  if (!(min_compliance > 0.0))
+    throw std::invalid_argument("fit_bending_limits: the fitted 1 / kappa is not positive everywhere (lower the order)");
+  fit.min_limit = 1.0 / max_compliance;
   return fit;
 }
 

@@ -187,7 +187,6 @@ BendResult bend_strip(const MacroStrainSet& set, const MacroSheetMaterial& mater
   const Vector x = model.state(y, Vector());
   const Eigen::VectorXd kappa = limits.curvatures(x);
   const Eigen::VectorXd angles = limits.normal_angles();
-  result.max_curvature = kappa.maxCoeff();
   result.min_margin = limits.margins(x).minCoeff();
   // Hinges across the strip (normal along the strip's x, the material direction at `angle`), away
   // from the clamp and the couple: the edges x = i h, 2 <= i <= nx - 2.
@@ -197,6 +196,7 @@ BendResult bend_strip(const MacroStrainSet& set, const MacroSheetMaterial& mater
     const double off = std::remainder(angles[k] - spec.angle, M_PI);
     if (std::abs(off) < 1e-6) {
       sum += kappa[k];
+      result.max_curvature = std::max(result.max_curvature, kappa[k]);
       ++count;
     }
   }

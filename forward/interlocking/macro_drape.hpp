@@ -84,7 +84,7 @@ struct BendSpec {
 };
 struct BendResult {
   double curvature = 0.0;      // mean |kappa_e| over the hinges across the strip (the moment is M at each)
-  double max_curvature = 0.0;  // largest |kappa_e| of any hinge
+  double max_curvature = 0.0;  // largest |kappa_e| of the hinges across the strip
   double min_margin = 0.0;     // smallest hinge margin g_e
   NewtonResult newton;
 };

@@ -218,7 +218,7 @@ TEST(MacroDrapeTerms, BendingMatchesTheCylinderAndSphereContactPassesTheDerivati
   EXPECT_LT(sphere.gaps(q + t * down).minCoeff(), 0.2 * 0.002 + 1e-12);
 }
 
-// Bending limits. Fit: samples of a known kappa(theta) = 0.25 + 0.05 cos 2 theta + 0.02 sin 4 theta
+// Bending limits. Fit: samples of a known 1 / kappa(theta) = 4 + 0.5 cos 2 theta + 0.3 sin 4 theta
 // recovered at order 2 (period pi: theta and theta + pi are one direction), not at order 1; bad
 // samples refused. Term: the normal curvature of a sheet rolled isometrically onto a cylinder of
 // curvature kappa across its x edges is 2 sin(kappa h / 2) / h at those hinges (chords of the circle
@@ -227,7 +227,7 @@ TEST(MacroDrapeTerms, BendingMatchesTheCylinderAndSphereContactPassesTheDerivati
 // curvature beyond the limit is cut where a margin falls to a fifth.
 TEST(MacroBendingLimit, FitsCurvatureLimitsAndItsBarrierPassesTheChecks) {
   std::vector<Eigen::Vector2d> samples;
-  const auto known = [](double t) { return 0.25 + 0.05 * std::cos(2 * t) + 0.02 * std::sin(4 * t); };
+  const auto known = [](double t) { return 1.0 / (4.0 + 0.5 * std::cos(2 * t) + 0.3 * std::sin(4 * t)); };
   for (int k = 0; k < 12; ++k) samples.emplace_back(M_PI * k / 12 + (k % 2) * M_PI, known(M_PI * k / 12));
   const BendingLimitFit fit = fit_bending_limits(samples, 2);
   EXPECT_LT(fit.max_residual, 1e-14);

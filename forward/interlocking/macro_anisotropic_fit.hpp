@@ -15,13 +15,14 @@
 // m = 0 terms are the isotropic set (a function of u alone, the span of the principal-strain fit);
 // m != 0 terms carry the dependence on the strain's orientation (a square net: even m only).
 // Fitted by linear least squares (macro_boundary_fit.hpp's least_squares), residuals reported;
-// material symmetries add the mirrored images of each sample.
+// material symmetries add the mirrored images of each sample. The native sweeps over the sphere of
+// strain directions that give the samples: macro_strain_sweep.hpp.
 #include <Eigen/Core>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "forward/interlocking/macro_boundary_fit.hpp"
-#include "forward/interlocking/strain_boundary.hpp"
 
 namespace tailor::interlocking {
 
@@ -70,20 +71,6 @@ struct MacroStrainSet {
   // g = 1 - rho / r(n) of a strain (e_xx, e_yy, e_xy): 1 at rest, 0 on the boundary.
   double margin(const Eigen::Vector3d& strain) const;
 };
-
-// Native sweeps over the sphere of strain directions. The path F(s) = I + s G with G the unit
-// strain direction n = (u, v, w) above ([[g_xx, g_xy], [g_xy, g_yy]], |G| = 1), so s at the limit is
-// rho (and e = s G).
-LoadPath strain_direction_path(double u, double v, double w);
-// Directions of a latitude-longitude grid about the equibiaxial pole: phi = pi i / rings (i = 0 ..
-// rings; the poles once), beta = beta_max j / sectors (j = 0 .. sectors). beta in [0, pi/2] covers
-// a set with both symmetries; [0, pi] with one; 2 pi (sectors excluding the end) none.
-std::vector<Eigen::Vector3d> strain_sphere_directions(int rings, int sectors, double beta_max);
-// The locked strains (e_xx, e_yy, e_xy) along each direction (u, v, w) from y_rest; paths that do
-// not lock (or stall) are left out and counted in *skipped.
-std::vector<Eigen::Vector3d> native_strain_sweep(const PeriodicRigidCell& cell,
-                                                 const std::vector<Eigen::Vector3d>& directions,
-                                                 const LimitOptions& options, int* skipped = nullptr);
 
 template <class Scalar>
 Scalar AnisotropicBoundaryFit::radius(const Scalar& u, const Scalar& v, const Scalar& w) const {

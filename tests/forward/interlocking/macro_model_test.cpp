@@ -12,6 +12,7 @@
 #include "forward/interlocking/macro_anisotropic_fit.hpp"
 #include "forward/interlocking/macro_bending_limit.hpp"
 #include "forward/interlocking/macro_drape_terms.hpp"
+#include "forward/interlocking/macro_strain_sweep.hpp"
 #include "forward/interlocking/strain_boundary.hpp"
 #include "forward/mesh/generate.hpp"
 

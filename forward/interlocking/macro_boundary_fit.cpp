@@ -25,11 +25,36 @@ double BoundaryFit::radius_at_angle(double angle) const {
   return radius(c);
 }
 
+std::vector<double> least_squares(const Eigen::MatrixXd& design, const Eigen::VectorXd& values) {
+  // Normal equations, solved through the compiled-once symmetric eigen-decomposition (n up to a
+  // few dozen; the orthogonal bases of the fits keep A^T A well conditioned); directions the
+  // samples do not fix (eigenvalues below 1e-12 of the largest) get no coefficient.
+  // Plain loops rather than dynamic Eigen products: this file stays cheap to compile.
+  const int m = static_cast<int>(design.rows()), n = static_cast<int>(design.cols());
+  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(n, n);
+  std::vector<double> b(static_cast<std::size_t>(n), 0.0);
+  for (int i = 0; i < m; ++i)
+    for (int k = 0; k < n; ++k) {
+      b[static_cast<std::size_t>(k)] += design(i, k) * values[i];
+      for (int l = 0; l < n; ++l) N(k, l) += design(i, k) * design(i, l);
+    }
+  Eigen::VectorXd eigenvalues(n);
+  Eigen::MatrixXd vectors(n, n);
+  symmetric_eigen<Eigen::Dynamic>(N, eigenvalues, vectors);
+  std::vector<double> coefficients(static_cast<std::size_t>(n), 0.0);
+  for (int k = 0; k < n; ++k) {
+    if (!(eigenvalues[k] > 1e-12 * eigenvalues[n - 1])) continue;
+    double vb = 0.0;
+    for (int l = 0; l < n; ++l) vb += vectors(l, k) * b[static_cast<std::size_t>(l)];
+    for (int l = 0; l < n; ++l) coefficients[static_cast<std::size_t>(l)] += vectors(l, k) * vb / eigenvalues[k];
+  }
+  return coefficients;
+}
+
 BoundaryFit fit_boundary(const std::vector<Eigen::Vector2d>& limit_strains, int order) {
   if (order < 0) throw std::invalid_argument("fit_boundary: the order must be >= 0");
   const int m = static_cast<int>(limit_strains.size());
   const int n = order + 1;
-  // Plain loops rather than dynamic Eigen products: this file stays cheap to compile.
   std::vector<double> A(static_cast<std::size_t>(m) * n), rho(static_cast<std::size_t>(m));
   std::vector<double> distinct;
   for (int i = 0; i < m; ++i) {
@@ -54,27 +79,11 @@ BoundaryFit fit_boundary(const std::vector<Eigen::Vector2d>& limit_strains, int 
     throw std::invalid_argument("fit_boundary: " + std::to_string(distinct.size()) +
                                 " distinct directions (mirror images count once) cannot fix order " +
                                 std::to_string(order));
-  // Normal equations, solved through the compiled-once symmetric eigen-decomposition (n <= ~15;
-  // the Chebyshev basis keeps A^T A well conditioned on [-1, 1]).
-  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(n, n);
-  std::vector<double> b(static_cast<std::size_t>(n), 0.0);
+  Eigen::MatrixXd design(m, n);
   for (int i = 0; i < m; ++i)
-    for (int k = 0; k < n; ++k) {
-      b[static_cast<std::size_t>(k)] +=
-          A[static_cast<std::size_t>(i * n + k)] * rho[static_cast<std::size_t>(i)];
-      for (int l = 0; l < n; ++l)
-        N(k, l) += A[static_cast<std::size_t>(i * n + k)] * A[static_cast<std::size_t>(i * n + l)];
-    }
-  Eigen::VectorXd values(n);
-  Eigen::MatrixXd vectors(n, n);
-  symmetric_eigen<Eigen::Dynamic>(N, values, vectors);
-  std::vector<double> coefficients(static_cast<std::size_t>(n), 0.0);
-  for (int k = 0; k < n; ++k) {
-    if (!(values[k] > 1e-12 * values[n - 1])) continue;
-    double vb = 0.0;
-    for (int l = 0; l < n; ++l) vb += vectors(l, k) * b[static_cast<std::size_t>(l)];
-    for (int l = 0; l < n; ++l) coefficients[static_cast<std::size_t>(l)] += vectors(l, k) * vb / values[k];
-  }
+    for (int k = 0; k < n; ++k) design(i, k) = A[static_cast<std::size_t>(i * n + k)];
+  const std::vector<double> coefficients =
+      least_squares(design, Eigen::Map<const Eigen::VectorXd>(rho.data(), m));
   BoundaryFit fit;
   fit.coefficients = coefficients;
   fit.samples = m;

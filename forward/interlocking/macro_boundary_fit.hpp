@@ -48,6 +48,11 @@ struct BoundaryFit {
 // positive on all of [-1, 1] (the admissible set must contain a disc about the rest state).
 BoundaryFit fit_boundary(const std::vector<Eigen::Vector2d>& limit_strains, int order);
 
+// The least-squares coefficients c minimising |design c - values| (rows: samples), by the normal
+// equations and the compiled-once symmetric eigen-decomposition (pseudo-inverse: directions the
+// samples leave free get zero). Shared by the boundary fits of the macro model.
+std::vector<double> least_squares(const Eigen::MatrixXd& design, const Eigen::VectorXd& values);
+
 // The margin to the fitted boundary of principal strains e = (e_1, e_2):
 //   g = 1 - rho / r(c)  (1 at rest, 0 on the boundary, negative outside) [dimensionless].
 double boundary_margin(const BoundaryFit& fit, const Eigen::Vector2d& principal_strains);

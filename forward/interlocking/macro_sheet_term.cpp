@@ -16,18 +16,32 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// psi(I1, I2) of the header [energy / area]; `barrier` adds kappa b(g) (the caller has checked
+// The Biot strain E = U - I from C = F^T F (C11, C22, C12), by the closed form of the 2 x 2 square
+// root: U = (C + sqrt(det C) I) / sqrt(tr C + 2 sqrt(det C)). Returns (E_xx, E_yy, E_xy) and rho = |E|.
+template <class Scalar>
+void biot_strain(const Scalar& C11, const Scalar& C22, const Scalar& C12, Scalar& exx, Scalar& eyy, Scalar& exy,
+                 Scalar& rho2) {
+  const Scalar root = sqrt(C11 * C22 - C12 * C12);
+  const Scalar trace_u = sqrt(C11 + C22 + 2.0 * root);  // lambda_1 + lambda_2
+  exx = (C11 + root) / trace_u - 1.0;
+  eyy = (C22 + root) / trace_u - 1.0;
+  exy = C12 / trace_u;
+  rho2 = exx * exx + eyy * eyy + 2.0 * exy * exy;
+}
+
+// psi(C11, C22, C12) of the header [energy / area]; `barrier` adds kappa b(g) (the caller has checked
 // 0 < g < g_hat, so rho > 0 there).
 template <class Scalar>
-Scalar sheet_density(const Scalar& I1, const Scalar& I2, const BoundaryFit& fit, const MacroSheetMaterial& m,
-                     bool barrier) {
-  const Scalar sum = sqrt(I1 + 2.0 * sqrt(I2));  // lambda_1 + lambda_2
-  const Scalar rho2 = I1 - 2.0 * sum + 2.0;      // e_1^2 + e_2^2
+Scalar sheet_density(const Scalar& C11, const Scalar& C22, const Scalar& C12, const MacroStrainSet& set,
+                     const MacroSheetMaterial& m, bool barrier) {
+  Scalar exx, eyy, exy, rho2;
+  biot_strain(C11, C22, C12, exx, eyy, exy, rho2);
   Scalar psi = 0.5 * m.stiffness * rho2;
   if (barrier) {
     const Scalar rho = sqrt(rho2);
-    const Scalar c = (sum - 2.0) / (std::sqrt(2.0) * rho);
-    const Scalar g = 1.0 - rho / fit.radius(c);
+    const Scalar u = (exx + eyy) / (std::sqrt(2.0) * rho), v = (exx - eyy) / (std::sqrt(2.0) * rho),
+                 w = std::sqrt(2.0) * exy / rho;
+    const Scalar g = 1.0 - rho / set.radius(u, v, w);
     const Scalar d = g - m.barrier_activation;
     psi = psi - m.barrier_stiffness * d * d * log(g / m.barrier_activation);
   }
@@ -45,24 +59,22 @@ void columns(const SheetTriangles& t, const Vector& x, int k, Eigen::Vector3d& f
   }
 }
 
-// The margin g from (I1, I2): 1 at rest, 0 on the boundary; -infinity for a degenerate element.
-double margin_of(double I1, double I2, const BoundaryFit& fit) {
-  if (!(I2 > 0.0)) return -kInfinity;
-  const double sum = std::sqrt(I1 + 2.0 * std::sqrt(I2));
-  const double rho2 = I1 - 2.0 * sum + 2.0;
+// The margin g from C = F^T F: 1 at rest, 0 on the boundary; -infinity for a degenerate element.
+double margin_of(double C11, double C22, double C12, const MacroStrainSet& set) {
+  if (!(C11 * C22 - C12 * C12 > 0.0)) return -kInfinity;
+  double exx = 0.0, eyy = 0.0, exy = 0.0, rho2 = 0.0;
+  biot_strain(C11, C22, C12, exx, eyy, exy, rho2);
   if (!(rho2 > 1e-24)) return 1.0;
-  const double rho = std::sqrt(rho2);
-  const double c = std::clamp((sum - 2.0) / (std::sqrt(2.0) * rho), -1.0, 1.0);
-  return 1.0 - rho / fit.radius(c);
+  return set.margin(Eigen::Vector3d(exx, eyy, exy));
 }
 
 }  // namespace
 
-MacroSheetTerm::MacroSheetTerm(const Mesh& flat, BoundaryFit fit, MacroSheetMaterial material)
-    : fit_(std::move(fit)), material_(material) {
+MacroSheetTerm::MacroSheetTerm(const Mesh& flat, MacroStrainSet set, MacroSheetMaterial material)
+    : set_(std::move(set)), material_(material) {
   if (flat.dim() != 2 || flat.elements.cols() != 3)
     throw std::invalid_argument("MacroSheetTerm: the rest sheet must be a 2D triangle mesh");
-  if (fit_.coefficients.empty()) throw std::invalid_argument("MacroSheetTerm: the boundary fit is empty");
+  if ((set_.anisotropic ? set_.oriented.coefficients : set_.isotropic.coefficients).empty()) throw std::invalid_argument("MacroSheetTerm: the boundary fit is empty");
   if (!(material_.stiffness >= 0.0) || !(material_.barrier_stiffness > 0.0) ||
       !(material_.barrier_activation > 0.0 && material_.barrier_activation < 1.0))
     throw std::invalid_argument(
@@ -100,11 +112,9 @@ void MacroSheetTerm::evaluate(const Vector& x, const Vector& p, const EnergyRequ
   evaluate_elements<3>(triangles_, request, [&](int k, ElementOutput<3, 3>& out) {
     Eigen::Vector3d f1, f2;
     columns(triangles_, x, k, f1, f2);
-    const double I1 = f1.squaredNorm() + f2.squaredNorm();
-    const double f12 = f1.dot(f2);
-    const double I2 = f1.squaredNorm() * f2.squaredNorm() - f12 * f12;
+    const double C11 = f1.squaredNorm(), C22 = f2.squaredNorm(), C12 = f1.dot(f2);
     const double area = triangles_.areas[static_cast<std::size_t>(k)];
-    const double g = margin_of(I1, I2, fit_);
+    const double g = margin_of(C11, C22, C12, set_);
     if (out.want_gradient) out.gradient().setZero();
     if (out.want_hessian) out.hessian().setZero();
     if (!(g > 0.0)) {  // outside the admissible set (or degenerate): the line search backs off
@@ -113,45 +123,41 @@ void MacroSheetTerm::evaluate(const Vector& x, const Vector& p, const EnergyRequ
     }
     const bool barrier = g < material_.barrier_activation;
     if (!out.want_gradient && !out.want_hessian) {
-      out.energy = area * sheet_density(I1, I2, fit_, material_, barrier);
+      out.energy = area * sheet_density(C11, C22, C12, set_, material_, barrier);
       return;
     }
-    const Dual2<2> psi =
-        sheet_density(Dual2<2>::variable(I1, 0), Dual2<2>::variable(I2, 1), fit_, material_, barrier);
+    const Dual2<3> psi = sheet_density(Dual2<3>::variable(C11, 0), Dual2<3>::variable(C22, 1),
+                                       Dual2<3>::variable(C12, 2), set_, material_, barrier);
     out.energy = area * psi.v;
-    // d I / d f and d2 I / d f2, f = (f1; f2) (see the header's invariants), in plain loops: the
-    // chain to the element's DOFs, x_a -> f_j with weight G(a, j), is a sum, not a product of
-    // fixed-size matrices (those cost compile time in every build).
-    double a[6], b[6], Hf[6][6];
-    const double n1 = f1.squaredNorm(), n2 = f2.squaredNorm();
+    // d psi / d f, f = (f1; f2): C11 = f1.f1, C22 = f2.f2, C12 = f1.f2, in plain loops: the chain to
+    // the element's DOFs, x_a -> f_j with weight G(a, j), is a sum, not a product of fixed-size
+    // matrices (those cost compile time in every build).
+    double dC[3][6], Hf[6][6];
     for (int d = 0; d < 3; ++d) {
-      a[d] = 2.0 * f1[d];
-      a[3 + d] = 2.0 * f2[d];
-      b[d] = 2.0 * n2 * f1[d] - 2.0 * f12 * f2[d];
-      b[3 + d] = 2.0 * n1 * f2[d] - 2.0 * f12 * f1[d];
+      dC[0][d] = 2.0 * f1[d];
+      dC[0][3 + d] = 0.0;
+      dC[1][d] = 0.0;
+      dC[1][3 + d] = 2.0 * f2[d];
+      dC[2][d] = f2[d];
+      dC[2][3 + d] = f1[d];
     }
+    double df[6];
+    for (int r = 0; r < 6; ++r) df[r] = psi.g[0] * dC[0][r] + psi.g[1] * dC[1][r] + psi.g[2] * dC[2][r];
     const Eigen::Matrix<double, 3, 2>& G = triangles_.gradients[static_cast<std::size_t>(k)];
     if (out.want_gradient) {
       auto gl = out.gradient();
       for (int n = 0; n < 3; ++n)
-        for (int d = 0; d < 3; ++d)
-          gl(d, n) = area * (G(n, 0) * (psi.g[0] * a[d] + psi.g[1] * b[d]) +
-                             G(n, 1) * (psi.g[0] * a[3 + d] + psi.g[1] * b[3 + d]));
+        for (int d = 0; d < 3; ++d) gl(d, n) = area * (G(n, 0) * df[d] + G(n, 1) * df[3 + d]);
     }
     if (out.want_hessian) {
-      const Eigen::Vector3d* f[2] = {&f1, &f2};
       for (int r = 0; r < 6; ++r)
         for (int c = 0; c < 6; ++c) {
-          const int j = r / 3, l = c / 3, d = r % 3, e = c % 3;
-          const double kd = d == e ? 1.0 : 0.0;
-          // d2 I2 / d f_j[d] d f_l[e]
-          double h2;
-          if (j == l)
-            h2 = 2.0 * (j == 0 ? n2 : n1) * kd - 2.0 * (*f[1 - j])[d] * (*f[1 - j])[e];
-          else
-            h2 = 4.0 * (*f[j])[d] * (*f[l])[e] - 2.0 * (*f[l])[d] * (*f[j])[e] - 2.0 * f12 * kd;
-          Hf[r][c] = psi.h(0, 0) * a[r] * a[c] + psi.h(0, 1) * (a[r] * b[c] + b[r] * a[c]) +
-                     psi.h(1, 1) * b[r] * b[c] + psi.g[0] * (r == c ? 2.0 : 0.0) + psi.g[1] * h2;
+          double v = 0.0;
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) v += psi.h(i, j) * dC[i][r] * dC[j][c];
+          // The second derivatives of C: 2 I on (f1, f1) and (f2, f2), I on (f1, f2) and (f2, f1).
+          if (r % 3 == c % 3) v += (r / 3 == c / 3) ? 2.0 * psi.g[r / 3] : psi.g[2];
+          Hf[r][c] = v;
         }
       Eigen::Matrix<double, 9, 9> H;
       for (int na = 0; na < 3; ++na)
@@ -172,9 +178,7 @@ void MacroSheetTerm::evaluate(const Vector& x, const Vector& p, const EnergyRequ
 double MacroSheetTerm::margin(const Vector& x, int k) const {
   Eigen::Vector3d f1, f2;
   columns(triangles_, x, k, f1, f2);
-  const double f12 = f1.dot(f2);
-  return margin_of(f1.squaredNorm() + f2.squaredNorm(), f1.squaredNorm() * f2.squaredNorm() - f12 * f12,
-                   fit_);
+  return margin_of(f1.squaredNorm(), f2.squaredNorm(), f1.dot(f2), set_);
 }
 
 double MacroSheetTerm::max_step(const Vector& x, const Vector& dx) const {
@@ -190,9 +194,7 @@ double MacroSheetTerm::max_step(const Vector& x, const Vector& dx) const {
     columns(triangles_, dx, k, d1, d2);
     const auto below = [&](double t) {
       const Eigen::Vector3d a = f1 + t * d1, b = f2 + t * d2;
-      const double ab = a.dot(b);
-      return !(margin_of(a.squaredNorm() + b.squaredNorm(), a.squaredNorm() * b.squaredNorm() - ab * ab,
-                         fit_) > floor);
+      return !(margin_of(a.squaredNorm(), b.squaredNorm(), a.dot(b), set_) > floor);
     };
     double t_ok = 0.0;
     for (int i = 1; i <= kSamples; ++i) {
@@ -233,6 +235,18 @@ Eigen::VectorXd MacroSheetTerm::margins(const Vector& x) const {
   Eigen::VectorXd g(triangles_.size());
   for (int k = 0; k < triangles_.size(); ++k) g[k] = margin(x, k);
   return g;
+}
+
+Eigen::MatrixXd MacroSheetTerm::strains(const Vector& x) const {
+  Eigen::MatrixXd e(triangles_.size(), 3);
+  for (int k = 0; k < triangles_.size(); ++k) {
+    Eigen::Vector3d f1, f2;
+    columns(triangles_, x, k, f1, f2);
+    double exx = 0.0, eyy = 0.0, exy = 0.0, rho2 = 0.0;
+    biot_strain(f1.squaredNorm(), f2.squaredNorm(), f1.dot(f2), exx, eyy, exy, rho2);
+    e.row(k) << exx, eyy, exy;
+  }
+  return e;
 }
 
 }  // namespace tailor::interlocking

@@ -4,11 +4,12 @@
 //
 // DOFs: 3 per vertex, the deformed positions [length], interleaved (x0, y0, z0, x1, ...). Rest: the
 // flat mesh (2D triangles, its x-y plane the material frame). Per element, F = [x1 - x0, x2 - x0]
-// Dm^-1 (3 x 2), C = F^T F; the principal strains are e_i = lambda_i - 1 (Biot), lambda_i^2 the
-// eigenvalues of C, the measure of the native sweep (F = diag(lambda) there). Everything is written
-// in the invariants I1 = tr C, I2 = det C, with no eigen-decomposition:
-//   lambda_1 + lambda_2 = S = sqrt(I1 + 2 sqrt(I2)),  rho^2 = e_1^2 + e_2^2 = I1 - 2 S + 2,
-//   c = (e_1 + e_2) / (sqrt(2) rho) = (S - 2) / (sqrt(2) rho),  g = 1 - rho / r(c).
+// Dm^-1 (3 x 2), C = F^T F, and the strain is Biot's, E = U - I with U = sqrt(C) in the material
+// frame, the measure of the native sweep (F = I + s G symmetric there, so E = s G). With no
+// eigen-decomposition: U = (C + sqrt(det C) I) / sqrt(tr C + 2 sqrt(det C)) (2 x 2 closed form),
+//   rho = |E| (Frobenius),  n = (u, v, w) its direction (macro_anisotropic_fit.hpp),  g = 1 - rho / r(n),
+// r the admissible set's radius (MacroStrainSet: the isotropic fit r(u), u = (e_1 + e_2) / (sqrt(2)
+// rho) of the principal strains, or the anisotropic fit r(u, v, w)).
 // Energy per rest area [energy / area]:
 //   psi = (k / 2) rho^2 + kappa b(g),   b(g) = -(g - g_hat)^2 log(g / g_hat) for g < g_hat, else 0
 // (the clamped log barrier of IPC, Li et al. 2020, eq. 6, in the margin g instead of a distance: C2
@@ -19,7 +20,7 @@
 #include <vector>
 
 #include "forward/core/energy_term.hpp"
-#include "forward/interlocking/macro_boundary_fit.hpp"
+#include "forward/interlocking/macro_anisotropic_fit.hpp"
 #include "forward/mesh/mesh.hpp"
 
 namespace tailor::interlocking {
@@ -43,7 +44,7 @@ class MacroSheetTerm final : public EnergyTerm {
  public:
   // `flat`: a 2D triangle mesh (the rest sheet, counter-clockwise triangles). Throws
   // std::invalid_argument for another mesh, degenerate triangles or bad material constants.
-  MacroSheetTerm(const Mesh& flat, BoundaryFit fit, MacroSheetMaterial material);
+  MacroSheetTerm(const Mesh& flat, MacroStrainSet set, MacroSheetMaterial material);
 
   std::string name() const override { return "interlocking_sheet"; }
   void evaluate(const Vector& x, const Vector& p, const EnergyRequest& request) const override;
@@ -56,15 +57,17 @@ class MacroSheetTerm final : public EnergyTerm {
   // Per element at full state x: principal strains (e_1 >= e_2) and the margin g (row k: element k).
   Eigen::MatrixXd principal_strains(const Vector& x) const;
   Eigen::VectorXd margins(const Vector& x) const;
+  // Per element: the Biot strain (e_xx, e_yy, e_xy) in the material frame.
+  Eigen::MatrixXd strains(const Vector& x) const;
 
-  const BoundaryFit& fit() const { return fit_; }
+  const MacroStrainSet& set() const { return set_; }
   const MacroSheetMaterial& material() const { return material_; }
   const SheetTriangles& triangles() const { return triangles_; }
 
  private:
   double margin(const Vector& x, int k) const;
   SheetTriangles triangles_;
-  BoundaryFit fit_;
+  MacroStrainSet set_;
   MacroSheetMaterial material_;
 };
 

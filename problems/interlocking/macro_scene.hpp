@@ -15,10 +15,19 @@ namespace tailor {
 
 struct InterlockingMacroScene {
   std::string name;
-  std::vector<Eigen::Vector2d> limit_strains;  // (e_xx, e_yy) of a native principal sweep
-  int order = 4;                               // of the polar Chebyshev fit
-  interlocking::DrapeSpec drape;
+  bool anisotropic = false;                    // boundary.set
+  std::vector<Eigen::Vector2d> limit_strains;  // isotropic: (e_xx, e_yy) of a native principal sweep
+  int order = 4;                               // isotropic: of the polar Chebyshev fit
+  std::vector<Eigen::Vector3d> oriented_strains;  // anisotropic: (e_xx, e_yy, e_xy) of a sphere sweep
+  int degree = 6, max_order = 6;                  // anisotropic: of the spherical-harmonic fit
+  interlocking::StrainSetSymmetry symmetry;
+  std::vector<Eigen::Vector2d> bending_samples;  // bending_limits: (theta [rad], kappa)
+  int bending_order = 0;
+  interlocking::DrapeSpec drape;  // with the bending fit when bending_limits is given
 };
+
+// The admissible set of the scene's boundary section (the fit).
+interlocking::MacroStrainSet macro_strain_set(const InterlockingMacroScene& scene);
 
 // Throws SceneError naming file and key path.
 InterlockingMacroScene parse_interlocking_macro_scene(const SceneNode& root);

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <string>
 
+#include "forward/solve/blas_info.hpp"
+
 // TAILOR_BENCH(name) for each bench, in bench_programs.inc.
 #define TAILOR_BENCH(name)        \
   namespace tailor::bench::name { \
@@ -41,6 +43,7 @@ std::string base_name(const char* path) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tailor::use_cpu_blas_core(argv);  // as bin/tailor does: OpenBLAS's kernels for this CPU
   if (argc >= 1) {
     if (const Program* p = find(base_name(argv[0]).c_str())) return p->run(argc, argv);
   }

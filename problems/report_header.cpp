@@ -12,7 +12,8 @@ void add_report_header(nlohmann::ordered_json& report) {
   report["threads"] = {{"assembly", threads.assembly},
                        {"blas", threads.blas},
                        {"factorization", threads.factorization},
-                       {"blas_library", threads.blas_library}};
+                       {"blas_library", threads.blas_library},
+                       {"blas_core", threads.blas_core}};
 }
 
 nlohmann::ordered_json linear_solver_json(const LinearSolver* solver) {

@@ -12,7 +12,7 @@ namespace tailor {
 inline constexpr int kReportFormatVersion = 1;
 
 // report["tailor_version"], report["report_format"], report["threads"] = {assembly, blas,
-// factorization, blas_library}.
+// factorization, blas_library, blas_core}.
 void add_report_header(nlohmann::ordered_json& report);
 
 // report["linear_solver"]: {"name": "cholmod"} for the default (no LinearSolver), else the

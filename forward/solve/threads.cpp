@@ -59,6 +59,7 @@ ThreadReport current_threads() {
   if (const GetThreads get = openblas_get()) report.blas = get();
   report.factorization = thread_settings().factorization == 1 ? 1 : kCholmodCompiledThreads;
   report.blas_library = blas_library_path();
+  report.blas_core = blas_core();
   return report;
 }
 

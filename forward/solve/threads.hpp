@@ -36,12 +36,13 @@ const ThreadSettings& thread_settings();
 
 // What runs now: OpenMP's max threads, OpenBLAS's thread count (-1 when the BLAS in the
 // process is not OpenBLAS), the factorization mode (1 or CHOLMOD's compiled count, 4 with
-// Debian's build), and the BLAS library's path.
+// Debian's build), the BLAS library's path and OpenBLAS's kernel set.
 struct ThreadReport {
   int assembly = 0;
   int blas = -1;
   int factorization = 1;
   std::string blas_library;
+  std::string blas_core;  // OpenBLAS's kernels ("SkylakeX", ...; blas_info.hpp); empty if not OpenBLAS
 };
 ThreadReport current_threads();
 

@@ -17,7 +17,10 @@ import os
 import shutil
 import tempfile
 
+from . import _blas_core
 from ._interpreter import EXECUTABLE as _BUILT_FOR, VERSION as _BUILT_VERSION
+
+_blas_core.choose()  # before NumPy and the compiled module load OpenBLAS
 
 
 def _interpreter_message(version, executable):

@@ -8,6 +8,8 @@ import subprocess
 
 import pytest
 
+import tailor  # noqa: F401  (first, so that OpenBLAS loads with the kernels tailor chooses: docs/performance.md)
+
 SOURCE_DIR = pathlib.Path(os.environ.get("TAILOR_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
 SCENES = SOURCE_DIR / "scenes"
 

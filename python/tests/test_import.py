@@ -48,7 +48,7 @@ def test_python_and_the_executable_run_the_same_blas_kernels(tmp_path):
     assert done.returncode == 0, done.stderr
     python_core = done.stdout.strip().splitlines()[-1]
     executable = os.environ.get("TAILOR_CLI", "tailor")
-    done = subprocess.run([executable, "simulate", str(scene), "--quiet", "--out", str(tmp_path / "cli")],
+    done = subprocess.run([executable, "simulate", str(scene), "--out", str(tmp_path / "cli")],
                           capture_output=True, text=True, env=env)
     assert done.returncode == 0, done.stdout + done.stderr
     assert read_json(tmp_path / "cli" / "report.json")["threads"]["blas_core"] == python_core

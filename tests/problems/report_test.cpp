@@ -140,7 +140,7 @@ TEST(Cli, ReportNamesTheBlasKernelsAndTheExecutableUsesTheCpus) {
   TempFolder folder("problems_cli_blas_core");
   write_file(folder / "box.json", testing::small_box_scene());
   std::string output;
-  const std::string scene = (folder / "box.json") + " --quiet --out " + (folder / "out");
+  const std::string scene = (folder / "box.json") + " --out " + (folder / "out");
   ASSERT_EQ(run_cli_with("env -u OPENBLAS_CORETYPE -u TAILOR_BLAS_REEXEC", "simulate " + scene, folder / "log",
                          output),
             0)

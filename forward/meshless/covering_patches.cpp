@@ -16,9 +16,14 @@ Eigen::VectorXd neighbour_spacing(const Eigen::MatrixXd& nodes, int k) {
   // Buckets of edge c holding about k + 1 nodes each on average, so that a search over the
   // cells within a growing shell finds the k nearest after a few shells.
   const Eigen::Vector3d lo = nodes.colwise().minCoeff().transpose();
-  const Eigen::Vector3d extent = (nodes.colwise().maxCoeff().transpose() - lo).cwiseMax(1e-300);
-  const double volume = std::max(extent.prod(), std::pow(extent.maxCoeff(), 3) * 1e-9);
-  const double c = std::max(std::cbrt(volume * (k + 1) / n), 1e-12 * extent.maxCoeff());
+  const Eigen::Vector3d extent = nodes.colwise().maxCoeff().transpose() - lo;
+  const double longest = extent.maxCoeff();
+  if (!(longest > 0.0)) throw std::invalid_argument("neighbour_spacing: all " + std::to_string(n) + " nodes coincide");
+  // The box's volume relative to its longest side cubed, at least 1e-9 (flat or straight sets),
+  // computed on ratios so that no scale of the coordinates under- or overflows: then
+  // c >= 1e-3 longest ((k + 1) / n)^(1/3), and an axis has at most 1000 (n / (k + 1))^(1/3) + 1 cells.
+  const Eigen::Vector3d ratio = extent / longest;
+  const double c = longest * std::cbrt(std::max(ratio.prod(), 1e-9) * (k + 1) / n);
   Eigen::Vector3i size;
   for (int d = 0; d < 3; ++d) size[d] = std::max(1, static_cast<int>(std::ceil(extent[d] / c)));
   auto cell_of = [&](const Eigen::Vector3d& X) {

@@ -280,6 +280,10 @@ TEST(CoveringPatches, NeighbourSpacingIsTheKthNearestNodesDistance) {
   }
   EXPECT_THROW(neighbour_spacing(P, 0), std::invalid_argument);
   EXPECT_THROW(neighbour_spacing(P, 300), std::invalid_argument);
+  // Any scale of the coordinates: the buckets are sized on ratios (at 1e-150 the box's volume
+  // underflows; sized on it, a cell count overflowed an int, which the sanitizer build caught).
+  const Eigen::VectorXd unit = neighbour_spacing(P, 3), tiny = neighbour_spacing(P * 1e-150, 3);
+  EXPECT_NEAR(tiny[0] * 1e150, unit[0], 1e-12 * unit[0]);
   Eigen::MatrixXd twice(2, 3);
   twice << 0, 0, 0, 0, 0, 0;
   EXPECT_THROW(neighbour_spacing(twice, 1), std::invalid_argument);

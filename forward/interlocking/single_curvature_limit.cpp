@@ -88,17 +88,10 @@ Vector curved_tangent(const SingleCurvatureCell& curved, const Vector& y, double
   return -sign * curved_pseudo_solve(c.hessian, c.mixed);
 }
 
-struct CurvedRamp {
-  bool locked = false, stalled = false;
-  double s = 0.0, s_unlocked = 0.0;
-  Vector y, y_unlocked;
-  std::string message;
-};
-
-CurvedRamp curved_ramp(const SingleCurvatureCell& curved, double sign, const Vector& y_from, double s_from,
+RampResult curved_ramp(const SingleCurvatureCell& curved, double sign, const Vector& y_from, double s_from,
                        double s_to, const LimitOptions& options, int& solves) {
   const PeriodicRigidCell& cell = curved.cell();
-  CurvedRamp r;
+  RampResult r;
   r.s = r.s_unlocked = s_from;
   r.y = r.y_unlocked = y_from;
   const double lock_distance = options.lock_fraction * cell.activation_distance();
@@ -235,7 +228,7 @@ LimitPoint find_single_curvature_limit(const SingleCurvatureCell& curved, const 
     out.active = active_pairs(cell, x);
     out.solves = solves;
   };
-  CurvedRamp first;
+  RampResult first;
   try {
     first = curved_ramp(curved, sign, y_rest, 0.0, options.max_strain, options, solves);
   } catch (const std::runtime_error& e) {
@@ -250,21 +243,9 @@ LimitPoint find_single_curvature_limit(const SingleCurvatureCell& curved, const 
   }
   double s_lo = first.s_unlocked, s_hi = first.s;
   Vector y_lo = first.y_unlocked, y_hi = first.y;
-  while (s_hi - s_lo > options.tolerance) {
-    const double mid = 0.5 * (s_lo + s_hi);
-    const CurvedRamp r = curved_ramp(curved, sign, y_lo, s_lo, mid, options, solves);
-    if (r.locked) {
-      s_lo = r.s_unlocked;
-      y_lo = r.y_unlocked;
-      s_hi = r.s;
-      y_hi = r.y;
-    } else if (r.stalled) {
-      break;
-    } else {
-      s_lo = mid;
-      y_lo = r.y;
-    }
-  }
+  bisect_lock(s_lo, y_lo, s_hi, y_hi, options.tolerance, [&](const Vector& y, double from, double to) {
+    return curved_ramp(curved, sign, y, from, to, options, solves);
+  });
   out.locked = true;
   out.bracket = s_hi - s_lo;
   // The critical pair: the closest pair within d_hat at the locked end.

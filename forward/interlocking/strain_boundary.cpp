@@ -49,16 +49,6 @@ Vector affine_prediction(const PeriodicRigidCell& cell, const Vector& y, const E
   return cell.basis().topRows(6 * cell.num_elements()).transpose() * q;
 }
 
-struct RampResult {
-  bool locked = false;
-  bool stalled = false;
-  double s = 0.0;  // where it stopped: s_to, the first locked strain, or the stall
-  Vector y;
-  double s_unlocked = 0.0;  // the last unlocked equilibrium before a lock
-  Vector y_unlocked;
-  std::string message;
-};
-
 // Equilibria from (y, s_from) towards s_to in CCD-capped steps, stopping at the first state that
 // meets the lock-up criterion.
 RampResult ramp(const PeriodicRigidCell& cell, const LoadPath& path, const Vector& y_from, double s_from, double s_to,
@@ -221,21 +211,9 @@ LimitPoint find_limit(const PeriodicRigidCell& cell, const LoadPath& path, const
   }
   double s_lo = first.s_unlocked, s_hi = first.s;
   Vector y_lo = first.y_unlocked, y_hi = first.y;
-  while (s_hi - s_lo > options.tolerance) {
-    const double mid = 0.5 * (s_lo + s_hi);
-    RampResult r = ramp(cell, path, y_lo, s_lo, mid, options, solves);
-    if (r.locked) {
-      s_lo = r.s_unlocked;
-      y_lo = r.y_unlocked;
-      s_hi = r.s;
-      y_hi = r.y;
-    } else if (r.stalled) {
-      break;
-    } else {
-      s_lo = mid;
-      y_lo = r.y;
-    }
-  }
+  bisect_lock(s_lo, y_lo, s_hi, y_hi, options.tolerance, [&](const Vector& y, double from, double to) {
+    return ramp(cell, path, y, from, to, options, solves);
+  });
   out.locked = true;
   out.bracket = s_hi - s_lo;
   out.strain = s_hi;

@@ -23,6 +23,7 @@
 // finally Newton on the augmented system (equilibrium and d_critical = lock_fraction d_hat, in
 // (y, s); limit_sensitivity.hpp) locates it to round-off (`refined`).
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "forward/interlocking/cell_equilibrium.hpp"
@@ -86,5 +87,39 @@ std::vector<LimitPoint> strain_space_boundary(const PeriodicRigidCell& cell, con
 
 // The pairs within d_hat at x with their forces, labelled by periodic pair.
 std::vector<ActivePair> active_pairs(const PeriodicRigidCell& cell, const Vector& x);
+
+// One ramp of a lock-up search: equilibria from s_from towards s_to, stopped at the first locked
+// state (strain_boundary.cpp for in-plane paths, single_curvature_limit.cpp for curvature).
+struct RampResult {
+  bool locked = false;
+  bool stalled = false;
+  double s = 0.0;  // where it stopped: s_to, the first locked strain, or the stall
+  Vector y;
+  double s_unlocked = 0.0;  // the last unlocked equilibrium before a lock
+  Vector y_unlocked;
+  std::string message;
+};
+
+// Bisection of a bracket [s_lo, s_hi] (last unlocked, first locked state, with their equilibria)
+// down to `tolerance`: ramp(y, s_from, s_to) -> RampResult ramps from the unlocked end to the
+// midpoint. Narrows the bracket in place; stops early when a ramp stalls.
+template <class Ramp>
+void bisect_lock(double& s_lo, Vector& y_lo, double& s_hi, Vector& y_hi, double tolerance, Ramp&& ramp) {
+  while (s_hi - s_lo > tolerance) {
+    const double mid = 0.5 * (s_lo + s_hi);
+    RampResult r = ramp(y_lo, s_lo, mid);
+    if (r.locked) {
+      s_lo = r.s_unlocked;
+      y_lo = std::move(r.y_unlocked);
+      s_hi = r.s;
+      y_hi = std::move(r.y);
+    } else if (r.stalled) {
+      break;
+    } else {
+      s_lo = mid;
+      y_lo = std::move(r.y);
+    }
+  }
+}
 
 }  // namespace tailor::interlocking

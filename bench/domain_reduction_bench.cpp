@@ -32,7 +32,9 @@
 //        domain_reduction_bench --twist T [--twist-cells 24] [--twist-steps 40] [--twist-size 51]
 //          [--twist-domains 6] [--twist-load end|distributed] [--twist-bend g] [--twist-time-step 0.02]
 //          [--twist-material stvk|neo_hookean] [--twist-interface-modes 6] [--twist-fixed-interface-modes 4]
-//          [--twist-blends linear,quaternion,nearest]   (the twisted bar with per-domain rotations, below)
+//          [--twist-blends linear,quaternion,nearest] [--twist-bases global,domains,overlapping]
+//          [--twist-newton-iterations 30] [--twist-reference-substeps 1] [--twist-rigid-columns]
+//          (the twisted bar with per-domain rotations, below)
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -329,6 +331,10 @@ struct TwistSettings {
   double torque = 0.0, time_step = 0.02, bend = 0.0;
   int along = 24, across = 3, steps = 40, size = 51, domains = 6, overlap_layers = 2;
   int fixed_interface_modes = 4, interface_modes = 6;  // the domain basis (interface_modes 0: every interface DOF)
+  int newton_iterations = 30;                 // per step, every row
+  int reference_substeps = 1;                 // full space takes this many steps of h / k per step
+  bool rigid_columns = false;                 // overlapping: each domain's six rigid motions among its columns
+  std::vector<std::string> bases = {"global", "domains", "overlapping"};  // besides full space
   std::string load = "end";                   // "end" or "distributed"
   std::string material = "stvk";              // or "neo_hookean"
   std::vector<std::string> blends = {"linear"};  // rotation blends of the rows with rotations
@@ -410,6 +416,22 @@ TwistRow twist_run(const std::string& kind, const std::string& blend, const benc
     all << seeds, psi, modes.modes.rightCols(modes.modes.cols() - m);
     basis = mass_orthonormal_basis(all, mass);
     basis = basis.leftCols(std::min<Eigen::Index>(local, basis.cols())).eval();
+    if (kind == "overlapping" && t.rigid_columns) {
+      // The bar's six rigid motions (zero on the supports), blended below by each domain's
+      // weights: every domain can translate and turn (to first order) without straining.
+      Matrix rigid = Matrix::Zero(bar.rest.size(), 6);
+      const Eigen::Vector3d centre(2.0, 0.25, 0.25);
+      for (int v = 0; v < mesh.num_vertices(); ++v) {
+        const Eigen::Vector3d r = mesh.rest_positions.row(v).transpose() - centre;
+        rigid.block<3, 3>(3 * v, 0).setIdentity();
+        for (int k = 0; k < 3; ++k) rigid.block<3, 1>(3 * v, 3 + k) = Eigen::Vector3d::Unit(k).cross(r);
+      }
+      for (int dof : bar.fixed_dofs) rigid.row(dof).setZero();
+      Matrix both(bar.rest.size(), 6 + basis.cols());
+      both << rigid, basis;
+      basis = mass_orthonormal_basis(both, mass);
+      basis = basis.leftCols(std::min<Eigen::Index>(local, basis.cols())).eval();
+    }
     if (kind == "overlapping") {
       OverlappingDomainOptions options;
       options.overlap_layers = t.overlap_layers;
@@ -419,9 +441,11 @@ TwistRow twist_run(const std::string& kind, const std::string& blend, const benc
   }
   row.r = static_cast<int>(basis.cols());
   RotatingSubspaceOptions options;
-  options.time_step = t.time_step;
+  const int substeps = kind == "full" ? t.reference_substeps : 1;
+  options.time_step = t.time_step / substeps;
   options.rayleigh_stiffness = kBeta;
   options.rotations = rotations;
+  options.max_newton_iterations = t.newton_iterations;
   if (rotations) options.blend = parse_blend(blend);
   const RotatingSubspaceDynamics dynamics(model, mesh, p, bar.rest, mass, torque, basis, weights, options);
   row.precompute_s = seconds_since(t0);
@@ -432,17 +456,20 @@ TwistRow twist_run(const std::string& kind, const std::string& blend, const benc
   double error2 = 0.0, norm2 = 0.0;
   row.largest_energy = 0.0;
   for (int n = 0; n < t.steps; ++n) {
-    SubspaceState next;
-    int newton = 0;
+    bool ok = true;
     const auto ts = Clock::now();
-    const bool ok = dynamics.step(state, next, newton, row.message);
+    for (int k = 0; k < substeps && ok; ++k) {
+      SubspaceState next;
+      int newton = 0;
+      ok = dynamics.step(state, next, newton, row.message);
+      if (ok) state = std::move(next);
+      newton_total += newton;
+    }
     wall.push_back(seconds_since(ts));
     if (!ok) {
       row.message = "step " + std::to_string(n + 1) + ": " + row.message;
       break;
     }
-    state = std::move(next);
-    newton_total += newton;
     row.completed = n + 1;
     row.final_energy = dynamics.total_energy(state);
     row.largest_energy = std::max(row.largest_energy, row.final_energy);
@@ -508,15 +535,18 @@ int run_twist(const TwistSettings& t, const std::string& out) {
   }
   for (int v = 0; v < bar.mesh.num_vertices(); ++v) torque[3 * v + 2] -= t.bend * vertex_mass[v];
   for (int dof : bar.fixed_dofs) torque[dof] = 0.0;
-  std::printf("tailor %s, twisted %s bar: %d tets, %s torque %g, bend %g, %d Newmark steps of %g s, r = %d, %d domains\n",
-              version_string, t.material.c_str(), m, t.load.c_str(), t.torque, t.bend, t.steps, t.time_step, t.size, t.domains);
+  std::printf("tailor %s, twisted %s bar: %d tets, %s torque %g, bend %g, %d Newmark steps of %g s (full space: %d of "
+              "h / %d each), r = %d, %d domains%s\n",
+              version_string, t.material.c_str(), m, t.load.c_str(), t.torque, t.bend, t.steps, t.time_step,
+              t.reference_substeps, t.reference_substeps, t.size, t.domains,
+              t.rigid_columns ? ", rigid columns per overlapping domain" : "");
   Matrix reference;
   std::vector<TwistRow> rows;
   rows.push_back(twist_run("full", "no", bar, p, mass, torque, t, reference, &reference));
   reference.conservativeResize(Eigen::NoChange, rows.front().completed + 1);  // errors over the full run's steps
   std::vector<std::string> blends = {"no"};
   blends.insert(blends.end(), t.blends.begin(), t.blends.end());
-  for (const std::string kind : {"global", "domains", "overlapping"})
+  for (const std::string& kind : t.bases)
     for (const std::string& blend : blends)  // one domain: every blend is its one rotation
       if (kind != "global" || blend == blends[std::min<std::size_t>(1, blends.size() - 1)] || blend == "no")
         rows.push_back(twist_run(kind, blend, bar, p, mass, torque, t, reference, nullptr));
@@ -538,6 +568,9 @@ int run_twist(const TwistSettings& t, const std::string& out) {
   json["fixed_interface_modes"] = t.fixed_interface_modes;
   json["domains"] = t.domains;
   json["size"] = t.size;
+  json["newton_iterations"] = t.newton_iterations;
+  json["rigid_columns"] = t.rigid_columns;
+  json["reference_substeps"] = t.reference_substeps;
   bench::Json results = bench::Json::array();
   for (const TwistRow& r : rows)
     results.push_back({{"basis", r.basis},
@@ -596,6 +629,13 @@ int run(int argc, char** argv) {
               {"end", "distributed"});
   cli.choice("--twist-material", twist.material, "twisted bar: material", {"stvk", "neo_hookean"});
   cli.number("--twist-bend", twist.bend, "twisted bar: transverse dead body load per unit mass (-z)", 0.0);
+  cli.integer("--twist-newton-iterations", twist.newton_iterations, "twisted bar: Newton iterations per step", 1);
+  cli.integer("--twist-reference-substeps", twist.reference_substeps,
+              "twisted bar: full space steps h / k, k times per step (a reference at a finer step)", 1);
+  cli.flag("--twist-rigid-columns", [&] { twist.rigid_columns = true; },
+           "twisted bar: overlapping domains get their six rigid motions among their columns");
+  cli.choices("--twist-bases", twist.bases, "twisted bar: bases run besides full space",
+              {"global", "domains", "overlapping"});
   cli.choices("--twist-blends", twist.blends, "twisted bar: rotation blends of the rows with rotations",
               {"linear", "quaternion", "nearest"});
   cli.out(out);

@@ -14,6 +14,7 @@
 #include "problems/fem/dynamic_scene.hpp"
 #include "problems/fem/linear_solver_choice.hpp"
 #include "problems/fem/scene_parsing.hpp"
+#include "problems/solver_keys.hpp"
 #include "problems/fem/spline_curves_json.hpp"
 #include "problems/json_duplicate_keys.hpp"
 
@@ -372,14 +373,7 @@ SolverSpec parse_solver(const SceneNode& node) {
                                                : NewtonHessian::adaptive;
   }
   if (auto v = node.find("load_steps")) s.load_steps = v->integer(1);
-  if (auto v = node.find("reuse_factorization")) {
-    if (v->json().is_boolean())
-      s.newton.reuse_factorization = v->boolean() ? FactorReuse::on : FactorReuse::off;
-    else if (v->is_string() && v->json().get<std::string>() == "auto")
-      s.newton.reuse_factorization = FactorReuse::automatic;
-    else
-      v->fail("expected true, false or \"auto\", got " + describe_json(v->json()));
-  }
+  if (auto v = node.find("reuse_factorization")) s.newton.reuse_factorization = parse_factor_reuse(*v);
   if (auto threads = node.find("threads")) {
     threads->expect_keys({"assembly", "blas", "factorization"});
     ThreadSettings t;

@@ -108,6 +108,7 @@ MeshlessSimulation simulate_meshless(const SceneNode& root, const MeshlessVerbOp
   const MeshlessScene& S = *scene;
   NewtonOptions newton;
   newton.max_iterations = S.spec.max_newton_iterations;
+  newton.reuse_factorization = S.spec.reuse_factorization;
   NewtonSolver solver(*S.model, newton);
   Vector y = S.model->elimination().restrict_state(S.rest());
   const NewtonResult r = solver.solve(S.p, y);
@@ -123,8 +124,19 @@ MeshlessSimulation simulate_meshless(const SceneNode& root, const MeshlessVerbOp
   report["scene"] = S.spec.name;
   report["discretization"] = meshless_discretization_json(S);
   report["converged"] = r.converged();
-  report["newton"] = {{"status", r.message}, {"iterations", r.iterations}, {"final_residual", r.final_residual},
-                      {"seconds", r.total_seconds}};
+  int kept_factor_steps = 0, cg_iterations = 0;
+  for (const NewtonIteration& it : r.history) {
+    kept_factor_steps += it.reused_factorization ? 1 : 0;
+    cg_iterations += it.cg_iterations;  // also those of CG tries that fell back to a factorization
+  }
+  report["newton"] = {{"status", r.message},
+                      {"iterations", r.iterations},
+                      {"final_residual", r.final_residual},
+                      {"seconds", r.total_seconds},
+                      {"reuse_factorization", to_string(S.spec.reuse_factorization)},
+                      {"factorizations", r.factorizations()},
+                      {"kept_factor_steps", kept_factor_steps},
+                      {"cg_iterations", cg_iterations}};
   report["max_sample_displacement"] = largest;
   const std::string path = write_report(options.out_dir, report);
   if (log)

@@ -14,6 +14,7 @@
 #include "problems/optimizer_section.hpp"
 #include "problems/scene_error.hpp"
 #include "problems/scene_node.hpp"
+#include "problems/solver_keys.hpp"
 
 namespace tailor {
 
@@ -153,8 +154,9 @@ MeshlessSceneSpec parse_meshless_scene(const SceneNode& root, const std::string&
       for (const SceneNode& f : forces->items()) spec.forces.push_back(parse_meshless_force(f));
   }
   if (const auto solver = root.find("solver")) {
-    solver->expect_keys({"max_newton_iterations"});
+    solver->expect_keys({"max_newton_iterations", "reuse_factorization"});
     if (solver->has("max_newton_iterations")) spec.max_newton_iterations = solver->at("max_newton_iterations").integer(1);
+    if (const auto v = solver->find("reuse_factorization")) spec.reuse_factorization = parse_factor_reuse(*v);
   }
   if (const auto modes = root.find("modes")) {
     modes->expect_keys({"count", "rayleigh", "time_step", "steps", "force", "frame_every", "handle_stiffness"});
@@ -378,6 +380,7 @@ std::unique_ptr<MeshlessInverse> build_meshless_inverse(const MeshlessScene& S) 
   }
   StaticFunctionalOptions options;
   options.newton.max_iterations = S.spec.max_newton_iterations;
+  options.newton.reuse_factorization = S.spec.reuse_factorization;
   out->functional = std::make_unique<StaticFunctional>(*S.model, out->parameterization, out->objective,
                                                        S.model->elimination().restrict_state(S.rest()), options);
   return out;

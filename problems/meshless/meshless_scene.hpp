@@ -64,6 +64,8 @@ struct MeshlessSceneSpec {
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   std::vector<MeshlessPointForce> forces;
   int max_newton_iterations = 50;
+  // Newton steps by CG preconditioned with a kept factorization (NewtonOptions::reuse_factorization).
+  FactorReuse reuse_factorization = FactorReuse::automatic;
   // Modes and warped modal dynamics (the `modes` verb).
   int mode_count = 10;
   ModalRayleighDamping damping;

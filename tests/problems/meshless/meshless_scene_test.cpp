@@ -1,5 +1,5 @@
 // The `meshless` scene kind: parsing (unknown keys and bad point files named), simulate's
-// report and point VTU files, modes with warped modal dynamics, the inverse section's Taylor
+// report and point VTU files, the kept factorization's steps, modes with warped modal dynamics, the inverse section's Taylor
 // test (rate >= 1.9) and a run that recovers a region's Young's modulus from the tip
 // displacement it produced.
 #include <gtest/gtest.h>
@@ -113,6 +113,43 @@ TEST(MeshlessScene, SimulateWritesTheReportAndPointFiles) {
   const std::string text((std::istreambuf_iterator<char>(vtu)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("Name=\"displacement\" NumberOfComponents=\"3\""), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(options.out_dir + "/nodes.vtu"));
+}
+
+// solver.reuse_factorization: Newton's steps by CG preconditioned with a kept factorization
+// (true) reach the state of a factorization per step (false) with fewer factorizations, and
+// report.json says how the steps were taken; a bad value is refused with its key path.
+TEST(MeshlessScene, KeptFactorizationReachesTheSameStateWithFewerFactorizations) {
+  nlohmann::json d = bar_scene();
+  d["material"]["model"] = "neo_hookean";  // a Hessian that changes from step to step
+  d["loads"]["forces"][0]["force"] = {0, 0, -8};
+  nlohmann::json reports[2];
+  for (const bool reuse : {false, true}) {
+    d["solver"] = {{"reuse_factorization", reuse}, {"max_newton_iterations", 100}};
+    const SceneNode root(d, kBarSource, "");
+    MeshlessVerbOptions options;
+    options.name = "bar";
+    options.out_dir = out_dir(reuse ? "reuse_on" : "reuse_off");
+    std::ostringstream log;
+    ASSERT_TRUE(simulate_meshless_scene(root, options, &log)) << log.str();
+    reports[reuse] = read_json(options.out_dir + "/report.json")["newton"];
+    reports[reuse]["max_sample_displacement"] = read_json(options.out_dir + "/report.json")["max_sample_displacement"];
+  }
+  const nlohmann::json &off = reports[0], &on = reports[1];
+  EXPECT_EQ(off["reuse_factorization"], "off");
+  EXPECT_EQ(on["reuse_factorization"], "on");
+  EXPECT_EQ(off["kept_factor_steps"].get<int>(), 0);
+  EXPECT_EQ(off["factorizations"].get<int>(), off["iterations"].get<int>());
+  EXPECT_GE(off["iterations"].get<int>(), 4);  // nonlinear enough for a kept factor to matter
+  EXPECT_GT(on["kept_factor_steps"].get<int>(), 0);
+  EXPECT_GT(on["cg_iterations"].get<int>(), 0);
+  EXPECT_LT(on["factorizations"].get<int>(), off["factorizations"].get<int>());
+  const double u_off = off["max_sample_displacement"].get<double>(), u_on = on["max_sample_displacement"].get<double>();
+  EXPECT_GT(u_off, 0.3);
+  EXPECT_NEAR(u_on, u_off, 1e-8 * u_off);
+  d["solver"] = {{"reuse_factorization", "yes"}};
+  EXPECT_NE(scene_error(d).find("bar.json: solver.reuse_factorization: expected true, false or \"auto\""),
+            std::string::npos)
+      << scene_error(d);
 }
 
 // Node levels from a refinement box: the root cells meeting the closed box [0, 1]^3 of the bar

@@ -16,7 +16,6 @@
 //    objective callback, which then stops NLopt with nlopt::forced_stop. It is skipped when
 //    there are general constraints: the objective's gradient does not vanish at a
 //    constrained minimum, and NLopt exposes no multipliers.
-#include <Eigen/QR>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -24,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "forward/core/symmetric_eigen.hpp"
 #include "optimizers/backend_detail.hpp"
 #include "optimizers/backend_registry.hpp"
 
@@ -116,7 +116,7 @@ double kkt_residual(Tracker& tracker, const Vector& z) {
     rhs[r] = -g[free[r]];
     for (std::size_t k = 0; k < normals.size(); ++k) A(r, k) = normals[k][free[r]];
   }
-  Vector lambda = A.colPivHouseholderQr().solve(rhs);
+  Vector lambda = pivoted_qr_solve(A, rhs).x.col(0);
   for (std::size_t k = 0; k < normals.size(); ++k)  // an inequality cannot pull inwards
     if (inequality[k] && lambda[k] < 0.0) lambda[k] = 0.0;
   Vector lagrangian_gradient = g;

@@ -1,6 +1,7 @@
 #include "forward/core/symmetric_eigen.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <Eigen/SVD>
 
 namespace tailor::symmetric_eigen_detail {
@@ -43,6 +44,15 @@ SingularValueDecomposition singular_value_decomposition(const Eigen::MatrixXd& A
   if (compute_u) out.U = svd.matrixU();
   if (compute_v) out.V = svd.matrixV();
   return out;
+}
+
+PivotedQrSolution pivoted_qr_solve(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  return {qr.solve(B), static_cast<int>(qr.rank())};
+}
+
+Eigen::MatrixXd orthonormal_columns(const Eigen::MatrixXd& A, Eigen::Index count) {
+  return Eigen::HouseholderQR<Eigen::MatrixXd>(A).householderQ() * Eigen::MatrixXd::Identity(A.rows(), count);
 }
 
 }  // namespace tailor

@@ -1,7 +1,8 @@
 #pragma once
 // Dense decompositions compiled once (forward/core/symmetric_eigen.cpp): the eigen-decomposition
 // of a small symmetric matrix for every size (Eigen's SelfAdjointEigenSolver on a run-time size),
-// the generalized symmetric-definite problem and the singular value decomposition. Each
+// the generalized symmetric-definite problem, the singular value decomposition and two QR
+// factorizations. Each
 // fixed-size instantiation of Eigen's solver costs seconds of compile time in every translation
 // unit that names it. The run-time size costs, per call with eigenvectors, 0.16 us against
 // 0.13 us at 2x2, 0.61 against 0.41 us at 3x3, 1.08 against 0.92 us at 4x4, 5.1 against 4.7 us at
@@ -46,5 +47,18 @@ struct SingularValueDecomposition {
   Eigen::MatrixXd U, V;
 };
 SingularValueDecomposition singular_value_decomposition(const Eigen::MatrixXd& A, bool compute_u, bool compute_v);
+
+// The least-squares solution of A X = B by Householder QR with column pivoting (Eigen's
+// ColPivHouseholderQR, compiled once: about 3.5 s of compile time in each unit that names it),
+// and the numerical rank the pivoting found (Eigen's default threshold).
+struct PivotedQrSolution {
+  Eigen::MatrixXd x;  // A.cols() x B.cols()
+  int rank = 0;
+};
+PivotedQrSolution pivoted_qr_solve(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);
+
+// The first `count` columns of the orthogonal factor Q of A = Q R (Householder QR, compiled once):
+// an orthonormal basis of A's column space when A has full column rank and count <= A.cols().
+Eigen::MatrixXd orthonormal_columns(const Eigen::MatrixXd& A, Eigen::Index count);
 
 }  // namespace tailor

@@ -1,8 +1,8 @@
 #include "forward/homogenization/compliance_fit.hpp"
 
-#include <Eigen/QR>
 #include <stdexcept>
 
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/homogenization/engineering_constants.hpp"
 
 namespace tailor {
@@ -30,12 +30,12 @@ Matrix fit_compliance(const std::vector<StressStrainSample>& samples) {
       }
     b.segment(m * i, m) = s.strain / scale;
   }
-  const Eigen::ColPivHouseholderQR<Matrix> qr(A);
-  if (qr.rank() < unknowns)
-    throw std::invalid_argument("fit_compliance: the samples determine only " + std::to_string(qr.rank()) +
+  const PivotedQrSolution qr = pivoted_qr_solve(A, b);
+  if (qr.rank < unknowns)
+    throw std::invalid_argument("fit_compliance: the samples determine only " + std::to_string(qr.rank) +
                                 " of the " + std::to_string(unknowns) +
                                 " compliance entries; add load directions");
-  const Vector x = qr.solve(b);
+  const Vector x = qr.x.col(0);
   Matrix S(m, m);
   int k = 0;
   for (int r = 0; r < m; ++r)

@@ -1,12 +1,12 @@
 #include "forward/reduction/domain_decomposition.hpp"
 
-#include <Eigen/QR>
 #include <algorithm>
 #include <chrono>
 #include <memory>
 #include <stdexcept>
 #include <string>
 
+#include "forward/core/symmetric_eigen.hpp"
 #include "forward/reduction/domain_partition.hpp"
 #include "forward/reduction/free_space.hpp"
 #include "forward/reduction/generalized_eigen.hpp"
@@ -161,8 +161,7 @@ DomainDecomposition domain_decomposition(const Model& model, const Mesh& mesh, c
       const Matrix ordered = mass_orthonormal_basis(candidates, mass, 1e-6);
       const Matrix ordered_free = S.transpose() * ordered.leftCols(std::min<Eigen::Index>(n_wanted, ordered.cols()));
       Matrix traces = rows_of(ordered_free, B);
-      excitations = Eigen::HouseholderQR<Matrix>(traces).householderQ() *
-                    Matrix::Identity(nb, std::min<Eigen::Index>(traces.cols(), nb));
+      excitations = orthonormal_columns(traces, std::min<Eigen::Index>(traces.cols(), nb));
     }
     clock.add(out.phases, "interface excitations: traces");
   }

@@ -1,10 +1,11 @@
 #include "forward/reduction/nnls.hpp"
 
-#include <Eigen/QR>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "forward/core/symmetric_eigen.hpp"
 
 namespace tailor {
 namespace {
@@ -16,7 +17,7 @@ Vector passive_solve(const Matrix& a, const Vector& b, const std::vector<bool>& 
     if (passive[k]) columns.push_back(static_cast<Eigen::Index>(k));
   Matrix sub(a.rows(), static_cast<Eigen::Index>(columns.size()));
   for (std::size_t c = 0; c < columns.size(); ++c) sub.col(static_cast<Eigen::Index>(c)) = a.col(columns[c]);
-  const Vector z_sub = sub.colPivHouseholderQr().solve(b);
+  const Vector z_sub = pivoted_qr_solve(sub, b).x.col(0);
   Vector z = Vector::Zero(a.cols());
   for (std::size_t c = 0; c < columns.size(); ++c) z[columns[c]] = z_sub[static_cast<Eigen::Index>(c)];
   return z;

@@ -1,4 +1,5 @@
-// forward/core/symmetric_eigen.hpp: one compiled decomposition for fixed and run-time sizes.
+// forward/core/symmetric_eigen.hpp: one compiled decomposition for fixed and run-time sizes, and
+// the compiled-once QR solve and orthonormal basis.
 // References: a 2x2 case in closed form, and for larger matrices the defining properties
 // (A V = V diag(lambda), V^T V = I, lambda ascending) and the trace and Frobenius norm, which
 // equal the sum of the eigenvalues and the norm of the eigenvalue vector.
@@ -6,7 +7,6 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/QR>
 #include <random>
 
 namespace tailor::symmetric_eigen_test {
@@ -60,7 +60,7 @@ TEST(SymmetricEigen, FixedAndRunTimeSizes) {
 
 TEST(SymmetricEigen, RepeatedEigenvaluesKeepAnOrthonormalBasis) {
   // diag(2, 2, 5) rotated: a double eigenvalue, whose eigenvectors are any basis of a plane.
-  Eigen::Matrix3d Q = random_symmetric<3>(3, 9).householderQr().householderQ();
+  const Eigen::Matrix3d Q = orthonormal_columns(random_symmetric<Eigen::Dynamic>(3, 9), 3);
   const Eigen::Matrix3d A = Q * Eigen::Vector3d(2.0, 2.0, 5.0).asDiagonal() * Q.transpose();
   expect_decomposes<3>(A);
   EXPECT_LT((symmetric_eigenvalues(A) - Eigen::Vector3d(2.0, 2.0, 5.0)).norm(), 1e-14);
@@ -74,6 +74,35 @@ TEST(SymmetricEigen, TheChecksSeeAWrongDecomposition) {
   // Eigenvectors paired with the wrong eigenvalues fail the defining equation.
   const Eigen::Vector3d reversed = lambda.reverse();
   EXPECT_GT((A * V - V * reversed.asDiagonal()).norm(), 1e-3 * A.norm());
+}
+
+
+// pivoted_qr_solve: the least-squares solution satisfies the normal equations A^T (A x - b) = 0
+// (a solution moved by 1e-3 does not), and the rank of a matrix with a dependent column is found.
+TEST(DenseQr, PivotedSolveIsTheLeastSquaresSolutionAndFindsTheRank) {
+  const Eigen::MatrixXd A = random_symmetric<Eigen::Dynamic>(6, 21).leftCols(3);
+  const Eigen::VectorXd b = random_symmetric<Eigen::Dynamic>(6, 22).col(0);
+  const PivotedQrSolution full = pivoted_qr_solve(A, b);
+  EXPECT_EQ(full.rank, 3);
+  EXPECT_LT((A.transpose() * (A * full.x - b)).norm(), 1e-12 * A.norm() * b.norm());
+  const Eigen::VectorXd moved = full.x.col(0) + 1e-3 * Eigen::Vector3d(1.0, -1.0, 0.5);
+  EXPECT_GT((A.transpose() * (A * moved - b)).norm(), 1e-6 * A.norm() * b.norm());
+  Eigen::MatrixXd D = A;
+  D.col(2) = D.col(0) + 2.0 * D.col(1);  // rank 2
+  const Eigen::VectorXd consistent = D * Eigen::Vector3d(1.0, 2.0, 3.0);
+  const PivotedQrSolution deficient = pivoted_qr_solve(D, consistent);
+  EXPECT_EQ(deficient.rank, 2);
+  EXPECT_LT((D * deficient.x - consistent).norm(), 1e-12 * consistent.norm());
+}
+
+// orthonormal_columns: Q^T Q = I and Q Q^T A = A (Q spans A's columns).
+TEST(DenseQr, OrthonormalColumnsSpanTheMatrixsColumns) {
+  const Eigen::MatrixXd A = random_symmetric<Eigen::Dynamic>(7, 23).leftCols(3);
+  const Eigen::MatrixXd Q = orthonormal_columns(A, 3);
+  ASSERT_EQ(Q.rows(), 7);
+  ASSERT_EQ(Q.cols(), 3);
+  EXPECT_LT((Q.transpose() * Q - Eigen::Matrix3d::Identity()).norm(), 1e-14);
+  EXPECT_LT((Q * (Q.transpose() * A) - A).norm(), 1e-13 * A.norm());
 }
 
 }  // namespace

@@ -132,8 +132,30 @@ py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::obj
 py::tuple modes(const SceneDocument& doc, const std::string& out_dir, int count, py::object log) {
   require_verb(doc, "modes");
   PythonStream out(std::move(log), /*check_signals=*/true);
+  if (doc.kind() == "meshless") {
+    auto run = without_gil([&] {
+      MeshlessVerbOptions options;
+      options.name = doc.file.name();
+      options.directory = doc.file.directory();
+      options.out_dir = out_dir;
+      options.count = count;
+      apply_thread_flags(VerbArguments{}, std::nullopt);
+      return std::make_shared<MeshlessModes>(compute_meshless_modes(doc.file.node(), options, &out));
+    });
+    const auto keep = owner(run);
+    py::dict fields;
+    for (const auto& [name, array] : {std::pair{"frequencies", &run->frequencies}, {"eigenvalues", &run->eigenvalues},
+                                      {"damping_ratios", &run->damping_ratios}})
+      fields[name] = view(keep, *array);
+    for (const auto& [name, array] : {std::pair{"modes", &run->node_modes}, {"rest_positions", &run->rest_positions},
+                                      {"samples", &run->samples}, {"sample_modes", &run->sample_modes}})
+      fields[name] = view(keep, *array);
+    fields["rigid_modes"] = run->rigid_modes;
+    out.flush();
+    return py::make_tuple(kSuccess, fields);
+  }
   if (!is_mesh_scene(doc.kind())) {
-    // Another kind's own handler (meshless solids): its report and files, no fields.
+    // Another kind's own handler: its report and files, no fields.
     const int code = without_gil([&] {
       VerbArguments args;
       args.out_dir = out_dir;

@@ -150,6 +150,11 @@ bool simulate_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& o
 }
 
 bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
+  compute_meshless_modes(root, options, log);
+  return true;
+}
+
+MeshlessModes compute_meshless_modes(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {
   const auto scene = load_meshless(root, options, log);
   // With handles the modes leave the handles' nodes free (the fixed boxes alone held): the
   // handles act in the warped dynamics as springs.
@@ -209,8 +214,10 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
     throw SceneError(spec.source + ": modes.force.at: " + e.what());
   }
   std::vector<PointArray> arrays;
+  const Eigen::Index first_elastic = modes.cols() - m.modes.cols();  // after the rigid modes handles add
   for (Eigen::Index j = 0; j < m.modes.cols(); ++j)
-    arrays.push_back({"mode_" + std::to_string(j + 1), 3, ops.displacement.col(j).head(3 * S.samples.rows())});
+    arrays.push_back(
+        {"mode_" + std::to_string(j + 1), 3, ops.displacement.col(first_elastic + j).head(3 * S.samples.rows())});
   write_points_vtu((dir / "modes.vtu").string(), S.samples, arrays);
 
   nlohmann::ordered_json report;
@@ -224,6 +231,15 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
   report["damping_ratios"] = to_json(ratios);
   report["rigid_modes"] = m.rigid_modes.cols();
   if (log) *log << "frequencies [Hz]: " << m.frequencies.transpose() << "\n";
+  MeshlessModes out;
+  out.frequencies = m.frequencies;
+  out.eigenvalues = m.eigenvalues;
+  out.damping_ratios = ratios;
+  out.rest_positions = S.sampling.nodes;
+  out.node_modes = meshless_node_values(S) * m.modes;
+  out.samples = S.samples;
+  out.sample_modes = ops.displacement.middleCols(first_elastic, m.modes.cols()).topRows(3 * S.samples.rows());
+  out.rigid_modes = static_cast<int>(m.rigid_modes.cols());
   if (spec.steps > 0) {
     if (!spec.modal_force && handles.empty()) throw SceneError(spec.source + ": modes.steps: needs modes.force or handles");
     // Handle springs stiffer than every mode by modes.handle_stiffness (default 1e4: their
@@ -292,7 +308,7 @@ bool modes_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& opti
   }
   const std::string path = write_report(options.out_dir, report);
   if (log) *log << "wrote " << path << " and modes.vtu\n";
-  return true;
+  return out;
 }
 
 bool gradcheck_meshless_scene(const SceneNode& root, const MeshlessVerbOptions& options, std::ostream* log) {

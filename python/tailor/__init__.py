@@ -440,7 +440,10 @@ class Scene:
 
     def modes(self, count=10, out_dir=None, log=None):
         """`tailor modes`: the count lowest vibration modes. Fields: frequencies (Hz),
-        eigenvalues, modes (num_dofs x count), rigid_modes."""
+        eigenvalues, modes (num_dofs x count), rigid_modes. Meshless scenes: frequencies,
+        eigenvalues, damping_ratios (Rayleigh), modes (3 nodes x count: each mode's MLS
+        displacement at the nodes, interleaved), rest_positions (the nodes), samples,
+        sample_modes (3 samples x count) and rigid_modes (how many were left out)."""
         with _OutDir(out_dir) as d:
             return d.report(self._doc.modes(d.path, count=count, log=log))
 

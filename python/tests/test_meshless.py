@@ -54,6 +54,47 @@ def test_meshless_modes_and_gradcheck(tmp_path):
 
 
 
+def test_meshless_modes_give_arrays(tmp_path):
+    # modes()' arrays: the report's frequencies; each mode's MLS displacement at the nodes (zero
+    # at the clamped ones, where the transformation method holds the field) and at the samples,
+    # which is modes.vtu's mode_j.
+    import numpy as np
+    report = tailor.load(BAR, name="bar").modes(count=4, out_dir=tmp_path)
+    f = report.fields
+    np.testing.assert_allclose(f["frequencies"], report["frequencies"], rtol=1e-14)
+    np.testing.assert_allclose(f["damping_ratios"], report["damping_ratios"], rtol=1e-14)
+    assert f["rest_positions"].shape == (63, 3)
+    assert f["modes"].shape == (3 * 63, 4)
+    assert f["rigid_modes"] == 0
+    u = f["modes"].reshape(63, 3, 4)
+    clamped = f["rest_positions"][:, 0] < 1e-9
+    assert clamped.sum() == 9
+    assert np.abs(u[clamped]).max() < 1e-10 * np.abs(u).max()
+    # The first two (bending about y and z) move the free end most.
+    tip = f["rest_positions"][:, 0] > 3 - 1e-9
+    assert np.abs(u[tip, :, 0]).max() == pytest.approx(np.abs(u[:, :, 0]).max())
+    m = f["samples"].shape[0]
+    assert f["sample_modes"].shape == (3 * m, 4)
+    meshio = pytest.importorskip("meshio", reason="meshio is not installed (python3-meshio)")
+    points = meshio.read(tmp_path / "modes.vtu")
+    np.testing.assert_allclose(points.points, f["samples"], rtol=0, atol=1e-9)  # the file's ten digits
+    for j in range(4):
+        np.testing.assert_allclose(points.point_data[f"mode_{j + 1}"].reshape(-1), f["sample_modes"][:, j],
+                                   rtol=0, atol=1e-8 * np.abs(f["sample_modes"]).max())
+    # Held by a handle only, the body's six rigid modes join the warped dynamics' basis but not
+    # the arrays or modes.vtu, whose mode_1 is the first elastic mode (it was a rigid one before).
+    free = json.loads(json.dumps(BAR))
+    free.pop("fixed")
+    free.pop("inverse")
+    free["handles"] = [{"box": {"lo": [-1, -1, -1], "hi": [0, 2, 2]}, "displacement": [0, 0, 0]}]
+    report = tailor.load(free, name="bar").modes(count=4, out_dir=tmp_path / "free")
+    f = report.fields
+    assert f["rigid_modes"] == 6 and f["modes"].shape == (3 * 63, 4)
+    assert f["frequencies"][0] > 0
+    mode_1 = meshio.read(tmp_path / "free" / "modes.vtu").point_data["mode_1"].reshape(-1)
+    np.testing.assert_allclose(mode_1, f["sample_modes"][:, 0], rtol=0, atol=1e-8 * np.abs(f["sample_modes"]).max())
+
+
 def test_meshless_simulate_fields_match_the_clis_point_files(cli, tmp_path):
     # simulate()'s arrays against the VTU files and the report `tailor simulate` writes.
     meshio = pytest.importorskip("meshio", reason="meshio is not installed (python3-meshio)")

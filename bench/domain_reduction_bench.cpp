@@ -56,6 +56,7 @@
 #include "forward/reduction/domain_partition.hpp"
 #include "forward/reduction/domain_rotations.hpp"
 #include "forward/reduction/free_stiffness_factor.hpp"
+#include "forward/reduction/free_space.hpp"
 #include "forward/mesh/generate.hpp"
 #include "forward/reduction/local_reduced_stvk.hpp"
 #include "forward/reduction/mass_orthonormal_basis.hpp"
@@ -419,13 +420,7 @@ TwistRow twist_run(const std::string& kind, const std::string& blend, const benc
     if (kind == "overlapping" && t.rigid_columns) {
       // The bar's six rigid motions (zero on the supports), blended below by each domain's
       // weights: every domain can translate and turn (to first order) without straining.
-      Matrix rigid = Matrix::Zero(bar.rest.size(), 6);
-      const Eigen::Vector3d centre(2.0, 0.25, 0.25);
-      for (int v = 0; v < mesh.num_vertices(); ++v) {
-        const Eigen::Vector3d r = mesh.rest_positions.row(v).transpose() - centre;
-        rigid.block<3, 3>(3 * v, 0).setIdentity();
-        for (int k = 0; k < 3; ++k) rigid.block<3, 1>(3 * v, 3 + k) = Eigen::Vector3d::Unit(k).cross(r);
-      }
+      Matrix rigid = rigid_body_motions(bar.rest, 3);
       for (int dof : bar.fixed_dofs) rigid.row(dof).setZero();
       Matrix both(bar.rest.size(), 6 + basis.cols());
       both << rigid, basis;

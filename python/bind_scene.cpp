@@ -73,6 +73,17 @@ void add_meshless_fields(py::dict& fields, const std::shared_ptr<const void>& ke
   fields["youngs_modulus"] = view(keep, f.youngs_modulus);
 }
 
+// The meshless verbs' options for a document: its name, its folder, the output folder, and the
+// command line's thread settings applied (as a verb without thread flags).
+MeshlessVerbOptions meshless_verb_options(const SceneDocument& doc, const std::string& out_dir) {
+  MeshlessVerbOptions options;
+  options.name = doc.file.name();
+  options.directory = doc.file.directory();
+  options.out_dir = out_dir;
+  apply_thread_flags(VerbArguments{}, std::nullopt);
+  return options;
+}
+
 // youngs_modulus and poisson_ratio: per-element values replacing the scene's (static scenes).
 py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::object log,
                    std::optional<Eigen::VectorXd> youngs_modulus,
@@ -104,12 +115,8 @@ py::tuple simulate(const SceneDocument& doc, const std::string& out_dir, py::obj
     code = run->solution.converged ? kSuccess : kFailure;
   } else if (kind == "meshless") {
     auto run = without_gil([&] {
-      MeshlessVerbOptions options;
-      options.name = doc.file.name();
-      options.directory = doc.file.directory();
-      options.out_dir = out_dir;
-      apply_thread_flags(VerbArguments{}, std::nullopt);
-      return std::make_shared<MeshlessSimulation>(simulate_meshless(doc.file.node(), options, &out));
+      return std::make_shared<MeshlessSimulation>(
+          simulate_meshless(doc.file.node(), meshless_verb_options(doc, out_dir), &out));
     });
     add_meshless_fields(fields, owner(run), run->fields);
     code = run->converged ? kSuccess : kFailure;
@@ -134,12 +141,8 @@ py::tuple modes(const SceneDocument& doc, const std::string& out_dir, int count,
   PythonStream out(std::move(log), /*check_signals=*/true);
   if (doc.kind() == "meshless") {
     auto run = without_gil([&] {
-      MeshlessVerbOptions options;
-      options.name = doc.file.name();
-      options.directory = doc.file.directory();
-      options.out_dir = out_dir;
+      MeshlessVerbOptions options = meshless_verb_options(doc, out_dir);
       options.count = count;
-      apply_thread_flags(VerbArguments{}, std::nullopt);
       return std::make_shared<MeshlessModes>(compute_meshless_modes(doc.file.node(), options, &out));
     });
     const auto keep = owner(run);
@@ -228,12 +231,8 @@ py::tuple run(const SceneDocument& doc, const std::string& out_dir, py::object l
     code = result->result.converged() ? kSuccess : kFailure;
   } else if (kind == "meshless" && !checkpoint_every && !resume) {  // the handler refuses those flags
     auto result = without_gil([&] {
-      MeshlessVerbOptions options;
-      options.name = doc.file.name();
-      options.directory = doc.file.directory();
-      options.out_dir = out_dir;
+      MeshlessVerbOptions options = meshless_verb_options(doc, out_dir);
       options.progress = progress ? &out : nullptr;
-      apply_thread_flags(VerbArguments{}, std::nullopt);
       return std::make_shared<MeshlessRun>(run_meshless(doc.file.node(), options, &out));
     });
     add_meshless_fields(fields, owner(result), result->fields);

@@ -68,12 +68,9 @@ std::string NewtonResult::report() const {
     solve += it.solve_seconds;
     line += it.line_search_seconds;
   }
-  int reused = 0, cg = 0, kept = 0;
-  for (const auto& it : history) {
-    reused += it.reused_factorization ? 1 : 0;
-    kept += it.kept_constant_factor ? 1 : 0;
-    cg += it.cg_iterations;
-  }
+  const int reused = kept_factor_steps(), cg = cg_iterations();
+  int kept = 0;
+  for (const auto& it : history) kept += it.kept_constant_factor ? 1 : 0;
   if (kept > 0) s << "  constant Hessian: " << kept << " steps with its kept factorization\n";
   if (reused > 0 || cg > 0)
     s << "  factorizations " << factorizations() << ", steps by CG with a kept factor " << reused << " ("
@@ -87,6 +84,18 @@ std::string NewtonResult::report() const {
 int NewtonResult::factorizations() const {
   int n = 0;
   for (const auto& it : history) n += it.factorizations;
+  return n;
+}
+
+int NewtonResult::kept_factor_steps() const {
+  int n = 0;
+  for (const auto& it : history) n += it.reused_factorization ? 1 : 0;
+  return n;
+}
+
+int NewtonResult::cg_iterations() const {
+  int n = 0;
+  for (const auto& it : history) n += it.cg_iterations;
   return n;
 }
 

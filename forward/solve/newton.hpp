@@ -198,7 +198,9 @@ struct NewtonResult {
   double analysis_seconds = 0.0;
   double total_seconds = 0.0;
   std::vector<NewtonIteration> history;
-  int factorizations() const;  // numeric factorizations over all iterations
+  int factorizations() const;     // numeric factorizations over all iterations
+  int kept_factor_steps() const;  // steps by CG preconditioned with a kept factor
+  int cg_iterations() const;      // CG iterations over all iterations (also of tries that fell back)
   bool converged() const {
     return status == NewtonStatus::converged || status == NewtonStatus::round_off_floor;
   }

@@ -14,9 +14,9 @@
 #include "problems/fem/dynamic_scene.hpp"
 #include "problems/fem/linear_solver_choice.hpp"
 #include "problems/fem/scene_parsing.hpp"
-#include "problems/solver_keys.hpp"
 #include "problems/fem/spline_curves_json.hpp"
 #include "problems/json_duplicate_keys.hpp"
+#include "problems/solver_keys.hpp"
 
 namespace tailor {
 namespace {

@@ -124,19 +124,14 @@ MeshlessSimulation simulate_meshless(const SceneNode& root, const MeshlessVerbOp
   report["scene"] = S.spec.name;
   report["discretization"] = meshless_discretization_json(S);
   report["converged"] = r.converged();
-  int kept_factor_steps = 0, cg_iterations = 0;
-  for (const NewtonIteration& it : r.history) {
-    kept_factor_steps += it.reused_factorization ? 1 : 0;
-    cg_iterations += it.cg_iterations;  // also those of CG tries that fell back to a factorization
-  }
   report["newton"] = {{"status", r.message},
                       {"iterations", r.iterations},
                       {"final_residual", r.final_residual},
                       {"seconds", r.total_seconds},
                       {"reuse_factorization", to_string(S.spec.reuse_factorization)},
                       {"factorizations", r.factorizations()},
-                      {"kept_factor_steps", kept_factor_steps},
-                      {"cg_iterations", cg_iterations}};
+                      {"kept_factor_steps", r.kept_factor_steps()},
+                      {"cg_iterations", r.cg_iterations()}};
   report["max_sample_displacement"] = largest;
   const std::string path = write_report(options.out_dir, report);
   if (log)

@@ -171,17 +171,12 @@ double contact_max_step(const PeriodicRigidCell& cell, const Vector& q, const Ve
   return alpha;
 }
 
-namespace {
-
-CellSolveResult newton(const PeriodicRigidCell& cell, const Eigen::Matrix2d& F, const Vector& y_start,
-                       const CellSolveOptions& options) {
+CellSolveResult levenberg_newton(const Vector& y_start, const CellSolveOptions& options, double smallest_step,
+                                 const std::function<CellNewtonPoint(const Vector& y)>& point_at) {
   CellSolveResult result;
   result.y = y_start;
-  const Vector x0 = cell.offset(F);
-  const SparseMatrix& S = cell.basis();
   for (int it = 0;; ++it) {
-    const Vector x = x0 + S * result.y;
-    const ReducedContact c = reduced_contact(cell, x, true, HessianMode::projected);
+    const CellNewtonPoint c = point_at(result.y);
     result.energy = c.energy;
     result.iterations = it;
     if (!std::isfinite(c.energy)) {
@@ -208,11 +203,10 @@ CellSolveResult newton(const PeriodicRigidCell& cell, const Eigen::Matrix2d& F, 
       Matrix H = c.hessian;
       H.diagonal().array() += scale * mu0;
       dy = H.ldlt().solve(-c.gradient);
-      const Vector dx = S * dy;
-      alpha = std::min(1.0, contact_max_step(cell, x, dx));
+      alpha = std::min(1.0, c.max_step(dy));
       const double slope = c.gradient.dot(dy);
-      for (int ls = 0; ls < options.max_line_search_steps && alpha > 0.0; ++ls, alpha *= 0.5) {
-        const double e = contact_energy(cell, x + alpha * dx);
+      for (int ls = 0; ls < options.max_line_search_steps && alpha > smallest_step; ++ls, alpha *= 0.5) {
+        const double e = c.energy_along(alpha, dy);
         if (std::isfinite(e) && e <= c.energy + 1e-4 * alpha * slope) {
           accepted = true;
           break;
@@ -229,6 +223,24 @@ CellSolveResult newton(const PeriodicRigidCell& cell, const Eigen::Matrix2d& F, 
     }
     result.y += alpha * dy;
   }
+}
+
+namespace {
+
+CellSolveResult newton(const PeriodicRigidCell& cell, const Eigen::Matrix2d& F, const Vector& y_start,
+                       const CellSolveOptions& options) {
+  const Vector x0 = cell.offset(F);
+  const SparseMatrix& S = cell.basis();
+  return levenberg_newton(y_start, options, 0.0, [&](const Vector& y) {
+    const Vector x = x0 + S * y;
+    ReducedContact c = reduced_contact(cell, x, true, HessianMode::projected);
+    CellNewtonPoint point{c.energy, std::move(c.gradient), std::move(c.hessian), {}, {}};
+    point.max_step = [&cell, &S, x](const Vector& dy) { return contact_max_step(cell, x, S * dy); };
+    point.energy_along = [&cell, &S, x](double alpha, const Vector& dy) {
+      return contact_energy(cell, x + alpha * (S * dy));
+    };
+    return point;
+  });
 }
 
 }  // namespace

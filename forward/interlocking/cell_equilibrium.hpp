@@ -9,6 +9,7 @@
 // capped by the contact term's CCD along the full-space path x + t S dy (masters and images
 // move together), then backtracked on B (Armijo). Converged when ||S^T dB/dx||_inf <=
 // force_tolerance (units: the force of one pair at d_hat / 2 is 1).
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,24 @@ struct CellSolveResult {
   double energy = 0.0;         // B at y
   std::string message;
 };
+
+// What one iteration of levenberg_newton needs at the reduced state y: the barrier B, its
+// reduced gradient and a positive semidefinite reduced Hessian, the largest admissible fraction
+// of a step dy (the contact term's CCD along the state's path), and B at y + alpha dy.
+struct CellNewtonPoint {
+  double energy = 0.0;
+  Vector gradient;
+  Matrix hessian;
+  std::function<double(const Vector& dy)> max_step;
+  std::function<double(double alpha, const Vector& dy)> energy_along;
+};
+
+// The Newton loop described above, on any reduced parametrization of the cell (the planar one
+// below; the screw-periodic one of single_curvature_limit.cpp): from y_start until the reduced
+// gradient's largest entry is at most options.force_tolerance. The line search halves alpha
+// while alpha > smallest_step.
+CellSolveResult levenberg_newton(const Vector& y_start, const CellSolveOptions& options, double smallest_step,
+                                 const std::function<CellNewtonPoint(const Vector& y)>& point_at);
 
 // From y_start (which must be intersection-free at F: B finite). Throws nothing; a failure is
 // reported in `converged` / `message`.

@@ -30,55 +30,21 @@ Vector curved_pseudo_solve(const Matrix& H, const Vector& b) {
 CellSolveResult curved_newton(const SingleCurvatureCell& curved, double kappa, const Vector& y_start,
                               const CellSolveOptions& options) {
   const PeriodicRigidCell& cell = curved.cell();
-  CellSolveResult result;
-  result.y = y_start;
-  for (int it = 0;; ++it) {
+  return levenberg_newton(y_start, options, 1e-10, [&](const Vector& y) {
     // The exact reduced Hessian where it is positive definite (quadratic convergence near the
     // equilibrium), else the Gauss-Newton matrix J^T H+ J (curved_periodicity.hpp).
-    SingleCurvatureCell::Reduced c = curved.reduce(result.y, kappa, true, HessianMode::exact);
+    SingleCurvatureCell::Reduced c = curved.reduce(y, kappa, true, HessianMode::exact);
     if (std::isfinite(c.energy) && !cholesky_accepts<Eigen::Dynamic>(c.hessian))
-      c.hessian = curved.reduce(result.y, kappa, true, HessianMode::projected).hessian;
-    result.energy = c.energy;
-    result.iterations = it;
-    if (!std::isfinite(c.energy)) {
-      result.message = "the state intersects (infinite barrier)";
-      return result;
-    }
-    result.residual = c.gradient.size() ? c.gradient.lpNorm<Eigen::Infinity>() : 0.0;
-    if (result.residual <= options.force_tolerance) {
-      result.converged = true;
-      return result;
-    }
-    if (it >= options.max_iterations) {
-      result.message = "Newton reached " + std::to_string(it) + " iterations, residual " + std::to_string(result.residual);
-      return result;
-    }
-    const double mu0 = options.regularization * (1.0 + c.hessian.diagonal().cwiseAbs().maxCoeff());
-    bool accepted = false;
-    Vector dy;
-    double alpha = 0.0;
-    for (const double scale : {1.0, 1e3, 1e6}) {
-      Matrix H = c.hessian;
-      H.diagonal().array() += scale * mu0;
-      dy = H.ldlt().solve(-c.gradient);
-      alpha = std::min(1.0, contact_max_step(cell, c.x, curved.full_state(result.y + dy, kappa) - c.x));
-      const double slope = c.gradient.dot(dy);
-      for (int ls = 0; ls < options.max_line_search_steps && alpha > 1e-10; ++ls, alpha *= 0.5) {
-        const double e = contact_energy(cell, curved.full_state(result.y + alpha * dy, kappa));
-        if (std::isfinite(e) && e <= c.energy + 1e-4 * alpha * slope) {
-          accepted = true;
-          break;
-        }
-      }
-      if (accepted) break;
-    }
-    if (!accepted) {
-      result.message = "line search failed at residual " + std::to_string(result.residual);
-      result.converged = result.residual <= std::sqrt(options.force_tolerance);
-      return result;
-    }
-    result.y += alpha * dy;
-  }
+      c.hessian = curved.reduce(y, kappa, true, HessianMode::projected).hessian;
+    CellNewtonPoint point{c.energy, std::move(c.gradient), std::move(c.hessian), {}, {}};
+    point.max_step = [&, y, x = c.x](const Vector& dy) {
+      return contact_max_step(cell, x, curved.full_state(y + dy, kappa) - x);
+    };
+    point.energy_along = [&, y](double alpha, const Vector& dy) {
+      return contact_energy(cell, curved.full_state(y + alpha * dy, kappa));
+    };
+    return point;
+  });
 }
 
 // The equilibrium path's tangent dy/ds (zero where no pair is within d_hat).
